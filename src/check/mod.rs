@@ -1,0 +1,590 @@
+//! Semantic checks, and lowering of a checked tree to the IR.
+//!
+//! One pass over the syntax tree resolves every name against the builtins table and a
+//! [`Scope`] (user variables, splines, measures of a model), checks arity, ID and code
+//! arguments (integer literals, decision 8), scalar/vector typing (spec §2.6), the IF
+//! nesting limit (decision 2) and constant arguments (STEP x0 < x1, IMPACT domain, ...),
+//! and emits IR through [`crate::ir::builder::Builder`]. It reports every error it finds;
+//! an expression with errors yields no IR.
+
+pub mod builtins;
+pub mod scope;
+mod suggest;
+mod validate;
+
+use crate::diag::{has_errors, Code, Diagnostic, Span};
+use crate::ir::builder::{Arith, Builder};
+use crate::ir::{Function, Value};
+use crate::syntax::ast::{Ast, BinOp, Kind, NodeId, UnOp};
+use crate::syntax::parser;
+use builtins::{Builtin, Param, Role};
+pub use scope::{MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
+
+/// Deepest nesting of arithmetic IFs (decision 2).
+pub const MAX_IF_NESTING: usize = 9;
+
+/// What type the whole expression must have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Expect {
+    /// Most contexts (FUNCTION=, GCON, MOTION, ...): a scalar.
+    Scalar,
+    /// `FXYZ=` / `TXYZ=`: a vector.
+    Vector,
+    /// Interactive evaluation: either.
+    Any,
+}
+
+/// A checked and lowered expression, with any warnings.
+#[derive(Debug)]
+pub struct Checked {
+    pub function: Function,
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// Parses, checks and lowers `src`. On error, returns every diagnostic found (errors
+/// and warnings).
+pub fn compile(src: &str, scope: &dyn Scope, expect: Expect) -> Result<Checked, Vec<Diagnostic>> {
+    let parsed = parser::parse(src);
+    let mut diags = parsed.diagnostics;
+    let root = match parsed.root {
+        Some(r) if !has_errors(&diags) => r,
+        _ => return Err(diags),
+    };
+    let mut c = Checker {
+        ast: &parsed.ast,
+        scope,
+        b: Builder::new(),
+        diags: Vec::new(),
+        ifs: Vec::new(),
+        if_limit_reported: false,
+    };
+    let lowered = c.expr(root);
+    diags.append(&mut c.diags);
+    let outputs = match (lowered, expect) {
+        (Some(Lowered::S(v)), Expect::Scalar | Expect::Any) => vec![v],
+        (Some(Lowered::V(v)), Expect::Vector | Expect::Any) => v.to_vec(),
+        (Some(l), _) => {
+            let (want, got) = if matches!(l, Lowered::S(_)) {
+                ("a vector", "a scalar")
+            } else {
+                ("a scalar", "a vector")
+            };
+            diags.push(
+                Diagnostic::error(
+                    Code::Type,
+                    parsed.ast.node(root).span(),
+                    format!("the expression must be {want}, but this is {got}"),
+                )
+                .with_help("only FXYZ= and TXYZ= take vector expressions"),
+            );
+            Vec::new()
+        }
+        (None, _) => Vec::new(),
+    };
+    if has_errors(&diags) || outputs.is_empty() {
+        return Err(diags);
+    }
+    Ok(Checked {
+        function: c.b.finish(outputs),
+        warnings: diags,
+    })
+}
+
+/// A lowered subexpression: one scalar or three.
+#[derive(Clone, Copy)]
+enum Lowered {
+    S(Value),
+    V([Value; 3]),
+}
+
+struct Checker<'a> {
+    ast: &'a Ast,
+    scope: &'a dyn Scope,
+    b: Builder,
+    diags: Vec<Diagnostic>,
+    /// Spans of the IFs enclosing the node being checked, outermost first.
+    ifs: Vec<Span>,
+    if_limit_reported: bool,
+}
+
+impl Checker<'_> {
+    fn error(&mut self, d: Diagnostic) {
+        self.diags.push(d);
+    }
+
+    fn span(&self, id: NodeId) -> Span {
+        self.ast.node(id).span()
+    }
+
+    /// Lowers a subexpression that must be scalar.
+    fn scalar(&mut self, id: NodeId, what: &str) -> Option<Value> {
+        match self.expr(id)? {
+            Lowered::S(v) => Some(v),
+            Lowered::V(_) => {
+                let span = self.span(id);
+                self.error(
+                    Diagnostic::error(
+                        Code::Type,
+                        span,
+                        format!("{what} must be a scalar, but this is a vector"),
+                    )
+                    .with_help(
+                        "take a component with a dot product, e.g. DXYZ(i,j)*UVX(k), or MAG(v)",
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    fn expr(&mut self, id: NodeId) -> Option<Lowered> {
+        crate::stack::guard(|| self.expr_inner(id))
+    }
+
+    fn expr_inner(&mut self, id: NodeId) -> Option<Lowered> {
+        let node = self.ast.node(id);
+        let span = node.span();
+        match &node.kind {
+            Kind::Num(v) => Some(Lowered::S(self.b.constant(*v, span))),
+            Kind::Error => None,
+            Kind::Name(n) => self.name(self.ast.name(*n), span).map(Lowered::S),
+            Kind::Call {
+                name,
+                name_end,
+                args,
+            } => {
+                let name_span = node.start as usize..*name_end as usize;
+                self.call(self.ast.name(*name), name_span, args, span)
+            }
+            Kind::If(parts) => self.if_(*parts, span).map(Lowered::S),
+            Kind::Vector(parts) => {
+                let mut out = [0; 3];
+                let mut ok = true;
+                for (slot, &p) in out.iter_mut().zip(parts) {
+                    match self.scalar(p, "a vector component") {
+                        Some(v) => *slot = v,
+                        None => ok = false,
+                    }
+                }
+                ok.then_some(Lowered::V(out))
+            }
+            Kind::Unary(op, a) => {
+                let inner = self.expr(*a)?;
+                Some(match (op, inner) {
+                    (UnOp::Plus, l) => l,
+                    (UnOp::Neg, Lowered::S(v)) => Lowered::S(self.b.neg(v, span)),
+                    (UnOp::Neg, Lowered::V(v)) => {
+                        Lowered::V(v.map(|c| self.b.neg(c, span.clone())))
+                    }
+                })
+            }
+            Kind::Binary(op, a, c) => self.binary(*op, *a, *c, span),
+        }
+    }
+
+    fn name(&mut self, name: &str, span: Span) -> Option<Value> {
+        if let Some(b) = builtins::lookup(name) {
+            match b.role {
+                Role::Constant(c) => return Some(self.b.constant(c, span)),
+                Role::Time => return Some(self.b.time(span)),
+                Role::Mode => return Some(self.b.mode(span)),
+                _ => {
+                    let d = Diagnostic::error(
+                        Code::Misuse,
+                        span,
+                        format!("`{name}` is a function; call it with arguments"),
+                    )
+                    .with_help(format!("write {}", b.signature()));
+                    self.error(d);
+                    return None;
+                }
+            }
+        }
+        if name == "IF" {
+            let d = Diagnostic::error(Code::Misuse, span, "IF needs its arguments")
+                .with_help("write IF(test: negative, zero, positive)");
+            self.error(d);
+            return None;
+        }
+        if let Some(slot) = self.scope.variable(name) {
+            return Some(self.b.var(slot, span));
+        }
+        let mut d = Diagnostic::error(Code::UnknownName, span, format!("unknown name `{name}`"));
+        let mut candidates: Vec<String> = builtins::BUILTINS
+            .iter()
+            .filter(|b| !b.is_callable())
+            .map(|b| b.name.to_string())
+            .collect();
+        candidates.extend(self.scope.variable_names());
+        if let Some(s) = suggest::closest(name, candidates.iter().map(String::as_str)) {
+            d = d.with_help(format!("did you mean `{s}`?"));
+        } else if name.starts_with('.') {
+            d = d.with_note("Adams View names are resolved by the model that defines them");
+        } else {
+            d = d.with_help(
+                "define it as a variable (mbfx eval --var NAME=VALUE, or :let in the REPL)",
+            );
+        }
+        self.error(d);
+        None
+    }
+
+    fn if_(&mut self, [test, neg, zero, pos]: [NodeId; 4], span: Span) -> Option<Value> {
+        self.ifs.push(span.clone());
+        if self.ifs.len() > MAX_IF_NESTING && !self.if_limit_reported {
+            self.if_limit_reported = true;
+            let outer = self.ifs[0].clone();
+            let d = Diagnostic::error(
+                Code::IfTooDeep,
+                outer,
+                format!("arithmetic IFs nest deeper than {MAX_IF_NESTING} levels"),
+            )
+            .with_label(span.clone(), "this IF is level 10")
+            .with_help("replace inner IFs by STEP, MIN, MAX or a VARIABLE");
+            self.error(d);
+        }
+        let t = self.scalar(test, "the IF test");
+        let mut arms = Vec::with_capacity(3);
+        let mut ok = t.is_some();
+        for arm in [neg, zero, pos] {
+            self.b.begin_block();
+            let v = self.scalar(arm, "an IF branch");
+            ok &= v.is_some();
+            let result = v.unwrap_or(0);
+            arms.push(self.b.end_block(result));
+        }
+        self.ifs.pop();
+        let t = t?;
+        if !ok {
+            return None;
+        }
+        let [a, b, c]: [crate::ir::Block; 3] = arms.try_into().ok()?;
+        Some(self.b.if_(t, [a, b, c], span))
+    }
+
+    fn binary(&mut self, op: BinOp, a: NodeId, c: NodeId, span: Span) -> Option<Lowered> {
+        let l = self.expr(a);
+        let r = self.expr(c);
+        let (l, r) = (l?, r?);
+        use Lowered::{S, V};
+        let arith = |op| match op {
+            BinOp::Add => Arith::Add,
+            BinOp::Sub => Arith::Sub,
+            BinOp::Mul => Arith::Mul,
+            _ => Arith::Div,
+        };
+        let type_error = |msg: &str, help: &str| {
+            Diagnostic::error(Code::Type, span.clone(), msg.to_string()).with_help(help.to_string())
+        };
+        match (op, l, r) {
+            (BinOp::Pow, S(x), S(y)) => Some(S(self.pow(x, y, span))),
+            (BinOp::Pow, ..) => {
+                self.error(type_error(
+                    "`**` takes scalars only",
+                    "a vector has no power; use MAG(v) or a dot product",
+                ));
+                None
+            }
+            (BinOp::Cross, V(x), V(y)) => Some(V(self.cross(x, y, span))),
+            (BinOp::Cross, ..) => {
+                let d = type_error(
+                    "`%` is the cross product of two vectors",
+                    "note that `v*v%v` means `(v*v)%v`; write `v*(v%v)`",
+                );
+                self.error(d);
+                None
+            }
+            (BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div, S(x), S(y)) => {
+                Some(S(self.b.arith(arith(op), x, y, span)))
+            }
+            (BinOp::Add | BinOp::Sub, V(x), V(y)) => {
+                let f = arith(op);
+                Some(V(
+                    [0, 1, 2].map(|i| self.b.arith(f, x[i], y[i], span.clone()))
+                ))
+            }
+            (BinOp::Add | BinOp::Sub, ..) => {
+                self.error(type_error(
+                    "cannot add or subtract a scalar and a vector",
+                    "both sides must be scalars, or both vectors",
+                ));
+                None
+            }
+            (BinOp::Mul, S(s), V(v)) | (BinOp::Mul, V(v), S(s)) => {
+                Some(V(v.map(|c| self.b.arith(Arith::Mul, s, c, span.clone()))))
+            }
+            (BinOp::Mul, V(x), V(y)) => Some(S(self.dot(x, y, span))),
+            (BinOp::Div, V(v), S(s)) => {
+                Some(V(v.map(|c| self.b.arith(Arith::Div, c, s, span.clone()))))
+            }
+            (BinOp::Div, ..) => {
+                self.error(type_error(
+                    "cannot divide by a vector",
+                    "divide a vector by a scalar only",
+                ));
+                None
+            }
+        }
+    }
+
+    /// `a ** b`. An exponent that is an integer constant from -4 to 4 is computed by
+    /// multiplication (FORTRAN's integer power; exact for negative bases), any other
+    /// exponent by the runtime's `pow`.
+    fn pow(&mut self, a: Value, b: Value, span: Span) -> Value {
+        match self.b.get_const(b) {
+            Some(n) if n.fract() == 0.0 && n.abs() <= 4.0 => {
+                let k = n.abs() as u32;
+                let p = match k {
+                    0 => self.b.constant(1.0, span.clone()),
+                    1 => a,
+                    2 => self.b.arith(Arith::Mul, a, a, span.clone()),
+                    3 => {
+                        let sq = self.b.arith(Arith::Mul, a, a, span.clone());
+                        self.b.arith(Arith::Mul, sq, a, span.clone())
+                    }
+                    _ => {
+                        let sq = self.b.arith(Arith::Mul, a, a, span.clone());
+                        self.b.arith(Arith::Mul, sq, sq, span.clone())
+                    }
+                };
+                if n < 0.0 {
+                    let one = self.b.constant(1.0, span.clone());
+                    self.b.arith(Arith::Div, one, p, span)
+                } else {
+                    p
+                }
+            }
+            _ => self.b.call(crate::ir::Func::Pow, vec![a, b], span),
+        }
+    }
+
+    fn dot(&mut self, x: [Value; 3], y: [Value; 3], span: Span) -> Value {
+        let p = [0, 1, 2].map(|i| self.b.arith(Arith::Mul, x[i], y[i], span.clone()));
+        let s = self.b.arith(Arith::Add, p[0], p[1], span.clone());
+        self.b.arith(Arith::Add, s, p[2], span)
+    }
+
+    fn cross(&mut self, x: [Value; 3], y: [Value; 3], span: Span) -> [Value; 3] {
+        [(1, 2), (2, 0), (0, 1)].map(|(i, j)| {
+            let a = self.b.arith(Arith::Mul, x[i], y[j], span.clone());
+            let b = self.b.arith(Arith::Mul, x[j], y[i], span.clone());
+            self.b.arith(Arith::Sub, a, b, span.clone())
+        })
+    }
+
+    fn call(
+        &mut self,
+        name: &str,
+        name_span: Span,
+        args: &[NodeId],
+        span: Span,
+    ) -> Option<Lowered> {
+        let Some(b) = builtins::lookup(name) else {
+            let mut d = Diagnostic::error(
+                Code::UnknownFunction,
+                name_span,
+                format!("unknown function `{name}`"),
+            );
+            let callable = builtins::BUILTINS
+                .iter()
+                .filter(|b| b.is_callable())
+                .map(|b| b.name);
+            if let Some(s) = suggest::closest(name, callable) {
+                d = d.with_help(format!("did you mean `{s}`?"));
+            }
+            self.error(d);
+            for &a in args {
+                let _ = self.expr(a);
+            }
+            return None;
+        };
+        if !b.is_callable() {
+            let d = Diagnostic::error(
+                Code::Misuse,
+                span,
+                format!("`{name}` is a constant, not a function"),
+            )
+            .with_help(format!("write `{name}` without parentheses"));
+            self.error(d);
+            return None;
+        }
+        if let Role::Unsupported(why) = b.role {
+            self.error(Diagnostic::error(Code::Unsupported, span, why.to_string()));
+            return None;
+        }
+        if args.len() < b.min_args() || args.len() > b.max_args() {
+            self.error(arity_error(b, args.len(), span));
+            for &a in args {
+                if b.params.first() != Some(&Param::Id) {
+                    let _ = self.expr(a);
+                }
+            }
+            return None;
+        }
+        match b.role {
+            Role::Function(func) => {
+                let mut vals = Vec::with_capacity(args.len());
+                for (i, &a) in args.iter().enumerate() {
+                    let what = format!("argument {} of {name}", i + 1);
+                    vals.push(self.scalar(a, &what));
+                }
+                let vals: Vec<Value> = vals.into_iter().collect::<Option<_>>()?;
+                let consts: Vec<Option<f64>> = vals.iter().map(|&v| self.b.get_const(v)).collect();
+                let spans: Vec<Span> = args.iter().map(|&a| self.span(a)).collect();
+                let problems = validate::constant_arguments(func, &consts, &spans, &span);
+                let failed = has_errors(&problems);
+                self.diags.extend(problems);
+                if failed {
+                    return None;
+                }
+                Some(Lowered::S(self.b.call(func, vals, span)))
+            }
+            Role::Mag => match self.expr(args[0])? {
+                Lowered::V(v) => {
+                    let sq = self.dot(v, v, span.clone());
+                    Some(Lowered::S(self.b.sqrt(sq, span)))
+                }
+                Lowered::S(_) => {
+                    let s = self.span(args[0]);
+                    self.error(
+                        Diagnostic::error(Code::Type, s, "MAG takes a vector")
+                            .with_help("use ABS for a scalar"),
+                    );
+                    None
+                }
+            },
+            Role::Spline(kind) => self.spline(b, kind, args, span),
+            Role::Measure(_) => self.measure(b, args, span),
+            Role::Constant(_) | Role::Time | Role::Mode | Role::Unsupported(_) => None,
+        }
+    }
+
+    /// Reads an ID or code argument: an integer literal within range (decision 8).
+    fn integer_arg(&mut self, b: &Builtin, index: usize, arg: NodeId) -> Option<i64> {
+        let param = b.params.get(index).copied().unwrap_or(Param::Id);
+        let (lo, hi, what) = match param {
+            Param::Code(lo, hi) => (lo, hi, "an integer code"),
+            _ => (0, i64::from(i32::MAX), "an ID (a non-negative integer)"),
+        };
+        let span = self.span(arg);
+        let value = match &self.ast.node(arg).kind {
+            Kind::Num(v) if v.fract() == 0.0 && *v >= lo as f64 && *v <= hi as f64 => {
+                Some(*v as i64)
+            }
+            _ => None,
+        };
+        if value.is_none() {
+            let range = if hi == i64::MAX {
+                format!("at least {lo}")
+            } else {
+                format!("{lo} to {hi}")
+            };
+            let d = Diagnostic::error(
+                Code::IntegerArgument,
+                span,
+                format!(
+                    "argument {} of {} must be {what}, written as an integer literal ({range})",
+                    index + 1,
+                    b.name
+                ),
+            )
+            .with_help(format!("signature: {}", b.signature()));
+            self.error(d);
+        }
+        value
+    }
+
+    fn spline(
+        &mut self,
+        b: &Builtin,
+        kind: builtins::SplineKind,
+        args: &[NodeId],
+        span: Span,
+    ) -> Option<Lowered> {
+        let x = self.scalar(args[0], "the x argument");
+        let z = self.scalar(args[1], "the z argument");
+        let id = self.integer_arg(b, 2, args[2]);
+        let iord = match args.get(3) {
+            Some(&a) => self.integer_arg(b, 3, a),
+            None => Some(0),
+        };
+        let (x, z, id, iord) = (x?, z?, id?, iord?);
+        let info = self.scope.spline(id);
+        let on_curve = self.b.get_const(z) == Some(0.0) && info.is_none_or(|i| !i.surface);
+        if iord != 0 && !on_curve {
+            let d = Diagnostic::error(
+                Code::Domain,
+                self.span(args[3]),
+                format!("{}: a derivative order (iord) is allowed only when interpolating a curve (z = 0)", b.name),
+            );
+            self.error(d);
+            return None;
+        }
+        let Some(info) = info else {
+            let d = Diagnostic::error(
+                Code::UndefinedElement,
+                self.span(args[2]),
+                format!("SPLINE/{id} is not defined"),
+            )
+            .with_note(format!(
+                "{} interpolates SPLINE data supplied by a model",
+                b.name
+            ));
+            self.error(d);
+            return None;
+        };
+        Some(Lowered::S(
+            self.b.spline(kind, x, z, info.index, iord as u8, span),
+        ))
+    }
+
+    fn measure(&mut self, b: &'static Builtin, args: &[NodeId], span: Span) -> Option<Lowered> {
+        let ids: Vec<Option<i64>> = args
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| self.integer_arg(b, i, a))
+            .collect();
+        let ids: Vec<i64> = ids.into_iter().collect::<Option<_>>()?;
+        let arg_spans: Vec<Span> = args.iter().map(|&a| self.span(a)).collect();
+        let call = MeasureCall {
+            builtin: b,
+            ids: &ids,
+            arg_spans: &arg_spans,
+            span: span.clone(),
+        };
+        match self.scope.measure(&call) {
+            Ok(MeasureValue::Scalar(slot)) => Some(Lowered::S(self.b.measure(slot, span))),
+            Ok(MeasureValue::Vector(slots)) => {
+                Some(Lowered::V(slots.map(|s| self.b.measure(s, span.clone()))))
+            }
+            Err(d) => {
+                self.error(d);
+                None
+            }
+        }
+    }
+}
+
+fn arity_error(b: &Builtin, found: usize, span: Span) -> Diagnostic {
+    let expected = if b.min_args() == b.max_args() {
+        format!("{}", b.min_args())
+    } else {
+        format!("{} to {}", b.min_args(), b.max_args())
+    };
+    let plural = if b.max_args() == 1 { "" } else { "s" };
+    Diagnostic::error(
+        Code::Arity,
+        span,
+        format!(
+            "{} takes {expected} argument{plural}, found {found}",
+            b.name
+        ),
+    )
+    .with_help(format!("signature: {}", b.signature()))
+}
+
+/// True when the expression text is valid under `scope` (a convenience for callers that
+/// only need a yes/no).
+pub fn is_valid(src: &str, scope: &dyn Scope) -> bool {
+    compile(src, scope, Expect::Any).is_ok()
+}

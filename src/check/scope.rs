@@ -1,0 +1,131 @@
+//! Scopes: what the names of an expression refer to outside the builtins table.
+//!
+//! A [`Scope`] answers for user variables, SPLINE data and measures. Outside a model
+//! ([`Variables`]), measures are errors that say a model is needed; the multibody core
+//! supplies a scope that resolves marker IDs to measure slots.
+
+use super::builtins::{Builtin, Needs, Role, Ty};
+use crate::diag::{Code, Diagnostic, Span};
+
+/// A measure call as written: which builtin and its integer-literal arguments.
+pub struct MeasureCall<'a> {
+    pub builtin: &'static Builtin,
+    pub ids: &'a [i64],
+    /// Span of each ID argument.
+    pub arg_spans: &'a [Span],
+    pub span: Span,
+}
+
+/// Where a resolved measure's value will be in the evaluation context.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeasureValue {
+    Scalar(u32),
+    Vector([u32; 3]),
+}
+
+/// A SPLINE the host supplies: its index in the context's spline table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SplineInfo {
+    pub index: u32,
+    /// True for a surface (several curves at increasing z).
+    pub surface: bool,
+}
+
+/// Resolves the names an expression uses beyond the builtins.
+pub trait Scope {
+    /// Slot of the user variable `name` (upper case), if defined.
+    fn variable(&self, name: &str) -> Option<u32>;
+
+    /// Every variable name, for "did you mean" hints.
+    fn variable_names(&self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// The SPLINE with this ID, if the host supplies one.
+    fn spline(&self, _id: i64) -> Option<SplineInfo> {
+        None
+    }
+
+    /// Resolves a measure call. Without a model every measure is an error.
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        Err(needs_model(call))
+    }
+}
+
+/// The "needs a model" diagnostic for a measure evaluated where there is none.
+pub fn needs_model(call: &MeasureCall) -> Diagnostic {
+    let b = call.builtin;
+    let what = match b.role {
+        Role::Measure(Needs::State) => "reads a model element",
+        Role::Measure(Needs::Force) => "measures forces of a model",
+        _ => "is a measure of a model",
+    };
+    let kind = if b.result == Ty::Vector {
+        "vector "
+    } else {
+        ""
+    };
+    Diagnostic::error(
+        Code::NeedsModel,
+        call.span.clone(),
+        format!("{} {what}; it needs a model", b.name),
+    )
+    .with_note(format!("{kind}signature: {}", b.signature()))
+    .with_help("load a model: mbfx eval --model FILE.adm, or :load FILE.adm in the REPL")
+}
+
+/// A scope of named user variables and host-supplied splines, with no model.
+#[derive(Clone, Debug, Default)]
+pub struct Variables {
+    names: Vec<String>,
+    /// (SPLINE id, is a surface), indexed like the context's spline table.
+    splines: Vec<(i64, bool)>,
+}
+
+impl Variables {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Defines a variable (case-insensitive) and returns its slot; redefining a name
+    /// returns its existing slot.
+    pub fn define(&mut self, name: &str) -> u32 {
+        let upper = name.to_ascii_uppercase();
+        if let Some(i) = self.names.iter().position(|n| *n == upper) {
+            return i as u32;
+        }
+        self.names.push(upper);
+        (self.names.len() - 1) as u32
+    }
+
+    /// Registers SPLINE `id` at the next index of the context's spline table.
+    pub fn define_spline(&mut self, id: i64, surface: bool) -> u32 {
+        self.splines.push((id, surface));
+        (self.splines.len() - 1) as u32
+    }
+
+    /// Variable names in slot order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+}
+
+impl Scope for Variables {
+    fn variable(&self, name: &str) -> Option<u32> {
+        self.names.iter().position(|n| n == name).map(|i| i as u32)
+    }
+
+    fn variable_names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+
+    fn spline(&self, id: i64) -> Option<SplineInfo> {
+        self.splines
+            .iter()
+            .position(|(i, _)| *i == id)
+            .map(|index| SplineInfo {
+                index: index as u32,
+                surface: self.splines[index].1,
+            })
+    }
+}

@@ -1,0 +1,151 @@
+//! `mbfx check FILE`: check every expression of an expression file (one per line,
+//! continuation lines honoured) or of an `.adm` dataset, and report all diagnostics.
+
+use crate::check::{self, Expect, Scope};
+use crate::diag::{has_errors, render, Code, Diagnostic, Severity, SourceFile};
+use std::ops::Range;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    /// User variables the expressions may read, NAME=VALUE; repeatable.
+    #[arg(long = "var", value_name = "NAME=VALUE")]
+    vars: Vec<String>,
+    /// An expression file or an .adm dataset.
+    file: PathBuf,
+}
+
+/// A file that could not be read as text, with the diagnostic that says why.
+pub struct Unreadable {
+    pub source: SourceFile,
+    pub diagnostic: Diagnostic,
+}
+
+fn read_bytes(path: &std::path::Path) -> Result<Vec<u8>, Box<Unreadable>> {
+    let name = path.display().to_string();
+    std::fs::read(path).map_err(|e| {
+        Box::new(Unreadable {
+            diagnostic: Diagnostic::error(Code::Io, 0..0, format!("cannot read {name}: {e}")),
+            source: SourceFile::new(name.clone(), ""),
+        })
+    })
+}
+
+/// Reads an expression file as UTF-8 text, or explains why it cannot be read.
+pub fn read_text(path: &std::path::Path) -> Result<String, Box<Unreadable>> {
+    let bytes = read_bytes(path)?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let lossy = String::from_utf8_lossy(e.as_bytes()).into_owned();
+        Box::new(Unreadable {
+            source: SourceFile::new(path.display().to_string(), lossy),
+            diagnostic: Diagnostic::error(
+                Code::Encoding,
+                at..at + 1,
+                "the file is not valid UTF-8 text",
+            )
+            .with_help("expressions are ASCII text"),
+        })
+    })
+}
+
+/// Reads a dataset: bytes that are not UTF-8 are read as Latin-1 with a warning (some
+/// generated `.adm` files carry Latin-1 comments).
+fn read_dataset(path: &std::path::Path) -> Result<(String, Vec<Diagnostic>), Box<Unreadable>> {
+    let bytes = read_bytes(path)?;
+    let (text, warning) = crate::model::decode(&bytes);
+    Ok((text.into_owned(), warning.into_iter().collect()))
+}
+
+/// Byte ranges of the logical expressions of an expression file: one per line, a line
+/// whose first non-blank character is `,` continuing the previous one; blank lines and
+/// `!` comment lines are skipped.
+pub fn logical_lines(text: &str) -> Vec<Range<usize>> {
+    let mut out: Vec<Range<usize>> = Vec::new();
+    let mut start = 0;
+    for line in text.split_inclusive('\n') {
+        let end = start + line.len();
+        let body = line.trim_end_matches(['\n', '\r']);
+        let trimmed = body.trim_start_matches([' ', '\t']);
+        let body_end = start + body.len();
+        if trimmed.starts_with(',') && !out.is_empty() {
+            if let Some(last) = out.last_mut() {
+                last.end = body_end;
+            }
+        } else if !trimmed.trim().is_empty() && !trimmed.starts_with('!') {
+            out.push(start..body_end);
+        }
+        start = end;
+    }
+    out
+}
+
+/// Checks every expression of an expression file; returns diagnostics (spans into the
+/// whole text) and the number of expressions.
+pub fn check_expressions(text: &str, scope: &dyn Scope) -> (Vec<Diagnostic>, usize) {
+    let ranges = logical_lines(text);
+    let mut diags = Vec::new();
+    for r in &ranges {
+        let found = match check::compile(&text[r.clone()], scope, Expect::Any) {
+            Ok(c) => c.warnings,
+            Err(d) => d,
+        };
+        diags.extend(found.into_iter().map(|d| d.shifted(r.start)));
+    }
+    (diags, ranges.len())
+}
+
+fn is_dataset(path: &std::path::Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("adm"))
+}
+
+pub fn run(a: &CheckArgs, color: bool) -> i32 {
+    let Ok((scope, _)) = super::eval::variables(&a.vars, color) else {
+        return 1;
+    };
+    let read = if is_dataset(&a.file) {
+        read_dataset(&a.file)
+    } else {
+        read_text(&a.file).map(|t| (t, Vec::new()))
+    };
+    let (text, mut diags) = match read {
+        Ok(t) => t,
+        Err(u) => {
+            eprint!("{}", render(&[u.diagnostic], &u.source, color));
+            return 1;
+        }
+    };
+    let source_name = a.file.display().to_string();
+    let summary = if is_dataset(&a.file) {
+        let report = crate::model::check::check_dataset(&text);
+        diags.extend(report.diagnostics.iter().cloned());
+        report.summary()
+    } else {
+        let (found, n) = check_expressions(&text, &scope);
+        diags.extend(found);
+        format!("{n} expressions")
+    };
+    let source = SourceFile::new(source_name.clone(), text);
+    eprint!("{}", render(&diags, &source, color));
+    let errors = diags
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .count();
+    let warnings = diags.len() - errors;
+    println!("{source_name}: {summary}; {errors} errors, {warnings} warnings");
+    i32::from(has_errors(&diags))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn continuation_lines_join_and_comments_skip() {
+        let text = "1+1\n! note\n\nSTEP(TIME,0,0,\n, 1,100)\n  , +1\n2\n";
+        let lines: Vec<&str> = logical_lines(text).into_iter().map(|r| &text[r]).collect();
+        assert_eq!(lines, ["1+1", "STEP(TIME,0,0,\n, 1,100)\n  , +1", "2"]);
+    }
+}

@@ -1,0 +1,140 @@
+//! `mbfx eval`: compile one expression, evaluate it once, print the value.
+
+use super::Engine;
+use crate::check::{self, Expect, Variables};
+use crate::context::Context;
+use crate::diag::{render, Code, Diagnostic, SourceFile};
+use crate::interp::Program;
+
+#[derive(clap::Args)]
+pub struct EvalArgs {
+    /// Back end.
+    #[arg(long, value_enum, default_value = "interp")]
+    engine: Engine,
+    /// Value of TIME (any constant expression).
+    #[arg(long, default_value = "0", allow_hyphen_values = true)]
+    time: String,
+    /// A user variable, NAME=VALUE (VALUE is any constant expression); repeatable.
+    #[arg(long = "var", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    vars: Vec<String>,
+    /// The expression.
+    #[arg(allow_hyphen_values = true)]
+    expr: String,
+}
+
+/// Evaluates a constant expression given on the command line (`--time`, `--var` values).
+pub fn constant(text: &str, what: &str, color: bool) -> Result<f64, ()> {
+    let source = SourceFile::new(what, text);
+    match check::compile(text, &Variables::new(), Expect::Scalar) {
+        Ok(c) => Ok(Program::new(c.function).eval(&Context::new(0.0, &[]))),
+        Err(diags) => {
+            eprint!("{}", render(&diags, &source, color));
+            Err(())
+        }
+    }
+}
+
+/// Parses `--var` arguments into a scope and the slot values.
+pub fn variables(specs: &[String], color: bool) -> Result<(Variables, Vec<f64>), ()> {
+    let mut scope = Variables::new();
+    let mut values = Vec::new();
+    for spec in specs {
+        let Some((name, value)) = spec.split_once('=') else {
+            let d = Diagnostic::error(Code::CommandLine, 0..spec.len(), "expected NAME=VALUE")
+                .with_help("e.g. --var x=1.5");
+            eprint!(
+                "{}",
+                render(&[d], &SourceFile::new("--var", spec.as_str()), color)
+            );
+            return Err(());
+        };
+        let name = name.trim();
+        let valid = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !valid || crate::check::builtins::lookup(&name.to_ascii_uppercase()).is_some() {
+            let why = if valid {
+                "is a builtin name"
+            } else {
+                "is not a valid name"
+            };
+            let d = Diagnostic::error(Code::CommandLine, 0..name.len(), format!("`{name}` {why}"))
+                .with_help("variable names start with a letter and hold letters, digits and _");
+            eprint!(
+                "{}",
+                render(&[d], &SourceFile::new("--var", spec.as_str()), color)
+            );
+            return Err(());
+        }
+        let v = constant(value, &format!("--var {name}"), color)?;
+        let slot = scope.define(name) as usize;
+        if slot == values.len() {
+            values.push(v);
+        } else {
+            values[slot] = v;
+        }
+    }
+    Ok((scope, values))
+}
+
+/// Formats a value the way the CLI contract says: `{:?}` of an f64, vectors as `[x, y, z]`.
+pub fn format_value(out: &[f64]) -> String {
+    match out {
+        [v] => format!("{v:?}"),
+        vs => {
+            let parts: Vec<String> = vs.iter().map(|v| format!("{v:?}")).collect();
+            format!("[{}]", parts.join(", "))
+        }
+    }
+}
+
+/// The warning (or, for a NaN IF test, the note) for a non-finite result.
+pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
+    let f = p.first_fault(ctx)?;
+    Some(if f.nan_if_test {
+        Diagnostic::warning(
+            Code::NanIfTest,
+            f.span,
+            "the test of this IF is NaN, so no branch applies",
+        )
+        .with_note("the result is NaN (decision 2: a NaN test selects no branch)")
+    } else {
+        Diagnostic::warning(
+            Code::NonFinite,
+            f.span,
+            format!("this subexpression is {:?}", f.value),
+        )
+        .with_note("the result follows IEEE arithmetic; a simulation stops at the first such value")
+    })
+}
+
+pub fn run(a: &EvalArgs, color: bool) -> i32 {
+    let Engine::Interp = a.engine;
+    let Ok(time) = constant(&a.time, "--time", color) else {
+        return 1;
+    };
+    let Ok((scope, values)) = variables(&a.vars, color) else {
+        return 1;
+    };
+    let source = SourceFile::new("<expr>", a.expr.as_str());
+    let checked = match check::compile(&a.expr, &scope, Expect::Any) {
+        Ok(c) => c,
+        Err(diags) => {
+            eprint!("{}", render(&diags, &source, color));
+            return 1;
+        }
+    };
+    if !checked.warnings.is_empty() {
+        eprint!("{}", render(&checked.warnings, &source, color));
+    }
+    let program = Program::new(checked.function);
+    let ctx = Context::new(time, &values);
+    let mut out = vec![0.0; program.function().outputs.len()];
+    program.eval_into(&ctx, &mut out);
+    println!("{}", format_value(&out));
+    if out.iter().any(|v| !v.is_finite()) {
+        if let Some(d) = fault_diagnostic(&program, &ctx) {
+            eprint!("{}", render(&[d], &source, color));
+        }
+    }
+    0
+}

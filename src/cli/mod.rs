@@ -1,0 +1,88 @@
+//! Command-line interface (clap): `mbfx eval`, `mbfx check`, `mbfx repl`.
+//!
+//! Each command is a thin shell over library calls; all of them print diagnostics to
+//! stderr and return exit code 1 on any error, 0 otherwise (DESIGN.md, CLI contract).
+
+mod check_file;
+mod eval;
+pub mod repl;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// When to colour diagnostics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Color {
+    Auto,
+    Always,
+    Never,
+}
+
+impl Color {
+    /// Resolves `auto` against whether stderr is a terminal.
+    pub fn enabled(self) -> bool {
+        use std::io::IsTerminal;
+        match self {
+            Color::Always => true,
+            Color::Never => false,
+            Color::Auto => {
+                std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
+            }
+        }
+    }
+}
+
+/// Which back end evaluates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Engine {
+    Interp,
+}
+
+#[derive(Parser)]
+#[command(
+    name = "mbfx",
+    version,
+    about = "Compiler and runtime for the Adams FUNCTION expression language"
+)]
+struct Cli {
+    /// Colour diagnostics.
+    #[arg(long, value_enum, default_value = "auto", global = true)]
+    color: Color,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Evaluate one expression and print its value.
+    Eval(eval::EvalArgs),
+    /// Check a file of expressions (one per line) or an .adm dataset.
+    Check(check_file::CheckArgs),
+    /// Interactive evaluation.
+    Repl,
+}
+
+/// Runs the CLI with the process arguments; returns the exit code.
+pub fn main() -> i32 {
+    run(std::env::args_os())
+}
+
+/// Runs the CLI with the given arguments (the first is the program name).
+pub fn run<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 1 } else { 0 };
+        }
+    };
+    let color = cli.color.enabled();
+    match cli.command {
+        Command::Eval(a) => eval::run(&a, color),
+        Command::Check(a) => check_file::run(&a, color),
+        Command::Repl => repl::run_terminal(),
+    }
+}

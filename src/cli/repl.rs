@@ -1,0 +1,353 @@
+//! The REPL: [`Repl`] is a plain struct that answers one input at a time (tested without a
+//! terminal); [`run_terminal`] wraps it in rustyline with history, multi-line input
+//! (continuation commas, open brackets) and tab completion of names and commands.
+
+use crate::check::{builtins, Expect, Variables};
+use crate::context::Context;
+use crate::diag::{render, SourceFile};
+use crate::interp::Program;
+use crate::syntax::{parser, print};
+use std::fmt::Write as _;
+
+const HELP: &str = "\
+expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
+:let NAME = EXPR   define or change a variable
+:set time = EXPR   set the value of TIME (also: :set mode = EXPR)
+:vars              list variables
+:ast EXPR          show the syntax tree
+:ir EXPR           show the IR the back ends run
+:help [NAME]       this text, or a function's signature and meaning
+:quit              leave (also Ctrl-D)
+continue a line with a comma in column one of the next line";
+
+const COMMANDS: &[&str] = &[":let", ":set", ":vars", ":ast", ":ir", ":help", ":quit"];
+
+/// REPL state: variables and their values, TIME and MODE.
+pub struct Repl {
+    scope: Variables,
+    values: Vec<f64>,
+    time: f64,
+    mode: f64,
+    /// Set by `:quit`.
+    pub done: bool,
+}
+
+impl Default for Repl {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Repl {
+    pub fn new() -> Self {
+        Repl {
+            scope: Variables::new(),
+            values: Vec::new(),
+            time: 0.0,
+            mode: 4.0,
+            done: false,
+        }
+    }
+
+    /// Names to complete: builtins, variables and commands.
+    pub fn completions(&self) -> Vec<String> {
+        let mut names: Vec<String> = builtins::all_names().map(str::to_string).collect();
+        names.extend(self.scope.names().iter().cloned());
+        names.extend(COMMANDS.iter().map(|c| c.to_string()));
+        names
+    }
+
+    /// Compiles `text`, rendering diagnostics (spans relative to `text`) on failure.
+    fn compile(&self, text: &str) -> Result<(Program, String), String> {
+        let source = SourceFile::new("<repl>", text);
+        match crate::check::compile(text, &self.scope, Expect::Any) {
+            Ok(c) => {
+                let warnings = if c.warnings.is_empty() {
+                    String::new()
+                } else {
+                    render(&c.warnings, &source, false)
+                };
+                Ok((Program::new(c.function), warnings))
+            }
+            Err(d) => Err(render(&d, &source, false)),
+        }
+    }
+
+    fn evaluate(&self, text: &str) -> Result<(Vec<f64>, String), String> {
+        let (program, mut notes) = self.compile(text)?;
+        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
+        let mut out = vec![0.0; program.function().outputs.len()];
+        program.eval_into(&ctx, &mut out);
+        if out.iter().any(|v| !v.is_finite()) {
+            if let Some(d) = super::eval::fault_diagnostic(&program, &ctx) {
+                notes.push_str(&render(&[d], &SourceFile::new("<repl>", text), false));
+            }
+        }
+        Ok((out, notes))
+    }
+
+    /// Answers one input (possibly several physical lines joined by `\n`).
+    pub fn eval_line(&mut self, line: &str) -> String {
+        let trimmed = line.trim();
+        if trimmed.is_empty() {
+            return String::new();
+        }
+        let Some(command) = trimmed.strip_prefix(':') else {
+            return match self.evaluate(line) {
+                Ok((v, notes)) => format!("{notes}{}", super::eval::format_value(&v)),
+                Err(e) => e,
+            };
+        };
+        let (word, rest) = command
+            .split_once(char::is_whitespace)
+            .unwrap_or((command, ""));
+        let rest = rest.trim();
+        match word.to_ascii_lowercase().as_str() {
+            "quit" | "q" | "exit" => {
+                self.done = true;
+                String::new()
+            }
+            "help" | "h" => help(rest),
+            "vars" => {
+                let mut out = format!("TIME = {:?}\nMODE = {:?}", self.time, self.mode);
+                for (n, v) in self.scope.names().iter().zip(&self.values) {
+                    let _ = write!(out, "\n{n} = {v:?}");
+                }
+                out
+            }
+            "let" => self.let_(rest),
+            "set" => self.set(rest),
+            "ast" => {
+                let parsed = parser::parse(rest);
+                match parsed.root {
+                    Some(root) if parsed.diagnostics.is_empty() => format!(
+                        "{}\n{}",
+                        print::print(&parsed.ast, root),
+                        parsed.ast.sexpr(root)
+                    ),
+                    _ => render(&parsed.diagnostics, &SourceFile::new("<repl>", rest), false),
+                }
+            }
+            "ir" => match self.compile(rest) {
+                Ok((p, w)) => format!("{w}{}", crate::ir::print::print(p.function()).trim_end()),
+                Err(e) => e,
+            },
+            other => format!("unknown command :{other}; type :help"),
+        }
+    }
+
+    fn let_(&mut self, rest: &str) -> String {
+        let Some((name, expr)) = rest.split_once('=') else {
+            return "usage: :let NAME = EXPR".to_string();
+        };
+        let name = name.trim().to_ascii_uppercase();
+        let valid = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !valid {
+            return format!("`{name}` is not a valid variable name");
+        }
+        if builtins::lookup(&name).is_some() {
+            return format!("`{name}` is a builtin name; choose another");
+        }
+        match self.evaluate(expr) {
+            Ok((v, notes)) if v.len() == 1 => {
+                let slot = self.scope.define(&name) as usize;
+                if slot == self.values.len() {
+                    self.values.push(v[0]);
+                } else {
+                    self.values[slot] = v[0];
+                }
+                format!("{notes}{name} = {:?}", v[0])
+            }
+            Ok(_) => "variables hold scalars; this is a vector".to_string(),
+            Err(e) => e,
+        }
+    }
+
+    fn set(&mut self, rest: &str) -> String {
+        let Some((name, expr)) = rest.split_once('=') else {
+            return "usage: :set time = EXPR  or  :set mode = EXPR".to_string();
+        };
+        let value = match self.evaluate(expr) {
+            Ok((v, _)) if v.len() == 1 => v[0],
+            Ok(_) => return "TIME and MODE are scalars".to_string(),
+            Err(e) => return e,
+        };
+        match name.trim().to_ascii_lowercase().as_str() {
+            "time" => self.time = value,
+            "mode" => self.mode = value,
+            other => return format!("cannot set `{other}`; use :let for variables"),
+        }
+        format!("{} = {value:?}", name.trim().to_ascii_uppercase())
+    }
+}
+
+fn help(name: &str) -> String {
+    if name.is_empty() {
+        return HELP.to_string();
+    }
+    let upper = name.to_ascii_uppercase();
+    if upper == "IF" {
+        return "IF(e1: e2, e3, e4): e2 if e1 < 0, e3 if e1 = 0, e4 if e1 > 0; only that branch is evaluated".to_string();
+    }
+    match builtins::lookup(&upper) {
+        Some(b) => b.doc.to_string(),
+        None => format!("no builtin named {upper}"),
+    }
+}
+
+/// True when an input should continue on another line: a bracket is still open, or the
+/// line ends with a comma (an argument list broken at its comma).
+pub fn needs_more(input: &str) -> bool {
+    if input.trim_start().starts_with(':') && !input.trim_start().starts_with(":let") {
+        return false;
+    }
+    let mut depth = 0i64;
+    for b in input.bytes() {
+        match b {
+            b'(' | b'[' => depth += 1,
+            b')' | b']' => depth -= 1,
+            _ => {}
+        }
+    }
+    depth > 0 || input.trim_end().ends_with(',')
+}
+
+mod terminal {
+    //! rustyline glue: completion and multi-line validation.
+    use rustyline::completion::{Completer, Pair};
+    use rustyline::highlight::Highlighter;
+    use rustyline::hint::Hinter;
+    use rustyline::validate::{ValidationContext, ValidationResult, Validator};
+    use rustyline::{Context, Helper};
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    pub struct ReplHelper {
+        pub names: Rc<RefCell<Vec<String>>>,
+    }
+
+    impl Completer for ReplHelper {
+        type Candidate = Pair;
+
+        fn complete(
+            &self,
+            line: &str,
+            pos: usize,
+            _: &Context<'_>,
+        ) -> rustyline::Result<(usize, Vec<Pair>)> {
+            let start = line[..pos]
+                .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+                .map_or(0, |i| i + 1);
+            let word = line[start..pos].to_ascii_uppercase();
+            let candidates = self
+                .names
+                .borrow()
+                .iter()
+                .filter(|n| !word.is_empty() && n.to_ascii_uppercase().starts_with(&word))
+                .map(|n| Pair {
+                    display: n.clone(),
+                    replacement: n.clone(),
+                })
+                .collect();
+            Ok((start, candidates))
+        }
+    }
+
+    impl Hinter for ReplHelper {
+        type Hint = String;
+    }
+
+    impl Highlighter for ReplHelper {}
+
+    impl Validator for ReplHelper {
+        fn validate(&self, ctx: &mut ValidationContext) -> rustyline::Result<ValidationResult> {
+            Ok(if super::needs_more(ctx.input()) {
+                ValidationResult::Incomplete
+            } else {
+                ValidationResult::Valid(None)
+            })
+        }
+    }
+
+    impl Helper for ReplHelper {}
+}
+
+/// Runs the REPL on the terminal until `:quit` or end of input; returns the exit code.
+pub fn run_terminal() -> i32 {
+    use rustyline::error::ReadlineError;
+    use std::cell::RefCell;
+    use std::rc::Rc;
+    let mut repl = Repl::new();
+    let names = Rc::new(RefCell::new(repl.completions()));
+    let Ok(mut editor) =
+        rustyline::Editor::<terminal::ReplHelper, rustyline::history::DefaultHistory>::new()
+    else {
+        eprintln!("mbfx repl: cannot open the terminal");
+        return 1;
+    };
+    editor.set_helper(Some(terminal::ReplHelper {
+        names: names.clone(),
+    }));
+    let history =
+        std::env::var_os("HOME").map(|h| std::path::PathBuf::from(h).join(".mbfx_history"));
+    if let Some(h) = &history {
+        let _ = editor.load_history(h);
+    }
+    println!(
+        "mbfx {} — :help for help, :quit to leave",
+        env!("CARGO_PKG_VERSION")
+    );
+    loop {
+        match editor.readline("mbfx> ") {
+            Ok(line) => {
+                let _ = editor.add_history_entry(line.as_str());
+                let answer = repl.eval_line(&line);
+                if !answer.is_empty() {
+                    println!("{answer}");
+                }
+                *names.borrow_mut() = repl.completions();
+                if repl.done {
+                    break;
+                }
+            }
+            Err(ReadlineError::Interrupted) => continue,
+            Err(_) => break,
+        }
+    }
+    if let Some(h) = &history {
+        let _ = editor.save_history(h);
+    }
+    0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn evaluates_lets_and_commands() {
+        let mut r = Repl::new();
+        assert_eq!(r.eval_line("1 + 2"), "3.0");
+        assert_eq!(r.eval_line(":let x = 2"), "X = 2.0");
+        assert_eq!(r.eval_line("x**3"), "8.0");
+        assert_eq!(r.eval_line(":set time = 0.5"), "TIME = 0.5");
+        assert_eq!(r.eval_line("STEP(TIME,0,0,\n, 1,100)"), "50.0");
+        assert!(r
+            .eval_line(":help STEP")
+            .starts_with("STEP(x, x0, h0, x1, h1)"));
+        assert!(r.eval_line(":ir x*x").contains("mul"));
+        assert_eq!(r.eval_line(":ast -2**2").lines().next(), Some("-2.0**2.0"));
+        assert!(r.eval_line("SIN (1)").contains("E0103"));
+        r.eval_line(":quit");
+        assert!(r.done);
+    }
+
+    #[test]
+    fn multi_line_input_waits_for_closing_brackets() {
+        assert!(needs_more("STEP(TIME,0,0,"));
+        assert!(needs_more("(1 + 2"));
+        assert!(!needs_more("1 + 2"));
+        assert!(!needs_more(":help"));
+    }
+}

@@ -1,0 +1,292 @@
+//! Diagnostics: the one error/warning type every stage of mbfx reports, and its renderer.
+//!
+//! Every stage (lexer, parser, checker, `.adm` reader, run time) produces [`Diagnostic`]s
+//! holding byte-range spans into the text they read. Only [`render`] turns spans into
+//! `file:line:column` and a caret frame (via ariadne). Codes are stable: tests and users
+//! match on them, and README.md lists them.
+
+use std::ops::Range;
+
+/// Byte range into the source text a diagnostic is about.
+pub type Span = Range<usize>;
+
+/// How serious a diagnostic is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Severity {
+    Warning,
+    Error,
+}
+
+/// Stable diagnostic codes. The numeric families: `E01xx` lexical, `E02xx` syntax,
+/// `E03xx` semantic checks, `W04xx`/`E04xx` evaluation, `E05xx` input and command line,
+/// `E06xx`/`W06xx` dataset (`.adm`) statements.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Code {
+    /// A character that starts no token.
+    UnexpectedChar,
+    /// A malformed number such as `1.5D3`, `10DTOR` or `1.2.3`.
+    BadNumber,
+    /// A blank between a function name and its `(`.
+    BlankBeforeParen,
+    /// `<`, `==`, `.LT.`, `&&` and friends, which the language does not have.
+    RelationalOperator,
+    /// `* *`: a power operator split by a blank.
+    SplitPower,
+    /// A token the grammar did not expect here.
+    UnexpectedToken,
+    /// The input ended in the middle of an expression.
+    UnexpectedEnd,
+    /// A `)` or `]` with no opening partner.
+    Unmatched,
+    /// Nothing to evaluate.
+    EmptyExpression,
+    /// Two values side by side with no operator between them.
+    MissingOperator,
+    /// Parentheses, calls or operators nested past the limit.
+    TooDeep,
+    /// A function name the builtins table does not know.
+    UnknownFunction,
+    /// A bare name that is no constant and no user variable.
+    UnknownName,
+    /// Wrong number of arguments.
+    Arity,
+    /// An ID or integer code that is not an integer literal or is out of range.
+    IntegerArgument,
+    /// Scalar where a vector is needed or the reverse.
+    Type,
+    /// An arithmetic IF nested more than nine deep.
+    IfTooDeep,
+    /// A constant argument outside the function's domain (STEP x0 >= x1, IMPACT d <= 0, ...).
+    Domain,
+    /// A measure or element reference that needs a loaded model.
+    NeedsModel,
+    /// A function of the language that mbfx does not evaluate (yet).
+    Unsupported,
+    /// A constant written as a call or a function written without arguments.
+    Misuse,
+    /// A data element (SPLINE, VARIABLE, ...) that the model does not define.
+    UndefinedElement,
+    /// An expression evaluated to NaN or an infinity.
+    NonFinite,
+    /// An arithmetic IF whose test is NaN: no branch can be chosen.
+    NanIfTest,
+    /// A file that cannot be read.
+    Io,
+    /// A file that is not valid UTF-8 (or contains bytes mbfx cannot read).
+    Encoding,
+    /// A bad command-line value (`--var`, `--time`).
+    CommandLine,
+    /// A malformed dataset statement.
+    Statement,
+    /// A dataset statement or argument mbfx does not handle: reported, never dropped silently.
+    UnsupportedStatement,
+}
+
+impl Code {
+    /// The stable code string (`E0103`, `W0401`, ...).
+    pub fn as_str(self) -> &'static str {
+        use Code::*;
+        match self {
+            UnexpectedChar => "E0101",
+            BadNumber => "E0102",
+            BlankBeforeParen => "E0103",
+            RelationalOperator => "E0104",
+            SplitPower => "E0105",
+            UnexpectedToken => "E0201",
+            UnexpectedEnd => "E0202",
+            Unmatched => "E0203",
+            EmptyExpression => "E0204",
+            MissingOperator => "E0205",
+            TooDeep => "E0206",
+            UnknownFunction => "E0301",
+            UnknownName => "E0302",
+            Arity => "E0303",
+            IntegerArgument => "E0304",
+            Type => "E0305",
+            IfTooDeep => "E0306",
+            Domain => "E0307",
+            NeedsModel => "E0308",
+            Unsupported => "E0309",
+            Misuse => "E0310",
+            UndefinedElement => "E0311",
+            NonFinite => "W0401",
+            NanIfTest => "E0402",
+            Io => "E0501",
+            Encoding => "E0502",
+            CommandLine => "E0503",
+            Statement => "E0601",
+            UnsupportedStatement => "W0602",
+        }
+    }
+}
+
+/// One message about a place in a source text.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    pub code: Code,
+    pub severity: Severity,
+    /// The primary place; the caret points here.
+    pub span: Span,
+    pub message: String,
+    /// Secondary places with a short label each.
+    pub labels: Vec<(Span, String)>,
+    pub notes: Vec<String>,
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn error(code: Code, span: Span, message: impl Into<String>) -> Self {
+        Diagnostic {
+            code,
+            severity: Severity::Error,
+            span,
+            message: message.into(),
+            labels: Vec::new(),
+            notes: Vec::new(),
+            help: None,
+        }
+    }
+
+    pub fn warning(code: Code, span: Span, message: impl Into<String>) -> Self {
+        Diagnostic {
+            severity: Severity::Warning,
+            ..Diagnostic::error(code, span, message)
+        }
+    }
+
+    pub fn with_help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+
+    pub fn with_note(mut self, note: impl Into<String>) -> Self {
+        self.notes.push(note.into());
+        self
+    }
+
+    pub fn with_label(mut self, span: Span, label: impl Into<String>) -> Self {
+        self.labels.push((span, label.into()));
+        self
+    }
+
+    /// Moves every span by `offset` bytes: used when an expression was read out of a
+    /// larger text (an `.adm` statement) so that messages point into the whole file.
+    pub fn shifted(mut self, offset: usize) -> Self {
+        self.span = self.span.start + offset..self.span.end + offset;
+        for (span, _) in &mut self.labels {
+            *span = span.start + offset..span.end + offset;
+        }
+        self
+    }
+
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+}
+
+/// True when any diagnostic in the list is an error.
+pub fn has_errors(diags: &[Diagnostic]) -> bool {
+    diags.iter().any(Diagnostic::is_error)
+}
+
+/// A named source text, with the line starts needed to turn byte offsets into
+/// line and column numbers.
+pub struct SourceFile {
+    pub name: String,
+    pub text: String,
+    line_starts: Vec<usize>,
+}
+
+impl SourceFile {
+    pub fn new(name: impl Into<String>, text: impl Into<String>) -> Self {
+        let text = text.into();
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        SourceFile {
+            name: name.into(),
+            text,
+            line_starts,
+        }
+    }
+
+    /// 1-based line and column (in bytes) of a byte offset.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let line = self.line_starts.partition_point(|&s| s <= offset) - 1;
+        (line + 1, offset - self.line_starts[line] + 1)
+    }
+}
+
+/// Renders diagnostics as text with ariadne: `[code] Error: message`, then a frame headed
+/// `file:line:col` with a caret under the span. `color` adds ANSI colours.
+pub fn render(diags: &[Diagnostic], file: &SourceFile, color: bool) -> String {
+    use ariadne::{CharSet, Config, IndexType, Label, Report, ReportKind, Source};
+    let mut out = String::new();
+    let len = file.text.len();
+    let clamp = |s: &Span| s.start.min(len)..s.end.min(len).max(s.start.min(len));
+    for d in diags {
+        let kind = match d.severity {
+            Severity::Error => ReportKind::Error,
+            Severity::Warning => ReportKind::Warning,
+        };
+        let name = file.name.as_str();
+        let primary = clamp(&d.span);
+        let mut report = Report::build(kind, (name, primary.clone()))
+            .with_config(
+                Config::default()
+                    .with_color(color)
+                    .with_index_type(IndexType::Byte)
+                    .with_char_set(CharSet::Ascii),
+            )
+            .with_code(d.code.as_str())
+            .with_message(&d.message)
+            .with_label(Label::new((name, primary)).with_message("here"));
+        for (span, text) in &d.labels {
+            report = report.with_label(Label::new((name, clamp(span))).with_message(text));
+        }
+        for note in &d.notes {
+            report = report.with_note(note);
+        }
+        if let Some(help) = &d.help {
+            report = report.with_help(help);
+        }
+        let mut buf = Vec::new();
+        if report
+            .finish()
+            .write((name, Source::from(file.text.as_str())), &mut buf)
+            .is_ok()
+        {
+            out.push_str(&String::from_utf8_lossy(&buf));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_col_counts_from_one() {
+        let f = SourceFile::new("f", "ab\ncd\n");
+        assert_eq!(f.line_col(0), (1, 1));
+        assert_eq!(f.line_col(1), (1, 2));
+        assert_eq!(f.line_col(3), (2, 1));
+        assert_eq!(f.line_col(6), (3, 1));
+        assert_eq!(f.line_col(99), (3, 1));
+    }
+
+    #[test]
+    fn render_names_file_line_column_and_code() {
+        let f = SourceFile::new("x.txt", "1+\nSIN (1)");
+        let d = Diagnostic::error(Code::BlankBeforeParen, 6..7, "no blank allowed");
+        let text = render(&[d], &f, false);
+        assert!(
+            text.starts_with("[E0103] Error: no blank allowed"),
+            "{text}"
+        );
+        assert!(text.contains("x.txt:2:4"), "{text}");
+        assert!(text.contains('^'), "{text}");
+    }
+}

@@ -1,0 +1,277 @@
+//! Builds a [`Function`] instruction by instruction, folding constants and sharing
+//! common subexpressions.
+//!
+//! Folding evaluates with the very operations the back ends execute (IEEE `+ - * /`,
+//! `sqrt`, and [`Func::eval`] for library calls), so a folded constant has the bits the
+//! unfolded code would produce. Sharing is scoped: a value computed inside an IF arm is
+//! visible only there, never hoisted out of the arm (that would evaluate it eagerly).
+
+use super::{Block, Func, Function, Inst, Uses, Value};
+use crate::check::builtins::SplineKind;
+use crate::diag::Span;
+use std::collections::HashMap;
+
+/// Hashable identity of an instruction, for sharing. IF is never shared.
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Key {
+    Var(u32),
+    Time,
+    Mode,
+    Measure(u32),
+    Neg(Value),
+    Add(Value, Value),
+    Sub(Value, Value),
+    Mul(Value, Value),
+    Div(Value, Value),
+    Sqrt(Value),
+    Call(Func, Box<[Value]>),
+    Spline(SplineKind, Value, Value, u32, u8),
+}
+
+/// Incrementally builds one function.
+pub struct Builder {
+    f: Function,
+    consts: HashMap<u64, Value>,
+    /// One sharing table per open block, innermost last.
+    scopes: Vec<HashMap<Key, Value>>,
+    /// Instruction list of each open block, innermost last.
+    lists: Vec<Vec<Value>>,
+}
+
+impl Default for Builder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Builder {
+    pub fn new() -> Self {
+        Builder {
+            f: Function::default(),
+            consts: HashMap::new(),
+            scopes: vec![HashMap::new()],
+            lists: vec![Vec::new()],
+        }
+    }
+
+    fn push(&mut self, inst: Inst, span: Span) -> Value {
+        let v = self.f.insts.len() as Value;
+        self.f.insts.push(inst);
+        self.f.spans.push(span);
+        v
+    }
+
+    /// A constant (constants belong to no block).
+    pub fn constant(&mut self, c: f64, span: Span) -> Value {
+        if let Some(&v) = self.consts.get(&c.to_bits()) {
+            return v;
+        }
+        let v = self.push(Inst::Const(c), span);
+        self.consts.insert(c.to_bits(), v);
+        v
+    }
+
+    pub fn get_const(&self, v: Value) -> Option<f64> {
+        self.f.constant(v)
+    }
+
+    fn emit(&mut self, key: Key, inst: Inst, span: Span) -> Value {
+        if let Some(v) = self.scopes.iter().rev().find_map(|s| s.get(&key)) {
+            return *v;
+        }
+        let v = self.push(inst, span);
+        if let Some(list) = self.lists.last_mut() {
+            list.push(v);
+        }
+        if let Some(scope) = self.scopes.last_mut() {
+            scope.insert(key, v);
+        }
+        v
+    }
+
+    pub fn var(&mut self, slot: u32, span: Span) -> Value {
+        self.emit(Key::Var(slot), Inst::Var(slot), span)
+    }
+
+    pub fn time(&mut self, span: Span) -> Value {
+        self.emit(Key::Time, Inst::Time, span)
+    }
+
+    pub fn mode(&mut self, span: Span) -> Value {
+        self.emit(Key::Mode, Inst::Mode, span)
+    }
+
+    pub fn measure(&mut self, slot: u32, span: Span) -> Value {
+        self.emit(Key::Measure(slot), Inst::Measure(slot), span)
+    }
+
+    pub fn neg(&mut self, a: Value, span: Span) -> Value {
+        match self.get_const(a) {
+            Some(x) => self.constant(-x, span),
+            None => self.emit(Key::Neg(a), Inst::Neg(a), span),
+        }
+    }
+
+    pub fn sqrt(&mut self, a: Value, span: Span) -> Value {
+        match self.get_const(a) {
+            Some(x) => self.constant(x.sqrt(), span),
+            None => self.emit(Key::Sqrt(a), Inst::Sqrt(a), span),
+        }
+    }
+
+    /// `+ - * /` on two scalars. Operands of the commutative ones are ordered so that
+    /// `a*b` and `b*a` share one instruction (IEEE `+` and `*` are commutative).
+    pub fn arith(&mut self, op: Arith, a: Value, b: Value, span: Span) -> Value {
+        if let (Some(x), Some(y)) = (self.get_const(a), self.get_const(b)) {
+            return self.constant(op.apply(x, y), span);
+        }
+        let (ca, cb) = if matches!(op, Arith::Add | Arith::Mul) && a > b {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        let (key, inst) = match op {
+            Arith::Add => (Key::Add(ca, cb), Inst::Add(ca, cb)),
+            Arith::Sub => (Key::Sub(a, b), Inst::Sub(a, b)),
+            Arith::Mul => (Key::Mul(ca, cb), Inst::Mul(ca, cb)),
+            Arith::Div => (Key::Div(a, b), Inst::Div(a, b)),
+        };
+        self.emit(key, inst, span)
+    }
+
+    /// A library call; folded when every argument is constant.
+    pub fn call(&mut self, func: Func, args: Vec<Value>, span: Span) -> Value {
+        let consts: Option<Vec<f64>> = args.iter().map(|&a| self.get_const(a)).collect();
+        if let Some(c) = consts {
+            return self.constant(func.eval(&c), span);
+        }
+        let args = args.into_boxed_slice();
+        self.emit(Key::Call(func, args.clone()), Inst::Call(func, args), span)
+    }
+
+    /// A spline interpolation (never folded: the data belong to the host).
+    pub fn spline(
+        &mut self,
+        kind: SplineKind,
+        x: Value,
+        z: Value,
+        spline: u32,
+        iord: u8,
+        span: Span,
+    ) -> Value {
+        let key = Key::Spline(kind, x, z, spline, iord);
+        self.emit(
+            key,
+            Inst::Spline {
+                kind,
+                x,
+                z,
+                spline,
+                iord,
+            },
+            span,
+        )
+    }
+
+    /// Opens a nested block (an IF arm).
+    pub fn begin_block(&mut self) {
+        self.scopes.push(HashMap::new());
+        self.lists.push(Vec::new());
+    }
+
+    /// Closes the innermost block, yielding `result`.
+    pub fn end_block(&mut self, result: Value) -> Block {
+        self.scopes.pop();
+        Block {
+            insts: self.lists.pop().unwrap_or_default(),
+            result,
+        }
+    }
+
+    /// An arithmetic IF over three finished arms. A constant test selects its arm at
+    /// build time: the arm's instructions join the current block.
+    pub fn if_(&mut self, test: Value, arms: [Block; 3], span: Span) -> Value {
+        if let Some(t) = self.get_const(test) {
+            let pick = if t < 0.0 {
+                Some(0)
+            } else if t == 0.0 {
+                Some(1)
+            } else if t > 0.0 {
+                Some(2)
+            } else {
+                None
+            };
+            if let Some(i) = pick {
+                let [a, b, c] = arms;
+                let arm = [a, b, c].into_iter().nth(i).unwrap_or_default();
+                if let Some(list) = self.lists.last_mut() {
+                    list.extend_from_slice(&arm.insts);
+                }
+                return arm.result;
+            }
+        }
+        let v = self.push(
+            Inst::If {
+                test,
+                arms: Box::new(arms),
+            },
+            span,
+        );
+        if let Some(list) = self.lists.last_mut() {
+            list.push(v);
+        }
+        v
+    }
+
+    /// Finishes the function with its outputs.
+    pub fn finish(mut self, outputs: Vec<Value>) -> Function {
+        self.f.body = self.lists.pop().unwrap_or_default();
+        self.f.outputs = outputs;
+        self.f.uses = collect_uses(&self.f);
+        self.f
+    }
+}
+
+/// The four arithmetic operators, with the IEEE operation each denotes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arith {
+    Add,
+    Sub,
+    Mul,
+    Div,
+}
+
+impl Arith {
+    pub fn apply(self, x: f64, y: f64) -> f64 {
+        match self {
+            Arith::Add => x + y,
+            Arith::Sub => x - y,
+            Arith::Mul => x * y,
+            Arith::Div => x / y,
+        }
+    }
+}
+
+/// What a finished function reads, walking only reachable instructions.
+fn collect_uses(f: &Function) -> Uses {
+    let mut uses = Uses::default();
+    let mut stack: Vec<&[Value]> = vec![&f.body];
+    while let Some(list) = stack.pop() {
+        for &v in list {
+            match f.inst(v) {
+                Inst::Time => uses.time = true,
+                Inst::Mode => uses.mode = true,
+                Inst::Var(s) => uses.vars.push(*s),
+                Inst::Measure(s) => uses.measures.push(*s),
+                Inst::Spline { spline, .. } => uses.splines.push(*spline),
+                Inst::If { arms, .. } => stack.extend(arms.iter().map(|a| a.insts.as_slice())),
+                _ => {}
+            }
+        }
+    }
+    for list in [&mut uses.vars, &mut uses.measures, &mut uses.splines] {
+        list.sort_unstable();
+        list.dedup();
+    }
+    uses
+}

@@ -1,0 +1,123 @@
+//! The typed IR both back ends execute.
+//!
+//! A [`Function`] is a list of SSA instructions in one arena, organised in blocks: the top
+//! level block, and for each arithmetic IF three nested blocks of which exactly one runs
+//! (so an untaken branch is never evaluated, spec §2.4). Every value is a scalar `f64`:
+//! vector expressions are lowered to three scalars by the checker, and the types were
+//! settled there, so no back end tests a type at run time. Constants live outside blocks.
+//! [`builder::Builder`] folds constants and shares common subexpressions as it builds.
+
+pub mod builder;
+pub mod func;
+pub mod print;
+
+use crate::check::builtins::SplineKind;
+use crate::diag::Span;
+pub use func::Func;
+
+/// Index of an instruction (and of the value it defines) in [`Function::insts`].
+pub type Value = u32;
+
+/// One instruction. Operands are values defined earlier in the same block or an
+/// enclosing one, or constants.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Inst {
+    Const(f64),
+    /// User variable slot `n` of the evaluation context.
+    Var(u32),
+    Time,
+    Mode,
+    /// Measure slot `n` of the evaluation context, filled by the multibody core.
+    Measure(u32),
+    Neg(Value),
+    Add(Value, Value),
+    Sub(Value, Value),
+    Mul(Value, Value),
+    Div(Value, Value),
+    Sqrt(Value),
+    /// A library function of `mbfx-runtime` (fixed arguments, then any coefficients).
+    Call(Func, Box<[Value]>),
+    /// Interpolation of spline `spline` of the context at (x, z); `iord` = derivative order.
+    Spline {
+        kind: SplineKind,
+        x: Value,
+        z: Value,
+        spline: u32,
+        iord: u8,
+    },
+    /// Arithmetic IF: runs `arms[0]` when test < 0, `arms[1]` when test = 0 (either
+    /// sign), `arms[2]` when test > 0; a NaN test runs no arm and gives NaN (a run-time
+    /// error the caller reports, decision 2).
+    If {
+        test: Value,
+        arms: Box<[Block; 3]>,
+    },
+}
+
+/// A straight-line sequence of instructions and the value it yields.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Block {
+    pub insts: Vec<Value>,
+    pub result: Value,
+}
+
+/// A compiled expression: instructions, their source spans, the top-level block and the
+/// outputs (one value for a scalar expression, three for a vector).
+#[derive(Clone, Debug, Default)]
+pub struct Function {
+    pub insts: Vec<Inst>,
+    pub spans: Vec<Span>,
+    pub body: Vec<Value>,
+    pub outputs: Vec<Value>,
+    /// What the function reads from the context, so hosts compute no more than that.
+    pub uses: Uses,
+}
+
+/// The parts of the evaluation context a function reads.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Uses {
+    pub time: bool,
+    pub mode: bool,
+    /// Variable slots read, sorted.
+    pub vars: Vec<u32>,
+    /// Measure slots read, sorted.
+    pub measures: Vec<u32>,
+    /// Spline indices read, sorted.
+    pub splines: Vec<u32>,
+}
+
+impl Uses {
+    /// Smallest variable array the function may be given.
+    pub fn vars_len(&self) -> usize {
+        self.vars.last().map_or(0, |&v| v as usize + 1)
+    }
+
+    /// Smallest measure array the function may be given.
+    pub fn measures_len(&self) -> usize {
+        self.measures.last().map_or(0, |&v| v as usize + 1)
+    }
+
+    /// Smallest spline table the function may be given.
+    pub fn splines_len(&self) -> usize {
+        self.splines.last().map_or(0, |&v| v as usize + 1)
+    }
+}
+
+impl Function {
+    pub fn inst(&self, v: Value) -> &Inst {
+        &self.insts[v as usize]
+    }
+
+    /// True when the function yields a vector.
+    pub fn is_vector(&self) -> bool {
+        self.outputs.len() == 3
+    }
+
+    /// The constant a value holds, if it is one.
+    pub fn constant(&self, v: Value) -> Option<f64> {
+        match self.inst(v) {
+            Inst::Const(c) => Some(*c),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,16 @@
+//! mbfx: a compiler and runtime for the Adams FUNCTION expression language.
+//!
+//! Pipeline: [`syntax`] (logos lexer, LALRPOP parser) → [`check`] (names, arity, types,
+//! limits) → [`ir`] (typed IR, constant folding) → [`interp`] (evaluator); library
+//! functions live in the `mbfx-runtime` crate shared by every back end. [`model`] reads
+//! `.adm` datasets; [`diag`] is the one diagnostic type.
+
+pub mod check;
+pub mod cli;
+pub mod context;
+pub mod diag;
+pub mod interp;
+pub mod ir;
+pub mod model;
+mod stack;
+pub mod syntax;

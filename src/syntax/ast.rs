@@ -1,0 +1,248 @@
+//! The syntax tree: an arena of nodes addressed by [`NodeId`].
+//!
+//! The parser's actions build nodes through [`Builder`]; nodes refer to children by index,
+//! so a tree of any depth is dropped without recursion, and each node records its depth so
+//! later passes know in advance how deep their recursion will go.
+
+use crate::diag::Span;
+
+/// Index of a node in [`Ast::nodes`].
+pub type NodeId = u32;
+
+/// Binary operators, in the language's spelling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    /// `%`: cross product of two vectors.
+    Cross,
+    Pow,
+}
+
+impl BinOp {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Cross => "%",
+            BinOp::Pow => "**",
+        }
+    }
+}
+
+/// Unary sign operators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnOp {
+    Neg,
+    Plus,
+}
+
+/// What a node is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Kind {
+    Num(f64),
+    /// A bare name: index into [`Ast::names`].
+    Name(u32),
+    /// `NAME(args)`; `name_end` closes the name's span (which starts at the node's start).
+    Call {
+        name: u32,
+        name_end: u32,
+        args: Box<[NodeId]>,
+    },
+    /// `IF(test: neg, zero, pos)`.
+    If([NodeId; 4]),
+    Unary(UnOp, NodeId),
+    Binary(BinOp, NodeId, NodeId),
+    /// `[a, b, c]`.
+    Vector([NodeId; 3]),
+    /// Where the parser recovered from an error (already diagnosed).
+    Error,
+}
+
+/// One node: its kind, byte span and depth (1 for a leaf).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    pub kind: Kind,
+    pub start: u32,
+    pub end: u32,
+    pub depth: u32,
+}
+
+impl Node {
+    pub fn span(&self) -> Span {
+        self.start as usize..self.end as usize
+    }
+}
+
+/// A parsed expression: its nodes and the upper-cased names they mention.
+#[derive(Clone, Debug, Default)]
+pub struct Ast {
+    pub nodes: Vec<Node>,
+    pub names: Vec<Box<str>>,
+}
+
+impl Ast {
+    pub fn node(&self, id: NodeId) -> &Node {
+        &self.nodes[id as usize]
+    }
+
+    pub fn name(&self, idx: u32) -> &str {
+        &self.names[idx as usize]
+    }
+
+    /// Children of a node, in source order.
+    pub fn children(&self, id: NodeId) -> Vec<NodeId> {
+        match &self.node(id).kind {
+            Kind::Num(_) | Kind::Name(_) | Kind::Error => Vec::new(),
+            Kind::Call { args, .. } => args.to_vec(),
+            Kind::If(c) => c.to_vec(),
+            Kind::Unary(_, a) => vec![*a],
+            Kind::Binary(_, a, b) => vec![*a, *b],
+            Kind::Vector(c) => c.to_vec(),
+        }
+    }
+
+    /// A span-free S-expression of the tree, for structural comparisons in tests.
+    /// Iterative, so any depth is safe.
+    pub fn sexpr(&self, root: NodeId) -> String {
+        enum Step {
+            Open(NodeId),
+            Text(&'static str),
+        }
+        let mut out = String::new();
+        let mut stack = vec![Step::Open(root)];
+        while let Some(step) = stack.pop() {
+            let id = match step {
+                Step::Text(t) => {
+                    out.push_str(t);
+                    continue;
+                }
+                Step::Open(id) => id,
+            };
+            let head = match &self.node(id).kind {
+                Kind::Num(v) => {
+                    out.push_str(&format!("{v:?}"));
+                    continue;
+                }
+                Kind::Name(n) => {
+                    out.push_str(self.name(*n));
+                    continue;
+                }
+                Kind::Error => {
+                    out.push_str("<error>");
+                    continue;
+                }
+                Kind::Call { name, .. } => self.name(*name).to_string(),
+                Kind::If(_) => "IF".to_string(),
+                Kind::Unary(UnOp::Neg, _) => "neg".to_string(),
+                Kind::Unary(UnOp::Plus, _) => "pos".to_string(),
+                Kind::Binary(op, _, _) => op.symbol().to_string(),
+                Kind::Vector(_) => "vec".to_string(),
+            };
+            out.push('(');
+            out.push_str(&head);
+            stack.push(Step::Text(")"));
+            for child in self.children(id).into_iter().rev() {
+                stack.push(Step::Open(child));
+                stack.push(Step::Text(" "));
+            }
+        }
+        out
+    }
+}
+
+/// Builds nodes for the parser's actions; also collects the parser's recovered errors.
+pub struct Builder {
+    pub ast: Ast,
+    pub recovered: Vec<crate::syntax::parser::Recovered>,
+}
+
+impl Builder {
+    pub fn new(names: Vec<Box<str>>) -> Self {
+        Builder {
+            ast: Ast {
+                nodes: Vec::new(),
+                names,
+            },
+            recovered: Vec::new(),
+        }
+    }
+
+    fn push(&mut self, kind: Kind, start: usize, end: usize, depth: u32) -> NodeId {
+        let id = self.ast.nodes.len() as NodeId;
+        self.ast.nodes.push(Node {
+            kind,
+            start: start as u32,
+            end: end as u32,
+            depth,
+        });
+        id
+    }
+
+    fn depth_of(&self, ids: &[NodeId]) -> u32 {
+        1 + ids
+            .iter()
+            .map(|&i| self.ast.node(i).depth)
+            .max()
+            .unwrap_or(0)
+    }
+
+    pub fn num(&mut self, v: f64, l: usize, r: usize) -> NodeId {
+        self.push(Kind::Num(v), l, r, 1)
+    }
+
+    pub fn name(&mut self, n: u32, l: usize, r: usize) -> NodeId {
+        self.push(Kind::Name(n), l, r, 1)
+    }
+
+    pub fn call(
+        &mut self,
+        name: u32,
+        name_end: usize,
+        args: Vec<NodeId>,
+        l: usize,
+        r: usize,
+    ) -> NodeId {
+        let depth = self.depth_of(&args);
+        let kind = Kind::Call {
+            name,
+            name_end: name_end as u32,
+            args: args.into_boxed_slice(),
+        };
+        self.push(kind, l, r, depth)
+    }
+
+    pub fn if_(&mut self, parts: [NodeId; 4], l: usize, r: usize) -> NodeId {
+        let depth = self.depth_of(&parts);
+        self.push(Kind::If(parts), l, r, depth)
+    }
+
+    pub fn unary(&mut self, op: UnOp, a: NodeId, l: usize, r: usize) -> NodeId {
+        let depth = self.depth_of(&[a]);
+        self.push(Kind::Unary(op, a), l, r, depth)
+    }
+
+    pub fn binary(&mut self, op: BinOp, a: NodeId, b: NodeId, l: usize, r: usize) -> NodeId {
+        let depth = self.depth_of(&[a, b]);
+        self.push(Kind::Binary(op, a, b), l, r, depth)
+    }
+
+    pub fn vector(&mut self, parts: [NodeId; 3], l: usize, r: usize) -> NodeId {
+        let depth = self.depth_of(&parts);
+        self.push(Kind::Vector(parts), l, r, depth)
+    }
+
+    pub fn error(&mut self, l: usize, r: usize) -> NodeId {
+        self.push(Kind::Error, l, r, 1)
+    }
+
+    /// Records an error the parser recovered from and stands an error node in its place.
+    pub fn recover(&mut self, e: crate::syntax::parser::Recovered, l: usize, r: usize) -> NodeId {
+        self.recovered.push(e);
+        self.error(l, r)
+    }
+}

@@ -1,0 +1,352 @@
+//! Lexer: turns expression text into `(start, Tok, end)` triples for the LALRPOP parser.
+//!
+//! Two layers. [`Raw`] is the logos token set (numbers, names, operators, blanks,
+//! continuation joins, comments). [`lex`] then walks the raw tokens once and applies the
+//! rules that need a neighbour: a name directly followed by `(` is a call (a blank in
+//! between is diagnosed, spec §1.4); a number must not run into a letter or digit
+//! (`1.5D3`, `10DTOR`, decision 4); `* *` is not a power; relational operators get a hint;
+//! bracket depth is limited (decision 11). The lexer never stops at an error: it records
+//! a diagnostic and hands the parser a placeholder token so every error is reported.
+//! Spans are byte offsets into the text given (callers shift them for `.adm` files).
+
+use crate::diag::{Code, Diagnostic};
+use logos::Logos;
+
+/// Deepest nesting of `(`, `[` and calls accepted (decision 11: at least 1000).
+pub const MAX_BRACKET_DEPTH: usize = 1024;
+
+/// The raw token set, as logos recognises it.
+#[derive(Logos, Clone, Copy, Debug, PartialEq)]
+enum Raw {
+    #[regex(r"[ \t\x0C]+")]
+    Blank,
+    /// A line break followed by optional blanks and a comma in column one: the
+    /// statement continues (spec §1.5.1), and the join counts as one blank.
+    #[regex(r"\r?\n[ \t]*,")]
+    Continuation,
+    #[regex(r"\r?\n")]
+    Newline,
+    /// `!` stops reading the line (spec §1.5.2).
+    #[regex(r"![^\n]*", allow_greedy = true)]
+    Comment,
+    #[regex(r"([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?[dD]?")]
+    Number,
+    /// Plain names and Adams View dotted names (`.model.part.marker`).
+    #[regex(r"\.?[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*")]
+    Name,
+    #[token("+")]
+    Plus,
+    #[token("-")]
+    Minus,
+    #[token("*")]
+    Star,
+    #[token("**")]
+    Pow,
+    #[token("/")]
+    Slash,
+    #[token("%")]
+    Percent,
+    #[token("(")]
+    LParen,
+    #[token(")")]
+    RParen,
+    #[token("[")]
+    LBracket,
+    #[token("]")]
+    RBracket,
+    #[token(",")]
+    Comma,
+    #[token(":")]
+    Colon,
+    #[regex(r"<|>|<=|>=|==|=|/=|<>|&&|\|\||&|\|")]
+    #[regex(r"\.([lL][tTeE]|[gG][tTeE]|[eE][qQ]|[nN][eE]|[aA][nN][dD]|[oO][rR]|[nN][oO][tT])\.")]
+    Relational,
+    #[token("^")]
+    Caret,
+    #[token("\\")]
+    Backslash,
+}
+
+/// Tokens as the parser sees them. `Copy` and lifetime-free: names are kept in
+/// [`Lexed::names`] and referred to by index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tok {
+    Num(f64),
+    /// A bare name (constant or variable); index into [`Lexed::names`].
+    Name(u32),
+    /// A name directly followed by `(`: a function call.
+    Call(u32),
+    /// `IF(`: the arithmetic IF.
+    If,
+    Plus,
+    Minus,
+    Star,
+    Pow,
+    Slash,
+    Percent,
+    LParen,
+    RParen,
+    LBracket,
+    RBracket,
+    Comma,
+    Colon,
+    /// A relational or logical operator: already diagnosed, parsed as a binary operator
+    /// so that the rest of the expression is still checked.
+    Relational,
+    /// Something that already produced a lexical diagnostic; parses as a value.
+    Invalid,
+}
+
+/// The result of lexing one expression.
+pub struct Lexed {
+    pub tokens: Vec<(usize, Tok, usize)>,
+    /// Upper-cased names, indexed by [`Tok::Name`] and [`Tok::Call`].
+    pub names: Vec<Box<str>>,
+    pub diagnostics: Vec<Diagnostic>,
+    /// True when lexing stopped early (bracket depth exceeded): the tokens are incomplete
+    /// and the parser must not run.
+    pub aborted: bool,
+}
+
+/// Value of a number literal: the digits as an `f64`, times π/180 with a `D` suffix.
+pub fn number_value(text: &str) -> f64 {
+    match text.strip_suffix(['d', 'D']) {
+        Some(digits) => parse_digits(digits) * (std::f64::consts::PI / 180.0),
+        None => parse_digits(text),
+    }
+}
+
+fn parse_digits(text: &str) -> f64 {
+    // The regex admits only forms Rust's parser accepts ("1.", ".5", "1.E2" included).
+    text.parse().unwrap_or(f64::NAN)
+}
+
+fn is_word_byte(b: u8) -> bool {
+    b.is_ascii_alphanumeric() || b == b'_' || b == b'.'
+}
+
+/// Lexes `src`. Never fails: problems become diagnostics plus [`Tok::Invalid`].
+pub fn lex(src: &str) -> Lexed {
+    let bytes = src.as_bytes();
+    let mut out = Lexed {
+        tokens: Vec::with_capacity(src.len() / 3 + 1),
+        names: Vec::new(),
+        diagnostics: Vec::new(),
+        aborted: false,
+    };
+    let mut raw = Raw::lexer(src);
+    let mut depth = 0usize;
+    // End of the last token that was not a blank: decides "directly followed by".
+    let mut blank_since: Option<usize> = None;
+    while let Some(item) = raw.next() {
+        let span = raw.span();
+        let (start, end) = (span.start, span.end);
+        let kind = match item {
+            Ok(k) => k,
+            Err(()) => {
+                let ch = src[start..].chars().next().unwrap_or('\u{fffd}');
+                let end = start + ch.len_utf8();
+                let what = if ch == '\0' {
+                    "NUL byte".to_string()
+                } else {
+                    format!("character {ch:?}")
+                };
+                let mut d = Diagnostic::error(
+                    Code::UnexpectedChar,
+                    start..end,
+                    format!("unexpected {what} in an expression"),
+                );
+                if ch == '"' || ch == '\'' {
+                    d = d.with_help("expressions have no strings; names are written bare");
+                }
+                out.diagnostics.push(d);
+                out.tokens.push((start, Tok::Invalid, end));
+                if end > span.end {
+                    raw.bump(end - span.end);
+                }
+                blank_since = None;
+                continue;
+            }
+        };
+        let tok = match kind {
+            Raw::Blank | Raw::Continuation | Raw::Comment => {
+                blank_since.get_or_insert(start);
+                continue;
+            }
+            Raw::Newline => {
+                if src[end..].trim().is_empty() {
+                    blank_since.get_or_insert(start);
+                    continue;
+                }
+                out.diagnostics.push(
+                    Diagnostic::error(
+                        Code::UnexpectedChar,
+                        start..end,
+                        "line break inside an expression",
+                    )
+                    .with_help(
+                        "continue an expression on the next line with a comma in column one",
+                    ),
+                );
+                blank_since = None;
+                continue;
+            }
+            Raw::Number => {
+                // A number running straight into letters, digits or a dot is malformed.
+                let mut stop = end;
+                while stop < bytes.len() && is_word_byte(bytes[stop]) {
+                    stop += 1;
+                }
+                if stop > end {
+                    raw.bump(stop - end);
+                    let text = &src[start..stop];
+                    let mut d = Diagnostic::error(
+                        Code::BadNumber,
+                        start..stop,
+                        format!("malformed number `{text}`"),
+                    );
+                    let tail = &src[end..stop];
+                    if src[start..end].ends_with(['d', 'D'])
+                        && tail.bytes().next().is_some_and(|b| b.is_ascii_digit())
+                    {
+                        d = d.with_help(
+                            "`D` after a number means degrees; write the exponent with `E` (1.5E3)",
+                        );
+                    } else {
+                        d = d.with_help("a number must be followed by an operator, `,` or `)`");
+                    }
+                    out.diagnostics.push(d);
+                    out.tokens.push((start, Tok::Invalid, stop));
+                    blank_since = None;
+                    continue;
+                }
+                Tok::Num(number_value(&src[start..end]))
+            }
+            Raw::Name => {
+                let upper: Box<str> = src[start..end].to_ascii_uppercase().into();
+                // A name directly followed by `(` is a call; with a blank in between it is
+                // an error for a known function (spec §1.4), a missing operator otherwise.
+                let rest = &src[end..];
+                let after_blank = rest.trim_start_matches([' ', '\t']);
+                let direct = rest.starts_with('(');
+                let spaced = !direct && after_blank.starts_with('(') || continued_paren(rest);
+                if spaced && crate::check::builtins::is_callable(&upper) {
+                    out.diagnostics.push(
+                        Diagnostic::error(
+                            Code::BlankBeforeParen,
+                            start..end + (rest.len() - rest.trim_start().len()),
+                            format!("blank between function name `{upper}` and `(`"),
+                        )
+                        .with_help(format!("write `{upper}(` with no blank")),
+                    );
+                }
+                let call = direct || (spaced && crate::check::builtins::is_callable(&upper));
+                if call && &*upper == "IF" {
+                    Tok::If
+                } else {
+                    let idx = out.names.len() as u32;
+                    out.names.push(upper);
+                    if call {
+                        Tok::Call(idx)
+                    } else {
+                        Tok::Name(idx)
+                    }
+                }
+            }
+            Raw::Plus => Tok::Plus,
+            Raw::Minus => Tok::Minus,
+            Raw::Star => match out.tokens.last().copied() {
+                // Logos already joins `**`; two stars reaching here had a blank between.
+                Some((s, Tok::Star, _)) if blank_since.is_some() => {
+                    out.diagnostics.push(
+                        Diagnostic::error(Code::SplitPower, s..end, "`* *` is not an operator")
+                            .with_help("write the power operator `**` without a blank"),
+                    );
+                    out.tokens.pop();
+                    out.tokens.push((s, Tok::Pow, end));
+                    blank_since = None;
+                    continue;
+                }
+                _ => Tok::Star,
+            },
+            Raw::Pow => Tok::Pow,
+            Raw::Slash => Tok::Slash,
+            Raw::Percent => Tok::Percent,
+            Raw::LParen | Raw::LBracket => {
+                depth += 1;
+                if depth > MAX_BRACKET_DEPTH {
+                    out.diagnostics.push(
+                        Diagnostic::error(
+                            Code::TooDeep,
+                            start..end,
+                            format!("brackets nest deeper than {MAX_BRACKET_DEPTH} levels"),
+                        )
+                        .with_help("split the expression, e.g. into VARIABLE statements"),
+                    );
+                    out.aborted = true;
+                    return out;
+                }
+                if kind == Raw::LParen {
+                    Tok::LParen
+                } else {
+                    Tok::LBracket
+                }
+            }
+            Raw::RParen | Raw::RBracket => {
+                depth = depth.saturating_sub(1);
+                if kind == Raw::RParen {
+                    Tok::RParen
+                } else {
+                    Tok::RBracket
+                }
+            }
+            Raw::Comma => Tok::Comma,
+            Raw::Colon => Tok::Colon,
+            Raw::Relational => {
+                out.diagnostics.push(
+                    Diagnostic::error(
+                        Code::RelationalOperator,
+                        start..end,
+                        format!(
+                            "`{}`: relational and logical operators are not part of function expressions",
+                            &src[start..end]
+                        ),
+                    )
+                    .with_help("use IF(e1: e2, e3, e4), STEP, MIN, MAX, DIM or SIGN instead"),
+                );
+                Tok::Relational
+            }
+            Raw::Caret => {
+                out.diagnostics.push(
+                    Diagnostic::error(Code::UnexpectedChar, start..end, "`^` is not an operator")
+                        .with_help("write powers with `**`"),
+                );
+                Tok::Pow
+            }
+            Raw::Backslash => {
+                out.diagnostics.push(
+                    Diagnostic::error(Code::UnexpectedChar, start..end, "unexpected `\\`")
+                        .with_help("`\\` ends an expression only inside a dataset statement"),
+                );
+                Tok::Invalid
+            }
+        };
+        blank_since = None;
+        out.tokens.push((start, tok, end));
+    }
+    out
+}
+
+/// True when `rest` (text after a name) is blanks, a continuation join, blanks, then `(`:
+/// a function name broken from its `(` across lines (spec §8.1 L19).
+fn continued_paren(rest: &str) -> bool {
+    let rest = rest.trim_start_matches([' ', '\t']);
+    let rest = rest.strip_prefix('\r').unwrap_or(rest);
+    match rest.strip_prefix('\n') {
+        Some(r) => r
+            .trim_start_matches([' ', '\t'])
+            .strip_prefix(',')
+            .is_some_and(|r| r.trim_start_matches([' ', '\t']).starts_with('(')),
+        None => false,
+    }
+}

@@ -1,0 +1,7 @@
+//! Front end: text → tokens ([`lexer`]) → syntax tree ([`parser`], [`ast`]), and back to
+//! text ([`print`]).
+
+pub mod ast;
+pub mod lexer;
+pub mod parser;
+pub mod print;

@@ -1,0 +1,276 @@
+//! Parser glue: runs the LALRPOP grammar (`grammar/function.lalrpop`, generated at build
+//! time) over the lexer's tokens and converts LALRPOP's errors into diagnostics in exactly
+//! one function, [`to_diagnostic`]. The parser recovers from errors, so one run reports
+//! every syntax error it finds; it never panics and never recurses.
+
+use crate::diag::{Code, Diagnostic};
+use crate::syntax::ast::{Ast, Builder, NodeId};
+use crate::syntax::lexer::{self, Lexed, Tok};
+use lalrpop_util::{lalrpop_mod, ErrorRecovery, ParseError};
+
+lalrpop_mod!(
+    #[allow(clippy::all, clippy::pedantic, unused)]
+    grammar,
+    "/function.rs"
+);
+
+/// Deepest syntax tree accepted. Operator chains (`1+1+…`) make trees as deep as they are
+/// long; passes over the tree grow their stack on demand, and this bound keeps their
+/// memory in proportion (decision 11).
+pub const MAX_TREE_DEPTH: u32 = 20_000;
+
+/// The lexer hands the parser no errors (it reports them itself), so this is never built.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoLexError {}
+
+/// An error the parser recovered from.
+pub type Recovered = ErrorRecovery<usize, Tok, NoLexError>;
+
+/// A parsed expression with every lexical and syntax diagnostic found.
+pub struct Parsed {
+    pub ast: Ast,
+    /// `None` when nothing could be parsed (empty input, nesting limit, ...).
+    pub root: Option<NodeId>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Lexes and parses one expression.
+pub fn parse(src: &str) -> Parsed {
+    let Lexed {
+        tokens,
+        names,
+        mut diagnostics,
+        aborted,
+    } = lexer::lex(src);
+    let mut builder = Builder::new(names);
+    if aborted {
+        return Parsed {
+            ast: builder.ast,
+            root: None,
+            diagnostics,
+        };
+    }
+    if tokens.is_empty() {
+        if diagnostics.is_empty() {
+            diagnostics.push(
+                Diagnostic::error(Code::EmptyExpression, 0..src.len(), "empty expression")
+                    .with_help("write a value, e.g. 0"),
+            );
+        }
+        return Parsed {
+            ast: builder.ast,
+            root: None,
+            diagnostics,
+        };
+    }
+    let result = grammar::ExprParser::new().parse(&mut builder, tokens.iter().copied());
+    let recovered = std::mem::take(&mut builder.recovered);
+    for r in recovered {
+        diagnostics.push(to_diagnostic(r.error, src, &tokens));
+    }
+    let root = match result {
+        Ok(root) => Some(root),
+        Err(e) => {
+            diagnostics.push(to_diagnostic(e, src, &tokens));
+            None
+        }
+    };
+    if let Some(r) = root {
+        let depth = builder.ast.node(r).depth;
+        if depth > MAX_TREE_DEPTH {
+            diagnostics.push(
+                Diagnostic::error(
+                    Code::TooDeep,
+                    0..src.len(),
+                    format!(
+                        "expression nests {depth} operations deep; the limit is {MAX_TREE_DEPTH}"
+                    ),
+                )
+                .with_help("split the expression, e.g. into VARIABLE statements"),
+            );
+            return Parsed {
+                ast: builder.ast,
+                root: None,
+                diagnostics,
+            };
+        }
+    }
+    diagnostics.sort_by_key(|d| d.span.start);
+    diagnostics.dedup_by(|a, b| a.span == b.span && a.code == b.code);
+    Parsed {
+        ast: builder.ast,
+        root,
+        diagnostics,
+    }
+}
+
+/// Human spelling of a token for messages.
+fn describe(tok: Tok) -> &'static str {
+    match tok {
+        Tok::Num(_) => "a number",
+        Tok::Name(_) => "a name",
+        Tok::Call(_) => "a function call",
+        Tok::If => "IF",
+        Tok::Plus => "`+`",
+        Tok::Minus => "`-`",
+        Tok::Star => "`*`",
+        Tok::Pow => "`**`",
+        Tok::Slash => "`/`",
+        Tok::Percent => "`%`",
+        Tok::LParen => "`(`",
+        Tok::RParen => "`)`",
+        Tok::LBracket => "`[`",
+        Tok::RBracket => "`]`",
+        Tok::Comma => "`,`",
+        Tok::Colon => "`:`",
+        Tok::Relational => "a relational operator",
+        Tok::Invalid => "an invalid token",
+    }
+}
+
+/// True for tokens that can begin a value.
+fn starts_value(tok: Tok) -> bool {
+    matches!(
+        tok,
+        Tok::Num(_)
+            | Tok::Name(_)
+            | Tok::Call(_)
+            | Tok::If
+            | Tok::LParen
+            | Tok::LBracket
+            | Tok::Invalid
+    )
+}
+
+/// True for tokens that can end a value.
+fn ends_value(tok: Tok) -> bool {
+    matches!(
+        tok,
+        Tok::Num(_) | Tok::Name(_) | Tok::RParen | Tok::RBracket | Tok::Invalid
+    )
+}
+
+/// Summarises LALRPOP's expected-terminal list in words.
+fn expected_words(expected: &[String]) -> String {
+    let has = |t: &str| expected.iter().any(|e| e.trim_matches('"') == t);
+    let mut words: Vec<&str> = Vec::new();
+    if has("number") {
+        words.push("a value");
+    }
+    for (t, w) in [
+        ("+", "an operator"),
+        (")", "`)`"),
+        ("]", "`]`"),
+        (",", "`,`"),
+        (":", "`:`"),
+        ("(", "`(`"),
+    ] {
+        if has(t) && !words.contains(&w) {
+            words.push(w);
+        }
+    }
+    match words.len() {
+        0 => String::new(),
+        1 => format!("; expected {}", words[0]),
+        _ => {
+            let last = words.pop().unwrap_or_default();
+            format!("; expected {} or {last}", words.join(", "))
+        }
+    }
+}
+
+/// Position of the innermost bracket still open at byte `at`, if any.
+fn open_bracket_before(tokens: &[(usize, Tok, usize)], at: usize) -> Option<(usize, usize)> {
+    let mut stack = Vec::new();
+    for &(s, t, e) in tokens.iter().take_while(|(s, _, _)| *s < at) {
+        match t {
+            Tok::LParen | Tok::LBracket => stack.push((s, e)),
+            Tok::RParen | Tok::RBracket => {
+                stack.pop();
+            }
+            _ => {}
+        }
+    }
+    stack.pop()
+}
+
+/// Converts one LALRPOP error into our diagnostic: the only place that knows LALRPOP's
+/// error type.
+pub fn to_diagnostic(
+    e: ParseError<usize, Tok, NoLexError>,
+    src: &str,
+    tokens: &[(usize, Tok, usize)],
+) -> Diagnostic {
+    match e {
+        ParseError::UnrecognizedEof { location, expected } => {
+            let at = location.min(src.len());
+            let mut d = Diagnostic::error(
+                Code::UnexpectedEnd,
+                at..at,
+                format!("expression ends too early{}", expected_words(&expected)),
+            );
+            if let Some((s, e)) = open_bracket_before(tokens, usize::MAX) {
+                d.message = "missing `)`: a bracket is still open at the end".to_string();
+                d = d.with_label(s..e, "opened here");
+                let close = if src[s..e].starts_with('[') { "]" } else { ")" };
+                d = d.with_help(format!("add `{close}`"));
+            }
+            d
+        }
+        ParseError::UnrecognizedToken {
+            token: (s, tok, e), ..
+        }
+        | ParseError::ExtraToken { token: (s, tok, e) }
+            if matches!(tok, Tok::RParen | Tok::RBracket)
+                && open_bracket_before(tokens, s).is_none() =>
+        {
+            Diagnostic::error(
+                Code::Unmatched,
+                s..e,
+                format!("unmatched {}: no bracket is open here", describe(tok)),
+            )
+            .with_help("remove it, or add the opening bracket")
+        }
+        ParseError::UnrecognizedToken {
+            token: (s, tok, e),
+            expected,
+        } => {
+            let prev = tokens
+                .iter()
+                .rev()
+                .find(|(_, _, pe)| *pe <= s)
+                .map(|&(_, t, _)| t);
+            if starts_value(tok) && prev.is_some_and(ends_value) {
+                Diagnostic::error(
+                    Code::MissingOperator,
+                    s..e,
+                    format!("missing operator before {}", describe(tok)),
+                )
+                .with_help(
+                    "two values need an operator between them (a blank cannot split a number)",
+                )
+            } else if tok == Tok::Comma && expected.iter().any(|x| x.trim_matches('"') == ":") {
+                Diagnostic::error(Code::UnexpectedToken, s..e, "IF needs `:` after its test")
+                    .with_help("write IF(test: negative, zero, positive)")
+            } else {
+                Diagnostic::error(
+                    Code::UnexpectedToken,
+                    s..e,
+                    format!("unexpected {}{}", describe(tok), expected_words(&expected)),
+                )
+            }
+        }
+        ParseError::ExtraToken { token: (s, tok, e) } => Diagnostic::error(
+            Code::UnexpectedToken,
+            s..e,
+            format!(
+                "unexpected {} after the end of the expression",
+                describe(tok)
+            ),
+        ),
+        ParseError::InvalidToken { location } => {
+            Diagnostic::error(Code::UnexpectedToken, location..location, "invalid token")
+        }
+        ParseError::User { error } => match error {},
+    }
+}

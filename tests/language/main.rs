@@ -1,0 +1,8 @@
+//! Integration tests of the expression language: spec conformance cases, the parser's
+//! round trip, the corpus, the bad-input catalogue and diagnostic snapshots.
+
+mod bad_input;
+mod corpus;
+mod roundtrip;
+mod spec_cases;
+mod support;
