@@ -287,6 +287,8 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("x.txt:2:4"), "{text}");
-        assert!(text.contains('^'), "{text}");
+        // The pointer stands under column 4 of the quoted line (after the 6-wide margin).
+        let pointer = text.lines().find(|l| l.trim_end().ends_with("`-- here")).unwrap_or_default();
+        assert_eq!(pointer.find('`'), Some(6 + 3), "{text}");
     }
 }
