@@ -287,8 +287,11 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("x.txt:2:4"), "{text}");
-        // The pointer stands under column 4 of the quoted line (after the 6-wide margin).
-        let pointer = text.lines().find(|l| l.trim_end().ends_with("`-- here")).unwrap_or_default();
-        assert_eq!(pointer.find('`'), Some(6 + 3), "{text}");
+        // The pointer stands under column 4 of the quoted line (after the 5-wide margin ` 2 | `).
+        let pointer = text
+            .lines()
+            .find(|l| l.trim_end().ends_with("`-- here"))
+            .unwrap_or_default();
+        assert_eq!(pointer.find('`'), Some(5 + 3), "{text}");
     }
 }
