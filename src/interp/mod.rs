@@ -28,10 +28,32 @@ fn branch(t: f64) -> Option<usize> {
     }
 }
 
-/// Functions with at most this many values evaluate in a register file on the stack.
-pub const STACK_REGS: usize = 48;
+/// Functions with at most this many registers evaluate in a register file on the stack.
+pub const STACK_REGS: usize = 128;
 
-/// One bytecode instruction; `d` is the destination register.
+/// A series function: `f(x, x0, coefficients)` or `f(x, x0, w, coefficients)`.
+#[derive(Clone, Copy, Debug)]
+enum SeriesFn {
+    Two(fn(f64, f64, &[f64]) -> f64),
+    Three(fn(f64, f64, f64, &[f64]) -> f64),
+}
+
+/// Where a series call finds its coefficients.
+#[derive(Clone, Copy, Debug)]
+enum Coeffs {
+    /// All constant: `pool[start..start + n]`, passed without copying.
+    Pool { start: u32, n: u32 },
+    /// Registers `arg_regs[start..start + n]`, gathered at run time.
+    Regs { start: u32, n: u32 },
+}
+
+type Fn5 = fn(f64, f64, f64, f64, f64) -> f64;
+type Fn6 = fn(f64, f64, f64, f64, f64, f64) -> f64;
+type Fn7 = fn(f64, f64, f64, f64, f64, f64, f64) -> f64;
+type Fn8 = fn(f64, f64, f64, f64, f64, f64, f64, f64) -> f64;
+
+/// One bytecode instruction; `d` is the destination register. Calls with five or more
+/// arguments find their argument registers at `arg_regs[args..]`.
 #[derive(Clone, Copy, Debug)]
 enum Op {
     Var {
@@ -87,12 +109,32 @@ enum Op {
         b: u32,
         f: fn(f64, f64) -> f64,
     },
-    /// A call with more arguments: their registers are `arg_regs[args..args + n]`.
-    CallN {
+    Call5 {
         d: u32,
-        func: crate::ir::Func,
         args: u32,
-        n: u32,
+        f: Fn5,
+    },
+    Call6 {
+        d: u32,
+        args: u32,
+        f: Fn6,
+    },
+    Call7 {
+        d: u32,
+        args: u32,
+        f: Fn7,
+    },
+    Call8 {
+        d: u32,
+        args: u32,
+        f: Fn8,
+    },
+    /// `args` holds the registers of x, x0 (and w for FORCOS/FORSIN).
+    Series {
+        d: u32,
+        args: u32,
+        coeffs: Coeffs,
+        f: SeriesFn,
     },
     Spline {
         d: u32,
@@ -125,7 +167,13 @@ pub struct Program {
     /// Initial register file: constants in place, zero elsewhere.
     template: Vec<f64>,
     arg_regs: Vec<u32>,
+    /// Constant coefficient lists of series calls.
+    pool: Vec<f64>,
     outputs: Vec<u32>,
+    /// Smallest variable, measure and spline arrays a context must provide.
+    needs: [usize; 3],
+    /// Register of each IR value (`u32::MAX` for values the code never reaches).
+    reg_of: Vec<u32>,
     function: Function,
 }
 
@@ -144,59 +192,88 @@ impl Program {
         &self.function.uses
     }
 
+    /// Number of registers the program uses.
+    pub fn registers(&self) -> usize {
+        self.template.len()
+    }
+
+    fn covered_by(&self, ctx: &Context) -> bool {
+        ctx.vars().len() >= self.needs[0]
+            && ctx.measures().len() >= self.needs[1]
+            && ctx.splines().len() >= self.needs[2]
+    }
+
     /// Evaluates a scalar expression (the first output of a vector one). Gives NaN when
     /// the context lacks slots the expression reads.
+    #[inline]
     pub fn eval(&self, ctx: &Context) -> f64 {
-        let mut out = [0.0];
-        self.eval_into(ctx, &mut out);
-        out[0]
+        if !self.covered_by(ctx) {
+            return f64::NAN;
+        }
+        let out = self.outputs[0] as usize;
+        match self.template.len() {
+            8 => self.eval_in::<8>(ctx)[out],
+            16 => self.eval_in::<16>(ctx)[out],
+            32 => self.eval_in::<32>(ctx)[out],
+            64 => self.eval_in::<64>(ctx)[out],
+            STACK_REGS => self.eval_in::<STACK_REGS>(ctx)[out],
+            _ => {
+                let mut r = self.template.clone();
+                self.run(ctx, &mut r);
+                r[out]
+            }
+        }
+    }
+
+    /// Runs in a stack register file of `N` registers. The template is padded to one of
+    /// these sizes, so the file is initialised by one fixed-size copy.
+    #[inline(always)]
+    fn eval_in<const N: usize>(&self, ctx: &Context) -> [f64; N] {
+        let mut r: [f64; N] = match self.template.first_chunk() {
+            Some(t) => *t,
+            None => [f64::NAN; N],
+        };
+        self.run(ctx, &mut r);
+        r
     }
 
     /// Evaluates all outputs (1 or 3) into `out`.
     pub fn eval_into(&self, ctx: &Context, out: &mut [f64]) {
-        if !ctx.covers(&self.function.uses) {
+        if !self.covered_by(ctx) {
             out.fill(f64::NAN);
             return;
         }
-        let n = self.template.len();
-        if n <= STACK_REGS {
-            let mut regs = [0.0; STACK_REGS];
-            regs[..n].copy_from_slice(&self.template);
-            self.run(ctx, &mut regs[..n], out);
-        } else {
-            let mut regs = self.template.clone();
-            self.run(ctx, &mut regs, out);
-        }
-    }
-
-    fn run(&self, ctx: &Context, r: &mut [f64], out: &mut [f64]) {
-        let ops = &self.ops[..];
-        let mut pc = 0usize;
-        while let Some(op) = ops.get(pc) {
-            pc += 1;
-            match *op {
-                Op::If { d, test, arms, end } => {
-                    pc = match branch(r[test as usize]) {
-                        Some(arm) => arms[arm],
-                        None => {
-                            r[d as usize] = f64::NAN;
-                            end
-                        }
-                    } as usize;
-                }
-                Op::Jump { to } => pc = to as usize,
-                ref data => self.exec(data, ctx, r),
-            }
-        }
+        let mut r = self.template.clone();
+        self.run(ctx, &mut r);
         for (o, &reg) in out.iter_mut().zip(&self.outputs) {
             *o = r[reg as usize];
         }
     }
 
-    /// Executes one data op (anything but IF and jumps).
+    fn run(&self, ctx: &Context, r: &mut [f64]) {
+        let ops = &self.ops[..];
+        let mut pc = 0usize;
+        while let Some(op) = ops.get(pc) {
+            pc = self.step(op, pc, ctx, r);
+        }
+    }
+
+    /// Executes one op and returns the index of the next. One `match` per op: the loop
+    /// above and the fault tracer both run ops through here.
     #[inline(always)]
-    fn exec(&self, op: &Op, ctx: &Context, r: &mut [f64]) {
+    fn step(&self, op: &Op, pc: usize, ctx: &Context, r: &mut [f64]) -> usize {
         match *op {
+            Op::If { d, test, arms, end } => {
+                return match branch(r[test as usize]) {
+                    Some(arm) => arms[arm],
+                    None => {
+                        r[d as usize] = f64::NAN;
+                        end
+                    }
+                } as usize;
+            }
+            Op::Jump { to } => return to as usize,
+            Op::Move { d, a } => r[d as usize] = r[a as usize],
             Op::Var { d, slot } => r[d as usize] = ctx.vars()[slot as usize],
             Op::Time { d } => r[d as usize] = ctx.time,
             Op::Mode { d } => r[d as usize] = ctx.mode,
@@ -209,13 +286,39 @@ impl Program {
             Op::Sqrt { d, a } => r[d as usize] = r[a as usize].sqrt(),
             Op::Call1 { d, a, f } => r[d as usize] = f(r[a as usize]),
             Op::Call2 { d, a, b, f } => r[d as usize] = f(r[a as usize], r[b as usize]),
-            Op::CallN { d, func, args, n } => {
-                let mut buf = [0.0; compile::MAX_CALL_ARGS];
-                let regs = &self.arg_regs[args as usize..(args + n) as usize];
-                for (slot, &reg) in buf.iter_mut().zip(regs) {
-                    *slot = r[reg as usize];
-                }
-                r[d as usize] = func.eval(&buf[..n as usize]);
+            Op::Call5 { d, args, f } => {
+                let a = self.args::<5>(args, r);
+                r[d as usize] = f(a[0], a[1], a[2], a[3], a[4]);
+            }
+            Op::Call6 { d, args, f } => {
+                let a = self.args::<6>(args, r);
+                r[d as usize] = f(a[0], a[1], a[2], a[3], a[4], a[5]);
+            }
+            Op::Call7 { d, args, f } => {
+                let a = self.args::<7>(args, r);
+                r[d as usize] = f(a[0], a[1], a[2], a[3], a[4], a[5], a[6]);
+            }
+            Op::Call8 { d, args, f } => {
+                let a = self.args::<8>(args, r);
+                r[d as usize] = f(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]);
+            }
+            Op::Series { d, args, coeffs, f } => {
+                let a = self.args::<3>(args, r);
+                let mut buf = [0.0; compile::MAX_COEFFICIENTS];
+                let c: &[f64] = match coeffs {
+                    Coeffs::Pool { start, n } => &self.pool[start as usize..(start + n) as usize],
+                    Coeffs::Regs { start, n } => {
+                        let regs = &self.arg_regs[start as usize..(start + n) as usize];
+                        for (slot, &reg) in buf.iter_mut().zip(regs) {
+                            *slot = r[reg as usize];
+                        }
+                        &buf[..regs.len()]
+                    }
+                };
+                r[d as usize] = match f {
+                    SeriesFn::Two(f) => f(a[0], a[1], c),
+                    SeriesFn::Three(f) => f(a[0], a[1], a[2], c),
+                };
             }
             Op::Spline {
                 d,
@@ -233,9 +336,15 @@ impl Program {
                     mbfx_runtime::cubspl(x, z, s, i32::from(iord))
                 };
             }
-            Op::Move { d, a } => r[d as usize] = r[a as usize],
-            Op::If { .. } | Op::Jump { .. } => {}
         }
+        pc + 1
+    }
+
+    /// The values of `K` argument registers listed at `arg_regs[start..]`.
+    #[inline(always)]
+    fn args<const K: usize>(&self, start: u32, r: &[f64]) -> [f64; K] {
+        let regs = &self.arg_regs[start as usize..start as usize + K];
+        std::array::from_fn(|i| r[regs[i] as usize])
     }
 
     /// Re-evaluates step by step and reports the first subexpression that produced NaN

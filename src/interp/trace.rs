@@ -2,7 +2,7 @@
 //! every value as it is produced and names the first one that is NaN or infinite, or the
 //! first IF whose test is NaN.
 
-use super::{branch, Op, Program};
+use super::{Op, Program};
 use crate::context::Context;
 use crate::diag::Span;
 use crate::ir::Inst;
@@ -23,28 +23,30 @@ pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
     if !ctx.covers(&f.uses) {
         return None;
     }
-    let fault = |v: u32, value: f64, nan_if_test: bool| Fault {
-        span: f.spans[v as usize].clone(),
+    // Registers are compacted: map each back to the IR value it holds, for its span.
+    let mut value_of = vec![0u32; p.template.len()];
+    for (v, &reg) in p.reg_of.iter().enumerate() {
+        if let Some(slot) = value_of.get_mut(reg as usize) {
+            *slot = v as u32;
+        }
+    }
+    let fault = |reg: u32, value: f64, nan_if_test: bool| Fault {
+        span: f.spans[value_of[reg as usize] as usize].clone(),
         value,
         nan_if_test,
     };
     let mut r = p.template.clone();
     let mut pc = 0usize;
     while let Some(op) = p.ops.get(pc) {
-        pc += 1;
-        match *op {
-            Op::If { d, test, arms, .. } => match branch(r[test as usize]) {
-                Some(arm) => pc = arms[arm] as usize,
-                None => return Some(fault(d, f64::NAN, true)),
-            },
-            Op::Jump { to } => pc = to as usize,
-            Op::Move { d, a } => r[d as usize] = r[a as usize],
-            ref data => {
-                p.exec(data, ctx, &mut r);
-                let d = dest(data);
-                if !r[d as usize].is_finite() {
-                    return Some(fault(d, r[d as usize], false));
-                }
+        if let Op::If { d, test, .. } = *op {
+            if r[test as usize].is_nan() {
+                return Some(fault(d, f64::NAN, true));
+            }
+        }
+        pc = p.step(op, pc, ctx, &mut r);
+        if let Some(d) = dest(op) {
+            if !r[d as usize].is_finite() {
+                return Some(fault(d, r[d as usize], false));
             }
         }
     }
@@ -55,9 +57,10 @@ pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
     })
 }
 
-/// Destination register of a data op.
-fn dest(op: &Op) -> u32 {
-    match *op {
+/// Destination register of an op that computes a value (not IF, jumps or moves, whose
+/// values were already checked where they were computed).
+fn dest(op: &Op) -> Option<u32> {
+    Some(match *op {
         Op::Var { d, .. }
         | Op::Time { d }
         | Op::Mode { d }
@@ -70,10 +73,12 @@ fn dest(op: &Op) -> u32 {
         | Op::Sqrt { d, .. }
         | Op::Call1 { d, .. }
         | Op::Call2 { d, .. }
-        | Op::CallN { d, .. }
-        | Op::Spline { d, .. }
-        | Op::Move { d, .. }
-        | Op::If { d, .. } => d,
-        Op::Jump { .. } => u32::MAX,
-    }
+        | Op::Call5 { d, .. }
+        | Op::Call6 { d, .. }
+        | Op::Call7 { d, .. }
+        | Op::Call8 { d, .. }
+        | Op::Series { d, .. }
+        | Op::Spline { d, .. } => d,
+        Op::Move { .. } | Op::If { .. } | Op::Jump { .. } => return None,
+    })
 }
