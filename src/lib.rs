@@ -14,3 +14,8 @@ pub mod ir;
 pub mod model;
 mod stack;
 pub mod syntax;
+
+/// The README's Rust examples, compiled and run as doctests so they stay true.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -4,5 +4,6 @@
 mod bad_input;
 mod corpus;
 mod roundtrip;
+mod snapshots;
 mod spec_cases;
 mod support;

@@ -1,0 +1,578 @@
+//! The command-line contract (DESIGN.md, "CLI contract"), tested on the built `mbfx`
+//! binary: what `eval` prints and its exit codes, `check` on expression files and on every
+//! `.adm` dataset of the shared corpus, help, and the REPL with no terminal.
+//!
+//! Every run has a time limit and must not panic (a Rust panic exits with code 101).
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// What one run of `mbfx` did.
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+    took: Duration,
+}
+
+impl Run {
+    fn describe(&self) -> String {
+        format!(
+            "exit {} after {:?}\n--- stdout\n{}--- stderr\n{}",
+            self.code, self.took, self.stdout, self.stderr
+        )
+    }
+}
+
+/// A run may take this long before it is killed and the test fails.
+const KILL_AFTER: Duration = Duration::from_secs(30);
+
+/// Runs `mbfx` with `args`, feeding `stdin` (closed when `None`), with `HOME` pointing at
+/// a scratch directory (the REPL keeps its history there).
+fn mbfx_with_input<S: AsRef<std::ffi::OsStr>>(args: &[S], stdin: Option<&str>) -> Run {
+    let home = scratch_dir("home");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .args(args)
+        .env("HOME", &home)
+        .env_remove("NO_COLOR")
+        .stdin(if stdin.is_some() {
+            Stdio::piped()
+        } else {
+            Stdio::null()
+        })
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start mbfx");
+    let started = Instant::now();
+    if let (Some(text), Some(mut pipe)) = (stdin, child.stdin.take()) {
+        pipe.write_all(text.as_bytes()).expect("write stdin");
+    }
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_end(&mut bytes);
+            }
+            String::from_utf8_lossy(&bytes).into_owned()
+        })
+    };
+    let out = drain(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let err = drain(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for mbfx") {
+            break status;
+        }
+        if started.elapsed() > KILL_AFTER {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!(
+                "mbfx {:?} did not finish within {KILL_AFTER:?}",
+                args_text(args)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    Run {
+        code: status.code().unwrap_or(-1),
+        stdout: out.join().expect("stdout reader"),
+        stderr: err.join().expect("stderr reader"),
+        took: started.elapsed(),
+    }
+}
+
+fn mbfx<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Run {
+    mbfx_with_input(args, None)
+}
+
+fn args_text<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Vec<String> {
+    args.iter()
+        .map(|a| a.as_ref().to_string_lossy().into_owned())
+        .collect()
+}
+
+/// A fresh directory under the target's scratch space, unique per call.
+fn scratch_dir(what: &str) -> PathBuf {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static NEXT: AtomicUsize = AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("cli-{}-{what}-{n}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("create a scratch directory");
+    dir
+}
+
+/// Writes `bytes` to a new file named `name` in a fresh scratch directory.
+fn scratch_file(name: &str, bytes: &[u8]) -> PathBuf {
+    let path = scratch_dir("file").join(name);
+    std::fs::write(&path, bytes).expect("write a scratch file");
+    path
+}
+
+fn eval(args: &[&str]) -> Run {
+    let mut all = vec!["eval", "--color", "never"];
+    all.extend_from_slice(args);
+    mbfx(&all)
+}
+
+fn check(path: &Path) -> Run {
+    mbfx(&[
+        "check".as_ref(),
+        "--color".as_ref(),
+        "never".as_ref(),
+        path.as_os_str(),
+    ])
+}
+
+// ---------------------------------------------------------------------------------------
+// mbfx eval
+
+#[test]
+fn eval_prints_the_value_and_nothing_else() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["1+2"], "3.0"),
+        (&["-2**2"], "-4.0"),
+        (&["2**3**2"], "512.0"),
+        (&["[1,2,3]%[4,5,6]"], "[-3.0, 6.0, -3.0]"),
+        (&["[1,2,3]"], "[1.0, 2.0, 3.0]"),
+        (&["0.1+0.2"], "0.30000000000000004"),
+        (&["-1"], "-1.0"),
+        (&["--time", "0.5", "STEP(TIME,0,0,1,100)"], "50.0"),
+        (&["--time", "-1", "TIME"], "-1.0"),
+        (&["--time", "PI/2", "SIN(TIME)"], "1.0"),
+        (&["--var", "x=2", "--var", "Y=3", "x*y"], "6.0"),
+        (&["--var", "x=PI/2", "SIN(x)"], "1.0"),
+        (&["--var", "x=-1", "X"], "-1.0"),
+        (&["--var", "x=1", "--var", "X=2", "x"], "2.0"),
+        (&["sin(1)"], "0.8414709848078965"),
+    ];
+    for (args, want) in cases {
+        let r = eval(args);
+        assert_eq!(
+            (r.code, r.stdout.as_str(), r.stderr.as_str()),
+            (0, format!("{want}\n").as_str(), ""),
+            "eval {args:?}\n{}",
+            r.describe()
+        );
+    }
+}
+
+#[test]
+fn eval_of_a_non_finite_value_prints_it_and_warns() {
+    for (expr, value, code) in [
+        ("1/0", "inf", "W0401"),
+        ("LOG(0)", "-inf", "W0401"),
+        ("SQRT(-1)", "NaN", "W0401"),
+        ("1E999", "inf", "W0401"),
+        ("IF(0/0:1,2,3)", "NaN", "E0402"),
+    ] {
+        let r = eval(&[expr]);
+        assert_eq!(r.code, 0, "{expr}\n{}", r.describe());
+        assert_eq!(r.stdout, format!("{value}\n"), "{expr}\n{}", r.describe());
+        assert!(
+            r.stderr.contains(&format!("[{code}]")),
+            "{expr}\n{}",
+            r.describe()
+        );
+        assert!(r.stderr.contains("<expr>:1:"), "{expr}\n{}", r.describe());
+    }
+}
+
+#[test]
+fn eval_rejects_bad_vars_and_times() {
+    let cases: &[(&[&str], &str, &str)] = &[
+        (&["--var", "x", "1"], "E0503", "--var:1:1"),
+        (&["--var", "1x=2", "1"], "E0503", "--var:1:1"),
+        (&["--var", "sin=1", "1"], "E0503", "--var:1:1"),
+        (&["--var", "PI=1", "1"], "E0503", "--var:1:1"),
+        (&["--var", "x=1+", "x"], "E0202", "--var x:1:3"),
+        (&["--var", "x=[1,2,3]", "x"], "E0305", "--var x:1:1"),
+        (&["--time", "x", "1"], "E0302", "--time:1:1"),
+        (&["--time", "", "1"], "E0204", "--time:1:1"),
+    ];
+    for (args, code, place) in cases {
+        let r = eval(args);
+        assert_eq!(r.code, 1, "{args:?}\n{}", r.describe());
+        assert_eq!(r.stdout, "", "{args:?}\n{}", r.describe());
+        assert!(
+            r.stderr.contains(&format!("[{code}] Error")) && r.stderr.contains(place),
+            "{args:?}: expected {code} at {place}\n{}",
+            r.describe()
+        );
+    }
+}
+
+#[test]
+fn eval_of_a_bad_expression_exits_1_with_the_code_and_place() {
+    let cases = [
+        ("1+", "E0202", "<expr>:1:3"),
+        ("", "E0204", "<expr>:1:1"),
+        ("@", "E0101", "<expr>:1:1"),
+        ("1.5D3", "E0102", "<expr>:1:1"),
+        ("SIN (1)", "E0103", "<expr>:1:1"),
+        ("1 < 2", "E0104", "<expr>:1:3"),
+        ("2* *3", "E0105", "<expr>:1:2"),
+        ("1+*2", "E0201", "<expr>:1:3"),
+        ("SIN(1))", "E0203", "<expr>:1:7"),
+        ("2 3", "E0205", "<expr>:1:3"),
+        ("12\n,34", "E0205", "<expr>:2:2"),
+        ("STEP(TIME,0,0,\n, 1 2, 100)", "E0205", "<expr>:2:5"),
+        ("STPE(1,0,0,1,1)", "E0301", "<expr>:1:1"),
+        ("x", "E0302", "<expr>:1:1"),
+        ("MAX(1,2,3)", "E0303", "<expr>:1:1"),
+        ("DX(1.5)", "E0304", "<expr>:1:4"),
+        ("SIN([1,2,3])", "E0305", "<expr>:1:5"),
+        ("STEP(TIME,1,0,1,1)", "E0307", "<expr>:1:1"),
+        ("DX(1,2)", "E0308", "<expr>:1:1"),
+        ("USER(1)", "E0309", "<expr>:1:1"),
+        ("PI()", "E0310", "<expr>:1:1"),
+    ];
+    for (expr, code, place) in cases {
+        let r = eval(&[expr]);
+        assert_eq!(r.code, 1, "{expr:?}\n{}", r.describe());
+        assert_eq!(r.stdout, "", "{expr:?}\n{}", r.describe());
+        assert!(
+            r.stderr.contains(&format!("[{code}] Error")) && r.stderr.contains(place),
+            "{expr:?}: expected {code} at {place}\n{}",
+            r.describe()
+        );
+    }
+    // A deep expression is an error, not a crash.
+    let deep = format!("{}1{}", "(".repeat(10_000), ")".repeat(10_000));
+    let r = eval(&[&deep]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(r.stderr.contains("[E0206] Error"), "{}", r.describe());
+}
+
+#[test]
+fn color_never_and_piped_auto_give_no_ansi_escapes() {
+    for args in [
+        &["eval", "--color", "never", "SIN (1) + @"][..],
+        &["eval", "--color", "never", "1/0"],
+        &["--color", "never", "eval", "1+"],
+        // `auto` colours only a terminal; the test's stderr is a pipe.
+        &["eval", "1+"],
+    ] {
+        let r = mbfx(args);
+        assert!(!r.stderr.is_empty(), "{args:?}\n{}", r.describe());
+        assert!(
+            !r.stderr.contains('\x1b') && !r.stdout.contains('\x1b'),
+            "{args:?}\n{}",
+            r.describe()
+        );
+    }
+    // And the check can see escapes when there are some.
+    let r = mbfx(&["eval", "--color", "always", "1+"]);
+    assert!(r.stderr.contains('\x1b'), "{}", r.describe());
+}
+
+// ---------------------------------------------------------------------------------------
+// mbfx check FILE (expression files)
+
+#[test]
+fn check_of_a_good_expression_file() {
+    let text = concat!(
+        "! constants and steps\n",
+        "1 + 2\n",
+        "\n",
+        "STEP(TIME, 0, 0,\n",
+        ", 1, 100)\n",
+        "   ! an indented comment\n",
+        "\t\n",
+        "2*PI\r\n",
+        "[1,2,3]%[4,5,6]",
+    );
+    let path = scratch_file("good.txt", text.as_bytes());
+    let r = check(&path);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert_eq!(
+        r.stdout,
+        format!("{}: 4 expressions; 0 errors, 0 warnings\n", path.display()),
+        "{}",
+        r.describe()
+    );
+    assert_eq!(r.stderr, "", "{}", r.describe());
+}
+
+#[test]
+fn check_points_at_the_bad_line_of_the_file() {
+    let text = "1 + 2\n! comment\n\nSTEP(TIME, 0, 0,\n, 1, 100)\n2 * SIN (1)\n3\n";
+    let path = scratch_file("one bad line.txt", text.as_bytes());
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert_eq!(
+        r.stdout,
+        format!("{}: 4 expressions; 1 errors, 0 warnings\n", path.display()),
+        "{}",
+        r.describe()
+    );
+    assert!(r.stderr.contains("[E0103] Error"), "{}", r.describe());
+    assert!(
+        r.stderr.contains(&format!("{}:6:5", path.display())),
+        "{}",
+        r.describe()
+    );
+    assert!(r.stderr.contains(" 6 | 2 * SIN (1)"), "{}", r.describe());
+
+    // An error on a continuation line is reported on that line of the file.
+    let text = "1\nSTEP(TIME, 0, 0,\n, 1 2, 100)\n";
+    let path = scratch_file("continued.txt", text.as_bytes());
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(r.stderr.contains("[E0205] Error"), "{}", r.describe());
+    assert!(
+        r.stderr.contains(&format!("{}:3:5", path.display())),
+        "{}",
+        r.describe()
+    );
+
+    // Several bad lines: every one is reported and counted.
+    let text = "1+\n2 3\nFOO(1)\n4\n";
+    let path = scratch_file("three bad lines.txt", text.as_bytes());
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stdout
+            .ends_with(": 4 expressions; 3 errors, 0 warnings\n"),
+        "{}",
+        r.describe()
+    );
+    for (code, place) in [("E0202", ":1:3"), ("E0205", ":2:3"), ("E0301", ":3:1")] {
+        let at = format!("{}{place}", path.display());
+        assert!(
+            r.stderr.contains(code) && r.stderr.contains(&at),
+            "{code} at {at}\n{}",
+            r.describe()
+        );
+    }
+}
+
+#[test]
+fn check_of_an_empty_file_finds_no_expressions() {
+    let path = scratch_file("empty.txt", b"");
+    let r = check(&path);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(
+        r.stdout
+            .ends_with(": 0 expressions; 0 errors, 0 warnings\n"),
+        "{}",
+        r.describe()
+    );
+}
+
+#[test]
+fn check_of_a_file_with_nul_bytes_fails_cleanly() {
+    let path = scratch_file("nul.txt", b"1+1\n2\x003\n\x00\n");
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(r.stderr.contains("[E0101] Error"), "{}", r.describe());
+    assert!(
+        r.stderr.contains(&format!("{}:2:2", path.display())),
+        "{}",
+        r.describe()
+    );
+}
+
+#[test]
+fn check_of_a_missing_file_or_a_directory_is_e0501() {
+    let dir = scratch_dir("missing");
+    for path in [
+        dir.join("no such file.txt"),
+        dir.join("no such model.adm"),
+        dir.clone(),
+    ] {
+        let r = check(&path);
+        assert_eq!(r.code, 1, "{}\n{}", path.display(), r.describe());
+        assert_eq!(r.stdout, "", "{}", r.describe());
+        assert!(r.stderr.contains("[E0501] Error"), "{}", r.describe());
+    }
+    let adm_dir = dir.join("a directory.adm");
+    std::fs::create_dir_all(&adm_dir).expect("create a directory");
+    let r = check(&adm_dir);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(r.stderr.contains("[E0501] Error"), "{}", r.describe());
+}
+
+#[test]
+fn check_of_a_dataset_with_latin1_bytes_warns_and_reads_it() {
+    let path = scratch_file(
+        "latin1.adm",
+        b"title\nPART/1, GROUND\n! caf\xe9\nVARIABLE/1, FUNCTION = 1 + 2\nEND\n",
+    );
+    let r = check(&path);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(r.stderr.contains("[E0502] Warning"), "{}", r.describe());
+    assert!(
+        r.stderr.contains(&format!("{}:3:6", path.display())),
+        "{}",
+        r.describe()
+    );
+    assert!(
+        r.stdout.ends_with("0 errors, 1 warnings\n"),
+        "{}",
+        r.describe()
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// mbfx check on the shared .adm corpus
+
+/// Datasets that must fail `mbfx check`, with the reason. All are samples of MBDyn's a2m
+/// translator that test its error handling; every other `.adm` of the corpus must pass.
+const INVALID_DATASETS: &[(&str, &str)] = &[
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/bipendolo.adm",
+        "an edited export that lost its title line, so line 2 continues no statement",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/monster.adm",
+        "unknown function COSIN and undefined names (X)",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/pm02.adm",
+        "statements continued without a continuation comma, and `^` as a power",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/pm03.adm",
+        "expressions measure markers the dataset does not define",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/prova.adm",
+        "garbage arguments (`%&(MASS=2,)`) and statements continued without a comma",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/prova_marker01.adm",
+        "statements continued without a continuation comma",
+    ),
+];
+
+fn adm_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    for entry in entries {
+        let path = entry.expect("directory entry").path();
+        if path.is_dir() {
+            adm_files(&path, out);
+        } else if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("adm"))
+        {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn check_of_every_corpus_dataset() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/adams");
+    let mut files = Vec::new();
+    adm_files(&root, &mut files);
+    files.sort();
+    assert!(files.len() >= 70, "only {} .adm files", files.len());
+    assert!(
+        files.iter().any(|f| f.to_string_lossy().contains(' ')),
+        "the corpus should include paths with spaces"
+    );
+    let mut problems = Vec::new();
+    let mut failed_as_listed = 0;
+    for file in &files {
+        let rel = file
+            .strip_prefix(&root)
+            .expect("under the corpus root")
+            .to_string_lossy()
+            .replace('\\', "/");
+        let r = check(file);
+        let listed = INVALID_DATASETS.iter().find(|(f, _)| *f == rel);
+        let expected = if listed.is_some() { 1 } else { 0 };
+        if r.code != expected {
+            problems.push(format!("{rel}: expected exit {expected}\n{}", r.describe()));
+        } else if listed.is_some() {
+            failed_as_listed += 1;
+        }
+        if r.took > Duration::from_secs(5) {
+            problems.push(format!("{rel}: took {:?}", r.took));
+        }
+        let summary = format!("{}: ", file.display());
+        if !(r.stdout.starts_with(&summary) && r.stdout.contains(" errors, ")) {
+            problems.push(format!("{rel}: no summary line\n{}", r.describe()));
+        }
+        if r.stderr.contains("panicked") {
+            problems.push(format!("{rel}: panicked\n{}", r.describe()));
+        }
+    }
+    for (f, _) in INVALID_DATASETS {
+        if !files.iter().any(|p| p.ends_with(f)) {
+            problems.push(format!("{f}: listed as invalid but not in the corpus"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    assert_eq!(failed_as_listed, INVALID_DATASETS.len());
+}
+
+// ---------------------------------------------------------------------------------------
+// Help, bad subcommands, the REPL without a terminal
+
+#[test]
+fn help_and_version_exit_0() {
+    for args in [
+        &["--help"][..],
+        &["eval", "--help"],
+        &["check", "--help"],
+        &["help", "eval"],
+        &["--version"],
+    ] {
+        let r = mbfx(args);
+        assert_eq!(r.code, 0, "{args:?}\n{}", r.describe());
+        assert!(!r.stdout.is_empty(), "{args:?}\n{}", r.describe());
+    }
+    let r = mbfx(&["eval", "--help"]);
+    assert!(r.stdout.contains("--var"), "{}", r.describe());
+}
+
+#[test]
+fn bad_command_lines_exit_nonzero_without_panicking() {
+    for args in [
+        &["frobnicate"][..],
+        &[],
+        &["eval"],
+        &["check"],
+        &["eval", "--time"],
+        &["eval", "--color", "purple", "1"],
+        &["eval", "--engine", "gpu", "1"],
+        &["eval", "1", "2"],
+    ] {
+        let r = mbfx(args);
+        assert!(r.code != 0 && r.code != 101, "{args:?}\n{}", r.describe());
+        assert!(!r.stderr.contains("panicked"), "{args:?}\n{}", r.describe());
+        assert!(!r.stderr.is_empty(), "{args:?}\n{}", r.describe());
+    }
+}
+
+#[test]
+fn repl_without_a_terminal_ends_at_end_of_input() {
+    for input in [None, Some(""), Some("1+2\n"), Some("1+2\n:quit\n")] {
+        let r = mbfx_with_input(&["repl"], input);
+        assert_eq!(r.code, 0, "{input:?}\n{}", r.describe());
+        assert!(
+            r.took < Duration::from_secs(10),
+            "{input:?}\n{}",
+            r.describe()
+        );
+        assert!(
+            !r.stderr.contains("panicked"),
+            "{input:?}\n{}",
+            r.describe()
+        );
+    }
+}
