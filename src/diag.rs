@@ -80,6 +80,8 @@ pub enum Code {
     Statement,
     /// A dataset statement or argument mbfx does not handle: reported, never dropped silently.
     UnsupportedStatement,
+    /// More errors than are worth showing for one expression.
+    TooManyErrors,
 }
 
 impl Code {
@@ -116,6 +118,7 @@ impl Code {
             CommandLine => "E0503",
             Statement => "E0601",
             UnsupportedStatement => "W0602",
+            TooManyErrors => "E0207",
         }
     }
 }
@@ -210,7 +213,8 @@ impl SourceFile {
         }
     }
 
-    /// 1-based line and column (in bytes) of a byte offset.
+    /// 1-based line and column (in bytes) of a byte offset. (Rendered frames count
+    /// columns in characters, as ariadne does.)
     pub fn line_col(&self, offset: usize) -> (usize, usize) {
         let offset = offset.min(self.text.len());
         let line = self.line_starts.partition_point(|&s| s <= offset) - 1;
@@ -218,49 +222,144 @@ impl SourceFile {
     }
 }
 
+/// Lines longer than this are shown as a window around the span instead of whole, so a
+/// megabyte-long expression does not print a megabyte per diagnostic.
+const LONG_LINE: usize = 400;
+
+/// Bytes of context on each side of the span in a long-line window.
+const WINDOW: usize = 60;
+
+impl SourceFile {
+    /// `span` clamped to the text and widened to character boundaries.
+    fn snap(&self, span: &Span) -> Span {
+        let len = self.text.len();
+        let mut start = span.start.min(len);
+        let mut end = span.end.min(len).max(start);
+        while !self.text.is_char_boundary(start) {
+            start -= 1;
+        }
+        while !self.text.is_char_boundary(end) {
+            end += 1;
+        }
+        start..end
+    }
+
+    /// The byte range of the line holding `offset`, without its line break.
+    fn line_range(&self, offset: usize) -> Span {
+        let (line, _) = self.line_col(offset);
+        let start = self.line_starts[line - 1];
+        let end = self
+            .line_starts
+            .get(line)
+            .map_or(self.text.len(), |&next| next);
+        let text = &self.text[start..end];
+        start..start + text.trim_end_matches(['\n', '\r']).len()
+    }
+}
+
 /// Renders diagnostics as text with ariadne: `[code] Error: message`, then a frame headed
-/// `file:line:col` with a caret under the span. `color` adds ANSI colours.
+/// `file:line:col` with a caret under the span. `color` adds ANSI colours. Spans are
+/// snapped to character boundaries, so any span is safe to render.
 pub fn render(diags: &[Diagnostic], file: &SourceFile, color: bool) -> String {
-    use ariadne::{CharSet, Config, IndexType, Label, Report, ReportKind, Source};
     let mut out = String::new();
-    let len = file.text.len();
-    let clamp = |s: &Span| s.start.min(len)..s.end.min(len).max(s.start.min(len));
     for d in diags {
-        let kind = match d.severity {
-            Severity::Error => ReportKind::Error,
-            Severity::Warning => ReportKind::Warning,
-        };
-        let name = file.name.as_str();
-        let primary = clamp(&d.span);
-        let mut report = Report::build(kind, (name, primary.clone()))
-            .with_config(
-                Config::default()
-                    .with_color(color)
-                    .with_index_type(IndexType::Byte)
-                    .with_char_set(CharSet::Ascii),
-            )
-            .with_code(d.code.as_str())
-            .with_message(&d.message)
-            .with_label(Label::new((name, primary)).with_message("here"));
-        for (span, text) in &d.labels {
-            report = report.with_label(Label::new((name, clamp(span))).with_message(text));
-        }
-        for note in &d.notes {
-            report = report.with_note(note);
-        }
-        if let Some(help) = &d.help {
-            report = report.with_help(help);
-        }
-        let mut buf = Vec::new();
-        if report
-            .finish()
-            .write((name, Source::from(file.text.as_str())), &mut buf)
-            .is_ok()
-        {
-            out.push_str(&String::from_utf8_lossy(&buf));
+        let primary = file.snap(&d.span);
+        let line = file.line_range(primary.start);
+        if line.len() > LONG_LINE {
+            render_window(d, file, primary, line, &mut out);
+        } else {
+            render_frame(d, file, primary, color, &mut out);
         }
     }
     out
+}
+
+fn render_frame(d: &Diagnostic, file: &SourceFile, primary: Span, color: bool, out: &mut String) {
+    use ariadne::{CharSet, Config, IndexType, Label, Report, ReportKind, Source};
+    let kind = match d.severity {
+        Severity::Error => ReportKind::Error,
+        Severity::Warning => ReportKind::Warning,
+    };
+    let name = file.name.as_str();
+    let mut report = Report::build(kind, (name, primary.clone()))
+        .with_config(
+            Config::default()
+                .with_color(color)
+                .with_index_type(IndexType::Byte)
+                .with_char_set(CharSet::Ascii),
+        )
+        .with_code(d.code.as_str())
+        .with_message(&d.message)
+        .with_label(Label::new((name, primary)).with_message("here"));
+    for (span, text) in &d.labels {
+        report = report.with_label(Label::new((name, file.snap(span))).with_message(text));
+    }
+    for note in &d.notes {
+        report = report.with_note(note);
+    }
+    if let Some(help) = &d.help {
+        report = report.with_help(help);
+    }
+    let mut buf = Vec::new();
+    if report
+        .finish()
+        .write((name, Source::from(file.text.as_str())), &mut buf)
+        .is_ok()
+    {
+        out.push_str(&String::from_utf8_lossy(&buf));
+    }
+}
+
+/// A compact frame for a span on a very long line: the header, a window of the line
+/// around the span, and carets under the span (at most one window wide).
+fn render_window(d: &Diagnostic, file: &SourceFile, primary: Span, line: Span, out: &mut String) {
+    use std::fmt::Write as _;
+    let severity = match d.severity {
+        Severity::Error => "Error",
+        Severity::Warning => "Warning",
+    };
+    let (row, col) = file.line_col(primary.start);
+    let from = file
+        .snap(&(primary.start.saturating_sub(WINDOW).max(line.start)..primary.start))
+        .start;
+    let to = file
+        .snap(&(primary.end..(primary.end + WINDOW).min(line.end)))
+        .end;
+    let before = &file.text[from..primary.start];
+    let marked = &file.text[primary.clone()];
+    let lead = if from > line.start { "..." } else { "" };
+    let tail = if to < line.end { "..." } else { "" };
+    let _ = writeln!(out, "[{}] {severity}: {}", d.code.as_str(), d.message);
+    let _ = writeln!(out, "   ,-[ {}:{row}:{col} ]", file.name);
+    let _ = writeln!(out, "   | {lead}{}{tail}", &file.text[from..to]);
+    let carets = marked.chars().count().clamp(1, WINDOW);
+    let pad = lead.len() + before.chars().count();
+    let _ = writeln!(out, "   | {}{} here", " ".repeat(pad), "^".repeat(carets));
+    for note in &d.notes {
+        let _ = writeln!(out, "   | Note: {note}");
+    }
+    if let Some(help) = &d.help {
+        let _ = writeln!(out, "   | Help: {help}");
+    }
+    let _ = writeln!(out, "---'");
+}
+
+/// Most diagnostics reported for one expression; past it, one note says how many more
+/// there were (a line of garbage must not print thousands of frames).
+pub const MAX_DIAGNOSTICS: usize = 20;
+
+/// Truncates `diags` to [`MAX_DIAGNOSTICS`], adding a final note that counts the rest.
+pub fn cap(diags: &mut Vec<Diagnostic>) {
+    if diags.len() > MAX_DIAGNOSTICS {
+        let more = diags.len() - MAX_DIAGNOSTICS + 1;
+        diags.truncate(MAX_DIAGNOSTICS - 1);
+        let at = diags.last().map_or(0..0, |d| d.span.clone());
+        diags.push(Diagnostic::error(
+            Code::TooManyErrors,
+            at,
+            format!("{more} more errors in this expression are not shown"),
+        ));
+    }
 }
 
 #[cfg(test)]
@@ -275,6 +374,40 @@ mod tests {
         assert_eq!(f.line_col(3), (2, 1));
         assert_eq!(f.line_col(6), (3, 1));
         assert_eq!(f.line_col(99), (3, 1));
+    }
+
+    #[test]
+    fn spans_inside_characters_render_without_panicking() {
+        let f = SourceFile::new("u.txt", "1+\u{fffd}+\u{e9}");
+        for start in 0..f.text.len() {
+            let d = Diagnostic::error(Code::UnexpectedChar, start..start + 1, "x");
+            assert!(render(&[d], &f, false).contains("u.txt:1:"));
+        }
+    }
+
+    #[test]
+    fn long_lines_render_as_a_window() {
+        let text = format!("{}@{}", "1+".repeat(5000), "+1".repeat(5000));
+        let f = SourceFile::new("long", text);
+        let d = Diagnostic::error(Code::UnexpectedChar, 10000..10001, "unexpected");
+        let out = render(&[d], &f, false);
+        assert!(out.len() < 600, "{out}");
+        assert!(out.contains("long:1:10001"), "{out}");
+        let frame: Vec<&str> = out.lines().collect();
+        let caret = frame[3].find('^').expect("caret");
+        assert_eq!(frame[2].as_bytes()[caret], b'@', "{out}");
+    }
+
+    #[test]
+    fn cap_keeps_a_bounded_list_and_counts_the_rest() {
+        let mut diags: Vec<Diagnostic> = (0..50)
+            .map(|i| Diagnostic::error(Code::UnexpectedChar, i..i + 1, "x"))
+            .collect();
+        cap(&mut diags);
+        assert_eq!(diags.len(), MAX_DIAGNOSTICS);
+        assert!(diags[MAX_DIAGNOSTICS - 1]
+            .message
+            .starts_with("31 more errors"));
     }
 
     #[test]

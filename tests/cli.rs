@@ -176,7 +176,6 @@ fn eval_of_a_non_finite_value_prints_it_and_warns() {
         ("LOG(0)", "-inf", "W0401"),
         ("SQRT(-1)", "NaN", "W0401"),
         ("1E999", "inf", "W0401"),
-        ("IF(0/0:1,2,3)", "NaN", "E0402"),
     ] {
         let r = eval(&[expr]);
         assert_eq!(r.code, 0, "{expr}\n{}", r.describe());
@@ -188,6 +187,34 @@ fn eval_of_a_non_finite_value_prints_it_and_warns() {
         );
         assert!(r.stderr.contains("<expr>:1:"), "{expr}\n{}", r.describe());
     }
+}
+
+#[test]
+fn eval_of_an_if_with_a_nan_test_is_an_error() {
+    // Decision 2: a NaN test selects no branch, a run-time error naming the IF.
+    let r = eval(&["2*IF(0/0:1,2,3)"]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert_eq!(r.stdout, "", "{}", r.describe());
+    assert!(r.stderr.contains("[E0402] Error"), "{}", r.describe());
+    assert!(r.stderr.contains("<expr>:1:3"), "{}", r.describe());
+}
+
+#[test]
+fn check_of_a_file_with_invalid_utf8_is_an_error_not_a_panic() {
+    let dir = std::env::temp_dir().join(format!("mbfx-cli-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("bad.txt");
+    std::fs::write(&path, b"1+1\n2+\xff\n").expect("write");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .args(["check", "--color", "never"])
+        .arg(&path)
+        .output()
+        .expect("run mbfx");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("[E0502] Error"), "{stderr}");
+    assert!(stderr.contains("bad.txt:2:3"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -82,6 +82,7 @@ pub fn compile(src: &str, scope: &dyn Scope, expect: Expect) -> Result<Checked, 
         (None, _) => Vec::new(),
     };
     if has_errors(&diags) || outputs.is_empty() {
+        crate::diag::cap(&mut diags);
         return Err(diags);
     }
     Ok(Checked {

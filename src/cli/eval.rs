@@ -52,13 +52,19 @@ pub fn variables(specs: &[String], color: bool) -> Result<(Variables, Vec<f64>),
         let valid = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
             && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
         if !valid || crate::check::builtins::lookup(&name.to_ascii_uppercase()).is_some() {
-            let why = if valid {
-                "is a builtin name"
+            let (why, help) = if valid {
+                (
+                    "is a builtin name",
+                    "choose a name that is no function or constant",
+                )
             } else {
-                "is not a valid name"
+                (
+                    "is not a valid name",
+                    "variable names start with a letter and hold letters, digits and _",
+                )
             };
             let d = Diagnostic::error(Code::CommandLine, 0..name.len(), format!("`{name}` {why}"))
-                .with_help("variable names start with a letter and hold letters, digits and _");
+                .with_help(help);
             eprint!(
                 "{}",
                 render(&[d], &SourceFile::new("--var", spec.as_str()), color)
@@ -91,12 +97,12 @@ pub fn format_value(out: &[f64]) -> String {
 pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
     let f = p.first_fault(ctx)?;
     Some(if f.nan_if_test {
-        Diagnostic::warning(
+        Diagnostic::error(
             Code::NanIfTest,
             f.span,
             "the test of this IF is NaN, so no branch applies",
         )
-        .with_note("the result is NaN (decision 2: a NaN test selects no branch)")
+        .with_note("decision 2: a NaN test selects no branch; the expression has no value")
     } else {
         Diagnostic::warning(
             Code::NonFinite,
@@ -130,11 +136,20 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
     let ctx = Context::new(time, &values);
     let mut out = vec![0.0; program.function().outputs.len()];
     program.eval_into(&ctx, &mut out);
+    let fault = out
+        .iter()
+        .any(|v| !v.is_finite())
+        .then(|| fault_diagnostic(&program, &ctx))
+        .flatten();
+    // A NaN IF test is an error (decision 2); any other non-finite value is printed with
+    // a warning (decision 7).
+    if let Some(d) = fault.as_ref().filter(|d| d.is_error()) {
+        eprint!("{}", render(std::slice::from_ref(d), &source, color));
+        return 1;
+    }
     println!("{}", format_value(&out));
-    if out.iter().any(|v| !v.is_finite()) {
-        if let Some(d) = fault_diagnostic(&program, &ctx) {
-            eprint!("{}", render(&[d], &source, color));
-        }
+    if let Some(d) = fault {
+        eprint!("{}", render(&[d], &source, color));
     }
     0
 }

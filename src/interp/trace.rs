@@ -51,8 +51,13 @@ pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
         }
     }
     // Nothing computed went non-finite: a non-finite constant must be the culprit.
+    // (Outputs are IR values, so their spans are looked up directly.)
     f.outputs.iter().find_map(|&o| match f.inst(o) {
-        Inst::Const(c) if !c.is_finite() => Some(fault(o, *c, false)),
+        Inst::Const(c) if !c.is_finite() => Some(Fault {
+            span: f.spans[o as usize].clone(),
+            value: *c,
+            nan_if_test: false,
+        }),
         _ => None,
     })
 }

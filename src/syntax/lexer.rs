@@ -18,7 +18,8 @@ pub const MAX_BRACKET_DEPTH: usize = 1024;
 /// The raw token set, as logos recognises it.
 #[derive(Logos, Clone, Copy, Debug, PartialEq)]
 enum Raw {
-    #[regex(r"[ \t\x0C]+")]
+    /// Blanks; a byte-order mark counts as one (editors put it at the start of files).
+    #[regex(r"[ \t\x0C\u{FEFF}]+")]
     Blank,
     /// A line break followed by optional blanks and a comma in column one: the
     /// statement continues (spec §1.5.1), and the join counts as one blank.
@@ -196,6 +197,12 @@ pub fn lex(src: &str) -> Lexed {
                 let mut stop = end;
                 while stop < bytes.len() && is_word_byte(bytes[stop]) {
                     stop += 1;
+                    // An exponent sign belongs to the malformed number (`1e+`, `2E-x`).
+                    if matches!(bytes[stop - 1], b'e' | b'E')
+                        && matches!(bytes.get(stop), Some(b'+' | b'-'))
+                    {
+                        stop += 1;
+                    }
                 }
                 if stop > end {
                     raw.bump(stop - end);

@@ -97,6 +97,12 @@ pub fn parse(src: &str) -> Parsed {
     }
     diagnostics.sort_by_key(|d| d.span.start);
     diagnostics.dedup_by(|a, b| a.span == b.span && a.code == b.code);
+    // A parse error at or after an invalid token repeats the lexer's error for it.
+    diagnostics.retain(|d| {
+        !d.message
+            .starts_with("unexpected input after an earlier error")
+    });
+    crate::diag::cap(&mut diagnostics);
     Parsed {
         ast: builder.ast,
         root,
@@ -210,9 +216,9 @@ pub fn to_diagnostic(
                 format!("expression ends too early{}", expected_words(&expected)),
             );
             if let Some((s, e)) = open_bracket_before(tokens, usize::MAX) {
-                d.message = "missing `)`: a bracket is still open at the end".to_string();
-                d = d.with_label(s..e, "opened here");
                 let close = if src[s..e].starts_with('[') { "]" } else { ")" };
+                d.message = format!("missing `{close}`: a bracket is still open at the end");
+                d = d.with_label(s..e, "opened here");
                 d = d.with_help(format!("add `{close}`"));
             }
             d
@@ -240,7 +246,15 @@ pub fn to_diagnostic(
                 .rev()
                 .find(|(_, _, pe)| *pe <= s)
                 .map(|&(_, t, _)| t);
-            if starts_value(tok) && prev.is_some_and(ends_value) {
+            // An invalid token was already diagnosed by the lexer: no second error for it.
+            let invalid = tok == Tok::Invalid || prev == Some(Tok::Invalid);
+            if invalid {
+                Diagnostic::error(
+                    Code::UnexpectedToken,
+                    s..e,
+                    "unexpected input after an earlier error",
+                )
+            } else if starts_value(tok) && prev.is_some_and(ends_value) {
                 Diagnostic::error(
                     Code::MissingOperator,
                     s..e,

@@ -450,3 +450,43 @@ fn bad_input_catalogue() {
         failures.join("\n")
     );
 }
+
+/// Inputs with one mistake get exactly one error: no follow-on errors after a lexical
+/// error (regression: `1;2` also reported a missing operator, `1e+` a second error).
+#[test]
+fn one_mistake_gives_one_error() {
+    for (input, code, span) in [
+        ("1e+", "E0102", 0..3),
+        ("2*1E-", "E0102", 2..5),
+        ("1;2", "E0101", 1..2),
+        ("1\\2", "E0101", 1..2),
+        ("1\u{0}2", "E0101", 1..2),
+        ("$x + 1", "E0101", 0..1),
+        ("[1,2,3", "E0202", 6..6),
+    ] {
+        let diags = compile(input, &xvt_scope(), Expect::Any).expect_err(input);
+        let got: Vec<(&str, Span)> = diags
+            .iter()
+            .map(|d| (d.code.as_str(), d.span.clone()))
+            .collect();
+        assert_eq!(got, vec![(code, span)], "{input:?}");
+    }
+    let diags = compile("[1,2,3", &xvt_scope(), Expect::Any).expect_err("open bracket");
+    assert!(
+        diags[0].message.contains("missing `]`"),
+        "{}",
+        diags[0].message
+    );
+}
+
+/// A line of garbage reports a bounded number of errors (regression: 10 kB of `@` printed
+/// 200 MB of frames).
+#[test]
+fn errors_per_expression_are_capped() {
+    let input = "@".repeat(10_000);
+    let diags = compile(&input, &xvt_scope(), Expect::Any).expect_err("garbage");
+    assert_eq!(diags.len(), mbfx::diag::MAX_DIAGNOSTICS);
+    assert_eq!(diags.last().map(|d| d.code.as_str()), Some("E0207"));
+    let text = render(&diags, &SourceFile::new("at", input.as_str()), false);
+    assert!(text.len() < 20_000, "{} bytes of report", text.len());
+}

@@ -65,9 +65,12 @@ fn reason(origin: &str, expr: &str, diags: &[Diagnostic]) -> Option<&'static str
         return Some("USER(...) calls a user subroutine, which mbfx does not run (spec §7)");
     }
     if view_names
-        && codes
-            .iter()
-            .all(|c| matches!(c, Code::IntegerArgument | Code::UnknownName))
+        && codes.iter().all(|c| {
+            matches!(
+                c,
+                Code::IntegerArgument | Code::UnknownName | Code::TooManyErrors
+            )
+        })
     {
         return Some("Adams View dialect: markers and design variables written as .model.names need View's symbol table");
     }
