@@ -86,8 +86,12 @@ impl Repl {
         Ok((out, notes))
     }
 
-    /// Answers one input (possibly several physical lines joined by `\n`).
-    pub fn eval_line(&mut self, line: &str) -> String {
+    /// Answers one input (possibly several physical lines joined by `\n`). A line that
+    /// starts with a comma continues the previous one as in a dataset; any other line of a
+    /// multi-line input (the REPL waited because a bracket was open) joins with a blank.
+    pub fn eval_line(&mut self, input: &str) -> String {
+        let joined = join_lines(input);
+        let line = joined.as_str();
         let trimmed = line.trim();
         if trimmed.is_empty() {
             return String::new();
@@ -194,6 +198,20 @@ fn help(name: &str) -> String {
         Some(b) => b.doc.to_string(),
         None => format!("no builtin named {upper}"),
     }
+}
+
+/// Joins the physical lines of one REPL input: `\n,` continuations stay for the lexer,
+/// other line breaks become blanks.
+fn join_lines(input: &str) -> String {
+    let mut out = String::with_capacity(input.len());
+    for (i, line) in input.split('\n').enumerate() {
+        if i > 0 {
+            let continued = line.trim_start().starts_with(',');
+            out.push(if continued { '\n' } else { ' ' });
+        }
+        out.push_str(line);
+    }
+    out
 }
 
 /// True when an input should continue on another line: a bracket is still open, or the
@@ -333,6 +351,7 @@ mod tests {
         assert_eq!(r.eval_line("x**3"), "8.0");
         assert_eq!(r.eval_line(":set time = 0.5"), "TIME = 0.5");
         assert_eq!(r.eval_line("STEP(TIME,0,0,\n, 1,100)"), "50.0");
+        assert_eq!(r.eval_line("STEP(TIME, 0, 0, 1,\n100)"), "50.0");
         assert!(r
             .eval_line(":help STEP")
             .starts_with("STEP(x, x0, h0, x1, h1)"));
