@@ -1,1 +1,127 @@
-fn main() {}
+//! Front-end throughput: parse only, and parse + check (`compile`: parse, check, lower to
+//! IR), over every expression of the shared corpus (`../shared/corpus/expressions.txt`
+//! from `.adm` files and `expressions-cmd.txt` from Adams View `.cmd` files; second
+//! tab-separated column), read at run time. Checking uses a scope in which every measure
+//! and SPLINE exists, as a model would supply. Criterion reports bytes/s; a median timing
+//! loop of its own then prints MB/s and µs per expression.
+//!
+//! Run: `cargo bench --bench frontend`.
+
+use criterion::{Criterion, Throughput};
+use mbfx::check::builtins::Ty;
+use mbfx::check::{compile, Expect, MeasureCall, MeasureValue, Scope, SplineInfo};
+use mbfx::diag::Diagnostic;
+use mbfx::syntax::parser::parse;
+use std::hint::black_box;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// One front-end stage run over a list of expressions.
+type Stage = (&'static str, fn(&[String]));
+
+/// Passes of the median timing loop.
+const REPS: usize = 21;
+
+/// A scope standing in for a model that defines every ID an expression names.
+struct EveryIdExists;
+
+impl Scope for EveryIdExists {
+    fn variable(&self, _: &str) -> Option<u32> {
+        None
+    }
+    fn spline(&self, _: i64) -> Option<SplineInfo> {
+        Some(SplineInfo {
+            index: 0,
+            surface: false,
+        })
+    }
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        Ok(match call.builtin.result {
+            Ty::Scalar => MeasureValue::Scalar(0),
+            Ty::Vector => MeasureValue::Vector([0, 1, 2]),
+        })
+    }
+}
+
+/// The expressions (second tab-separated column) of one corpus file.
+fn corpus(file: &str) -> Vec<String> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/corpus")
+        .join(file);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let exprs: Vec<String> = text
+        .lines()
+        .filter_map(|l| l.split_once('\t').map(|(_, e)| e.to_string()))
+        .collect();
+    assert!(!exprs.is_empty(), "{}: no expressions", path.display());
+    exprs
+}
+
+fn parse_all(exprs: &[String]) {
+    for e in exprs {
+        black_box(parse(black_box(e)));
+    }
+}
+
+fn check_all(exprs: &[String]) {
+    for e in exprs {
+        let _ = black_box(compile(black_box(e), &EveryIdExists, Expect::Any));
+    }
+}
+
+/// Median seconds per pass of `f` over [`REPS`] passes, after one warm-up pass.
+fn median_secs(f: impl Fn()) -> f64 {
+    f();
+    let mut s: Vec<f64> = (0..REPS)
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_secs_f64()
+        })
+        .collect();
+    s.sort_by(f64::total_cmp);
+    s[REPS / 2]
+}
+
+fn main() {
+    let adm = corpus("expressions.txt");
+    let cmd = corpus("expressions-cmd.txt");
+    let all: Vec<String> = adm.iter().chain(&cmd).cloned().collect();
+    let sets = [
+        ("expressions.txt", &adm),
+        ("expressions-cmd.txt", &cmd),
+        ("both", &all),
+    ];
+    let stages: [Stage; 2] = [("parse only", parse_all), ("parse+check", check_all)];
+
+    let mut criterion = Criterion::default()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .configure_from_args();
+    let mut group = criterion.benchmark_group("frontend");
+    for (set, exprs) in &sets {
+        let bytes: usize = exprs.iter().map(String::len).sum();
+        group.throughput(Throughput::Bytes(bytes as u64));
+        for (stage, f) in stages {
+            group.bench_function(format!("{set}/{stage}"), |b| b.iter(|| f(exprs)));
+        }
+    }
+    group.finish();
+    criterion.final_summary();
+
+    println!("\nfrontend: median of {REPS} passes over the shared expression corpus");
+    println!("| corpus | expressions | bytes | stage | MB/s | µs per expression |");
+    println!("|---|---:|---:|---|---:|---:|");
+    for (set, exprs) in &sets {
+        let bytes: usize = exprs.iter().map(String::len).sum();
+        for (stage, f) in stages {
+            let secs = median_secs(|| f(exprs));
+            println!(
+                "| {set} | {} | {bytes} | {stage} | {:.1} | {:.2} |",
+                exprs.len(),
+                bytes as f64 / secs / 1e6,
+                secs * 1e6 / exprs.len() as f64
+            );
+        }
+    }
+}

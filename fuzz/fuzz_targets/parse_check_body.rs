@@ -1,0 +1,143 @@
+//! Body of the `parse_check` fuzz target, shared with the stable replay test
+//! (`tests/fuzz_seeds.rs` includes this file with `#[path]`), so both run exactly the same
+//! checks. Plain Rust: no libfuzzer dependency.
+//!
+//! Invariants checked on any input bytes (invalid UTF-8 is replaced lossily):
+//! - parsing, checking, lowering, rendering diagnostics, compiling for the interpreter and
+//!   evaluating never panic;
+//! - every diagnostic span (and label span) lies within the input: `start <= end <= len`,
+//!   on character boundaries;
+//! - a rejected expression carries at least one error, an accepted one none;
+//! - an accepted expression has 1 or 3 outputs and evaluates (to any f64) at a few fixed
+//!   points, including NaN and infinite inputs.
+//!
+//! Each input is checked twice: with the variables x, v, t alone (measures are errors,
+//! as outside a model), and with a scope in which every measure and SPLINE exists, so
+//! measure and vector expressions reach lowering and evaluation too.
+
+use mbfx::check::builtins::Ty;
+use mbfx::check::{compile, Expect, MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
+use mbfx::context::Context;
+use mbfx::diag::{render, Diagnostic, SourceFile};
+use mbfx::interp::Program;
+use mbfx::syntax::parser::parse;
+
+/// Points (x, v, t) at which an accepted expression is evaluated; t is also the time.
+const POINTS: [[f64; 3]; 5] = [
+    [0.0, 0.0, 0.0],
+    [1.0, -1.0, 0.5],
+    [-2.5, 1e3, 7.0],
+    [f64::NAN, 1.0, -0.0],
+    [f64::INFINITY, f64::NEG_INFINITY, 1e-300],
+];
+
+/// Runs every check on raw fuzzer bytes.
+pub fn check_bytes(data: &[u8]) {
+    match std::str::from_utf8(data) {
+        Ok(src) => check_str(src),
+        Err(_) => check_str(&String::from_utf8_lossy(data)),
+    }
+}
+
+/// Measure values of the model scope's context (slots 0, 1, 2).
+const MEASURES: [f64; 3] = [0.25, -1.5, 2.0];
+
+/// The variables x, v, t (slots 0, 1, 2) plus every measure and SPLINE.
+struct ModelScope(Variables);
+
+impl Scope for ModelScope {
+    fn variable(&self, name: &str) -> Option<u32> {
+        self.0.variable(name)
+    }
+    fn variable_names(&self) -> Vec<String> {
+        self.0.variable_names()
+    }
+    fn spline(&self, _id: i64) -> Option<SplineInfo> {
+        Some(SplineInfo {
+            index: 0,
+            surface: false,
+        })
+    }
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        Ok(match call.builtin.result {
+            Ty::Scalar => MeasureValue::Scalar(0),
+            Ty::Vector => MeasureValue::Vector([0, 1, 2]),
+        })
+    }
+}
+
+/// Runs every check on one expression text.
+pub fn check_str(src: &str) {
+    let parsed = parse(src);
+    check_spans(src, &parsed.diagnostics, "parse");
+
+    let mut vars = Variables::new();
+    for name in ["x", "v", "t"] {
+        vars.define(name);
+    }
+    check_compiled(src, &vars, &[], true);
+    check_compiled(src, &ModelScope(vars), &MEASURES, false);
+}
+
+/// Checks, lowers and evaluates `src` under `scope`; `measures` fills the context.
+/// `rendered` also renders the diagnostics (once per input is enough: it is the slow part).
+fn check_compiled(src: &str, scope: &dyn Scope, measures: &[f64], rendered: bool) {
+    match compile(src, scope, Expect::Any) {
+        Err(diags) => {
+            check_spans(src, &diags, "compile");
+            assert!(
+                diags.iter().any(Diagnostic::is_error),
+                "rejected without an error: {src:?}: {diags:?}"
+            );
+            if rendered {
+                render_all(src, &diags);
+            }
+        }
+        Ok(checked) => {
+            check_spans(src, &checked.warnings, "compile warnings");
+            assert!(
+                !checked.warnings.iter().any(Diagnostic::is_error),
+                "accepted with an error: {src:?}: {:?}",
+                checked.warnings
+            );
+            if rendered {
+                render_all(src, &checked.warnings);
+            }
+            let n = checked.function.outputs.len();
+            assert!(n == 1 || n == 3, "{n} outputs for {src:?}");
+            let _ = mbfx::ir::print::print(&checked.function);
+            let program = Program::new(checked.function);
+            let mut out = [0.0; 3];
+            for vars in &POINTS {
+                let ctx = Context::new(vars[2], vars).with_measures(measures);
+                let _ = std::hint::black_box(program.eval(&ctx));
+                program.eval_into(&ctx, &mut out[..n]);
+                let _ = std::hint::black_box(program.first_fault(&ctx));
+            }
+        }
+    }
+}
+
+/// Asserts that every span of `diags` lies within `src`, on character boundaries.
+fn check_spans(src: &str, diags: &[Diagnostic], stage: &str) {
+    let len = src.len();
+    for d in diags {
+        let spans = std::iter::once(&d.span).chain(d.labels.iter().map(|(s, _)| s));
+        for s in spans {
+            assert!(
+                s.start <= s.end && s.end <= len,
+                "{stage}: span {s:?} outside the input (len {len}) in {src:?}: {d:?}"
+            );
+            assert!(
+                src.is_char_boundary(s.start) && src.is_char_boundary(s.end),
+                "{stage}: span {s:?} splits a character in {src:?}: {d:?}"
+            );
+        }
+    }
+}
+
+/// Renders the diagnostics the way the CLI does (exercises the caret frames).
+fn render_all(src: &str, diags: &[Diagnostic]) {
+    let file = SourceFile::new("fuzz", src);
+    let _ = std::hint::black_box(render(diags, &file, false));
+}
