@@ -117,8 +117,9 @@ impl Checker<'_> {
         self.ast.node(id).span()
     }
 
-    /// Lowers a subexpression that must be scalar.
-    fn scalar(&mut self, id: NodeId, what: &str) -> Option<Value> {
+    /// Lowers a subexpression that must be scalar; `what` names it in the error message
+    /// (built only when there is an error).
+    fn scalar(&mut self, id: NodeId, what: impl FnOnce() -> String) -> Option<Value> {
         match self.expr(id)? {
             Lowered::S(v) => Some(v),
             Lowered::V(_) => {
@@ -127,7 +128,7 @@ impl Checker<'_> {
                     Diagnostic::error(
                         Code::Type,
                         span,
-                        format!("{what} must be a scalar, but this is a vector"),
+                        format!("{} must be a scalar, but this is a vector", what()),
                     )
                     .with_help(
                         "take a component with a dot product, e.g. DXYZ(i,j)*UVX(k), or MAG(v)",
@@ -155,14 +156,19 @@ impl Checker<'_> {
                 args,
             } => {
                 let name_span = node.start as usize..*name_end as usize;
-                self.call(self.ast.name(*name), name_span, args, span)
+                self.call(
+                    self.ast.name(*name),
+                    name_span,
+                    self.ast.call_args(*args),
+                    span,
+                )
             }
             Kind::If(parts) => self.if_(*parts, span).map(Lowered::S),
             Kind::Vector(parts) => {
                 let mut out = [0; 3];
                 let mut ok = true;
                 for (slot, &p) in out.iter_mut().zip(parts) {
-                    match self.scalar(p, "a vector component") {
+                    match self.scalar(p, || "a vector component".into()) {
                         Some(v) => *slot = v,
                         None => ok = false,
                     }
@@ -244,12 +250,12 @@ impl Checker<'_> {
             .with_help("replace inner IFs by STEP, MIN, MAX or a VARIABLE");
             self.error(d);
         }
-        let t = self.scalar(test, "the IF test");
+        let t = self.scalar(test, || "the IF test".into());
         let mut arms = Vec::with_capacity(3);
         let mut ok = t.is_some();
         for arm in [neg, zero, pos] {
             self.b.begin_block();
-            let v = self.scalar(arm, "an IF branch");
+            let v = self.scalar(arm, || "an IF branch".into());
             ok &= v.is_some();
             let result = v.unwrap_or(0);
             arms.push(self.b.end_block(result));
@@ -426,8 +432,7 @@ impl Checker<'_> {
             Role::Function(func) => {
                 let mut vals = Vec::with_capacity(args.len());
                 for (i, &a) in args.iter().enumerate() {
-                    let what = format!("argument {} of {name}", i + 1);
-                    vals.push(self.scalar(a, &what));
+                    vals.push(self.scalar(a, || format!("argument {} of {name}", i + 1)));
                 }
                 let vals: Vec<Value> = vals.into_iter().collect::<Option<_>>()?;
                 let consts: Vec<Option<f64>> = vals.iter().map(|&v| self.b.get_const(v)).collect();
@@ -502,8 +507,8 @@ impl Checker<'_> {
         args: &[NodeId],
         span: Span,
     ) -> Option<Lowered> {
-        let x = self.scalar(args[0], "the x argument");
-        let z = self.scalar(args[1], "the z argument");
+        let x = self.scalar(args[0], || "the x argument".into());
+        let z = self.scalar(args[1], || "the z argument".into());
         let id = self.integer_arg(b, 2, args[2]);
         let iord = match args.get(3) {
             Some(&a) => self.integer_arg(b, 3, a),

@@ -9,7 +9,7 @@
 use super::{Block, Func, Function, Inst, Uses, Value};
 use crate::check::builtins::SplineKind;
 use crate::diag::Span;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Hashable identity of an instruction, for sharing. IF is never shared.
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -31,9 +31,12 @@ enum Key {
 /// Incrementally builds one function.
 pub struct Builder {
     f: Function,
-    consts: HashMap<u64, Value>,
-    /// One sharing table per open block, innermost last.
-    scopes: Vec<HashMap<Key, Value>>,
+    consts: FxHashMap<u64, Value>,
+    /// Shared instructions of every open block.
+    shared: FxHashMap<Key, Value>,
+    /// Keys added to `shared`, with the block depth they belong to; closing a block
+    /// removes its keys (a scoped table without a map per block).
+    added: Vec<(usize, Key)>,
     /// Instruction list of each open block, innermost last.
     lists: Vec<Vec<Value>>,
 }
@@ -48,8 +51,9 @@ impl Builder {
     pub fn new() -> Self {
         Builder {
             f: Function::default(),
-            consts: HashMap::new(),
-            scopes: vec![HashMap::new()],
+            consts: FxHashMap::default(),
+            shared: FxHashMap::default(),
+            added: Vec::new(),
             lists: vec![Vec::new()],
         }
     }
@@ -76,16 +80,17 @@ impl Builder {
     }
 
     fn emit(&mut self, key: Key, inst: Inst, span: Span) -> Value {
-        if let Some(v) = self.scopes.iter().rev().find_map(|s| s.get(&key)) {
-            return *v;
+        if let Some(&v) = self.shared.get(&key) {
+            return v;
         }
         let v = self.push(inst, span);
         if let Some(list) = self.lists.last_mut() {
             list.push(v);
         }
-        if let Some(scope) = self.scopes.last_mut() {
-            scope.insert(key, v);
+        if self.lists.len() > 1 {
+            self.added.push((self.lists.len(), key.clone()));
         }
+        self.shared.insert(key, v);
         v
     }
 
@@ -175,13 +180,17 @@ impl Builder {
 
     /// Opens a nested block (an IF arm).
     pub fn begin_block(&mut self) {
-        self.scopes.push(HashMap::new());
         self.lists.push(Vec::new());
     }
 
     /// Closes the innermost block, yielding `result`.
     pub fn end_block(&mut self, result: Value) -> Block {
-        self.scopes.pop();
+        let depth = self.lists.len();
+        while self.added.last().is_some_and(|(d, _)| *d == depth) {
+            if let Some((_, key)) = self.added.pop() {
+                self.shared.remove(&key);
+            }
+        }
         Block {
             insts: self.lists.pop().unwrap_or_default(),
             result,

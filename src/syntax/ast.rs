@@ -47,11 +47,12 @@ pub enum Kind {
     Num(f64),
     /// A bare name: index into [`Ast::names`].
     Name(u32),
-    /// `NAME(args)`; `name_end` closes the name's span (which starts at the node's start).
+    /// `NAME(args)`; `name_end` closes the name's span (which starts at the node's start);
+    /// the arguments are `Ast::args[args.0..args.0 + args.1]` (see [`Ast::call_args`]).
     Call {
         name: u32,
         name_end: u32,
-        args: Box<[NodeId]>,
+        args: (u32, u32),
     },
     /// `IF(test: neg, zero, pos)`.
     If([NodeId; 4]),
@@ -78,11 +79,39 @@ impl Node {
     }
 }
 
-/// A parsed expression: its nodes and the upper-cased names they mention.
+/// Upper-cased names in one buffer, addressed by index (no allocation per name).
+#[derive(Clone, Debug, Default)]
+pub struct Names {
+    text: String,
+    ends: Vec<u32>,
+}
+
+impl Names {
+    /// Appends `name` upper-cased and returns its index.
+    pub fn push(&mut self, name: &str) -> u32 {
+        let start = self.text.len();
+        self.text.push_str(name);
+        self.text[start..].make_ascii_uppercase();
+        self.ends.push(self.text.len() as u32);
+        (self.ends.len() - 1) as u32
+    }
+
+    /// The name with this index.
+    pub fn get(&self, idx: u32) -> &str {
+        let i = idx as usize;
+        let start = if i == 0 { 0 } else { self.ends[i - 1] as usize };
+        &self.text[start..self.ends[i] as usize]
+    }
+}
+
+/// A parsed expression: its nodes, the argument lists of its calls and the upper-cased
+/// names they mention.
 #[derive(Clone, Debug, Default)]
 pub struct Ast {
     pub nodes: Vec<Node>,
-    pub names: Vec<Box<str>>,
+    /// Argument lists of calls, each a contiguous run.
+    pub args: Vec<NodeId>,
+    pub names: Names,
 }
 
 impl Ast {
@@ -91,14 +120,19 @@ impl Ast {
     }
 
     pub fn name(&self, idx: u32) -> &str {
-        &self.names[idx as usize]
+        self.names.get(idx)
+    }
+
+    /// The arguments of a call node's `args` range.
+    pub fn call_args(&self, (start, len): (u32, u32)) -> &[NodeId] {
+        &self.args[start as usize..(start + len) as usize]
     }
 
     /// Children of a node, in source order.
     pub fn children(&self, id: NodeId) -> Vec<NodeId> {
         match &self.node(id).kind {
             Kind::Num(_) | Kind::Name(_) | Kind::Error => Vec::new(),
-            Kind::Call { args, .. } => args.to_vec(),
+            Kind::Call { args, .. } => self.call_args(*args).to_vec(),
             Kind::If(c) => c.to_vec(),
             Kind::Unary(_, a) => vec![*a],
             Kind::Binary(_, a, b) => vec![*a, *b],
@@ -159,17 +193,27 @@ impl Ast {
 pub struct Builder {
     pub ast: Ast,
     pub recovered: Vec<crate::syntax::parser::Recovered>,
+    /// Arguments of the calls being parsed, innermost last: a call's arguments are the
+    /// top of this stack when its `)` is reduced (inner calls finish first).
+    pending_args: Vec<NodeId>,
 }
 
 impl Builder {
-    pub fn new(names: Vec<Box<str>>) -> Self {
+    pub fn new(names: Names, tokens: usize) -> Self {
         Builder {
             ast: Ast {
-                nodes: Vec::new(),
+                nodes: Vec::with_capacity(tokens),
+                args: Vec::new(),
                 names,
             },
             recovered: Vec::new(),
+            pending_args: Vec::new(),
         }
+    }
+
+    /// Records one argument of the call being parsed.
+    pub fn arg(&mut self, e: NodeId) {
+        self.pending_args.push(e);
     }
 
     fn push(&mut self, kind: Kind, start: usize, end: usize, depth: u32) -> NodeId {
@@ -199,19 +243,23 @@ impl Builder {
         self.push(Kind::Name(n), l, r, 1)
     }
 
-    pub fn call(
-        &mut self,
-        name: u32,
-        name_end: usize,
-        args: Vec<NodeId>,
-        l: usize,
-        r: usize,
-    ) -> NodeId {
-        let depth = self.depth_of(&args);
+    /// A call whose `count` arguments are the top of the pending-argument stack.
+    pub fn call(&mut self, name: u32, name_end: usize, count: u32, l: usize, r: usize) -> NodeId {
+        let from = self.pending_args.len().saturating_sub(count as usize);
+        let start = self.ast.args.len() as u32;
+        self.ast.args.extend(self.pending_args.drain(from..));
+        let args = (start, self.ast.args.len() as u32 - start);
+        let depth = 1 + self
+            .ast
+            .call_args(args)
+            .iter()
+            .map(|&i| self.ast.node(i).depth)
+            .max()
+            .unwrap_or(0);
         let kind = Kind::Call {
             name,
             name_end: name_end as u32,
-            args: args.into_boxed_slice(),
+            args,
         };
         self.push(kind, l, r, depth)
     }

@@ -10,6 +10,7 @@
 //! Spans are byte offsets into the text given (callers shift them for `.adm` files).
 
 use crate::diag::{Code, Diagnostic};
+use crate::syntax::ast::Names;
 use logos::Logos;
 
 /// Deepest nesting of `(`, `[` and calls accepted (decision 11: at least 1000).
@@ -102,7 +103,7 @@ pub enum Tok {
 pub struct Lexed {
     pub tokens: Vec<(usize, Tok, usize)>,
     /// Upper-cased names, indexed by [`Tok::Name`] and [`Tok::Call`].
-    pub names: Vec<Box<str>>,
+    pub names: Names,
     pub diagnostics: Vec<Diagnostic>,
     /// True when lexing stopped early (bracket depth exceeded): the tokens are incomplete
     /// and the parser must not run.
@@ -118,6 +119,11 @@ pub fn number_value(text: &str) -> f64 {
 }
 
 fn parse_digits(text: &str) -> f64 {
+    // Integers of up to 15 digits (IDs, most constants) are exact in an f64, so they skip
+    // the general decimal parser.
+    if text.len() <= 15 && text.bytes().all(|b| b.is_ascii_digit()) {
+        return text.bytes().fold(0u64, |n, b| n * 10 + u64::from(b - b'0')) as f64;
+    }
     // The regex admits only forms Rust's parser accepts ("1.", ".5", "1.E2" included).
     text.parse().unwrap_or(f64::NAN)
 }
@@ -131,7 +137,7 @@ pub fn lex(src: &str) -> Lexed {
     let bytes = src.as_bytes();
     let mut out = Lexed {
         tokens: Vec::with_capacity(src.len() / 3 + 1),
-        names: Vec::new(),
+        names: Names::default(),
         diagnostics: Vec::new(),
         aborted: false,
     };
@@ -230,14 +236,18 @@ pub fn lex(src: &str) -> Lexed {
                 Tok::Num(number_value(&src[start..end]))
             }
             Raw::Name => {
-                let upper: Box<str> = src[start..end].to_ascii_uppercase().into();
+                let idx = out.names.push(&src[start..end]);
+                let upper = out.names.get(idx);
                 // A name directly followed by `(` is a call; with a blank in between it is
                 // an error for a known function (spec §1.4), a missing operator otherwise.
                 let rest = &src[end..];
-                let after_blank = rest.trim_start_matches([' ', '\t']);
                 let direct = rest.starts_with('(');
-                let spaced = !direct && after_blank.starts_with('(') || continued_paren(rest);
-                if spaced && crate::check::builtins::is_callable(&upper) {
+                // Only a blank or line break after the name can hide a `(`.
+                let spaced = !direct
+                    && matches!(rest.as_bytes().first(), Some(b' ' | b'\t' | b'\r' | b'\n'))
+                    && (rest.trim_start_matches([' ', '\t']).starts_with('(')
+                        || continued_paren(rest));
+                if spaced && crate::check::builtins::is_callable(upper) {
                     out.diagnostics.push(
                         Diagnostic::error(
                             Code::BlankBeforeParen,
@@ -247,17 +257,13 @@ pub fn lex(src: &str) -> Lexed {
                         .with_help(format!("write `{upper}(` with no blank")),
                     );
                 }
-                let call = direct || (spaced && crate::check::builtins::is_callable(&upper));
-                if call && &*upper == "IF" {
+                let call = direct || (spaced && crate::check::builtins::is_callable(upper));
+                if call && upper == "IF" {
                     Tok::If
+                } else if call {
+                    Tok::Call(idx)
                 } else {
-                    let idx = out.names.len() as u32;
-                    out.names.push(upper);
-                    if call {
-                        Tok::Call(idx)
-                    } else {
-                        Tok::Name(idx)
-                    }
+                    Tok::Name(idx)
                 }
             }
             Raw::Plus => Tok::Plus,

@@ -42,7 +42,7 @@ pub fn parse(src: &str) -> Parsed {
         mut diagnostics,
         aborted,
     } = lexer::lex(src);
-    let mut builder = Builder::new(names);
+    let mut builder = Builder::new(names, tokens.len());
     if aborted {
         return Parsed {
             ast: builder.ast,

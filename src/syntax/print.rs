@@ -57,7 +57,7 @@ fn write_node(ast: &Ast, id: NodeId, out: &mut String) {
         Kind::Call { name, args, .. } => {
             out.push_str(ast.name(*name));
             out.push('(');
-            write_list(ast, args, out);
+            write_list(ast, ast.call_args(*args), out);
             out.push(')');
         }
         Kind::If([t, a, b, c]) => {
