@@ -4,7 +4,8 @@
 //! which every IR value has its own register and constants are preloaded; IF arms become
 //! jump targets, so only the taken arm runs. Library functions are called from
 //! `mbfx-runtime`, exactly as the JIT calls them, so both back ends give the same bits.
-//! Evaluation never recurses and never allocates for up to [`STACK_REGS`] registers.
+//! Evaluation never recurses and never allocates for up to [`STACK_REGS`] registers
+//! (larger functions copy their register file to the heap once per evaluation).
 
 mod compile;
 mod trace;
@@ -207,20 +208,29 @@ impl Program {
     /// the context lacks slots the expression reads.
     #[inline]
     pub fn eval(&self, ctx: &Context) -> f64 {
+        let mut out = [0.0];
+        self.eval_into(ctx, &mut out);
+        out[0]
+    }
+
+    /// Evaluates the outputs (1 or 3) into `out` (extra slots are left alone). Fills `out`
+    /// with NaN when the context lacks slots the expression reads.
+    #[inline]
+    pub fn eval_into(&self, ctx: &Context, out: &mut [f64]) {
         if !self.covered_by(ctx) {
-            return f64::NAN;
+            out.fill(f64::NAN);
+            return;
         }
-        let out = self.outputs[0] as usize;
         match self.template.len() {
-            8 => self.eval_in::<8>(ctx)[out],
-            16 => self.eval_in::<16>(ctx)[out],
-            32 => self.eval_in::<32>(ctx)[out],
-            64 => self.eval_in::<64>(ctx)[out],
-            STACK_REGS => self.eval_in::<STACK_REGS>(ctx)[out],
+            8 => self.eval_in::<8>(ctx, out),
+            16 => self.eval_in::<16>(ctx, out),
+            32 => self.eval_in::<32>(ctx, out),
+            64 => self.eval_in::<64>(ctx, out),
+            STACK_REGS => self.eval_in::<STACK_REGS>(ctx, out),
             _ => {
                 let mut r = self.template.clone();
                 self.run(ctx, &mut r);
-                r[out]
+                self.read_outputs(&r, out);
             }
         }
     }
@@ -228,23 +238,17 @@ impl Program {
     /// Runs in a stack register file of `N` registers. The template is padded to one of
     /// these sizes, so the file is initialised by one fixed-size copy.
     #[inline(always)]
-    fn eval_in<const N: usize>(&self, ctx: &Context) -> [f64; N] {
+    fn eval_in<const N: usize>(&self, ctx: &Context, out: &mut [f64]) {
         let mut r: [f64; N] = match self.template.first_chunk() {
             Some(t) => *t,
             None => [f64::NAN; N],
         };
         self.run(ctx, &mut r);
-        r
+        self.read_outputs(&r, out);
     }
 
-    /// Evaluates all outputs (1 or 3) into `out`.
-    pub fn eval_into(&self, ctx: &Context, out: &mut [f64]) {
-        if !self.covered_by(ctx) {
-            out.fill(f64::NAN);
-            return;
-        }
-        let mut r = self.template.clone();
-        self.run(ctx, &mut r);
+    #[inline(always)]
+    fn read_outputs(&self, r: &[f64], out: &mut [f64]) {
         for (o, &reg) in out.iter_mut().zip(&self.outputs) {
             *o = r[reg as usize];
         }
