@@ -87,6 +87,14 @@ pub struct Names {
 }
 
 impl Names {
+    /// An empty table with room for names totalling `bytes`.
+    pub fn with_capacity(bytes: usize) -> Self {
+        Names {
+            text: String::with_capacity(bytes),
+            ends: Vec::with_capacity(bytes / 4 + 1),
+        }
+    }
+
     /// Appends `name` upper-cased and returns its index.
     pub fn push(&mut self, name: &str) -> u32 {
         let start = self.text.len();
@@ -203,11 +211,11 @@ impl Builder {
         Builder {
             ast: Ast {
                 nodes: Vec::with_capacity(tokens),
-                args: Vec::new(),
+                args: Vec::with_capacity(tokens / 2),
                 names,
             },
             recovered: Vec::new(),
-            pending_args: Vec::new(),
+            pending_args: Vec::with_capacity(16),
         }
     }
 

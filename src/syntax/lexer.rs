@@ -137,7 +137,7 @@ pub fn lex(src: &str) -> Lexed {
     let bytes = src.as_bytes();
     let mut out = Lexed {
         tokens: Vec::with_capacity(src.len() / 3 + 1),
-        names: Names::default(),
+        names: Names::with_capacity(src.len()),
         diagnostics: Vec::new(),
         aborted: false,
     };

@@ -14,6 +14,14 @@ lalrpop_mod!(
     "/function.rs"
 );
 
+// The same grammar without its error-recovery production (see build.rs): the fast path
+// for input that has no error.
+lalrpop_mod!(
+    #[allow(clippy::all, clippy::pedantic, unused)]
+    grammar_fast,
+    "/function_fast.rs"
+);
+
 /// Deepest syntax tree accepted. Operator chains (`1+1+…`) make trees as deep as they are
 /// long; passes over the tree grow their stack on demand, and this bound keeps their
 /// memory in proportion (decision 11).
@@ -34,8 +42,19 @@ pub struct Parsed {
     pub diagnostics: Vec<Diagnostic>,
 }
 
-/// Lexes and parses one expression.
+/// Lexes and parses one expression: valid input through the fast parser, anything with an
+/// error through the recovering one, which reports every error.
 pub fn parse(src: &str) -> Parsed {
+    parse_with(src, true)
+}
+
+/// Parses with the recovering parser only (the one that reports every error). Both parsers
+/// come from the same grammar; tests check that they build the same trees.
+pub fn parse_recovering(src: &str) -> Parsed {
+    parse_with(src, false)
+}
+
+fn parse_with(src: &str, fast_first: bool) -> Parsed {
     let Lexed {
         tokens,
         names,
@@ -63,6 +82,14 @@ pub fn parse(src: &str) -> Parsed {
             diagnostics,
         };
     }
+    if fast_first && diagnostics.is_empty() {
+        let fast = grammar_fast::ExprParser::new().parse(&mut builder, tokens.iter().copied());
+        match fast {
+            Ok(root) => return finish(builder.ast, root, src, diagnostics),
+            // An error: parse again with recovery to report every error there is.
+            Err(_) => builder = Builder::new(std::mem::take(&mut builder.ast.names), tokens.len()),
+        }
+    }
     let result = grammar::ExprParser::new().parse(&mut builder, tokens.iter().copied());
     let recovered = std::mem::take(&mut builder.recovered);
     for r in recovered {
@@ -75,25 +102,47 @@ pub fn parse(src: &str) -> Parsed {
             None
         }
     };
-    if let Some(r) = root {
-        let depth = builder.ast.node(r).depth;
-        if depth > MAX_TREE_DEPTH {
-            diagnostics.push(
-                Diagnostic::error(
-                    Code::TooDeep,
-                    0..src.len(),
-                    format!(
-                        "expression nests {depth} operations deep; the limit is {MAX_TREE_DEPTH}"
-                    ),
-                )
-                .with_help("split the expression, e.g. into VARIABLE statements"),
-            );
-            return Parsed {
-                ast: builder.ast,
-                root: None,
-                diagnostics,
-            };
-        }
+    let Some(root) = root else {
+        tidy(&mut diagnostics);
+        return Parsed {
+            ast: builder.ast,
+            root: None,
+            diagnostics,
+        };
+    };
+    finish(builder.ast, root, src, diagnostics)
+}
+
+/// Applies the tree-depth limit and orders, de-duplicates and caps the diagnostics.
+fn finish(ast: Ast, root: NodeId, src: &str, mut diagnostics: Vec<Diagnostic>) -> Parsed {
+    let depth = ast.node(root).depth;
+    if depth > MAX_TREE_DEPTH {
+        diagnostics.push(
+            Diagnostic::error(
+                Code::TooDeep,
+                0..src.len(),
+                format!("expression nests {depth} operations deep; the limit is {MAX_TREE_DEPTH}"),
+            )
+            .with_help("split the expression, e.g. into VARIABLE statements"),
+        );
+        return Parsed {
+            ast,
+            root: None,
+            diagnostics,
+        };
+    }
+    tidy(&mut diagnostics);
+    Parsed {
+        ast,
+        root: Some(root),
+        diagnostics,
+    }
+}
+
+/// Orders diagnostics by position, drops duplicates and follow-on errors, and caps them.
+fn tidy(diagnostics: &mut Vec<Diagnostic>) {
+    if diagnostics.is_empty() {
+        return;
     }
     diagnostics.sort_by_key(|d| d.span.start);
     diagnostics.dedup_by(|a, b| a.span == b.span && a.code == b.code);
@@ -102,12 +151,7 @@ pub fn parse(src: &str) -> Parsed {
         !d.message
             .starts_with("unexpected input after an earlier error")
     });
-    crate::diag::cap(&mut diagnostics);
-    Parsed {
-        ast: builder.ast,
-        root,
-        diagnostics,
-    }
+    crate::diag::cap(diagnostics);
 }
 
 /// Human spelling of a token for messages.

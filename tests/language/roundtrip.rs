@@ -60,6 +60,9 @@ proptest! {
         let second = parser::parse(&printed);
         prop_assert!(second.diagnostics.is_empty(), "printed text should parse: {printed}");
         prop_assert_eq!(first.ast.sexpr(root), second.ast.sexpr(second.root.expect("root")), "{} -> {}", src, printed);
+        // The fast parser (no error recovery) and the recovering one agree on valid input.
+        let slow = parser::parse_recovering(&src);
+        prop_assert_eq!(first.ast.sexpr(root), slow.ast.sexpr(slow.root.expect("root")));
     }
 }
 
