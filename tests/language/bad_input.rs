@@ -215,6 +215,7 @@ fn cases() -> Vec<Case> {
         e("trailing_plus", "1+", "E0202", End),
         e("unfinished_if", "IF(1:", "E0202", End),
         e("lone_minus", "-", "E0202", End),
+        e("lone_power", "**", "E0201", Text("**")),
         e("trailing_power", "x**", "E0202", End),
         // E0203: closing brackets nobody opened.
         e("extra_close", "1)", "E0203", Text(")")),

@@ -3,6 +3,7 @@
 
 mod bad_input;
 mod corpus;
+mod host_data;
 mod roundtrip;
 mod snapshots;
 mod spec_cases;
