@@ -8,9 +8,7 @@
 //! Run: `cargo bench --bench frontend`.
 
 use criterion::{Criterion, Throughput};
-use mbfx::check::builtins::Ty;
-use mbfx::check::{compile, Expect, MeasureCall, MeasureValue, Scope, SplineInfo};
-use mbfx::diag::Diagnostic;
+use mbfx::check::{compile, EveryIdExists, Expect};
 use mbfx::syntax::parser::parse;
 use std::hint::black_box;
 use std::path::Path;
@@ -21,27 +19,6 @@ type Stage = (&'static str, fn(&[String]));
 
 /// Passes of the median timing loop.
 const REPS: usize = 21;
-
-/// A scope standing in for a model that defines every ID an expression names.
-struct EveryIdExists;
-
-impl Scope for EveryIdExists {
-    fn variable(&self, _: &str) -> Option<u32> {
-        None
-    }
-    fn spline(&self, _: i64) -> Option<SplineInfo> {
-        Some(SplineInfo {
-            index: 0,
-            surface: false,
-        })
-    }
-    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
-        Ok(match call.builtin.result {
-            Ty::Scalar => MeasureValue::Scalar(0),
-            Ty::Vector => MeasureValue::Vector([0, 1, 2]),
-        })
-    }
-}
 
 /// The expressions (second tab-separated column) of one corpus file.
 fn corpus(file: &str) -> Vec<String> {

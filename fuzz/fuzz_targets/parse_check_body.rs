@@ -15,8 +15,9 @@
 //! as outside a model), and with a scope in which every measure and SPLINE exists, so
 //! measure and vector expressions reach lowering and evaluation too.
 
-use mbfx::check::builtins::Ty;
-use mbfx::check::{compile, Expect, MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
+use mbfx::check::{
+    compile, EveryIdExists, Expect, MeasureCall, MeasureValue, Scope, SplineInfo, Variables,
+};
 use mbfx::context::Context;
 use mbfx::diag::{render, Diagnostic, SourceFile};
 use mbfx::interp::Program;
@@ -52,17 +53,11 @@ impl Scope for ModelScope {
     fn variable_names(&self) -> Vec<String> {
         self.0.variable_names()
     }
-    fn spline(&self, _id: i64) -> Option<SplineInfo> {
-        Some(SplineInfo {
-            index: 0,
-            surface: false,
-        })
+    fn spline(&self, id: i64) -> Option<SplineInfo> {
+        EveryIdExists.spline(id)
     }
     fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
-        Ok(match call.builtin.result {
-            Ty::Scalar => MeasureValue::Scalar(0),
-            Ty::Vector => MeasureValue::Vector([0, 1, 2]),
-        })
+        EveryIdExists.measure(call)
     }
 }
 

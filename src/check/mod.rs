@@ -18,7 +18,7 @@ use crate::ir::{Function, Value};
 use crate::syntax::ast::{Ast, BinOp, Kind, NodeId, UnOp};
 use crate::syntax::parser;
 use builtins::{Builtin, Param, Role};
-pub use scope::{MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
+pub use scope::{EveryIdExists, MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
 
 /// Deepest nesting of arithmetic IFs (decision 2).
 pub const MAX_IF_NESTING: usize = 9;

@@ -129,3 +129,30 @@ impl Scope for Variables {
             })
     }
 }
+
+/// A scope standing in for a model that defines every marker, element and SPLINE an
+/// expression names: for checking expressions apart from their model (the corpus tests,
+/// benchmarks and fuzzing use it). Measures resolve to slot 0 (vectors to 0, 1, 2), so the
+/// IR it yields is for checking, not for evaluating against real data.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct EveryIdExists;
+
+impl Scope for EveryIdExists {
+    fn variable(&self, _: &str) -> Option<u32> {
+        None
+    }
+
+    fn spline(&self, _: i64) -> Option<SplineInfo> {
+        Some(SplineInfo {
+            index: 0,
+            surface: false,
+        })
+    }
+
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        Ok(match call.builtin.result {
+            Ty::Scalar => MeasureValue::Scalar(0),
+            Ty::Vector => MeasureValue::Vector([0, 1, 2]),
+        })
+    }
+}

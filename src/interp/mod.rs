@@ -11,23 +11,8 @@ mod compile;
 mod trace;
 
 use crate::context::Context;
-use crate::ir::{Function, Uses};
+use crate::ir::{if_arm as branch, Function, Uses};
 pub use trace::Fault;
-
-/// Which IF arm a test value selects: 0 for negative, 1 for zero (either sign), 2 for
-/// positive, `None` for NaN.
-#[inline(always)]
-fn branch(t: f64) -> Option<usize> {
-    if t < 0.0 {
-        Some(0)
-    } else if t == 0.0 {
-        Some(1)
-    } else if t > 0.0 {
-        Some(2)
-    } else {
-        None
-    }
-}
 
 /// Functions with at most this many registers evaluate in a register file on the stack.
 pub const STACK_REGS: usize = 128;

@@ -201,15 +201,7 @@ impl Builder {
     /// build time: the arm's instructions join the current block.
     pub fn if_(&mut self, test: Value, arms: [Block; 3], span: Span) -> Value {
         if let Some(t) = self.get_const(test) {
-            let pick = if t < 0.0 {
-                Some(0)
-            } else if t == 0.0 {
-                Some(1)
-            } else if t > 0.0 {
-                Some(2)
-            } else {
-                None
-            };
+            let pick = super::if_arm(t);
             if let Some(i) = pick {
                 let [a, b, c] = arms;
                 let arm = [a, b, c].into_iter().nth(i).unwrap_or_default();

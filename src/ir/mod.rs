@@ -54,6 +54,22 @@ pub enum Inst {
     },
 }
 
+/// Which arm of an arithmetic IF a test value selects: 0 when negative, 1 when zero
+/// (either sign), 2 when positive, `None` when NaN (spec §2.4, decision 2). The one
+/// definition the constant folder and every back end follow.
+#[inline(always)]
+pub fn if_arm(t: f64) -> Option<usize> {
+    if t < 0.0 {
+        Some(0)
+    } else if t == 0.0 {
+        Some(1)
+    } else if t > 0.0 {
+        Some(2)
+    } else {
+        None
+    }
+}
+
 /// A straight-line sequence of instructions and the value it yields.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Block {

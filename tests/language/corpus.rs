@@ -5,30 +5,9 @@
 //! listed reason; an unexplained failure, or a listed reason that no longer occurs, fails.
 
 use crate::support::shared;
-use mbfx::check::{compile, Expect, MeasureCall, MeasureValue, Scope, SplineInfo};
+use mbfx::check::{compile, EveryIdExists, Expect};
 use mbfx::diag::{Code, Diagnostic};
 use std::collections::BTreeMap;
-
-/// A scope standing in for a model that defines every ID an expression names.
-struct EveryIdExists;
-
-impl Scope for EveryIdExists {
-    fn variable(&self, _: &str) -> Option<u32> {
-        None
-    }
-    fn spline(&self, _: i64) -> Option<SplineInfo> {
-        Some(SplineInfo {
-            index: 0,
-            surface: false,
-        })
-    }
-    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
-        Ok(match call.builtin.result {
-            mbfx::check::builtins::Ty::Scalar => MeasureValue::Scalar(0),
-            mbfx::check::builtins::Ty::Vector => MeasureValue::Vector([0, 1, 2]),
-        })
-    }
-}
 
 /// True when the text holds an Adams View dotted name (`.model.part.marker`): a `.`
 /// followed by a letter that does not continue a number or a name.
