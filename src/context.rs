@@ -73,11 +73,4 @@ impl<'a> Context<'a> {
         // well-aligned pointer with length 0, which `from_raw_parts` permits.
         unsafe { std::slice::from_raw_parts(self.splines, self.n_splines) }
     }
-
-    /// True when the arrays are long enough for a function with these uses.
-    pub fn covers(&self, uses: &crate::ir::Uses) -> bool {
-        self.n_vars >= uses.vars_len()
-            && self.n_measures >= uses.measures_len()
-            && self.n_splines >= uses.splines_len()
-    }
 }

@@ -74,6 +74,48 @@ pub fn needs_model(call: &MeasureCall) -> Diagnostic {
     .with_help("load a model: mbfx eval --model FILE.adm, or :load FILE.adm in the REPL")
 }
 
+/// Why a name cannot be a user variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BadVariableName {
+    /// Not a letter or `_` followed by letters, digits and `_`.
+    NotAName,
+    /// A function, measure or constant of the language.
+    Builtin,
+}
+
+impl BadVariableName {
+    /// The message for `name`, e.g. "`PI` is a builtin name".
+    pub fn message(self, name: &str) -> String {
+        match self {
+            BadVariableName::NotAName => format!("`{name}` is not a valid variable name"),
+            BadVariableName::Builtin => format!("`{name}` is a builtin name"),
+        }
+    }
+
+    /// What to do instead.
+    pub fn help(self) -> &'static str {
+        match self {
+            BadVariableName::NotAName => {
+                "variable names start with a letter and hold letters, digits and _"
+            }
+            BadVariableName::Builtin => "choose a name that is no function or constant",
+        }
+    }
+}
+
+/// Checks that `name` can name a user variable (the rule `--var` and `:let` share).
+pub fn check_variable_name(name: &str) -> Result<(), BadVariableName> {
+    let valid = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    if !valid {
+        Err(BadVariableName::NotAName)
+    } else if super::builtins::lookup(&name.to_ascii_uppercase()).is_some() {
+        Err(BadVariableName::Builtin)
+    } else {
+        Ok(())
+    }
+}
+
 /// A scope of named user variables and host-supplied splines, with no model.
 #[derive(Clone, Debug, Default)]
 pub struct Variables {

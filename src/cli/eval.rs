@@ -49,22 +49,9 @@ pub fn variables(specs: &[String], color: bool) -> Result<(Variables, Vec<f64>),
             return Err(());
         };
         let name = name.trim();
-        let valid = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
-            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
-        if !valid || crate::check::builtins::lookup(&name.to_ascii_uppercase()).is_some() {
-            let (why, help) = if valid {
-                (
-                    "is a builtin name",
-                    "choose a name that is no function or constant",
-                )
-            } else {
-                (
-                    "is not a valid name",
-                    "variable names start with a letter and hold letters, digits and _",
-                )
-            };
-            let d = Diagnostic::error(Code::CommandLine, 0..name.len(), format!("`{name}` {why}"))
-                .with_help(help);
+        if let Err(bad) = crate::check::scope::check_variable_name(name) {
+            let d = Diagnostic::error(Code::CommandLine, 0..name.len(), bad.message(name))
+                .with_help(bad.help());
             eprint!(
                 "{}",
                 render(&[d], &SourceFile::new("--var", spec.as_str()), color)

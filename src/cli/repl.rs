@@ -145,13 +145,8 @@ impl Repl {
             return "usage: :let NAME = EXPR".to_string();
         };
         let name = name.trim().to_ascii_uppercase();
-        let valid = name.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
-            && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
-        if !valid {
-            return format!("`{name}` is not a valid variable name");
-        }
-        if builtins::lookup(&name).is_some() {
-            return format!("`{name}` is a builtin name; choose another");
+        if let Err(bad) = crate::check::scope::check_variable_name(&name) {
+            return format!("{}; {}", bad.message(&name), bad.help());
         }
         match self.evaluate(expr) {
             Ok((v, notes)) if v.len() == 1 => {

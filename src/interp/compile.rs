@@ -6,8 +6,8 @@
 
 use super::{Coeffs, Op, Program, SeriesFn};
 use crate::check::builtins::SplineKind;
+use crate::ir::func::Callee;
 use crate::ir::{Block, Func, Function, Inst, Value};
-use mbfx_runtime as rt;
 
 /// Most coefficients a series call takes (spec §5.6–5.8).
 pub const MAX_COEFFICIENTS: usize = 31;
@@ -62,51 +62,6 @@ pub fn compile(function: Function) -> Program {
         reg_of,
         function,
     }
-}
-
-fn unary(func: Func) -> Option<fn(f64) -> f64> {
-    Some(match func {
-        Func::Abs => rt::abs,
-        Func::Acos => rt::acos,
-        Func::Asin => rt::asin,
-        Func::Atan => rt::atan,
-        Func::Cos => rt::cos,
-        Func::Sin => rt::sin,
-        Func::Tan => rt::tan,
-        Func::Cosh => rt::cosh,
-        Func::Sinh => rt::sinh,
-        Func::Tanh => rt::tanh,
-        Func::Exp => rt::exp,
-        Func::Log => rt::log,
-        Func::Log10 => rt::log10,
-        Func::Sqrt => rt::sqrt,
-        Func::Aint => rt::aint,
-        Func::Anint => rt::anint,
-        _ => return None,
-    })
-}
-
-fn binary(func: Func) -> Option<fn(f64, f64) -> f64> {
-    Some(match func {
-        Func::Atan2 => rt::atan2,
-        Func::Mod => rt::amod,
-        Func::Sign => rt::sign,
-        Func::Dim => rt::dim,
-        Func::Max => rt::max,
-        Func::Min => rt::min,
-        Func::Pow => rt::pow,
-        _ => return None,
-    })
-}
-
-fn series(func: Func) -> Option<SeriesFn> {
-    Some(match func {
-        Func::Poly => SeriesFn::Two(rt::poly),
-        Func::Cheby => SeriesFn::Two(rt::cheby),
-        Func::Forcos => SeriesFn::Three(rt::forcos),
-        Func::Forsin => SeriesFn::Three(rt::forsin),
-        _ => return None,
-    })
 }
 
 impl Emitter<'_> {
@@ -202,87 +157,67 @@ impl Emitter<'_> {
     }
 
     fn call(&mut self, v: Value, func: Func, args: &[Value]) -> Op {
-        if let Some(f) = series(func) {
-            let fixed = func.fixed_args();
-            let (head, coeffs) = args.split_at(fixed.min(args.len()));
-            // x, x0 and (for FORCOS/FORSIN) w; POLY and CHEBY repeat x0 in the third slot.
-            let mut head = head.to_vec();
-            while head.len() < 3 {
-                head.push(head.last().copied().unwrap_or(0));
-            }
-            let start = self.arg_list(&head);
-            let constants: Option<Vec<f64>> = coeffs.iter().map(|&c| self.f.constant(c)).collect();
-            let n = coeffs.len().min(MAX_COEFFICIENTS) as u32;
-            let coeffs = match constants {
-                Some(values) => {
-                    let at = self.pool.len() as u32;
-                    self.pool.extend(values);
-                    Coeffs::Pool { start: at, n }
-                }
-                None => Coeffs::Regs {
-                    start: self.arg_list(coeffs),
-                    n,
-                },
-            };
-            return Op::Series {
-                d: self.reg(v),
-                args: start,
-                coeffs,
-                f,
-            };
+        let callee = func.callee();
+        if let Callee::Series2(_) | Callee::Series3(_) = callee {
+            return self.series(v, func, callee, args);
         }
         let regs: Vec<u32> = args.iter().map(|&a| self.reg(a)).collect();
         let d = self.reg(v);
-        if let (Some(f), [a]) = (unary(func), regs.as_slice()) {
-            return Op::Call1 { d, a: *a, f };
-        }
-        if let (Some(f), [a, b]) = (binary(func), regs.as_slice()) {
-            return Op::Call2 { d, a: *a, b: *b, f };
-        }
         let start = self.arg_regs.len() as u32;
-        self.arg_regs.extend(&regs);
-        match func {
-            Func::Step => Op::Call5 {
-                d,
-                args: start,
-                f: rt::step,
+        match (callee, regs.as_slice()) {
+            (Callee::F1(f), &[a]) => Op::Call1 { d, a, f },
+            (Callee::F2(f), &[a, b]) => Op::Call2 { d, a, b, f },
+            (callee, _) => {
+                self.arg_regs.extend(&regs);
+                match callee {
+                    Callee::F5(f) => Op::Call5 { d, args: start, f },
+                    Callee::F6(f) => Op::Call6 { d, args: start, f },
+                    Callee::F7(f) => Op::Call7 { d, args: start, f },
+                    Callee::F8(f) => Op::Call8 { d, args: start, f },
+                    // The checker builds every call with its function's arity.
+                    _ => Op::Call5 {
+                        d,
+                        args: start,
+                        f: |_, _, _, _, _| f64::NAN,
+                    },
+                }
+            }
+        }
+    }
+
+    /// A series call: x, x0 (and w for FORCOS/FORSIN) as registers, and the coefficients
+    /// from the constant pool when all are constant.
+    fn series(&mut self, v: Value, func: Func, callee: Callee, args: &[Value]) -> Op {
+        let (head, coeffs) = args.split_at(func.fixed_args().min(args.len()));
+        // POLY and CHEBY repeat x0 in the third slot.
+        let mut head = head.to_vec();
+        while head.len() < 3 {
+            head.push(head.last().copied().unwrap_or(0));
+        }
+        let start = self.arg_list(&head);
+        let constants: Option<Vec<f64>> = coeffs.iter().map(|&c| self.f.constant(c)).collect();
+        let n = coeffs.len().min(MAX_COEFFICIENTS) as u32;
+        let coeffs = match constants {
+            Some(values) => {
+                let at = self.pool.len() as u32;
+                self.pool.extend(values);
+                Coeffs::Pool { start: at, n }
+            }
+            None => Coeffs::Regs {
+                start: self.arg_list(coeffs),
+                n,
             },
-            Func::Step5 => Op::Call5 {
-                d,
-                args: start,
-                f: rt::step5,
-            },
-            Func::Havsin => Op::Call5 {
-                d,
-                args: start,
-                f: rt::havsin,
-            },
-            Func::Shf => Op::Call6 {
-                d,
-                args: start,
-                f: rt::shf,
-            },
-            Func::Impact => Op::Call7 {
-                d,
-                args: start,
-                f: rt::impact,
-            },
-            Func::Sweep => Op::Call7 {
-                d,
-                args: start,
-                f: rt::sweep,
-            },
-            Func::Bistop => Op::Call8 {
-                d,
-                args: start,
-                f: rt::bistop,
-            },
-            // Every function has an arity above; the checker never builds another call.
-            _ => Op::Call5 {
-                d,
-                args: start,
-                f: |_, _, _, _, _| f64::NAN,
-            },
+        };
+        let f = match callee {
+            Callee::Series3(f) => SeriesFn::Three(f),
+            Callee::Series2(f) => SeriesFn::Two(f),
+            _ => SeriesFn::Two(|_, _, _| f64::NAN),
+        };
+        Op::Series {
+            d: self.reg(v),
+            args: start,
+            coeffs,
+            f,
         }
     }
 

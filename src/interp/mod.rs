@@ -11,6 +11,7 @@ mod compile;
 mod trace;
 
 use crate::context::Context;
+use crate::ir::func::{Fn5, Fn6, Fn7, Fn8};
 use crate::ir::{if_arm as branch, Function, Uses};
 pub use trace::Fault;
 
@@ -32,11 +33,6 @@ enum Coeffs {
     /// Registers `arg_regs[start..start + n]`, gathered at run time.
     Regs { start: u32, n: u32 },
 }
-
-type Fn5 = fn(f64, f64, f64, f64, f64) -> f64;
-type Fn6 = fn(f64, f64, f64, f64, f64, f64) -> f64;
-type Fn7 = fn(f64, f64, f64, f64, f64, f64, f64) -> f64;
-type Fn8 = fn(f64, f64, f64, f64, f64, f64, f64, f64) -> f64;
 
 /// One bytecode instruction; `d` is the destination register. Calls with five or more
 /// arguments find their argument registers at `arg_regs[args..]`.

@@ -20,7 +20,7 @@ pub struct Fault {
 
 pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
     let f = &p.function;
-    if !ctx.covers(&f.uses) {
+    if !p.covered_by(ctx) {
         return None;
     }
     // Registers are compacted: map each back to the IR value it holds, for its span.

@@ -112,49 +112,84 @@ impl Func {
         }
     }
 
+    /// The runtime function this names, typed by its argument list: the one mapping from
+    /// `Func` to `mbfx-runtime` that constant folding and every back end share.
+    pub fn callee(self) -> Callee {
+        use Func::*;
+        match self {
+            Abs => Callee::F1(rt::abs),
+            Acos => Callee::F1(rt::acos),
+            Asin => Callee::F1(rt::asin),
+            Atan => Callee::F1(rt::atan),
+            Cos => Callee::F1(rt::cos),
+            Sin => Callee::F1(rt::sin),
+            Tan => Callee::F1(rt::tan),
+            Cosh => Callee::F1(rt::cosh),
+            Sinh => Callee::F1(rt::sinh),
+            Tanh => Callee::F1(rt::tanh),
+            Exp => Callee::F1(rt::exp),
+            Log => Callee::F1(rt::log),
+            Log10 => Callee::F1(rt::log10),
+            Sqrt => Callee::F1(rt::sqrt),
+            Aint => Callee::F1(rt::aint),
+            Anint => Callee::F1(rt::anint),
+            Atan2 => Callee::F2(rt::atan2),
+            Mod => Callee::F2(rt::amod),
+            Sign => Callee::F2(rt::sign),
+            Dim => Callee::F2(rt::dim),
+            Max => Callee::F2(rt::max),
+            Min => Callee::F2(rt::min),
+            Pow => Callee::F2(rt::pow),
+            Step => Callee::F5(rt::step),
+            Step5 => Callee::F5(rt::step5),
+            Havsin => Callee::F5(rt::havsin),
+            Shf => Callee::F6(rt::shf),
+            Impact => Callee::F7(rt::impact),
+            Sweep => Callee::F7(rt::sweep),
+            Bistop => Callee::F8(rt::bistop),
+            Poly => Callee::Series2(rt::poly),
+            Cheby => Callee::Series2(rt::cheby),
+            Forcos => Callee::Series3(rt::forcos),
+            Forsin => Callee::Series3(rt::forsin),
+        }
+    }
+
     /// Evaluates the function on `args` (fixed arguments, then any coefficients).
     /// A wrong argument count gives NaN (the checker never builds one).
     pub fn eval(self, a: &[f64]) -> f64 {
-        use Func::*;
         let n = self.fixed_args();
         if a.len() < n || (!self.is_variadic() && a.len() != n) {
             return f64::NAN;
         }
-        match self {
-            Abs => rt::abs(a[0]),
-            Acos => rt::acos(a[0]),
-            Asin => rt::asin(a[0]),
-            Atan => rt::atan(a[0]),
-            Atan2 => rt::atan2(a[0], a[1]),
-            Cos => rt::cos(a[0]),
-            Sin => rt::sin(a[0]),
-            Tan => rt::tan(a[0]),
-            Cosh => rt::cosh(a[0]),
-            Sinh => rt::sinh(a[0]),
-            Tanh => rt::tanh(a[0]),
-            Exp => rt::exp(a[0]),
-            Log => rt::log(a[0]),
-            Log10 => rt::log10(a[0]),
-            Sqrt => rt::sqrt(a[0]),
-            Aint => rt::aint(a[0]),
-            Anint => rt::anint(a[0]),
-            Mod => rt::amod(a[0], a[1]),
-            Sign => rt::sign(a[0], a[1]),
-            Dim => rt::dim(a[0], a[1]),
-            Max => rt::max(a[0], a[1]),
-            Min => rt::min(a[0], a[1]),
-            Pow => rt::pow(a[0], a[1]),
-            Step => rt::step(a[0], a[1], a[2], a[3], a[4]),
-            Step5 => rt::step5(a[0], a[1], a[2], a[3], a[4]),
-            Havsin => rt::havsin(a[0], a[1], a[2], a[3], a[4]),
-            Impact => rt::impact(a[0], a[1], a[2], a[3], a[4], a[5], a[6]),
-            Bistop => rt::bistop(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]),
-            Shf => rt::shf(a[0], a[1], a[2], a[3], a[4], a[5]),
-            Sweep => rt::sweep(a[0], a[1], a[2], a[3], a[4], a[5], a[6]),
-            Poly => rt::poly(a[0], a[1], &a[2..]),
-            Cheby => rt::cheby(a[0], a[1], &a[2..]),
-            Forcos => rt::forcos(a[0], a[1], a[2], &a[3..]),
-            Forsin => rt::forsin(a[0], a[1], a[2], &a[3..]),
+        match self.callee() {
+            Callee::F1(f) => f(a[0]),
+            Callee::F2(f) => f(a[0], a[1]),
+            Callee::F5(f) => f(a[0], a[1], a[2], a[3], a[4]),
+            Callee::F6(f) => f(a[0], a[1], a[2], a[3], a[4], a[5]),
+            Callee::F7(f) => f(a[0], a[1], a[2], a[3], a[4], a[5], a[6]),
+            Callee::F8(f) => f(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]),
+            Callee::Series2(f) => f(a[0], a[1], &a[2..]),
+            Callee::Series3(f) => f(a[0], a[1], a[2], &a[3..]),
         }
     }
+}
+
+/// Signatures of the runtime functions with five to eight arguments.
+pub type Fn5 = fn(f64, f64, f64, f64, f64) -> f64;
+pub type Fn6 = fn(f64, f64, f64, f64, f64, f64) -> f64;
+pub type Fn7 = fn(f64, f64, f64, f64, f64, f64, f64) -> f64;
+pub type Fn8 = fn(f64, f64, f64, f64, f64, f64, f64, f64) -> f64;
+
+/// A runtime function with its Rust signature: fixed arity 1, 2, 5, 6, 7 or 8, or a series
+/// taking `x, x0` (and `w`) before its coefficient slice.
+#[derive(Clone, Copy, Debug)]
+pub enum Callee {
+    F1(fn(f64) -> f64),
+    F2(fn(f64, f64) -> f64),
+    F5(Fn5),
+    F6(Fn6),
+    F7(Fn7),
+    F8(Fn8),
+    Series2(fn(f64, f64, &[f64]) -> f64),
+    Series3(fn(f64, f64, f64, &[f64]) -> f64),
 }
