@@ -588,9 +588,3 @@ fn arity_error(b: &Builtin, found: usize, span: Span) -> Diagnostic {
     )
     .with_help(format!("signature: {}", b.signature()))
 }
-
-/// True when the expression text is valid under `scope` (a convenience for callers that
-/// only need a yes/no).
-pub fn is_valid(src: &str, scope: &dyn Scope) -> bool {
-    compile(src, scope, Expect::Any).is_ok()
-}

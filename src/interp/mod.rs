@@ -174,11 +174,6 @@ impl Program {
         &self.function.uses
     }
 
-    /// Number of registers the program uses.
-    pub fn registers(&self) -> usize {
-        self.template.len()
-    }
-
     fn covered_by(&self, ctx: &Context) -> bool {
         ctx.vars().len() >= self.needs[0]
             && ctx.measures().len() >= self.needs[1]
