@@ -9,6 +9,7 @@
 mod args;
 pub mod check;
 mod cursor;
+pub mod elements;
 pub mod expressions;
 pub mod keywords;
 mod lines;

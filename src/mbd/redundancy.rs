@@ -1,0 +1,1 @@
+//! Redundancy analysis of the constraint Jacobian at the assembled configuration.

@@ -1,0 +1,327 @@
+//! The user-facing model: what an `.adm` dataset declares, in Adams terms (ids,
+//! `adams_view_name` names, byte spans into the file), with every number converted to
+//! what it means (degrees to radians, REULER/ZP/XP to a rotation matrix) but nothing
+//! assembled yet. The reader fills a [`Model`]; the multibody core ([`crate::mbd`]) builds
+//! its system from one. Elements refer to each other by Adams id; the reader has checked
+//! that every id they name exists.
+//!
+//! Expressions (`FUNCTION=`, `FX=`, ...) are checked and lowered to IR with the model as
+//! their scope: every measure call they make (`DX(2,1)`, `UVZ(3)`, `VARVAL(5)`) is a slot
+//! in [`Model::measures`], which the core fills before it evaluates them.
+
+use crate::diag::Span;
+use crate::ir::Function;
+use crate::mbd::equations::{JointType, JprimType};
+use crate::mbd::math::{Mat3, Vec3};
+
+/// An Adams element id (`PART/2` has id 2).
+pub type Id = u32;
+
+/// What every element carries: its id, its `adams_view_name` (when the dataset gives
+/// one) and the span of its statement in the file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Named {
+    pub id: Id,
+    pub name: Option<String>,
+    pub span: Span,
+}
+
+/// A whole dataset.
+#[derive(Clone, Debug, Default)]
+pub struct Model {
+    /// Line 1 of the file.
+    pub title: String,
+    pub units: Units,
+    pub parts: Vec<Part>,
+    pub markers: Vec<Marker>,
+    pub joints: Vec<Joint>,
+    pub jprims: Vec<Jprim>,
+    pub gcons: Vec<Gcon>,
+    pub motions: Vec<Motion>,
+    pub sforces: Vec<Sforce>,
+    /// VFORCE, VTORQUE and GFORCE.
+    pub vector_forces: Vec<VectorForce>,
+    pub spring_dampers: Vec<SpringDamper>,
+    pub bushings: Vec<Bushing>,
+    pub variables: Vec<Variable>,
+    pub splines: Vec<SplineData>,
+    pub arrays: Vec<Array>,
+    /// ACCGRAV in model length/time², global axes (zero when absent).
+    pub gravity: Vec3,
+    pub requests: Vec<Request>,
+    /// INTEGRATOR, OUTPUT, RESULTS and similar settings statements, kept as written.
+    pub settings: Vec<Setting>,
+    /// The measure every expression slot reads (index = slot of [`crate::ir::Inst::Measure`]).
+    pub measures: Vec<MeasureSlot>,
+}
+
+/// UNITS and the units-consistency factor: Force·UCF = Mass·Acceleration (spec §2.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Units {
+    pub force: Option<String>,
+    pub mass: Option<String>,
+    pub length: Option<String>,
+    pub time: Option<String>,
+    pub ucf: f64,
+}
+
+impl Default for Units {
+    fn default() -> Self {
+        Units {
+            force: None,
+            mass: None,
+            length: None,
+            time: None,
+            ucf: 1.0,
+        }
+    }
+}
+
+/// PART (spec §2.2). Pose of the body coordinate system (BCS) in global coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    pub el: Named,
+    pub ground: bool,
+    /// None for a massless part.
+    pub mass: Option<f64>,
+    pub cm: Option<Id>,
+    pub im: Option<Id>,
+    /// Ixx, Iyy, Izz, Ixy, Ixz, Iyz as written (products are +∫xy dm, spec §2.2).
+    pub ip: [f64; 6],
+    /// QG: BCS origin in global coordinates.
+    pub position: Vec3,
+    /// REULER (or ZG/XG): columns are the BCS axes in global coordinates.
+    pub orientation: Mat3,
+    /// VX, VY, VZ: initial CM velocity along global axes, each None when not given.
+    pub velocity: [Option<f64>; 3],
+    /// WX, WY, WZ: initial angular velocity (CM-marker axes, or the VM/WM markers').
+    pub angular_velocity: [Option<f64>; 3],
+    pub vm: Option<Id>,
+    pub wm: Option<Id>,
+    /// EXACT: coordinates the initial-conditions solver must not move (X Y Z PSI THETA PHI).
+    pub exact: [bool; 6],
+}
+
+/// MARKER (spec §2.3).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marker {
+    pub el: Named,
+    pub part: Id,
+    /// QP: origin in the part's BCS.
+    pub position: Vec3,
+    /// REULER or ZP/XP: columns are the marker axes in BCS coordinates.
+    pub orientation: Mat3,
+    pub floating: bool,
+}
+
+/// JOINT (spec §2.5, §4.2).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    pub el: Named,
+    pub kind: JointType,
+    pub i: Id,
+    pub j: Id,
+    /// PD of a RACKPIN.
+    pub pd: Option<f64>,
+    /// PITCH of a SCREW.
+    pub pitch: Option<f64>,
+    /// IC (displacement, velocity), or ICTRAN / ICROT of a CYLINDRICAL.
+    pub ic: Option<[f64; 2]>,
+    pub ic_tran: Option<[f64; 2]>,
+    pub ic_rot: Option<[f64; 2]>,
+}
+
+/// JPRIM (spec §4.2).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jprim {
+    pub el: Named,
+    pub kind: JprimType,
+    pub i: Id,
+    pub j: Id,
+}
+
+/// An expression argument, checked and lowered with the model as its scope.
+#[derive(Clone, Debug)]
+pub struct Expr {
+    /// Byte range of the expression's text in the dataset.
+    pub span: Span,
+    pub function: Function,
+}
+
+/// GCON: drives `function` to zero (spec §4.3).
+#[derive(Clone, Debug)]
+pub struct Gcon {
+    pub el: Named,
+    /// Marker whose reaction is reported (ground when None).
+    pub i: Option<Id>,
+    pub function: Expr,
+}
+
+/// What a MOTION drives (spec §4.5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionTarget {
+    /// `JOINT=id` with ROTATION (true) or TRANSLATION (false).
+    Joint { joint: Id, rotation: bool },
+    /// `I=, J=` with one component of I relative to J.
+    Markers { i: Id, j: Id, axis: MotionAxis },
+}
+
+/// X, Y, Z (along J axes) or the body-1-2-3 angles B1, B2, B3 of I relative to J.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionAxis {
+    X,
+    Y,
+    Z,
+    B1,
+    B2,
+    B3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionLevel {
+    Displacement,
+    Velocity,
+    Acceleration,
+}
+
+/// MOTION (spec §4.5).
+#[derive(Clone, Debug)]
+pub struct Motion {
+    pub el: Named,
+    pub target: MotionTarget,
+    pub level: MotionLevel,
+    pub function: Expr,
+    pub icdisp: Option<f64>,
+    pub icvel: Option<f64>,
+}
+
+/// SFORCE (spec §7).
+#[derive(Clone, Debug)]
+pub struct Sforce {
+    pub el: Named,
+    pub i: Id,
+    pub j: Id,
+    /// ROTATION (a torque about z_J) rather than TRANSLATION.
+    pub rotation: bool,
+    pub action_only: bool,
+    pub function: Expr,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VectorForceKind {
+    Vforce,
+    Vtorque,
+    Gforce,
+}
+
+/// VFORCE (FX FY FZ), VTORQUE (TX TY TZ) or GFORCE (all six), resolved in RM.
+#[derive(Clone, Debug)]
+pub struct VectorForce {
+    pub el: Named,
+    pub kind: VectorForceKind,
+    pub i: Id,
+    pub jfloat: Id,
+    pub rm: Id,
+    /// FX FY FZ (None for a VTORQUE).
+    pub force: Option<[Expr; 3]>,
+    /// TX TY TZ (None for a VFORCE).
+    pub torque: Option<[Expr; 3]>,
+}
+
+/// SPRINGDAMPER (spec §7).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpringDamper {
+    pub el: Named,
+    pub i: Id,
+    pub j: Id,
+    pub rotation: bool,
+    /// K or KT.
+    pub stiffness: f64,
+    /// C or CT.
+    pub damping: f64,
+    /// LENGTH or ANGLE.
+    pub free_length: f64,
+    /// FORCE or TORQUE (preload).
+    pub preload: f64,
+}
+
+/// BUSHING (spec §7).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bushing {
+    pub el: Named,
+    pub i: Id,
+    pub j: Id,
+    pub k: Vec3,
+    pub c: Vec3,
+    pub kt: Vec3,
+    pub ct: Vec3,
+    pub force: Vec3,
+    pub torque: Vec3,
+}
+
+/// VARIABLE: a named expression others read with VARVAL.
+#[derive(Clone, Debug)]
+pub struct Variable {
+    pub el: Named,
+    pub function: Expr,
+    pub ic: Option<f64>,
+}
+
+/// SPLINE data (X, Y, optional Z rows of Y per Z value).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SplineData {
+    pub el: Named,
+    pub x: Vec<f64>,
+    /// One row for a curve, one row per `z` value for a surface.
+    pub y: Vec<Vec<f64>>,
+    pub z: Vec<f64>,
+    pub linear_extrapolate: bool,
+}
+
+/// ARRAY (kept for ARYVAL).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Array {
+    pub el: Named,
+    /// X, U, Y, IC or empty, as written.
+    pub kind: String,
+    pub numbers: Vec<f64>,
+}
+
+/// REQUEST: either a standard measure set of I relative to J, or up to eight expressions.
+#[derive(Clone, Debug)]
+pub struct Request {
+    pub el: Named,
+    /// DISPLACEMENT, VELOCITY, ACCELERATION or FORCE with markers I, J, RM.
+    pub standard: Option<(RequestKind, Id, Option<Id>, Option<Id>)>,
+    /// F1..F8 (index 0..7).
+    pub functions: Vec<(usize, Expr)>,
+    pub comment: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RequestKind {
+    Displacement,
+    Velocity,
+    Acceleration,
+    Force,
+}
+
+/// A settings statement (INTEGRATOR, OUTPUT, RESULTS, EQUILIBRIUM, KINEMATICS, IC) with
+/// its arguments as written (upper-case name, raw value text).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Setting {
+    pub statement: String,
+    pub span: Span,
+    pub args: Vec<(String, String)>,
+}
+
+/// One measure an expression reads, in the scope of the model: `name` is the builtin's
+/// upper-case name (`DX`, `VR`, `UVZ`, `VARVAL`, ...), `ids` its integer arguments as
+/// written (marker, element or variable ids, codes), `component` the index 0..3 of a
+/// vector measure's component (0 for a scalar one). Equal calls share one slot.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct MeasureSlot {
+    pub name: String,
+    pub ids: Vec<i64>,
+    pub component: u8,
+}
