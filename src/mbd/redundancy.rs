@@ -1,1 +1,0 @@
-//! Redundancy analysis of the constraint Jacobian at the assembled configuration.

@@ -1,0 +1,323 @@
+//! Redundancy analysis of the constraint Jacobian at the assembled configuration
+//! (multibody spec §5): which scalar equations depend on the others, the true degrees of
+//! freedom, Adams-shaped "deactivating constraint equation" messages, the lighter JOINT or
+//! JPRIM that would not over-constrain, and conflicts (a dropped equation that is violated).
+//!
+//! How rows are chosen. Rows are offered one element at a time: MOTION elements first, then
+//! GCON, then joints and primitives, each group in element order; within an element in
+//! Adams' equation order (X Delta, Y Delta, Z Delta, Zi.Xj, Zi.Yj, Xi.Yj, …). A row is
+//! *redundant* when it lies in the span of the rows kept before it, so MOTION and GCON
+//! equations are kept whenever possible and the loop-closing joint (the latest) loses its
+//! equations. When an element has redundant rows and the rows kept by that rule do not
+//! form a catalogue element, the other valid choices inside the element that do are tried
+//! (each must keep as many rows, all others still dependent), so the advice can name one
+//! element: a REVOLUTE closing a planar loop keeps X Delta and Y Delta, a JPRIM INLINE.
+//!
+//! Tolerance. Columns are first equilibrated (each divided by its largest magnitude) and
+//! rows normalised to unit length, so the decisions do not change when rows or columns are
+//! scaled (mm vs m models, or any length the caller divided translational rows by). A row
+//! is dependent when its residual after elimination is at most [`Options::tolerance`]
+//! (default 1e-8): its distance to the span of the kept rows is then at most that, relative
+//! to its own length. See [`factor`] for the elimination.
+
+mod catalogue;
+mod factor;
+#[doc(hidden)]
+pub mod fixtures;
+mod report;
+#[cfg(test)]
+mod tests;
+
+pub use catalogue::{element_name, element_title, keyword, kind_phrase, older_phrase, type_name};
+pub use report::{Advice, AnalysisError, Conflict, Lighter, Redundant, Report};
+
+use crate::mbd::equations::{ElementKind, ElementRef, EquationLabel};
+use crate::mbd::sparse::Triplets;
+use factor::{Factor, SparseRow};
+
+/// What the analysis reads: the constraint Jacobian at the assembled configuration and
+/// what each row means.
+#[derive(Clone, Copy, Debug)]
+pub struct Problem<'a> {
+    /// Φ_q with velocity-level columns: per moving part 3 translational and 3 angular (3D)
+    /// or 2 translational and 1 angular (2D), ground axes.
+    pub jacobian: &'a Triplets,
+    /// One label per row.
+    pub labels: &'a [EquationLabel],
+    /// The elements the labels point into.
+    pub elements: &'a [ElementRef],
+    pub moving_parts: usize,
+    /// 2 or 3.
+    pub dim: usize,
+    /// Φ at the assembled configuration, one entry per row and scaled like the rows
+    /// (translational equations in model lengths); when given, redundant rows are checked
+    /// for conflicts.
+    pub residuals: Option<&'a [f64]>,
+}
+
+/// Tolerances of the analysis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// A row is redundant when its relative distance to the span of the kept rows (after
+    /// column equilibration) is at most this.
+    pub tolerance: f64,
+    /// A redundant row whose residual magnitude exceeds this is conflicting.
+    pub conflict_tolerance: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            tolerance: 1e-8,
+            conflict_tolerance: 1e-6,
+        }
+    }
+}
+
+/// Finds the rank of the constraint Jacobian, the redundant equations and the advice; an
+/// error when the input is inconsistent or a redundant equation is violated (conflicting,
+/// not redundant).
+pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisError> {
+    validate(problem)?;
+    let rows = scaled_rows(problem.jacobian);
+    let ncols = problem.jacobian.ncols;
+    let mut pending = vec![0u32; ncols];
+    for r in &rows {
+        for &c in &r.cols {
+            pending[c as usize] += 1;
+        }
+    }
+    let mut factor = Factor::new(ncols, pending);
+    let mut outcomes = Vec::new();
+    for (element, element_rows) in element_groups(problem) {
+        let kind = problem.elements[element].kind;
+        let offer = Offer {
+            rows: &rows,
+            labels: problem.labels,
+            tol: options.tolerance,
+        };
+        let outcome = offer.element(&mut factor, kind, problem.dim, &element_rows);
+        for &r in &element_rows {
+            factor.retire(&rows[r]);
+        }
+        outcomes.push((element, outcome));
+    }
+    let report = Report::build(
+        problem,
+        options,
+        factor.len(),
+        factor.stored_entries(),
+        outcomes,
+    );
+    match report.conflicts(problem.residuals, options.conflict_tolerance) {
+        conflicts if conflicts.is_empty() => Ok(report),
+        conflicts => Err(AnalysisError::Conflicting {
+            report: Box::new(report),
+            conflicts,
+        }),
+    }
+}
+
+fn validate(p: &Problem) -> Result<(), AnalysisError> {
+    let shape = |what: String| Err(AnalysisError::Shape(what));
+    let per_part = match p.dim {
+        2 => 3,
+        3 => 6,
+        d => return shape(format!("dimension {d} is neither 2 nor 3")),
+    };
+    let j = p.jacobian;
+    if j.ncols != per_part * p.moving_parts {
+        return shape(format!(
+            "{} columns for {} moving parts in {}D (expected {})",
+            j.ncols,
+            p.moving_parts,
+            p.dim,
+            per_part * p.moving_parts
+        ));
+    }
+    if p.labels.len() != j.nrows {
+        return shape(format!("{} labels for {} rows", p.labels.len(), j.nrows));
+    }
+    if let Some(l) = p.labels.iter().find(|l| l.element >= p.elements.len()) {
+        return shape(format!(
+            "a label names element {} of {}",
+            l.element,
+            p.elements.len()
+        ));
+    }
+    if let Some(&(r, c, v)) = j
+        .entries
+        .iter()
+        .find(|&&(r, c, v)| r as usize >= j.nrows || c as usize >= j.ncols || !v.is_finite())
+    {
+        return shape(format!(
+            "entry ({r}, {c}) = {v} is out of range or not finite"
+        ));
+    }
+    if let Some(res) = p.residuals {
+        if res.len() != j.nrows {
+            return shape(format!("{} residuals for {} rows", res.len(), j.nrows));
+        }
+        if let Some(i) = res.iter().position(|v| !v.is_finite()) {
+            return shape(format!("residual {i} is not finite"));
+        }
+    }
+    Ok(())
+}
+
+/// The rows of the Jacobian with duplicates summed, columns divided by their largest
+/// magnitude and each row by its length (zero rows stay empty).
+fn scaled_rows(j: &Triplets) -> Vec<SparseRow> {
+    let mut entries = j.entries.clone();
+    entries.sort_by_key(|&(r, c, _)| (r, c));
+    let mut rows = vec![SparseRow::default(); j.nrows];
+    for (r, c, v) in entries {
+        let row = &mut rows[r as usize];
+        if row.cols.last() == Some(&c) {
+            *row.vals
+                .last_mut()
+                .expect("cols and vals have equal length") += v;
+        } else {
+            row.cols.push(c);
+            row.vals.push(v);
+        }
+    }
+    let mut col_max = vec![0.0_f64; j.ncols];
+    for row in &rows {
+        for (&c, &v) in row.cols.iter().zip(&row.vals) {
+            col_max[c as usize] = col_max[c as usize].max(v.abs());
+        }
+    }
+    for row in &mut rows {
+        for (&c, v) in row.cols.iter().zip(&mut row.vals) {
+            *v /= col_max[c as usize];
+        }
+        let norm = row.norm();
+        let (cols, vals) = row
+            .cols
+            .iter()
+            .zip(&row.vals)
+            .filter(|&(_, &v)| v != 0.0)
+            .map(|(&c, &v)| (c, v / norm))
+            .unzip();
+        *row = SparseRow { cols, vals };
+    }
+    rows
+}
+
+/// Elements in the order their rows are offered (MOTION, GCON, then the rest, each by
+/// element index), each with its rows in Adams' equation order.
+fn element_groups(p: &Problem) -> Vec<(usize, Vec<usize>)> {
+    let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+    let mut slot = vec![usize::MAX; p.elements.len()];
+    for (row, label) in p.labels.iter().enumerate() {
+        if slot[label.element] == usize::MAX {
+            slot[label.element] = groups.len();
+            groups.push((label.element, Vec::new()));
+        }
+        groups[slot[label.element]].1.push(row);
+    }
+    let class = |e: usize| match p.elements[e].kind {
+        ElementKind::Motion => 0,
+        ElementKind::Gcon => 1,
+        _ => 2,
+    };
+    groups.sort_by_key(|&(e, _)| (class(e), e));
+    for (_, rows) in &mut groups {
+        rows.sort_by_key(|&r| (catalogue::equation_order(p.labels[r].equation), r));
+    }
+    groups
+}
+
+/// Which rows of one element were kept, and the dropped ones with their residual norms.
+#[derive(Debug, Default)]
+struct Outcome {
+    kept: Vec<usize>,
+    dropped: Vec<(usize, f64)>,
+}
+
+/// Offers the rows of one element to the factor.
+struct Offer<'a> {
+    rows: &'a [SparseRow],
+    labels: &'a [EquationLabel],
+    tol: f64,
+}
+
+impl Offer<'_> {
+    /// Greedy choice first; if it drops rows and what it keeps is no catalogue element,
+    /// tries the catalogue sets that fit inside the element.
+    fn element(
+        &self,
+        factor: &mut Factor,
+        kind: ElementKind,
+        dim: usize,
+        rows: &[usize],
+    ) -> Outcome {
+        let base = factor.len();
+        let greedy = self.greedy(factor, rows);
+        let eqs = |rs: &[usize]| {
+            rs.iter()
+                .map(|&r| self.labels[r].equation)
+                .collect::<Vec<_>>()
+        };
+        let all = eqs(rows);
+        let distinct = (1..all.len()).all(|i| !all[..i].contains(&all[i]));
+        if greedy.dropped.is_empty()
+            || greedy.kept.is_empty()
+            || !catalogue::is_lowerable(kind)
+            || !distinct
+            || !catalogue::elements_with(dim, kind, &eqs(&greedy.kept)).is_empty()
+        {
+            return greedy;
+        }
+        for set in catalogue::candidate_sets(dim, &all, greedy.kept.len()) {
+            factor.truncate(base);
+            let (keep, drop): (Vec<usize>, Vec<usize>) = rows
+                .iter()
+                .partition(|&&r| set.contains(&self.labels[r].equation));
+            if let Some(outcome) = self.exact(factor, &keep, &drop) {
+                return outcome;
+            }
+        }
+        factor.truncate(base);
+        self.greedy(factor, rows)
+    }
+
+    /// Keeps each row that is independent of the rows kept before it.
+    fn greedy(&self, factor: &mut Factor, rows: &[usize]) -> Outcome {
+        let mut out = Outcome::default();
+        for &r in rows {
+            let residual = factor.reduce(&self.rows[r]);
+            let norm = residual.norm();
+            if norm > self.tol {
+                factor.keep(residual);
+                out.kept.push(r);
+            } else {
+                out.dropped.push((r, norm));
+            }
+        }
+        out
+    }
+
+    /// Keeps `keep` and drops `drop`, if every kept row is independent and every dropped
+    /// row then dependent.
+    fn exact(&self, factor: &mut Factor, keep: &[usize], drop: &[usize]) -> Option<Outcome> {
+        let mut out = Outcome::default();
+        for &r in keep {
+            let residual = factor.reduce(&self.rows[r]);
+            if residual.norm() <= self.tol {
+                return None;
+            }
+            factor.keep(residual);
+            out.kept.push(r);
+        }
+        for &r in drop {
+            let norm = factor.reduce(&self.rows[r]).norm();
+            if norm > self.tol {
+                return None;
+            }
+            out.dropped.push((r, norm));
+        }
+        Some(out)
+    }
+}
