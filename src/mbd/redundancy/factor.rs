@@ -31,9 +31,40 @@ pub(super) struct SparseRow {
     pub vals: Vec<f64>,
 }
 
+/// The Euclidean length of `vals` (0 for none).
+pub(super) fn norm(vals: &[f64]) -> f64 {
+    vals.iter().fold(0.0, |s, v| s + v * v).sqrt()
+}
+
+/// Rows stored one after another (compressed sparse rows).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Rows {
+    /// Row r is `cols[start[r]..start[r + 1]]` (and the same range of `vals`).
+    pub start: Vec<usize>,
+    pub cols: Vec<u32>,
+    pub vals: Vec<f64>,
+}
+
+impl Default for Rows {
+    fn default() -> Self {
+        Rows {
+            start: vec![0],
+            cols: Vec::new(),
+            vals: Vec::new(),
+        }
+    }
+}
+
+impl Rows {
+    pub fn row(&self, r: usize) -> (&[u32], &[f64]) {
+        let range = self.start[r]..self.start[r + 1];
+        (&self.cols[range.clone()], &self.vals[range])
+    }
+}
+
 impl SparseRow {
     pub fn norm(&self) -> f64 {
-        self.vals.iter().map(|v| v * v).sum::<f64>().sqrt()
+        norm(&self.vals)
     }
 }
 
@@ -86,12 +117,12 @@ impl Factor {
     }
 
     /// `row` minus the combination of kept rows that zeroes it in every pivot column.
-    pub fn reduce(&mut self, row: &SparseRow) -> SparseRow {
+    pub fn reduce(&mut self, (cols, vals): (&[u32], &[f64])) -> SparseRow {
         self.reductions += 1;
         let stamp = self.reductions;
         self.queued_in.resize(self.kept.len(), 0);
         let mut queue = BinaryHeap::new();
-        for (&c, &v) in row.cols.iter().zip(&row.vals) {
+        for (&c, &v) in cols.iter().zip(vals) {
             self.touch(c, &mut queue, stamp);
             self.work[c as usize] += v;
         }
@@ -172,8 +203,8 @@ impl Factor {
     }
 
     /// Marks a row as processed for the Markowitz counts.
-    pub fn retire(&mut self, row: &SparseRow) {
-        for &c in &row.cols {
+    pub fn retire(&mut self, cols: &[u32]) {
+        for &c in cols {
             self.pending[c as usize] = self.pending[c as usize].saturating_sub(1);
         }
     }

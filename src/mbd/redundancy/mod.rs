@@ -33,7 +33,7 @@ pub use report::{Advice, AnalysisError, Conflict, Lighter, Redundant, Report};
 
 use crate::mbd::equations::{ElementKind, ElementRef, EquationLabel};
 use crate::mbd::sparse::Triplets;
-use factor::{Factor, SparseRow};
+use factor::{Factor, Rows};
 
 /// What the analysis reads: the constraint Jacobian at the assembled configuration and
 /// what each row means.
@@ -82,10 +82,8 @@ pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisE
     let rows = scaled_rows(problem.jacobian);
     let ncols = problem.jacobian.ncols;
     let mut pending = vec![0u32; ncols];
-    for r in &rows {
-        for &c in &r.cols {
-            pending[c as usize] += 1;
-        }
+    for &c in &rows.cols {
+        pending[c as usize] += 1;
     }
     let mut factor = Factor::new(ncols, pending);
     let mut outcomes = Vec::new();
@@ -98,7 +96,7 @@ pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisE
         };
         let outcome = offer.element(&mut factor, kind, problem.dim, &element_rows);
         for &r in &element_rows {
-            factor.retire(&rows[r]);
+            factor.retire(rows.row(r).0);
         }
         outcomes.push((element, outcome));
     }
@@ -167,40 +165,54 @@ fn validate(p: &Problem) -> Result<(), AnalysisError> {
 
 /// The rows of the Jacobian with duplicates summed, columns divided by their largest
 /// magnitude and each row by its length (zero rows stay empty).
-fn scaled_rows(j: &Triplets) -> Vec<SparseRow> {
-    let mut entries = j.entries.clone();
-    entries.sort_by_key(|&(r, c, _)| (r, c));
-    let mut rows = vec![SparseRow::default(); j.nrows];
-    for (r, c, v) in entries {
-        let row = &mut rows[r as usize];
-        if row.cols.last() == Some(&c) {
-            *row.vals
-                .last_mut()
-                .expect("cols and vals have equal length") += v;
-        } else {
-            row.cols.push(c);
-            row.vals.push(v);
-        }
+fn scaled_rows(j: &Triplets) -> Rows {
+    // Counting sort by row, then each (short) row by column.
+    let mut start = vec![0usize; j.nrows + 1];
+    for &(r, _, _) in &j.entries {
+        start[r as usize + 1] += 1;
     }
+    for r in 0..j.nrows {
+        start[r + 1] += start[r];
+    }
+    let mut next = start.clone();
+    let mut by_row = vec![(0u32, 0.0); j.entries.len()];
+    for &(r, c, v) in &j.entries {
+        by_row[next[r as usize]] = (c, v);
+        next[r as usize] += 1;
+    }
+    let mut rows = Rows::default();
     let mut col_max = vec![0.0_f64; j.ncols];
-    for row in &rows {
-        for (&c, &v) in row.cols.iter().zip(&row.vals) {
-            col_max[c as usize] = col_max[c as usize].max(v.abs());
+    for r in 0..j.nrows {
+        let row = &mut by_row[start[r]..start[r + 1]];
+        row.sort_unstable_by_key(|&(c, _)| c);
+        let first = rows.cols.len();
+        for &(c, v) in row.iter() {
+            if rows.cols.len() > first && rows.cols.last() == Some(&c) {
+                *rows
+                    .vals
+                    .last_mut()
+                    .expect("cols and vals have equal length") += v;
+            } else {
+                rows.cols.push(c);
+                rows.vals.push(v);
+            }
         }
+        rows.start.push(rows.cols.len());
     }
-    for row in &mut rows {
-        for (&c, v) in row.cols.iter().zip(&mut row.vals) {
+    for (&c, &v) in rows.cols.iter().zip(&rows.vals) {
+        col_max[c as usize] = col_max[c as usize].max(v.abs());
+    }
+    for (&c, v) in rows.cols.iter().zip(&mut rows.vals) {
+        if *v != 0.0 {
             *v /= col_max[c as usize];
         }
-        let norm = row.norm();
-        let (cols, vals) = row
-            .cols
-            .iter()
-            .zip(&row.vals)
-            .filter(|&(_, &v)| v != 0.0)
-            .map(|(&c, &v)| (c, v / norm))
-            .unzip();
-        *row = SparseRow { cols, vals };
+    }
+    for r in 0..j.nrows {
+        let vals = &mut rows.vals[rows.start[r]..rows.start[r + 1]];
+        let norm = factor::norm(vals);
+        if norm > 0.0 {
+            vals.iter_mut().for_each(|v| *v /= norm);
+        }
     }
     rows
 }
@@ -238,7 +250,7 @@ struct Outcome {
 
 /// Offers the rows of one element to the factor.
 struct Offer<'a> {
-    rows: &'a [SparseRow],
+    rows: &'a Rows,
     labels: &'a [EquationLabel],
     tol: f64,
 }
@@ -287,7 +299,7 @@ impl Offer<'_> {
     fn greedy(&self, factor: &mut Factor, rows: &[usize]) -> Outcome {
         let mut out = Outcome::default();
         for &r in rows {
-            let residual = factor.reduce(&self.rows[r]);
+            let residual = factor.reduce(self.rows.row(r));
             let norm = residual.norm();
             if norm > self.tol {
                 factor.keep(residual);
@@ -304,7 +316,7 @@ impl Offer<'_> {
     fn exact(&self, factor: &mut Factor, keep: &[usize], drop: &[usize]) -> Option<Outcome> {
         let mut out = Outcome::default();
         for &r in keep {
-            let residual = factor.reduce(&self.rows[r]);
+            let residual = factor.reduce(self.rows.row(r));
             if residual.norm() <= self.tol {
                 return None;
             }
@@ -312,7 +324,7 @@ impl Offer<'_> {
             out.kept.push(r);
         }
         for &r in drop {
-            let norm = factor.reduce(&self.rows[r]).norm();
+            let norm = factor.reduce(self.rows.row(r)).norm();
             if norm > self.tol {
                 return None;
             }

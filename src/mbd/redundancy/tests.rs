@@ -186,6 +186,54 @@ fn advice_prefers_a_catalogue_element_over_the_greedy_choice() {
 }
 
 #[test]
+fn gcon_is_kept_and_the_joint_equation_it_repeats_is_dropped() {
+    // A GCON repeating JOINT/1's Z Delta (three GCONs DX, DY, DZ make a SPHERICAL, spec
+    // §4.3; one of them repeats one equation). GCON rows are offered first, so JOINT/1
+    // loses Z Delta and keeps X Delta, Y Delta, Zi.Xj, Zi.Yj: a CYLINDRICAL (§4.2).
+    // JOINT/4 still loses its three out-of-plane equations: 4 redundant, DOF 1.
+    let m = n_four_bar(1, 3, 0.3, 1.0, 1.0);
+    let (mut j, mut labels, mut elements) = (m.jacobian(), m.labels(), m.elements());
+    let z_delta = 2;
+    assert_eq!(labels[z_delta].equation, Equation::ZDelta);
+    let gcon_row = j.nrows;
+    j.nrows += 1;
+    let copied: Vec<_> = j
+        .entries
+        .iter()
+        .filter(|e| e.0 as usize == z_delta)
+        .copied()
+        .collect();
+    j.entries
+        .extend(copied.into_iter().map(|(_, c, v)| (gcon_row as u32, c, v)));
+    elements.push(ElementRef {
+        kind: ElementKind::Gcon,
+        id: 1,
+        name: None,
+    });
+    labels.push(EquationLabel {
+        element: elements.len() - 1,
+        equation: Equation::Gcon,
+    });
+    let problem = Problem {
+        jacobian: &j,
+        labels: &labels,
+        elements: &elements,
+        moving_parts: 3,
+        dim: 3,
+        residuals: None,
+    };
+    let r = analyze(&problem, &Options::default()).unwrap();
+    assert_valid(&j, &r);
+    assert_eq!((r.dof(), r.redundant.len()), (1, 4));
+    assert!(!r.redundant_rows().contains(&gcon_row));
+    assert_eq!(r.advice[0].element, 0);
+    assert_eq!(r.advice[0].dropped, [Equation::ZDelta]);
+    assert!(r.advice_message().starts_with(
+        "JOINT/1 (REVOLUTE) → JOINT CYLINDRICAL would remove this redundant equation (Z Delta)\n"
+    ));
+}
+
+#[test]
 fn violated_redundant_equation_is_a_conflict() {
     // reference-problems §5.5: mismatched ground pivots. Lift JOINT/4's ground marker out
     // of the plane by 0.01: its Z Delta is redundant but has residual −0.01.
