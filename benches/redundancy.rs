@@ -34,14 +34,7 @@ impl Case {
     }
 
     fn run(&self) -> usize {
-        let problem = Problem {
-            jacobian: &self.jacobian,
-            labels: &self.labels,
-            elements: &self.elements,
-            moving_parts: self.parts,
-            dim: 3,
-            residuals: None,
-        };
+        let problem = Problem::new(&self.jacobian, &self.labels, &self.elements, self.parts, 3);
         let report = analyze(&problem, &Options::default()).expect("the N-four-bar is consistent");
         assert_eq!(report.redundant.len(), 3 * self.n);
         report.rank

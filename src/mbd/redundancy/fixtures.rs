@@ -146,12 +146,8 @@ impl Mechanism {
         );
         analyze(
             &Problem {
-                jacobian: &jacobian,
-                labels: &labels,
-                elements: &elements,
-                moving_parts: self.centres.len(),
-                dim: self.dim,
                 residuals: Some(&residuals),
+                ..Problem::new(&jacobian, &labels, &elements, self.centres.len(), self.dim)
             },
             options,
         )

@@ -55,6 +55,26 @@ pub struct Problem<'a> {
     pub residuals: Option<&'a [f64]>,
 }
 
+impl<'a> Problem<'a> {
+    /// A problem without residuals (no conflict check).
+    pub fn new(
+        jacobian: &'a Triplets,
+        labels: &'a [EquationLabel],
+        elements: &'a [ElementRef],
+        moving_parts: usize,
+        dim: usize,
+    ) -> Self {
+        Problem {
+            jacobian,
+            labels,
+            elements,
+            moving_parts,
+            dim,
+            residuals: None,
+        }
+    }
+}
+
 /// Tolerances of the analysis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {

@@ -214,14 +214,7 @@ fn gcon_is_kept_and_the_joint_equation_it_repeats_is_dropped() {
         element: elements.len() - 1,
         equation: Equation::Gcon,
     });
-    let problem = Problem {
-        jacobian: &j,
-        labels: &labels,
-        elements: &elements,
-        moving_parts: 3,
-        dim: 3,
-        residuals: None,
-    };
+    let problem = Problem::new(&j, &labels, &elements, 3, 3);
     let r = analyze(&problem, &Options::default()).unwrap();
     assert_valid(&j, &r);
     assert_eq!((r.dof(), r.redundant.len()), (1, 4));
@@ -268,14 +261,7 @@ fn violated_redundant_equation_is_a_conflict() {
 fn malformed_input_is_an_error_not_a_panic() {
     let m = n_four_bar(1, 3, 0.3, 1.0, 1.0);
     let (j, labels, elements) = (m.jacobian(), m.labels(), m.elements());
-    let problem = Problem {
-        jacobian: &j,
-        labels: &labels,
-        elements: &elements,
-        moving_parts: 3,
-        dim: 3,
-        residuals: None,
-    };
+    let problem = Problem::new(&j, &labels, &elements, 3, 3);
     let fails = |p: Problem| {
         matches!(
             analyze(&p, &Options::default()),
@@ -380,7 +366,7 @@ proptest! {
         prop_assume!(top > 0.0 && s.iter().all(|&v| v > 1e-5 * top || v < 1e-11 * top));
         let (labels, elements) = revolute_labelled(a.nrows());
         let t = triplets(&a);
-        let problem = Problem { jacobian: &t, labels: &labels, elements: &elements, moving_parts: parts, dim, residuals: None };
+        let problem = Problem::new(&t, &labels, &elements, parts, dim);
         let r = analyze(&problem, &Options::default()).unwrap();
         prop_assert_eq!(r.rank, svd_rank(&a));
         prop_assert_eq!(r.redundant.len(), a.nrows() - r.rank);
