@@ -99,7 +99,7 @@ impl Default for Options {
 /// not redundant).
 pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisError> {
     validate(problem)?;
-    let rows = scaled_rows(problem.jacobian);
+    let rows = scaled_rows(problem.jacobian)?;
     let ncols = problem.jacobian.ncols;
     let mut pending = vec![0u32; ncols];
     for &c in &rows.cols {
@@ -184,8 +184,9 @@ fn validate(p: &Problem) -> Result<(), AnalysisError> {
 }
 
 /// The rows of the Jacobian with duplicates summed, columns divided by their largest
-/// magnitude and each row by its length (zero rows stay empty).
-fn scaled_rows(j: &Triplets) -> Rows {
+/// magnitude and each row by its length (zero rows stay empty); an error if summing
+/// duplicates overflows.
+fn scaled_rows(j: &Triplets) -> Result<Rows, AnalysisError> {
     // Counting sort by row, then each (short) row by column.
     let mut start = vec![0usize; j.nrows + 1];
     for &(r, _, _) in &j.entries {
@@ -219,6 +220,11 @@ fn scaled_rows(j: &Triplets) -> Rows {
         }
         rows.start.push(rows.cols.len());
     }
+    if rows.vals.iter().any(|v| !v.is_finite()) {
+        return Err(AnalysisError::Shape(
+            "repeated entries sum to an infinity".into(),
+        ));
+    }
     for (&c, &v) in rows.cols.iter().zip(&rows.vals) {
         col_max[c as usize] = col_max[c as usize].max(v.abs());
     }
@@ -234,7 +240,7 @@ fn scaled_rows(j: &Triplets) -> Rows {
             vals.iter_mut().for_each(|v| *v /= norm);
         }
     }
-    rows
+    Ok(rows)
 }
 
 /// Elements in the order their rows are offered (MOTION, GCON, then the rest, each by

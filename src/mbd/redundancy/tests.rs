@@ -227,6 +227,35 @@ fn gcon_is_kept_and_the_joint_equation_it_repeats_is_dropped() {
 }
 
 #[test]
+fn gcon_with_vanishing_gradient_is_redundant_and_can_go() {
+    // Spec §4.2: a GCON UVZ(i)*UVZ(j) - 1 guarding against flipped axes has a zero gradient
+    // at the aligned configuration, so Adams flags it redundant. Its row is empty here.
+    let m = n_four_bar(1, 3, 0.3, 1.0, 1.0);
+    let (mut j, mut labels, mut elements) = (m.jacobian(), m.labels(), m.elements());
+    j.nrows += 1;
+    elements.push(ElementRef {
+        kind: ElementKind::Gcon,
+        id: 9,
+        name: None,
+    });
+    labels.push(EquationLabel {
+        element: 4,
+        equation: Equation::Gcon,
+    });
+    let r = analyze(
+        &Problem::new(&j, &labels, &elements, 3, 3),
+        &Options::default(),
+    )
+    .unwrap();
+    assert_eq!((r.dof(), r.redundant.len()), (1, 4));
+    assert_eq!(r.redundant[0].label.element, 4);
+    assert_eq!(r.advice[1].lighter, Lighter::Remove);
+    assert!(r
+        .advice_message()
+        .ends_with("GCON/9: all its equations are redundant (Gcon); remove it\n"));
+}
+
+#[test]
 fn violated_redundant_equation_is_a_conflict() {
     // reference-problems §5.5: mismatched ground pivots. Lift JOINT/4's ground marker out
     // of the plane by 0.01: its Z Delta is redundant but has residual −0.01.
@@ -378,5 +407,80 @@ proptest! {
         let ts = triplets(&scaled);
         let rs = analyze(&Problem { jacobian: &ts, ..problem }, &Options::default()).unwrap();
         prop_assert_eq!(rs.redundant_rows(), r.redundant_rows());
+    }
+}
+
+/// Any kind of label, equation and element, repeated entries and extreme magnitudes.
+fn wild_case() -> impl Strategy<Value = (Triplets, Vec<EquationLabel>, Vec<ElementRef>, usize)> {
+    let kinds = prop::sample::select(vec![
+        ElementKind::Motion,
+        ElementKind::Gcon,
+        ElementKind::Prismatic2d,
+        ElementKind::Joint(JointType::Revolute),
+        ElementKind::Joint(JointType::Fixed),
+        ElementKind::Jprim(JprimType::Inline),
+    ]);
+    let eqs = prop::sample::select(vec![
+        Equation::XDelta,
+        Equation::YDelta,
+        Equation::ZDelta,
+        Equation::ZiXj,
+        Equation::ZiYj,
+        Equation::XiYj,
+        Equation::Gcon,
+    ]);
+    let value = prop_oneof![
+        (-3i32..=3).prop_map(f64::from),
+        Just(1e308),
+        Just(-1e308),
+        Just(1e-310),
+        Just(1e-30),
+    ];
+    (1usize..=2, 0usize..=14, prop::collection::vec(kinds, 1..=4)).prop_flat_map(
+        move |(parts, rows, kinds)| {
+            let n = 6 * parts;
+            let nel = kinds.len();
+            (
+                prop::collection::vec((0..rows.max(1) as u32, 0..n as u32, value.clone()), 0..=40),
+                prop::collection::vec((0..nel, eqs.clone()), rows),
+                Just(kinds),
+                Just(parts),
+            )
+                .prop_map(move |(entries, labels, kinds, parts)| {
+                    let mut t = Triplets::new(rows, n);
+                    t.entries = entries
+                        .into_iter()
+                        .filter(|e| (e.0 as usize) < rows)
+                        .collect();
+                    let labels = labels
+                        .into_iter()
+                        .map(|(element, equation)| EquationLabel { element, equation })
+                        .collect();
+                    let elements = kinds
+                        .into_iter()
+                        .enumerate()
+                        .map(|(i, kind)| ElementRef {
+                            kind,
+                            id: i as u32,
+                            name: None,
+                        })
+                        .collect();
+                    (t, labels, elements, parts)
+                })
+        },
+    )
+}
+
+proptest! {
+    #[test]
+    fn any_input_gives_a_report_or_an_error((t, labels, elements, parts) in wild_case()) {
+        match analyze(&Problem::new(&t, &labels, &elements, parts, 3), &Options::default()) {
+            Ok(r) => {
+                prop_assert_eq!(r.rank + r.redundant.len(), t.nrows);
+                prop_assert!(r.rank <= t.ncols);
+                let _ = (r.to_string(), r.older_message());
+            }
+            Err(e) => prop_assert!(matches!(e, AnalysisError::Shape(_)), "{e}"),
+        }
     }
 }
