@@ -106,14 +106,14 @@ pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisE
         pending[c as usize] += 1;
     }
     let mut factor = Factor::new(ncols, pending);
+    let offer = Offer {
+        rows: &rows,
+        labels: problem.labels,
+        tol: options.tolerance,
+    };
     let mut outcomes = Vec::new();
     for (element, element_rows) in element_groups(problem) {
         let kind = problem.elements[element].kind;
-        let offer = Offer {
-            rows: &rows,
-            labels: problem.labels,
-            tol: options.tolerance,
-        };
         let outcome = offer.element(&mut factor, kind, problem.dim, &element_rows);
         for &r in &element_rows {
             factor.retire(rows.row(r).0);
