@@ -127,7 +127,11 @@ pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisE
         factor.stored_entries(),
         outcomes,
     );
-    match report.conflicts(problem.residuals, options.conflict_tolerance) {
+    let conflicts = match problem.residuals {
+        Some(residuals) => report.conflicts(residuals, options.conflict_tolerance),
+        None => Vec::new(),
+    };
+    match conflicts {
         conflicts if conflicts.is_empty() => Ok(report),
         conflicts => Err(AnalysisError::Conflicting {
             report: Box::new(report),

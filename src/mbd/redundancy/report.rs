@@ -147,18 +147,19 @@ impl Report {
         }
     }
 
-    /// The redundant rows whose residual exceeds `tolerance`.
-    pub(super) fn conflicts(&self, residuals: Option<&[f64]>, tolerance: f64) -> Vec<Conflict> {
-        let Some(residuals) = residuals else {
-            return Vec::new();
-        };
+    /// The redundant rows whose residual magnitude exceeds `tolerance` (a residual that is
+    /// missing or not finite counts as exceeding it). Spec §5.3: the dropped equations are
+    /// checked at assembly and again at every output step.
+    pub fn conflicts(&self, residuals: &[f64], tolerance: f64) -> Vec<Conflict> {
         self.redundant
             .iter()
-            .filter(|r| residuals[r.row].abs() > tolerance)
-            .map(|r| Conflict {
-                row: r.row,
-                label: r.label,
-                residual: residuals[r.row],
+            .filter_map(|r| {
+                let residual = residuals.get(r.row).copied().unwrap_or(f64::NAN);
+                (residual.is_nan() || residual.abs() > tolerance).then_some(Conflict {
+                    row: r.row,
+                    label: r.label,
+                    residual,
+                })
             })
             .collect()
     }

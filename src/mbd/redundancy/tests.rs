@@ -276,6 +276,13 @@ fn violated_redundant_equation_is_a_conflict() {
         }
         other => panic!("expected a conflict, got {other:?}"),
     }
+    // The same check at a later output step, from the report of a consistent assembly.
+    let r = run(&n_four_bar(1, 3, 0.3, 1.0, 1.0));
+    let mut later = vec![0.0; r.equations];
+    assert!(r.conflicts(&later, 1e-6).is_empty());
+    later[r.redundant[0].row] = 2e-6;
+    assert_eq!(r.conflicts(&later, 1e-6).len(), 1);
+    assert_eq!(r.conflicts(&[], 1e-6).len(), 3);
     // A misaligned hinge axis: JOINT/4's J marker tilted about its x axis.
     let mut m = n_four_bar(1, 3, 0.3, 1.0, 1.0);
     let tilt = nalgebra::Rotation3::from_axis_angle(&Vec3::x_axis(), 0.02);
