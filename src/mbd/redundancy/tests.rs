@@ -117,6 +117,17 @@ fn n_four_bar_400_in_3d_scales() {
 }
 
 #[test]
+fn horizontal_n_four_bar_loses_n_more() {
+    // reference-problems §4.2, §5.1: at the horizontal position the DOF jump from 1 to
+    // N + 1 (in 2D and 3D), on top of the 3N structural redundancies in 3D.
+    let horizontal = std::f64::consts::FRAC_PI_2;
+    let r = run(&n_four_bar(5, 3, horizontal, 1.0, 1.0));
+    assert_eq!((r.dof(), r.redundant.len()), (6, 15 + 5));
+    let r = run(&n_four_bar(5, 2, horizontal, 1.0, 1.0));
+    assert_eq!((r.dof(), r.redundant.len()), (6, 5));
+}
+
+#[test]
 fn bricard_has_one_redundant_equation() {
     // reference-problems §4.4: 5 rods, 6 revolutes, Grübler 0, true mobility 1.
     let r = run(&bricard());
