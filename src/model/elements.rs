@@ -44,6 +44,7 @@ pub struct Model {
     pub spring_dampers: Vec<SpringDamper>,
     pub bushings: Vec<Bushing>,
     pub variables: Vec<Variable>,
+    /// In file order; an expression's AKISPL/CUBSPL spline index is a position here.
     pub splines: Vec<SplineData>,
     pub arrays: Vec<Array>,
     /// ACCGRAV in model length/time², global axes (zero when absent).
@@ -324,4 +325,54 @@ pub struct MeasureSlot {
     pub name: String,
     pub ids: Vec<i64>,
     pub component: u8,
+}
+
+impl Named {
+    /// `JOINT/4 (Joint_4)`, or `JOINT/4` without a view name: how messages name it.
+    pub fn display(&self, kind: &str) -> String {
+        match &self.name {
+            Some(name) => format!("{kind}/{} ({name})", self.id),
+            None => format!("{kind}/{}", self.id),
+        }
+    }
+}
+
+impl Model {
+    pub fn part(&self, id: Id) -> Option<&Part> {
+        self.parts.iter().find(|p| p.el.id == id)
+    }
+
+    pub fn marker(&self, id: Id) -> Option<&Marker> {
+        self.markers.iter().find(|m| m.el.id == id)
+    }
+
+    pub fn joint(&self, id: Id) -> Option<&Joint> {
+        self.joints.iter().find(|j| j.el.id == id)
+    }
+
+    pub fn variable(&self, id: Id) -> Option<&Variable> {
+        self.variables.iter().find(|v| v.el.id == id)
+    }
+
+    pub fn spline(&self, id: Id) -> Option<&SplineData> {
+        self.splines.iter().find(|s| s.el.id == id)
+    }
+
+    /// The GROUND part (the reader has checked there is exactly one when it reports no
+    /// errors).
+    pub fn ground(&self) -> Option<&Part> {
+        self.parts.iter().find(|p| p.ground)
+    }
+
+    /// A marker's global pose: origin and axes (columns) in ground (spec §2.3:
+    /// R_G = R_part·R_marker, r_G = r_part + R_part·QP), at the dataset's initial
+    /// configuration.
+    pub fn marker_pose(&self, id: Id) -> Option<(Vec3, Mat3)> {
+        let m = self.marker(id)?;
+        let p = self.part(m.part)?;
+        Some((
+            p.position + p.orientation * m.position,
+            p.orientation * m.orientation,
+        ))
+    }
 }

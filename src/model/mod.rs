@@ -7,20 +7,33 @@
 //! model layer builds parts, markers and forces from these statements.
 
 mod args;
-pub mod check;
 mod cursor;
 pub mod elements;
 pub mod expressions;
+pub mod frames;
 pub mod keywords;
 mod lines;
+mod read_bodies;
+mod read_data;
+mod read_links;
+pub mod reader;
+pub mod report;
+pub mod scope;
 pub mod statement;
+mod stmt_args;
+pub mod units;
 
 #[cfg(test)]
 mod corpus_tests;
+#[cfg(test)]
+mod model_corpus_tests;
+#[cfg(test)]
+mod model_tests;
 #[cfg(test)]
 mod statement_tests;
 
 pub use expressions::{expression_arguments, ExprArgument};
 pub use keywords::{is_expression_argument, EXPRESSION_ARGUMENTS};
 pub use lines::decode;
+pub use reader::{read_model, ModelRead};
 pub use statement::{read_statements, title_span, ArgValue, Argument, Item, ItemKind, Statement};

@@ -1,0 +1,394 @@
+//! The model reader: from the statements of an `.adm` dataset to a [`Model`] (spec §1–§2,
+//! §4, §7, §8). A first pass collects the ids every statement kind defines (duplicates are
+//! `E0603`), so references may point forward and expressions can be checked against the
+//! whole dataset; then MARKER, PART and JOINT statements are read (later statements look
+//! their parts and kinds up), then everything else in file order. Each statement kind has
+//! its reader in `read_*`; this module holds the shared checks (marker references, parts
+//! of joint markers, expressions) and the final whole-model checks (one GROUND).
+//!
+//! Statements and arguments outside the subset are warnings (`W0602`), never dropped
+//! silently; errors point into the file. The model is built as far as the errors allow:
+//! it is meant for the multibody core only when the read has no errors.
+
+use super::elements::{Expr, Id, Marker, Model};
+use super::scope::ModelScope;
+use super::statement::{read_statements, title_span, Statement};
+use super::stmt_args::{statement_label, Args};
+use super::{read_bodies, read_data, read_links};
+use crate::check::{self, Expect};
+use crate::diag::{has_errors, Code, Diagnostic, Span};
+use std::collections::{BTreeMap, HashMap};
+
+/// What [`read_model`] returns: the model and every diagnostic, in file order.
+#[derive(Debug)]
+pub struct ModelRead {
+    pub model: Model,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl ModelRead {
+    /// True when the dataset has errors: the model is then incomplete.
+    pub fn has_errors(&self) -> bool {
+        has_errors(&self.diagnostics)
+    }
+}
+
+/// Reads a dataset text (already decoded, see [`super::decode`]) into a [`Model`].
+pub fn read_model(text: &str) -> ModelRead {
+    let (stmts, diags) = read_statements(text);
+    let mut r = Reader {
+        text,
+        model: Model::default(),
+        scope: ModelScope::default(),
+        diags,
+        markers: HashMap::new(),
+        unsupported: BTreeMap::new(),
+    };
+    r.model.title = text[title_span(text)].trim().to_string();
+    let keep = r.collect_ids(&stmts);
+    let kept: Vec<&Statement> = stmts
+        .iter()
+        .zip(&keep)
+        .filter_map(|(s, k)| k.then_some(s))
+        .collect();
+    for phase in [Some("MARKER"), Some("PART"), Some("JOINT"), None] {
+        for stmt in &kept {
+            let first = matches!(stmt.canonical, Some("MARKER" | "PART" | "JOINT"));
+            if phase.map_or(!first, |p| stmt.canonical == Some(p)) {
+                r.statement(stmt);
+            }
+        }
+    }
+    r.finish()
+}
+
+/// The state of one read.
+pub(super) struct Reader<'a> {
+    pub text: &'a str,
+    pub model: Model,
+    pub scope: ModelScope,
+    pub diags: Vec<Diagnostic>,
+    /// Index in `model.markers` of each marker id.
+    markers: HashMap<Id, usize>,
+    /// Statements outside the subset, per keyword.
+    unsupported: BTreeMap<&'static str, Vec<&'a Statement>>,
+}
+
+/// Markers not on a rigid PART (spec §2.3): arguments that put a marker elsewhere.
+const FOREIGN_MARKER_ARGUMENTS: &[&str] =
+    &["FLEX_BODY", "POINT_MASS", "FE_PART", "NODE_ID", "CURVE"];
+
+/// What a marker reference must be.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum MarkerUse {
+    Fixed,
+    Floating,
+    Any,
+}
+
+/// An expression argument as found.
+pub(super) enum ExprArg {
+    Absent,
+    /// Present but unusable (errors reported, or a USER call warned about).
+    Unusable,
+    Ok(Expr),
+}
+
+impl<'a> Reader<'a> {
+    /// First pass: the ids of every statement kind; returns which statements to read
+    /// (duplicates and statements without their id are left out).
+    fn collect_ids(&mut self, stmts: &'a [Statement]) -> Vec<bool> {
+        let mut first: HashMap<(&str, i64), &Statement> = HashMap::new();
+        let mut keep = vec![true; stmts.len()];
+        for (k, s) in stmts.iter().enumerate() {
+            let Some(kind) = s.canonical else {
+                keep[k] = false;
+                continue;
+            };
+            let needs_id = matches!(
+                super::keywords::lookup_statement(kind),
+                super::keywords::Lookup::Known(sk) if sk.has_id
+            );
+            let Some(id) = s.id else {
+                keep[k] = !needs_id;
+                continue;
+            };
+            if Id::try_from(id).is_err() {
+                self.diags.push(Diagnostic::error(
+                    Code::BadArgument,
+                    s.id_span.clone().unwrap_or(s.keyword_span.clone()),
+                    format!("{kind}/{id}: ids go up to {}", Id::MAX),
+                ));
+                keep[k] = false;
+                continue;
+            }
+            if let Some(prev) = first.get(&(kind, id)) {
+                self.diags.push(
+                    Diagnostic::error(
+                        Code::DuplicateId,
+                        s.id_span.clone().unwrap_or(s.keyword_span.clone()),
+                        format!("{kind}/{id} is defined twice"),
+                    )
+                    .with_label(prev.keyword_span.clone(), "first defined here")
+                    .with_help("ids are unique per statement kind; this statement is ignored"),
+                );
+                keep[k] = false;
+                continue;
+            }
+            first.insert((kind, id), s);
+            let foreign = kind == "MARKER"
+                && s.args.iter().any(|a| {
+                    FOREIGN_MARKER_ARGUMENTS
+                        .iter()
+                        .any(|f| super::keywords::abbreviates(&a.name, f, 4))
+                });
+            if foreign {
+                self.diags.push(Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    s.keyword_span.clone(),
+                    format!(
+                        "{} (line {}) is not on a rigid PART; mbfx does not model it",
+                        statement_label(s),
+                        s.line
+                    ),
+                ));
+                keep[k] = false;
+                continue;
+            }
+            self.scope.ids.entry(kind).or_default().insert(id);
+            if kind == "SPLINE" {
+                let surface = s.arg("Z", 1).is_some();
+                self.scope.splines.push((id, surface));
+            }
+        }
+        keep
+    }
+
+    fn statement(&mut self, stmt: &'a Statement) {
+        let mut a = Args::new(stmt);
+        match stmt.canonical.unwrap_or("") {
+            "UNITS" => read_bodies::units(self, &mut a),
+            "ACCGRAV" => read_bodies::accgrav(self, &mut a),
+            "PART" => read_bodies::part(self, &mut a),
+            "MARKER" => read_bodies::marker(self, &mut a),
+            "JOINT" => read_links::joint(self, &mut a),
+            "JPRIM" => read_links::jprim(self, &mut a),
+            "GCON" => read_links::gcon(self, &mut a),
+            "MOTION" => read_links::motion(self, &mut a),
+            "SFORCE" => read_links::sforce(self, &mut a),
+            "VFORCE" | "VTORQUE" | "GFORCE" => read_links::vector_force(self, &mut a),
+            "SPRINGDAMPER" => read_links::spring_damper(self, &mut a),
+            "BUSHING" => read_links::bushing(self, &mut a),
+            "VARIABLE" => read_data::variable(self, &mut a),
+            "SPLINE" => read_data::spline(self, &mut a),
+            "ARRAY" => read_data::array(self, &mut a),
+            "REQUEST" => read_data::request(self, &mut a),
+            "OUTPUT" | "RESULTS" | "INTEGRATOR" | "EQUILIBRIUM" | "KINEMATICS" | "IC" => {
+                read_data::setting(self, &mut a)
+            }
+            "END" => {}
+            _ => {
+                if let Some(kind) = stmt.canonical {
+                    self.unsupported.entry(kind).or_default().push(stmt);
+                }
+                return;
+            }
+        }
+        let found = a.finish();
+        self.diags.extend(found);
+    }
+
+    /// The id of the statement being read (the first pass made sure it has one).
+    pub fn named(&self, a: &Args) -> super::elements::Named {
+        super::elements::Named {
+            id: a.stmt.id.and_then(|id| Id::try_from(id).ok()).unwrap_or(0),
+            name: a.stmt.view_name.clone(),
+            span: a.stmt.span.clone(),
+        }
+    }
+
+    pub fn add_marker(&mut self, m: Marker) {
+        self.markers.insert(m.el.id, self.model.markers.len());
+        self.model.markers.push(m);
+    }
+
+    pub fn marker(&self, id: Id) -> Option<&Marker> {
+        self.markers.get(&id).map(|&i| &self.model.markers[i])
+    }
+
+    /// Reads a marker reference argument and checks that the marker exists and is fixed
+    /// or floating as `need` says. `None` when absent or wrong (reported).
+    pub fn marker_ref(
+        &mut self,
+        a: &mut Args,
+        full: &str,
+        min: usize,
+        need: MarkerUse,
+        required: bool,
+    ) -> Option<(Id, Span)> {
+        let (id, span) = if required {
+            a.required_id(full, min)?
+        } else {
+            a.id(full, min)?
+        };
+        let Some(m) = self.marker(id) else {
+            a.diags.push(
+                Diagnostic::error(
+                    Code::UndefinedElement,
+                    span,
+                    format!("MARKER/{id} is not defined in this dataset"),
+                )
+                .with_note(format!("{full} of {} names it", a.label)),
+            );
+            return None;
+        };
+        let wrong = match need {
+            MarkerUse::Fixed if m.floating => Some("a fixed marker; this one is FLOATING"),
+            MarkerUse::Floating if !m.floating => Some("a FLOATING marker"),
+            _ => None,
+        };
+        if let Some(what) = wrong {
+            a.diags.push(
+                Diagnostic::error(
+                    Code::Topology,
+                    span,
+                    format!("{full} of {} must be {what}", a.label),
+                )
+                .with_label(m.el.span.clone(), format!("MARKER/{id}")),
+            );
+            return None;
+        }
+        Some((id, span))
+    }
+
+    /// Checks that the I and J markers of a connector lie on different parts.
+    pub fn distinct_parts(&self, a: &mut Args, i: &(Id, Span), j: &(Id, Span)) -> bool {
+        let (Some(mi), Some(mj)) = (self.marker(i.0), self.marker(j.0)) else {
+            return false;
+        };
+        if mi.part != mj.part {
+            return true;
+        }
+        a.diags.push(
+            Diagnostic::error(
+                Code::Topology,
+                j.1.clone(),
+                format!("I and J of {} are both on PART/{}", a.label, mi.part),
+            )
+            .with_label(i.1.clone(), "I marker")
+            .with_help("a connector joins two different parts"),
+        );
+        false
+    }
+
+    /// Reads, checks and lowers an expression argument with the model as its scope.
+    pub fn expr(&mut self, a: &mut Args, full: &str, min: usize, expect: Expect) -> ExprArg {
+        let Some(arg) = a.find(full, min) else {
+            return ExprArg::Absent;
+        };
+        let Some(span) = arg.expr_span() else {
+            let msg = format!("{full} of {} must be an expression", a.label);
+            a.error(Code::BadArgument, arg.span.clone(), msg);
+            return ExprArg::Unusable;
+        };
+        let place = format!("in {}, argument {}", a.label, arg.name);
+        if arg.is_user_call {
+            a.diags.push(
+                Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    span,
+                    "USER(...) calls a user subroutine, which mbfx cannot run",
+                )
+                .with_note(place),
+            );
+            return ExprArg::Unusable;
+        }
+        let compiled = check::compile(&self.text[span.clone()], &self.scope, expect);
+        let shift = |d: Diagnostic| d.shifted(span.start).with_note(place.clone());
+        a.diags
+            .extend(self.scope.take_warnings().into_iter().map(shift));
+        match compiled {
+            Ok(c) => {
+                a.diags.extend(c.warnings.into_iter().map(shift));
+                ExprArg::Ok(Expr {
+                    span,
+                    function: c.function,
+                })
+            }
+            Err(found) => {
+                a.diags.extend(found.into_iter().map(shift));
+                ExprArg::Unusable
+            }
+        }
+    }
+
+    /// An expression the statement needs: `E0604` when absent.
+    pub fn required_expr(&mut self, a: &mut Args, full: &str, min: usize) -> Option<Expr> {
+        match self.expr(a, full, min, Expect::Scalar) {
+            ExprArg::Ok(e) => Some(e),
+            ExprArg::Absent => {
+                a.missing(&format!("{full} = expression"));
+                None
+            }
+            ExprArg::Unusable => None,
+        }
+    }
+
+    /// Whole-model checks, the unsupported-statement summary, and the measure slots.
+    fn finish(mut self) -> ModelRead {
+        let grounds: Vec<_> = self.model.parts.iter().filter(|p| p.ground).collect();
+        match grounds.as_slice() {
+            [] => self.diags.push(
+                Diagnostic::error(
+                    Code::Topology,
+                    title_span(self.text),
+                    "the dataset has no GROUND part",
+                )
+                .with_help("add PART/id, GROUND"),
+            ),
+            [_] => {}
+            [first, rest @ ..] => {
+                for p in rest {
+                    self.diags.push(
+                        Diagnostic::error(
+                            Code::Topology,
+                            p.el.span.clone(),
+                            format!("PART/{} is a second GROUND part", p.el.id),
+                        )
+                        .with_label(first.el.span.clone(), "first GROUND"),
+                    );
+                }
+            }
+        }
+        for (kind, stmts) in std::mem::take(&mut self.unsupported) {
+            let listed: Vec<String> = stmts
+                .iter()
+                .take(8)
+                .map(|s| format!("{} (line {})", statement_label(s), s.line))
+                .collect();
+            let more = stmts.len().saturating_sub(listed.len());
+            let mut note = listed.join(", ");
+            if more > 0 {
+                note.push_str(&format!(" and {more} more"));
+            }
+            self.diags.push(
+                Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    stmts[0].keyword_span.clone(),
+                    format!(
+                        "{kind} is outside the mbfx subset: {} statement{} ignored",
+                        stmts.len(),
+                        if stmts.len() == 1 { "" } else { "s" }
+                    ),
+                )
+                .with_note(note),
+            );
+        }
+        self.model.measures = self.scope.into_slots();
+        self.diags.sort_by_key(|d| d.span.start);
+        ModelRead {
+            model: self.model,
+            diagnostics: self.diags,
+        }
+    }
+}
