@@ -187,8 +187,10 @@ fn equal_measure_calls_share_a_slot_and_vectors_take_three() {
     let m = clean(&with(
         "VARIABLE/1, FUNCTION = DX(21,11) + DX(21,11)*DM(21,11)\n\
          VARIABLE/2, FUNCTION = DX(21, 11) + VARVAL(1)\n\
-         GCON/1, I = 21, FUNCTION = UVZ(21)*UVZ(11) - 1",
+         GCON/1, I = 21, FUNCTION = UVZ(21)*UVZ(11) - 1\n\
+         DIFF/9, FUNCTION = DM(22, 11)",
     ));
+    // DIFF is outside the subset: its expression is checked but asks for no slot.
     let slot = |name: &str, ids: &[i64], component: u8| MeasureSlot {
         name: name.into(),
         ids: ids.to_vec(),
@@ -360,6 +362,11 @@ const BAD: &[Bad] = &[
         extra: "VARIABLE/1, FUNCTION = AKISPL(TIME, 0, 5)",
         code: Code::UndefinedElement,
         at: "5",
+    },
+    Bad {
+        extra: "DIFF/3, FUNCTION = DX(21, 55)",
+        code: Code::UndefinedElement,
+        at: "55",
     },
 ];
 

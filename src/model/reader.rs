@@ -156,7 +156,8 @@ impl<'a> Reader<'a> {
                 continue;
             }
             self.scope.ids.entry(kind).or_default().insert(id);
-            if kind == "SPLINE" {
+            // A SPLINE read from a file is warned about and left out of the model.
+            if kind == "SPLINE" && s.arg("FILE", 3).is_none() {
                 let surface = s.arg("Z", 1).is_some();
                 self.scope.splines.push((id, surface));
             }
@@ -191,11 +192,26 @@ impl<'a> Reader<'a> {
                 if let Some(kind) = stmt.canonical {
                     self.unsupported.entry(kind).or_default().push(stmt);
                 }
-                return;
+                self.check_only(&mut a);
             }
         }
         let found = a.finish();
         self.diags.extend(found);
+    }
+
+    /// Checks the expressions of a statement outside the subset against the model, so
+    /// their errors are reported, without adding measure slots; marks every argument used
+    /// (the statement as a whole is reported).
+    fn check_only(&mut self, a: &mut Args) {
+        self.scope.check_only.set(true);
+        for arg in &a.stmt.args {
+            if arg.expr_span().is_some() {
+                let _ = self.expr(a, &arg.name, arg.name.len(), Expect::Any);
+            } else {
+                a.find(&arg.name, arg.name.len());
+            }
+        }
+        self.scope.check_only.set(false);
     }
 
     /// The id of the statement being read (the first pass made sure it has one).

@@ -7,7 +7,7 @@ use super::elements::MeasureSlot;
 use crate::check::builtins::{Param, Ty};
 use crate::check::{MeasureCall, MeasureValue, Scope, SplineInfo};
 use crate::diag::{Code, Diagnostic};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::{HashMap, HashSet};
 
 /// Which statement an element function's first argument names, and whether mbfx models
@@ -50,6 +50,9 @@ pub struct ModelScope {
     slots: RefCell<Slots>,
     /// Warnings found while resolving (measures of elements outside the subset).
     warnings: RefCell<Vec<Diagnostic>>,
+    /// Check only: measures are resolved to slot 0 and no slot is added (for the
+    /// expressions of statements outside the subset, which nothing evaluates).
+    pub check_only: Cell<bool>,
 }
 
 #[derive(Default)]
@@ -64,6 +67,9 @@ impl ModelScope {
     }
 
     fn slot(&self, name: &str, ids: &[i64], component: u8) -> u32 {
+        if self.check_only.get() {
+            return 0;
+        }
         let key = MeasureSlot {
             name: name.to_string(),
             ids: ids.to_vec(),
