@@ -204,3 +204,33 @@ fn chrono_joint_models_load_without_errors() {
         assert!(r.model.ground().is_some());
     }
 }
+
+/// Truncated datasets and datasets missing one line never panic, and every span stays
+/// inside the text.
+#[test]
+fn damaged_datasets_never_panic() {
+    let text = load(&corpus().join(
+        "projectchrono__chrono/data/testing/joints/adams_models/test_TransSpring_Case01.adm",
+    ));
+    let lines: Vec<&str> = text.split_inclusive('\n').collect();
+    let mut variants: Vec<String> = (0..text.len())
+        .step_by(3)
+        .filter(|&cut| text.is_char_boundary(cut))
+        .map(|cut| text[..cut].to_string())
+        .collect();
+    variants.extend((0..lines.len()).map(|skip| {
+        lines
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| *k != skip)
+            .map(|(_, l)| *l)
+            .collect()
+    }));
+    assert!(variants.len() > 100);
+    for v in &variants {
+        let r = read_model(v);
+        for d in &r.diagnostics {
+            assert!(d.span.end <= v.len(), "{d:?} in {v:?}");
+        }
+    }
+}

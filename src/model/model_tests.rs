@@ -3,9 +3,10 @@
 //! a catalogue of bad datasets, each pinned to its diagnostic code and the text its span
 //! covers.
 
-use super::elements::{MeasureSlot, Model};
+use super::elements::{MeasureSlot, Model, MotionLevel, MotionTarget, RequestKind};
 use super::{read_model, ModelRead};
 use crate::diag::{Code, Severity};
+use crate::mbd::equations::JointType;
 use crate::mbd::math::{Mat3, Vec3};
 use nalgebra::{Rotation3, Unit};
 
@@ -481,4 +482,38 @@ fn settings_are_kept_as_written() {
         ]
     );
     assert_eq!(m.settings[1].statement, "OUTPUT");
+}
+
+#[test]
+fn abbreviated_and_lower_case_keywords_read_the_same() {
+    let full = clean(&with(
+        "JOINT/1, CYLINDRICAL, I = 21, J = 11, ICTRAN = 0.5, 1\n\
+         MOTION/1, JOINT = 1, ROTATIONAL, VELOCITY, FUNCTION = 30D*TIME\n\
+         REQUEST/1, DISPLACEMENT, I = 21, J = 11, RM = 11, COMMENT = a note",
+    ));
+    let short = clean(&with(
+        "joi/1, cyl, i = 21, j = 11, ictran = 0.5, 1\n\
+         mot/1, joint = 1, rot, v, fun = 30d*time\n\
+         req/1, d, i = 21, j = 11, rm = 11, c = a note",
+    ));
+    for m in [&full, &short] {
+        let j = m.joint(1).expect("joint 1");
+        assert_eq!((j.kind, j.i, j.j), (JointType::Cylindrical, 21, 11));
+        assert_eq!(j.ic_tran, Some([0.5, 1.0]));
+        let mo = &m.motions[0];
+        assert_eq!(
+            mo.target,
+            MotionTarget::Joint {
+                joint: 1,
+                rotation: true
+            }
+        );
+        assert_eq!(mo.level, MotionLevel::Velocity);
+        let r = &m.requests[0];
+        assert_eq!(
+            r.standard,
+            Some((RequestKind::Displacement, 21, Some(11), Some(11)))
+        );
+        assert_eq!(r.comment.as_deref(), Some("a note"));
+    }
 }
