@@ -438,7 +438,9 @@ fn unsupported_things_are_warnings_that_name_statement_id_and_line() {
          GRAPHICS/5, CYLINDER, CM = 21\n\
          SFORCE/2, I = 21, J = 11, FUNCTION = USER(1, 2)\n\
          DIFF/3, FUNCTION = TIME\n\
-         VARIABLE/4, FUNCTION = DIF(3)",
+         VARIABLE/4, FUNCTION = DIF(3)\n\
+         VARIABLE/5, FUNCTION = USER(1)\n\
+         VARIABLE/6, FUNCTION = VARVAL(5) + SFORCE(2, 0, 2, 0)",
     );
     let r = read(&text);
     assert!(!r.has_errors(), "{:#?}", r.diagnostics);
@@ -449,6 +451,8 @@ fn unsupported_things_are_warnings_that_name_statement_id_and_line() {
         "USER(...)",
         "DIFF is outside the mbfx subset",
         "DIF reads DIFF/3",
+        "VARVAL reads VARIABLE/5, which calls a USER subroutine",
+        "SFORCE reads SFORCE/2, which calls a USER subroutine",
     ];
     for e in expect {
         assert!(warnings.iter().any(|w| w.contains(e)), "{e}: {warnings:#?}");

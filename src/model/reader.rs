@@ -156,6 +156,9 @@ impl<'a> Reader<'a> {
                 continue;
             }
             self.scope.ids.entry(kind).or_default().insert(id);
+            if s.args.iter().any(|a| a.is_user_call) {
+                self.scope.user.insert((kind, id));
+            }
             // A SPLINE read from a file is warned about and left out of the model.
             if kind == "SPLINE" && s.arg("FILE", 3).is_none() {
                 let surface = s.arg("Z", 1).is_some();

@@ -44,6 +44,8 @@ pub fn element_statement(function: &str) -> Option<(&'static str, bool)> {
 pub struct ModelScope {
     /// Ids per canonical statement keyword; MARKER holds only the markers mbfx models.
     pub ids: HashMap<&'static str, HashSet<i64>>,
+    /// Elements whose values come from a `USER(…)` subroutine: mbfx leaves them out.
+    pub user: HashSet<(&'static str, i64)>,
     /// SPLINE ids in the order of [`super::elements::Model::splines`], and whether each
     /// is a surface.
     pub splines: Vec<(i64, bool)>,
@@ -123,6 +125,20 @@ impl Scope for ModelScope {
                 continue;
             };
             let stmt = match (i, element) {
+                (0, Some((stmt, _))) if self.user.contains(&(stmt, id)) => {
+                    self.warnings.borrow_mut().push(
+                        Diagnostic::warning(
+                            Code::UnsupportedStatement,
+                            span_of(i),
+                            format!(
+                                "{} reads {stmt}/{id}, which calls a USER subroutine",
+                                b.name
+                            ),
+                        )
+                        .with_note("the value cannot be computed"),
+                    );
+                    stmt
+                }
                 (0, Some((stmt, supported))) => {
                     if !supported && self.has(stmt, id) {
                         self.warnings.borrow_mut().push(
