@@ -122,6 +122,18 @@ fn zp_xp_and_usexp_follow_spec_2_3() {
 }
 
 #[test]
+fn zg_xg_place_a_part_like_zp_xp_a_marker() {
+    // FAST style: z towards ZG = QG + (0,1,0), x towards XG = QG + (1,0,0): Rx(−90°).
+    let m = clean(&with(
+        "PART/3, MASS = 1, CM = 31, IP = 1,1,1, QG = 1,0,0, ZG = 1,1,0, XG = 2,0,0\n\
+         MARKER/31, PART = 3",
+    ));
+    let p = m.part(3).expect("part 3");
+    assert!(close(&p.orientation, &axis_angle(Vec3::x(), -90.0), 1e-12));
+    assert_eq!(p.position, Vec3::new(1.0, 0.0, 0.0));
+}
+
+#[test]
 fn ucf_table_of_spec_2_1() {
     let rows = [
         (
@@ -363,6 +375,16 @@ const BAD: &[Bad] = &[
         extra: "VARIABLE/1, FUNCTION = AKISPL(TIME, 0, 5)",
         code: Code::UndefinedElement,
         at: "5",
+    },
+    Bad {
+        extra: "PART/3, IP = 1, 2, 3, 4",
+        code: Code::BadArgument,
+        at: "IP = 1, 2, 3, 4",
+    },
+    Bad {
+        extra: "PART/3, MASS = 1.0D+00",
+        code: Code::BadArgument,
+        at: "1.0D+00",
     },
     Bad {
         extra: "DIFF/3, FUNCTION = DX(21, 55)",

@@ -119,7 +119,10 @@ pub fn part(r: &mut Reader, a: &mut Args) {
         if v.len() == 3 || v.len() == 6 {
             ip[..v.len()].copy_from_slice(&v);
         } else {
-            let span = a.stmt.keyword_span.clone();
+            let span = a
+                .stmt
+                .arg("IP", 2)
+                .map_or(a.stmt.keyword_span.clone(), |arg| arg.span.clone());
             let msg = format!("IP of {} takes 3 or 6 numbers", a.label);
             a.error(Code::BadArgument, span, msg);
         }
