@@ -3,8 +3,12 @@
 //! names) with byte spans into the file, and [`expression_arguments`] lists the
 //! FUNCTION-language expressions they hold as raw byte ranges for the expression lexer.
 //! Keyword tables (statements, expression arguments, free-text arguments) live in
-//! [`keywords`]; [`decode`] turns file bytes into the text these functions read. The
-//! model layer builds parts, markers and forces from these statements.
+//! [`keywords`]; [`decode`] turns file bytes into the text these functions read.
+//!
+//! The model layer on top: [`read_model`] builds a [`elements::Model`] (parts, markers,
+//! constraints, forces, data, outputs) from the statements, checking references and
+//! lowering every expression with the model as its [`scope`]; [`report`] formats what
+//! `mbfx check` prints about a model.
 
 mod args;
 mod cursor;
@@ -32,6 +36,7 @@ mod model_tests;
 #[cfg(test)]
 mod statement_tests;
 
+pub use elements::Model;
 pub use expressions::{expression_arguments, ExprArgument};
 pub use keywords::{is_expression_argument, EXPRESSION_ARGUMENTS};
 pub use lines::decode;
