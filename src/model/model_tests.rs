@@ -134,6 +134,15 @@ fn zg_xg_place_a_part_like_zp_xp_a_marker() {
 }
 
 #[test]
+fn products_of_inertia_enter_the_tensor_negated() {
+    let m = clean(&with(
+        "PART/3, MASS = 1, CM = 31, IP = 10, 20, 30, 1, 2, 3\nMARKER/31, PART = 3",
+    ));
+    let want = Mat3::new(10.0, -1.0, -2.0, -1.0, 20.0, -3.0, -2.0, -3.0, 30.0);
+    assert_eq!(m.part(3).expect("part 3").inertia(), want);
+}
+
+#[test]
 fn ucf_table_of_spec_2_1() {
     let rows = [
         (
