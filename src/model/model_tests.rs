@@ -178,6 +178,11 @@ fn ucf_table_of_spec_2_1() {
         assert!(rel < 2e-6, "UNITS/{units}: UCF {} != {want}", m.units.ucf);
     }
     assert_eq!(clean(&with("")).units.ucf, 1.0);
+    let twice = read(&with("UNITS/LENGTH = MILLIMETER\nUNITS/LENGTH = INCH"));
+    assert_eq!(twice.model.units.length.as_deref(), Some("INCH"));
+    assert!(twice.diagnostics[0]
+        .message
+        .contains("UNITS is given again"));
 }
 
 #[test]

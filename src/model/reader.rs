@@ -43,6 +43,7 @@ pub fn read_model(text: &str) -> ModelRead {
         diags,
         markers: HashMap::new(),
         unsupported: BTreeMap::new(),
+        singletons: HashMap::new(),
     };
     r.model.title = text[title_span(text)].trim().to_string();
     let keep = r.collect_ids(&stmts);
@@ -72,6 +73,8 @@ pub(super) struct Reader<'a> {
     markers: HashMap<Id, usize>,
     /// Statements outside the subset, per keyword.
     unsupported: BTreeMap<&'static str, Vec<&'a Statement>>,
+    /// The first UNITS and ACCGRAV statement.
+    singletons: HashMap<&'static str, &'a Statement>,
 }
 
 /// Markers not on a rigid PART (spec §2.3): arguments that put a marker elsewhere.
@@ -169,6 +172,18 @@ impl<'a> Reader<'a> {
     }
 
     fn statement(&mut self, stmt: &'a Statement) {
+        if let Some(kind @ ("UNITS" | "ACCGRAV")) = stmt.canonical {
+            if let Some(first) = self.singletons.insert(kind, stmt) {
+                self.diags.push(
+                    Diagnostic::warning(
+                        Code::UnsupportedStatement,
+                        stmt.keyword_span.clone(),
+                        format!("{kind} is given again; this one replaces the first"),
+                    )
+                    .with_label(first.keyword_span.clone(), "first given here"),
+                );
+            }
+        }
         let mut a = Args::new(stmt);
         match stmt.canonical.unwrap_or("") {
             "UNITS" => read_bodies::units(self, &mut a),
