@@ -154,21 +154,7 @@ pub fn model_report(file: &str, model: &crate::model::elements::Model) -> String
 
 /// Elements the model holds (markers and settings included).
 fn count_elements(m: &crate::model::elements::Model) -> usize {
-    m.parts.len()
-        + m.markers.len()
-        + m.joints.len()
-        + m.jprims.len()
-        + m.gcons.len()
-        + m.motions.len()
-        + m.sforces.len()
-        + m.vector_forces.len()
-        + m.spring_dampers.len()
-        + m.bushings.len()
-        + m.variables.len()
-        + m.splines.len()
-        + m.arrays.len()
-        + m.requests.len()
-        + m.settings.len()
+    m.element_counts().iter().map(|(_, n)| n).sum::<usize>() + m.settings.len()
 }
 
 #[cfg(test)]

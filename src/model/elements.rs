@@ -347,6 +347,29 @@ impl Part {
 }
 
 impl Model {
+    /// How many elements of each statement kind the model holds, in a fixed order.
+    pub fn element_counts(&self) -> [(&'static str, usize); 16] {
+        let forces = |k: VectorForceKind| self.vector_forces.iter().filter(|f| f.kind == k).count();
+        [
+            ("PART", self.parts.len()),
+            ("MARKER", self.markers.len()),
+            ("JOINT", self.joints.len()),
+            ("JPRIM", self.jprims.len()),
+            ("GCON", self.gcons.len()),
+            ("MOTION", self.motions.len()),
+            ("SFORCE", self.sforces.len()),
+            ("VFORCE", forces(VectorForceKind::Vforce)),
+            ("VTORQUE", forces(VectorForceKind::Vtorque)),
+            ("GFORCE", forces(VectorForceKind::Gforce)),
+            ("SPRINGDAMPER", self.spring_dampers.len()),
+            ("BUSHING", self.bushings.len()),
+            ("VARIABLE", self.variables.len()),
+            ("SPLINE", self.splines.len()),
+            ("ARRAY", self.arrays.len()),
+            ("REQUEST", self.requests.len()),
+        ]
+    }
+
     pub fn part(&self, id: Id) -> Option<&Part> {
         self.parts.iter().find(|p| p.el.id == id)
     }

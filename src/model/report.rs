@@ -2,7 +2,7 @@
 //! supplies the summary (element counts, units, gravity); the multibody core adds its
 //! own sections (degrees of freedom, redundant constraints, 2D/3D) through the same type.
 
-use super::elements::{Model, VectorForceKind};
+use super::elements::Model;
 
 /// One titled block of the report.
 #[derive(Clone, Debug, PartialEq)]
@@ -13,25 +13,7 @@ pub struct ReportSection {
 
 /// Element counts per statement kind (only kinds present), units and gravity.
 pub fn summary(model: &Model) -> ReportSection {
-    let forces = |k: VectorForceKind| model.vector_forces.iter().filter(|f| f.kind == k).count();
-    let counts = [
-        ("PART", model.parts.len()),
-        ("MARKER", model.markers.len()),
-        ("JOINT", model.joints.len()),
-        ("JPRIM", model.jprims.len()),
-        ("GCON", model.gcons.len()),
-        ("MOTION", model.motions.len()),
-        ("SFORCE", model.sforces.len()),
-        ("VFORCE", forces(VectorForceKind::Vforce)),
-        ("VTORQUE", forces(VectorForceKind::Vtorque)),
-        ("GFORCE", forces(VectorForceKind::Gforce)),
-        ("SPRINGDAMPER", model.spring_dampers.len()),
-        ("BUSHING", model.bushings.len()),
-        ("VARIABLE", model.variables.len()),
-        ("SPLINE", model.splines.len()),
-        ("ARRAY", model.arrays.len()),
-        ("REQUEST", model.requests.len()),
-    ];
+    let counts = model.element_counts();
     let listed: Vec<String> = counts
         .iter()
         .filter(|(_, n)| *n > 0)
