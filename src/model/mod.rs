@@ -22,6 +22,7 @@ mod read_data;
 mod read_links;
 pub mod reader;
 pub mod report;
+mod resolve;
 pub mod scope;
 pub mod statement;
 mod stmt_args;

@@ -2,7 +2,8 @@
 
 use super::elements::{Marker, Part};
 use super::frames::{axes_from_points, reuler, PointsError};
-use super::reader::{MarkerUse, Reader};
+use super::reader::Reader;
+use super::resolve::MarkerUse;
 use super::stmt_args::Args;
 use super::units::{si_value, system, ucf, Quantity};
 use crate::diag::{Code, Diagnostic};

@@ -3,7 +3,8 @@
 //! written (spec §2.5, §7, §8).
 
 use super::elements::{Array, Request, RequestKind, Setting, SplineData, Variable};
-use super::reader::{ExprArg, MarkerUse, Reader};
+use super::reader::Reader;
+use super::resolve::{ExprArg, MarkerUse};
 use super::statement::ArgValue;
 use super::stmt_args::Args;
 use crate::check::Expect;

@@ -6,7 +6,8 @@ use super::elements::{
     Bushing, Expr, Gcon, Joint, Jprim, Motion, MotionAxis, MotionLevel, MotionTarget, Sforce,
     SpringDamper, VectorForce, VectorForceKind,
 };
-use super::reader::{ExprArg, MarkerUse, Reader};
+use super::reader::Reader;
+use super::resolve::{ExprArg, MarkerUse};
 use super::stmt_args::Args;
 use crate::check::Expect;
 use crate::diag::{Code, Diagnostic};
