@@ -557,3 +557,19 @@ fn abbreviated_and_lower_case_keywords_read_the_same() {
         assert_eq!(r.comment.as_deref(), Some("a note"));
     }
 }
+
+#[test]
+fn the_report_lists_counts_units_and_gravity_in_sections() {
+    let m = clean(&with("ACCGRAV/KGRAV = -9.80665\nUNITS/LENGTH = MILLIMETER"));
+    let summary = super::report::summary(&m);
+    let extra = super::report::ReportSection {
+        title: "degrees of freedom".into(),
+        lines: vec!["6".into()],
+    };
+    let text = super::report::format_report("m.adm", &[summary, extra]);
+    let want = "m.adm\n  model:\n    title: title\n    elements: PART 2, MARKER 5\n    \
+                units: force (SI), mass (SI), length MILLIMETER, time (SI); UCF = 1000\n    \
+                gravity: (0, 0, -9.80665)\n    measures read by expressions: 0\n  \
+                degrees of freedom:\n    6\n";
+    assert_eq!(text, want);
+}

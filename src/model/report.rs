@@ -20,7 +20,7 @@ pub fn summary(model: &Model) -> ReportSection {
         .map(|(k, n)| format!("{k} {n}"))
         .collect();
     let u = &model.units;
-    let name = |n: &Option<String>| n.clone().unwrap_or_else(|| "-".into());
+    let name = |n: &Option<String>| n.clone().unwrap_or_else(|| "(SI)".into());
     let g = model.gravity;
     let mut lines = vec![
         format!("title: {}", model.title),
@@ -32,14 +32,21 @@ pub fn summary(model: &Model) -> ReportSection {
                 listed.join(", ")
             }
         ),
-        format!(
-            "units: force {}, mass {}, length {}, time {}; UCF = {}",
-            name(&u.force),
-            name(&u.mass),
-            name(&u.length),
-            name(&u.time),
-            u.ucf
-        ),
+        if [&u.force, &u.mass, &u.length, &u.time]
+            .iter()
+            .all(|n| n.is_none())
+        {
+            format!("units: not given; UCF = {}", u.ucf)
+        } else {
+            format!(
+                "units: force {}, mass {}, length {}, time {}; UCF = {}",
+                name(&u.force),
+                name(&u.mass),
+                name(&u.length),
+                name(&u.time),
+                u.ucf
+            )
+        },
         format!("gravity: ({}, {}, {})", g.x, g.y, g.z),
         format!("measures read by expressions: {}", model.measures.len()),
     ];
