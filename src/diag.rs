@@ -80,6 +80,16 @@ pub enum Code {
     Statement,
     /// A dataset statement or argument mbfx does not handle: reported, never dropped silently.
     UnsupportedStatement,
+    /// Two dataset statements of one kind with the same id.
+    DuplicateId,
+    /// A dataset statement without an argument it needs.
+    MissingArgument,
+    /// A dataset argument with a value of the wrong kind, count or range.
+    BadArgument,
+    /// A dataset that connects its elements in a way the model forbids (no or several
+    /// GROUND parts, joint markers on one part, a floating marker where a fixed one is
+    /// needed).
+    Topology,
     /// More errors than are worth showing for one expression.
     TooManyErrors,
 }
@@ -118,6 +128,10 @@ impl Code {
             CommandLine => "E0503",
             Statement => "E0601",
             UnsupportedStatement => "W0602",
+            DuplicateId => "E0603",
+            MissingArgument => "E0604",
+            BadArgument => "E0605",
+            Topology => "E0606",
             TooManyErrors => "E0207",
         }
     }

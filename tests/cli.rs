@@ -458,10 +458,19 @@ fn check_of_a_dataset_with_latin1_bytes_warns_and_reads_it() {
 
 /// Datasets that must fail `mbfx check`, with the reason. All are samples of MBDyn's a2m
 /// translator that test its error handling; every other `.adm` of the corpus must pass.
+/// (`src/model/model_corpus_tests.rs` pins the exact error codes of each.)
 const INVALID_DATASETS: &[(&str, &str)] = &[
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/bipendolo.adm",
         "an edited export that lost its title line, so line 2 continues no statement",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/bipendololeo.adm",
+        "a GFORCE without FY and FZ, and JFLOAT markers that are not FLOATING",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/mark.adm",
+        "four MARKER lines only: no GROUND, and the PARTs they name do not exist",
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/monster.adm",
@@ -478,6 +487,14 @@ const INVALID_DATASETS: &[(&str, &str)] = &[
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova.adm",
         "garbage arguments (`%&(MASS=2,)`) and statements continued without a comma",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/prova_beam00.adm",
+        "markers without PART and no GROUND",
+    ),
+    (
+        "alex-marinov__mbdyn/contrib/a2m/samples/prova_beam01.adm",
+        "a BEAM alone: no GROUND part",
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova_marker01.adm",
@@ -531,7 +548,9 @@ fn check_of_every_corpus_dataset() {
             problems.push(format!("{rel}: took {:?}", r.took));
         }
         let summary = format!("{}: ", file.display());
-        if !(r.stdout.starts_with(&summary) && r.stdout.contains(" errors, ")) {
+        // The model report comes first; the summary line is the last line.
+        let last = r.stdout.lines().last().unwrap_or("");
+        if !(last.starts_with(&summary) && last.contains(" errors, ")) {
             problems.push(format!("{rel}: no summary line\n{}", r.describe()));
         }
         if r.stderr.contains("panicked") {
@@ -545,6 +564,60 @@ fn check_of_every_corpus_dataset() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     assert_eq!(failed_as_listed, INVALID_DATASETS.len());
+}
+
+#[test]
+fn check_of_a_model_prints_its_summary() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/slider.adm");
+    let r = check(&path);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    // Counts from the file itself: 2 PART, 3 MARKER, 1 JOINT, 2 SFORCE, 1 VARIABLE, 1 REQUEST.
+    for want in [
+        "elements: PART 2, MARKER 3, JOINT 1, SFORCE 2, VARIABLE 1, REQUEST 1",
+        "units: force NEWTON, mass KILOGRAM, length METER, time SECOND; UCF = 1",
+        "gravity: (0, 0, 0)",
+    ] {
+        assert!(r.stdout.contains(want), "{want}\n{}", r.describe());
+    }
+    assert!(
+        r.stdout.ends_with("0 errors, 0 warnings\n"),
+        "{}",
+        r.describe()
+    );
+}
+
+#[test]
+fn check_of_a_bad_model_points_at_the_reference() {
+    let path = scratch_file(
+        "bad_model.adm",
+        b"title\nUNITS/LENGTH = MILLIMETER\nPART/1, GROUND\nMARKER/11, PART = 1\n\
+          ! adams_view_name='Joint_4'\nJOINT/4, REVOLUTE, I = 11, J = 99\n\
+          GRAPHICS/1, CIRCLE, CM = 11\nEND\n",
+    );
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr.contains("[E0311] Error: MARKER/99"),
+        "{}",
+        r.describe()
+    );
+    assert!(r.stderr.contains("JOINT/4 (Joint_4)"), "{}", r.describe());
+    assert!(
+        r.stderr.contains(&format!("{}:6:32", path.display())),
+        "{}",
+        r.describe()
+    );
+    assert!(
+        r.stderr.contains("[W0602] Warning: GRAPHICS"),
+        "{}",
+        r.describe()
+    );
+    assert!(r.stdout.contains("UCF = 1000"), "{}", r.describe());
+    assert!(
+        r.stdout.ends_with("1 errors, 1 warnings\n"),
+        "{}",
+        r.describe()
+    );
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1,5 +1,6 @@
 //! `mbfx check FILE`: check every expression of an expression file (one per line,
-//! continuation lines honoured) or of an `.adm` dataset, and report all diagnostics.
+//! continuation lines honoured), or read an `.adm` dataset into a model (every statement
+//! and expression checked against it) and print the model report; report all diagnostics.
 
 use crate::check::{self, Expect, Scope};
 use crate::diag::{has_errors, render, Code, Diagnostic, Severity, SourceFile};
@@ -105,7 +106,8 @@ pub fn run(a: &CheckArgs, color: bool) -> i32 {
     let Ok((scope, _)) = super::eval::variables(&a.vars, color) else {
         return 1;
     };
-    let read = if is_dataset(&a.file) {
+    let dataset = is_dataset(&a.file);
+    let read = if dataset {
         read_dataset(&a.file)
     } else {
         read_text(&a.file).map(|t| (t, Vec::new()))
@@ -118,17 +120,22 @@ pub fn run(a: &CheckArgs, color: bool) -> i32 {
         }
     };
     let source_name = a.file.display().to_string();
-    let summary = if is_dataset(&a.file) {
-        let report = crate::model::check::check_dataset(&text);
-        diags.extend(report.diagnostics.iter().cloned());
-        report.summary()
+    let (summary, report) = if dataset {
+        let read = crate::model::read_model(&text);
+        diags.extend(read.diagnostics);
+        let report = model_report(&source_name, &read.model);
+        let m = &read.model;
+        (format!("{} elements", count_elements(m)), Some(report))
     } else {
         let (found, n) = check_expressions(&text, &scope);
         diags.extend(found);
-        format!("{n} expressions")
+        (format!("{n} expressions"), None)
     };
     let source = SourceFile::new(source_name.clone(), text);
     eprint!("{}", render(&diags, &source, color));
+    if let Some(report) = report {
+        print!("{report}");
+    }
     let errors = diags
         .iter()
         .filter(|d| d.severity == Severity::Error)
@@ -136,6 +143,18 @@ pub fn run(a: &CheckArgs, color: bool) -> i32 {
     let warnings = diags.len() - errors;
     println!("{source_name}: {summary}; {errors} errors, {warnings} warnings");
     i32::from(has_errors(&diags))
+}
+
+/// The report of a model: its summary, then the sections the multibody core adds
+/// (degrees of freedom, redundancy, 2D/3D) when it analyses the model.
+pub fn model_report(file: &str, model: &crate::model::elements::Model) -> String {
+    let sections = [crate::model::report::summary(model)];
+    crate::model::report::format_report(file, &sections)
+}
+
+/// Elements the model holds (markers and settings included).
+fn count_elements(m: &crate::model::elements::Model) -> usize {
+    m.element_counts().iter().map(|(_, n)| n).sum::<usize>() + m.settings.len()
 }
 
 #[cfg(test)]

@@ -44,6 +44,7 @@ pub struct Model {
     pub spring_dampers: Vec<SpringDamper>,
     pub bushings: Vec<Bushing>,
     pub variables: Vec<Variable>,
+    /// In file order; an expression's AKISPL/CUBSPL spline index is a position here.
     pub splines: Vec<SplineData>,
     pub arrays: Vec<Array>,
     /// ACCGRAV in model length/time², global axes (zero when absent).
@@ -324,4 +325,86 @@ pub struct MeasureSlot {
     pub name: String,
     pub ids: Vec<i64>,
     pub component: u8,
+}
+
+impl Named {
+    /// `JOINT/4 (Joint_4)`, or `JOINT/4` without a view name: how messages name it.
+    pub fn display(&self, kind: &str) -> String {
+        match &self.name {
+            Some(name) => format!("{kind}/{} ({name})", self.id),
+            None => format!("{kind}/{}", self.id),
+        }
+    }
+}
+
+impl Part {
+    /// The inertia tensor about the IM (else CM) origin in IM axes, from IP with Adams'
+    /// sign convention (spec §2.2: products are +∫xy dm, so they enter negated).
+    pub fn inertia(&self) -> Mat3 {
+        let [xx, yy, zz, xy, xz, yz] = self.ip;
+        Mat3::new(xx, -xy, -xz, -xy, yy, -yz, -xz, -yz, zz)
+    }
+}
+
+impl Model {
+    /// How many elements of each statement kind the model holds, in a fixed order.
+    pub fn element_counts(&self) -> [(&'static str, usize); 16] {
+        let forces = |k: VectorForceKind| self.vector_forces.iter().filter(|f| f.kind == k).count();
+        [
+            ("PART", self.parts.len()),
+            ("MARKER", self.markers.len()),
+            ("JOINT", self.joints.len()),
+            ("JPRIM", self.jprims.len()),
+            ("GCON", self.gcons.len()),
+            ("MOTION", self.motions.len()),
+            ("SFORCE", self.sforces.len()),
+            ("VFORCE", forces(VectorForceKind::Vforce)),
+            ("VTORQUE", forces(VectorForceKind::Vtorque)),
+            ("GFORCE", forces(VectorForceKind::Gforce)),
+            ("SPRINGDAMPER", self.spring_dampers.len()),
+            ("BUSHING", self.bushings.len()),
+            ("VARIABLE", self.variables.len()),
+            ("SPLINE", self.splines.len()),
+            ("ARRAY", self.arrays.len()),
+            ("REQUEST", self.requests.len()),
+        ]
+    }
+
+    pub fn part(&self, id: Id) -> Option<&Part> {
+        self.parts.iter().find(|p| p.el.id == id)
+    }
+
+    pub fn marker(&self, id: Id) -> Option<&Marker> {
+        self.markers.iter().find(|m| m.el.id == id)
+    }
+
+    pub fn joint(&self, id: Id) -> Option<&Joint> {
+        self.joints.iter().find(|j| j.el.id == id)
+    }
+
+    pub fn variable(&self, id: Id) -> Option<&Variable> {
+        self.variables.iter().find(|v| v.el.id == id)
+    }
+
+    pub fn spline(&self, id: Id) -> Option<&SplineData> {
+        self.splines.iter().find(|s| s.el.id == id)
+    }
+
+    /// The GROUND part (the reader has checked there is exactly one when it reports no
+    /// errors).
+    pub fn ground(&self) -> Option<&Part> {
+        self.parts.iter().find(|p| p.ground)
+    }
+
+    /// A marker's global pose: origin and axes (columns) in ground (spec §2.3:
+    /// R_G = R_part·R_marker, r_G = r_part + R_part·QP), at the dataset's initial
+    /// configuration.
+    pub fn marker_pose(&self, id: Id) -> Option<(Vec3, Mat3)> {
+        let m = self.marker(id)?;
+        let p = self.part(m.part)?;
+        Some((
+            p.position + p.orientation * m.position,
+            p.orientation * m.orientation,
+        ))
+    }
 }

@@ -3,24 +3,43 @@
 //! names) with byte spans into the file, and [`expression_arguments`] lists the
 //! FUNCTION-language expressions they hold as raw byte ranges for the expression lexer.
 //! Keyword tables (statements, expression arguments, free-text arguments) live in
-//! [`keywords`]; [`decode`] turns file bytes into the text these functions read. The
-//! model layer builds parts, markers and forces from these statements.
+//! [`keywords`]; [`decode`] turns file bytes into the text these functions read.
+//!
+//! The model layer on top: [`read_model`] builds a [`elements::Model`] (parts, markers,
+//! constraints, forces, data, outputs) from the statements, checking references and
+//! lowering every expression with the model as its [`scope`]; [`report`] formats what
+//! `mbfx check` prints about a model.
 
 mod args;
-pub mod check;
 mod cursor;
 pub mod elements;
 pub mod expressions;
+pub mod frames;
 pub mod keywords;
 mod lines;
+mod read_bodies;
+mod read_data;
+mod read_links;
+pub mod reader;
+pub mod report;
+mod resolve;
+pub mod scope;
 pub mod statement;
+mod stmt_args;
+pub mod units;
 
 #[cfg(test)]
 mod corpus_tests;
 #[cfg(test)]
+mod model_corpus_tests;
+#[cfg(test)]
+mod model_tests;
+#[cfg(test)]
 mod statement_tests;
 
+pub use elements::Model;
 pub use expressions::{expression_arguments, ExprArgument};
 pub use keywords::{is_expression_argument, EXPRESSION_ARGUMENTS};
 pub use lines::decode;
+pub use reader::{read_model, ModelRead};
 pub use statement::{read_statements, title_span, ArgValue, Argument, Item, ItemKind, Statement};

@@ -1,0 +1,276 @@
+//! The model reader: from the statements of an `.adm` dataset to a [`Model`] (spec §1–§2,
+//! §4, §7, §8). A first pass collects the ids every statement kind defines (duplicates are
+//! `E0603`), so references may point forward and expressions can be checked against the
+//! whole dataset; then MARKER, PART and JOINT statements are read (later statements look
+//! their parts and kinds up), then everything else in file order. Each statement kind has
+//! its reader in `read_*`, with the shared checks of marker references and expressions in
+//! `resolve`; this module holds the passes and the whole-model checks (one GROUND).
+//!
+//! Statements and arguments outside the subset are warnings (`W0602`), never dropped
+//! silently; errors point into the file. The model is built as far as the errors allow:
+//! it is meant for the multibody core only when the read has no errors.
+
+use super::elements::{Id, Model};
+use super::scope::ModelScope;
+use super::statement::{read_statements, title_span, Statement};
+use super::stmt_args::{statement_label, Args};
+use super::{read_bodies, read_data, read_links};
+use crate::check::Expect;
+use crate::diag::{has_errors, Code, Diagnostic};
+use std::collections::{BTreeMap, HashMap};
+
+/// What [`read_model`] returns: the model and every diagnostic, in file order.
+#[derive(Debug)]
+pub struct ModelRead {
+    pub model: Model,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl ModelRead {
+    /// True when the dataset has errors: the model is then incomplete.
+    pub fn has_errors(&self) -> bool {
+        has_errors(&self.diagnostics)
+    }
+}
+
+/// Reads a dataset text (already decoded, see [`super::decode`]) into a [`Model`].
+pub fn read_model(text: &str) -> ModelRead {
+    let (stmts, diags) = read_statements(text);
+    let mut r = Reader {
+        text,
+        model: Model::default(),
+        scope: ModelScope::default(),
+        diags,
+        markers: HashMap::new(),
+        unsupported: BTreeMap::new(),
+        singletons: HashMap::new(),
+    };
+    r.model.title = text[title_span(text)].trim().to_string();
+    let keep = r.collect_ids(&stmts);
+    let kept: Vec<&Statement> = stmts
+        .iter()
+        .zip(&keep)
+        .filter_map(|(s, k)| k.then_some(s))
+        .collect();
+    for phase in [Some("MARKER"), Some("PART"), Some("JOINT"), None] {
+        for stmt in &kept {
+            let first = matches!(stmt.canonical, Some("MARKER" | "PART" | "JOINT"));
+            if phase.map_or(!first, |p| stmt.canonical == Some(p)) {
+                r.statement(stmt);
+            }
+        }
+    }
+    r.finish()
+}
+
+/// The state of one read.
+pub(super) struct Reader<'a> {
+    pub text: &'a str,
+    pub model: Model,
+    pub scope: ModelScope,
+    pub diags: Vec<Diagnostic>,
+    /// Index in `model.markers` of each marker id.
+    pub(super) markers: HashMap<Id, usize>,
+    /// Statements outside the subset, per keyword.
+    unsupported: BTreeMap<&'static str, Vec<&'a Statement>>,
+    /// The first UNITS and ACCGRAV statement.
+    singletons: HashMap<&'static str, &'a Statement>,
+}
+
+/// Markers not on a rigid PART (spec §2.3): arguments that put a marker elsewhere.
+const FOREIGN_MARKER_ARGUMENTS: &[&str] =
+    &["FLEX_BODY", "POINT_MASS", "FE_PART", "NODE_ID", "CURVE"];
+
+impl<'a> Reader<'a> {
+    /// First pass: the ids of every statement kind; returns which statements to read
+    /// (duplicates and statements without their id are left out).
+    fn collect_ids(&mut self, stmts: &'a [Statement]) -> Vec<bool> {
+        let mut first: HashMap<(&str, i64), &Statement> = HashMap::new();
+        let mut keep = vec![true; stmts.len()];
+        for (k, s) in stmts.iter().enumerate() {
+            let Some(kind) = s.canonical else {
+                keep[k] = false;
+                continue;
+            };
+            let needs_id = matches!(
+                super::keywords::lookup_statement(kind),
+                super::keywords::Lookup::Known(sk) if sk.has_id
+            );
+            let Some(id) = s.id else {
+                keep[k] = !needs_id;
+                continue;
+            };
+            if Id::try_from(id).is_err() {
+                self.diags.push(Diagnostic::error(
+                    Code::BadArgument,
+                    s.id_span.clone().unwrap_or(s.keyword_span.clone()),
+                    format!("{kind}/{id}: ids go up to {}", Id::MAX),
+                ));
+                keep[k] = false;
+                continue;
+            }
+            if let Some(prev) = first.get(&(kind, id)) {
+                self.diags.push(
+                    Diagnostic::error(
+                        Code::DuplicateId,
+                        s.id_span.clone().unwrap_or(s.keyword_span.clone()),
+                        format!("{kind}/{id} is defined twice"),
+                    )
+                    .with_label(prev.keyword_span.clone(), "first defined here")
+                    .with_help("ids are unique per statement kind; this statement is ignored"),
+                );
+                keep[k] = false;
+                continue;
+            }
+            first.insert((kind, id), s);
+            let foreign = kind == "MARKER"
+                && s.args.iter().any(|a| {
+                    FOREIGN_MARKER_ARGUMENTS
+                        .iter()
+                        .any(|f| super::keywords::abbreviates(&a.name, f, 4))
+                });
+            if foreign {
+                self.diags.push(Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    s.keyword_span.clone(),
+                    format!(
+                        "{} (line {}) is not on a rigid PART; mbfx does not model it",
+                        statement_label(s),
+                        s.line
+                    ),
+                ));
+                keep[k] = false;
+                continue;
+            }
+            self.scope.ids.entry(kind).or_default().insert(id);
+            if s.args.iter().any(|a| a.is_user_call) {
+                self.scope.user.insert((kind, id));
+            }
+            // A SPLINE read from a file is warned about and left out of the model.
+            if kind == "SPLINE" && s.arg("FILE", 3).is_none() {
+                let surface = s.arg("Z", 1).is_some();
+                self.scope.splines.push((id, surface));
+            }
+        }
+        keep
+    }
+
+    fn statement(&mut self, stmt: &'a Statement) {
+        if let Some(kind @ ("UNITS" | "ACCGRAV")) = stmt.canonical {
+            if let Some(first) = self.singletons.insert(kind, stmt) {
+                self.diags.push(
+                    Diagnostic::warning(
+                        Code::UnsupportedStatement,
+                        stmt.keyword_span.clone(),
+                        format!("{kind} is given again; this one replaces the first"),
+                    )
+                    .with_label(first.keyword_span.clone(), "first given here"),
+                );
+            }
+        }
+        let mut a = Args::new(stmt);
+        match stmt.canonical.unwrap_or("") {
+            "UNITS" => read_bodies::units(self, &mut a),
+            "ACCGRAV" => read_bodies::accgrav(self, &mut a),
+            "PART" => read_bodies::part(self, &mut a),
+            "MARKER" => read_bodies::marker(self, &mut a),
+            "JOINT" => read_links::joint(self, &mut a),
+            "JPRIM" => read_links::jprim(self, &mut a),
+            "GCON" => read_links::gcon(self, &mut a),
+            "MOTION" => read_links::motion(self, &mut a),
+            "SFORCE" => read_links::sforce(self, &mut a),
+            "VFORCE" | "VTORQUE" | "GFORCE" => read_links::vector_force(self, &mut a),
+            "SPRINGDAMPER" => read_links::spring_damper(self, &mut a),
+            "BUSHING" => read_links::bushing(self, &mut a),
+            "VARIABLE" => read_data::variable(self, &mut a),
+            "SPLINE" => read_data::spline(self, &mut a),
+            "ARRAY" => read_data::array(self, &mut a),
+            "REQUEST" => read_data::request(self, &mut a),
+            "OUTPUT" | "RESULTS" | "INTEGRATOR" | "EQUILIBRIUM" | "KINEMATICS" | "IC" => {
+                read_data::setting(self, &mut a)
+            }
+            "END" => {}
+            _ => {
+                if let Some(kind) = stmt.canonical {
+                    self.unsupported.entry(kind).or_default().push(stmt);
+                }
+                self.check_only(&mut a);
+            }
+        }
+        let found = a.finish();
+        self.diags.extend(found);
+    }
+
+    /// Checks the expressions of a statement outside the subset against the model, so
+    /// their errors are reported, without adding measure slots; marks every argument used
+    /// (the statement as a whole is reported).
+    fn check_only(&mut self, a: &mut Args) {
+        self.scope.check_only.set(true);
+        for arg in &a.stmt.args {
+            if arg.expr_span().is_some() {
+                let _ = self.expr(a, &arg.name, arg.name.len(), Expect::Any);
+            } else {
+                a.find(&arg.name, arg.name.len());
+            }
+        }
+        self.scope.check_only.set(false);
+    }
+
+    /// Whole-model checks, the unsupported-statement summary, and the measure slots.
+    fn finish(mut self) -> ModelRead {
+        let grounds: Vec<_> = self.model.parts.iter().filter(|p| p.ground).collect();
+        match grounds.as_slice() {
+            [] => self.diags.push(
+                Diagnostic::error(
+                    Code::Topology,
+                    title_span(self.text),
+                    "the dataset has no GROUND part",
+                )
+                .with_help("add PART/id, GROUND"),
+            ),
+            [_] => {}
+            [first, rest @ ..] => {
+                for p in rest {
+                    self.diags.push(
+                        Diagnostic::error(
+                            Code::Topology,
+                            p.el.span.clone(),
+                            format!("PART/{} is a second GROUND part", p.el.id),
+                        )
+                        .with_label(first.el.span.clone(), "first GROUND"),
+                    );
+                }
+            }
+        }
+        for (kind, stmts) in std::mem::take(&mut self.unsupported) {
+            let listed: Vec<String> = stmts
+                .iter()
+                .take(8)
+                .map(|s| format!("{} (line {})", statement_label(s), s.line))
+                .collect();
+            let more = stmts.len().saturating_sub(listed.len());
+            let mut note = listed.join(", ");
+            if more > 0 {
+                note.push_str(&format!(" and {more} more"));
+            }
+            self.diags.push(
+                Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    stmts[0].keyword_span.clone(),
+                    format!(
+                        "{kind} is outside the mbfx subset: {} statement{} ignored",
+                        stmts.len(),
+                        if stmts.len() == 1 { "" } else { "s" }
+                    ),
+                )
+                .with_note(note),
+            );
+        }
+        self.model.measures = self.scope.into_slots();
+        self.diags.sort_by_key(|d| d.span.start);
+        ModelRead {
+            model: self.model,
+            diagnostics: self.diags,
+        }
+    }
+}
