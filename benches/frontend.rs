@@ -9,7 +9,7 @@
 
 use criterion::{Criterion, Throughput};
 use mbfx::check::{compile, EveryIdExists, Expect};
-use mbfx::syntax::parser::parse;
+use mbfx::syntax::parser::Session;
 use std::hint::black_box;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -35,8 +35,10 @@ fn corpus(file: &str) -> Vec<String> {
 }
 
 fn parse_all(exprs: &[String]) {
+    let mut session = Session::new();
     for e in exprs {
-        black_box(parse(black_box(e)));
+        let parsed = session.parse(black_box(e), true);
+        black_box((parsed.root, parsed.diagnostics));
     }
 }
 

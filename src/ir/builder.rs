@@ -58,6 +58,22 @@ impl Builder {
         }
     }
 
+    /// Starts a new function, keeping the buffers of the last one (a caller building many
+    /// functions allocates only for what each function keeps).
+    pub fn clear(&mut self) {
+        self.f.insts.clear();
+        self.f.spans.clear();
+        self.f.outputs.clear();
+        self.consts.clear();
+        self.shared.clear();
+        self.added.clear();
+        self.lists.truncate(1);
+        self.lists.iter_mut().for_each(Vec::clear);
+        if self.lists.is_empty() {
+            self.lists.push(Vec::new());
+        }
+    }
+
     fn push(&mut self, inst: Inst, span: Span) -> Value {
         let v = self.f.insts.len() as Value;
         self.f.insts.push(inst);
@@ -224,12 +240,21 @@ impl Builder {
         v
     }
 
-    /// Finishes the function with its outputs.
-    pub fn finish(mut self, outputs: Vec<Value>) -> Function {
-        self.f.body = self.lists.pop().unwrap_or_default();
-        self.f.outputs = outputs;
-        self.f.uses = collect_uses(&self.f);
-        self.f
+    /// Finishes the function with its outputs. The function gets buffers of its own, of
+    /// exactly its size; the builder keeps its buffers for the next function ([`clear`]).
+    ///
+    /// [`clear`]: Builder::clear
+    pub fn finish(&mut self, outputs: &[Value]) -> Function {
+        let mut f = Function {
+            insts: self.f.insts.drain(..).collect(),
+            spans: self.f.spans.clone(),
+            body: self.lists.first().cloned().unwrap_or_default(),
+            outputs: outputs.to_vec(),
+            uses: Uses::default(),
+        };
+        f.uses = collect_uses(&f);
+        self.clear();
+        f
     }
 }
 

@@ -132,15 +132,39 @@ fn is_word_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b == b'.'
 }
 
+impl Lexed {
+    /// Empty buffers, for [`lex_into`] to fill.
+    pub fn new() -> Self {
+        Lexed {
+            tokens: Vec::new(),
+            names: Names::default(),
+            diagnostics: Vec::new(),
+            aborted: false,
+        }
+    }
+}
+
+impl Default for Lexed {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// Lexes `src`. Never fails: problems become diagnostics plus [`Tok::Invalid`].
 pub fn lex(src: &str) -> Lexed {
+    let mut out = Lexed::new();
+    lex_into(src, &mut out);
+    out
+}
+
+/// Lexes `src` into `out`, replacing what it held but keeping its buffers, so a caller
+/// that lexes many expressions allocates only while its buffers grow.
+pub fn lex_into(src: &str, out: &mut Lexed) {
     let bytes = src.as_bytes();
-    let mut out = Lexed {
-        tokens: Vec::with_capacity(src.len() / 3 + 1),
-        names: Names::with_capacity(src.len()),
-        diagnostics: Vec::new(),
-        aborted: false,
-    };
+    out.tokens.clear();
+    out.names.clear();
+    out.diagnostics.clear();
+    out.aborted = false;
     let mut raw = Raw::lexer(src);
     let mut depth = 0usize;
     // End of the last token that was not a blank: decides "directly followed by".
@@ -297,7 +321,7 @@ pub fn lex(src: &str) -> Lexed {
                         .with_help("split the expression, e.g. into VARIABLE statements"),
                     );
                     out.aborted = true;
-                    return out;
+                    return;
                 }
                 if kind == Raw::LParen {
                     Tok::LParen
@@ -347,7 +371,6 @@ pub fn lex(src: &str) -> Lexed {
         blank_since = None;
         out.tokens.push((start, tok, end));
     }
-    out
 }
 
 /// True when `rest` (text after a name) is blanks, a continuation join, blanks, then `(`:
