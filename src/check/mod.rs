@@ -107,6 +107,7 @@ impl Session {
             diags,
             ifs: &mut self.ifs,
             if_limit_reported: false,
+            level: 0,
             ids: &mut self.ids,
             spans: &mut self.spans,
         };
@@ -160,6 +161,8 @@ struct Checker<'a> {
     /// Spans of the IFs enclosing the node being checked, outermost first.
     ifs: &'a mut Vec<Span>,
     if_limit_reported: bool,
+    /// Recursion depth of [`Checker::expr`].
+    level: u32,
     /// Scratch for the ID arguments of a measure and their spans.
     ids: &'a mut Vec<i64>,
     spans: &'a mut Vec<Span>,
@@ -197,7 +200,10 @@ impl Checker<'_> {
     }
 
     fn expr(&mut self, id: NodeId) -> Option<Lowered> {
-        crate::stack::guard(|| self.expr_inner(id))
+        self.level += 1;
+        let lowered = crate::stack::every_few_levels(self.level, || self.expr_inner(id));
+        self.level -= 1;
+        lowered
     }
 
     fn expr_inner(&mut self, id: NodeId) -> Option<Lowered> {

@@ -281,8 +281,10 @@ impl Arith {
 /// What a finished function reads, walking only reachable instructions.
 fn collect_uses(f: &Function) -> Uses {
     let mut uses = Uses::default();
-    let mut stack: Vec<&[Value]> = vec![&f.body];
-    while let Some(list) = stack.pop() {
+    // Arms of IFs still to walk; most functions have none, so this rarely allocates.
+    let mut stack: Vec<&[Value]> = Vec::new();
+    let mut next: Option<&[Value]> = Some(&f.body);
+    while let Some(list) = next {
         for &v in list {
             match f.inst(v) {
                 Inst::Time => uses.time = true,
@@ -294,6 +296,7 @@ fn collect_uses(f: &Function) -> Uses {
                 _ => {}
             }
         }
+        next = stack.pop();
     }
     for list in [&mut uses.vars, &mut uses.measures, &mut uses.splines] {
         list.sort_unstable();

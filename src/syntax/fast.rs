@@ -17,19 +17,20 @@ use crate::syntax::lexer::Tok;
 pub struct Reject;
 
 /// A parsed subexpression: its node, and the bounds of the tokens it spans (which for a
-/// bracketed operand include the brackets, as the grammar's `@L`/`@R` do).
+/// bracketed operand include the brackets, as the grammar's `@L`/`@R` do). Small enough
+/// to be returned in registers.
 #[derive(Clone, Copy)]
 struct Sub {
     id: NodeId,
-    start: usize,
-    end: usize,
+    start: u32,
+    end: u32,
 }
 
 /// A pending prefix of a unary chain: a sign, or the base of a `**`.
 #[derive(Clone, Copy)]
 pub enum Frame {
-    Sign(UnOp, usize),
-    PowBase(NodeId, usize),
+    Sign(UnOp, u32),
+    PowBase(NodeId, u32),
 }
 
 /// Parses `tokens` (which hold no [`Tok::Invalid`] or [`Tok::Relational`]: the lexer
@@ -46,6 +47,7 @@ pub fn parse(
         pos: 0,
         b,
         frames,
+        depth: 0,
     };
     let root = p.expr()?;
     if p.pos == tokens.len() {
@@ -60,6 +62,8 @@ struct Parser<'t, 'b> {
     pos: usize,
     b: &'b mut Builder,
     frames: &'b mut Vec<Frame>,
+    /// Bracket nesting at the current position.
+    depth: u32,
 }
 
 impl Parser<'_, '_> {
@@ -119,7 +123,9 @@ impl Parser<'_, '_> {
 
     fn binary(&mut self, op: BinOp, a: Sub, c: Sub) -> Sub {
         Sub {
-            id: self.b.binary(op, a.id, c.id, a.start, c.end),
+            id: self
+                .b
+                .binary(op, a.id, c.id, a.start as usize, c.end as usize),
             start: a.start,
             end: c.end,
         }
@@ -137,7 +143,7 @@ impl Parser<'_, '_> {
                     Tok::Plus => UnOp::Plus,
                     _ => break,
                 };
-                self.frames.push(Frame::Sign(op, start));
+                self.frames.push(Frame::Sign(op, start as u32));
                 self.pos += 1;
             }
             let p = self.primary()?;
@@ -155,12 +161,14 @@ impl Parser<'_, '_> {
             };
             sub = match frame {
                 Frame::Sign(op, start) => Sub {
-                    id: self.b.unary(op, sub.id, start, end),
+                    id: self.b.unary(op, sub.id, start as usize, end as usize),
                     start,
                     end,
                 },
                 Frame::PowBase(id, start) => Sub {
-                    id: self.b.binary(BinOp::Pow, id, sub.id, start, end),
+                    id: self
+                        .b
+                        .binary(BinOp::Pow, id, sub.id, start as usize, end as usize),
                     start,
                     end,
                 },
@@ -172,7 +180,10 @@ impl Parser<'_, '_> {
     /// An expression inside brackets: the one place the parser recurses (the lexer
     /// bounds bracket depth), on a stack that grows on demand.
     fn nested(&mut self) -> Result<Sub, Reject> {
-        crate::stack::guard(|| self.expr())
+        self.depth += 1;
+        let sub = crate::stack::every_few_levels(self.depth, || self.expr());
+        self.depth -= 1;
+        sub
     }
 
     /// `Primary`: a number, a name, a call, an IF, a bracketed expression or a vector.
@@ -220,7 +231,12 @@ impl Parser<'_, '_> {
             }
             _ => return Err(Reject),
         };
-        Ok(Sub { id, start, end })
+        // Positions fit in u32: the tree stores them so.
+        Ok(Sub {
+            id,
+            start: start as u32,
+            end: end as u32,
+        })
     }
 
     /// `N` expressions separated by commas and closed by `close`.

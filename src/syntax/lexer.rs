@@ -119,14 +119,37 @@ pub fn number_value(text: &str) -> f64 {
 }
 
 fn parse_digits(text: &str) -> f64 {
-    // Integers of up to 15 digits (IDs, most constants) are exact in an f64, so they skip
-    // the general decimal parser.
-    if text.len() <= 15 && text.bytes().all(|b| b.is_ascii_digit()) {
-        return text.bytes().fold(0u64, |n, b| n * 10 + u64::from(b - b'0')) as f64;
+    // Plain decimals of up to 15 digits (IDs, most constants) skip the general parser:
+    // the digits as an integer are exact in an f64, and so is 10^k for k <= 15, so one
+    // IEEE division gives the correctly rounded value (Clinger's fast path).
+    if text.len() <= 16 {
+        let (mut digits, mut mantissa, mut point) = (0, 0u64, None);
+        for (i, b) in text.bytes().enumerate() {
+            match b {
+                b'0'..=b'9' => {
+                    mantissa = mantissa * 10 + u64::from(b - b'0');
+                    digits += 1;
+                }
+                b'.' if point.is_none() => point = Some(i),
+                _ => {
+                    digits = usize::MAX;
+                    break;
+                }
+            }
+        }
+        if digits <= 15 {
+            let scale = point.map_or(0, |p| text.len() - 1 - p);
+            return mantissa as f64 / POWERS_OF_TEN[scale];
+        }
     }
     // The regex admits only forms Rust's parser accepts ("1.", ".5", "1.E2" included).
     text.parse().unwrap_or(f64::NAN)
 }
+
+/// 10^0 to 10^15, each exact in an f64.
+const POWERS_OF_TEN: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
 
 fn is_word_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b == b'.'
@@ -384,5 +407,23 @@ fn continued_paren(rest: &str) -> bool {
             .strip_prefix(',')
             .is_some_and(|r| r.trim_start_matches([' ', '\t']).starts_with('(')),
         None => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number_value;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The short-decimal fast path gives the bits of Rust's correctly rounded parser.
+        #[test]
+        fn short_decimals_parse_exactly(int in 0u64..100_000_000, frac in 0u64..10_000_000, places in 0usize..8) {
+            let frac = format!("{frac:07}");
+            for text in [format!("{int}.{}", &frac[..places]), format!(".{}", &frac[..places.max(1)]), int.to_string()] {
+                let want: f64 = text.parse().expect("valid decimal");
+                prop_assert_eq!(number_value(&text).to_bits(), want.to_bits(), "{}", text);
+            }
+        }
     }
 }
