@@ -668,3 +668,28 @@ fn arity_error(b: &Builtin, found: usize, span: Span) -> Diagnostic {
     )
     .with_help(format!("signature: {}", b.signature()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scope that compiles an expression of its own while answering, as a host that
+    /// defines variables by expressions might.
+    struct Reentrant;
+
+    impl Scope for Reentrant {
+        fn variable(&self, name: &str) -> Option<u32> {
+            let inner = compile("2*PI", &Variables::new(), Expect::Scalar).ok()?;
+            (name == "X" && inner.function.outputs.len() == 1).then_some(0)
+        }
+    }
+
+    #[test]
+    fn compile_may_be_called_from_inside_compile() {
+        let checked = compile("X + 1", &Reentrant, Expect::Scalar).expect("checks");
+        assert_eq!(checked.function.uses.vars, [0]);
+        // The thread's session is usable again afterwards.
+        assert!(compile("SIN(", &Variables::new(), Expect::Scalar).is_err());
+        assert!(compile("COS(0)", &Variables::new(), Expect::Scalar).is_ok());
+    }
+}
