@@ -245,9 +245,15 @@ impl Builder {
     ///
     /// [`clear`]: Builder::clear
     pub fn finish(&mut self, outputs: &[Value]) -> Function {
+        /// Moves the elements into a vector of exactly their number (one copy, no growth).
+        fn exact<T>(from: &mut Vec<T>) -> Vec<T> {
+            let mut to = Vec::with_capacity(from.len());
+            to.append(from);
+            to
+        }
         let mut f = Function {
-            insts: self.f.insts.drain(..).collect(),
-            spans: self.f.spans.clone(),
+            insts: exact(&mut self.f.insts),
+            spans: exact(&mut self.f.spans),
             body: self.lists.first().cloned().unwrap_or_default(),
             outputs: outputs.to_vec(),
             uses: Uses::default(),
