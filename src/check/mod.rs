@@ -54,11 +54,12 @@ pub fn compile(src: &str, scope: &dyn Scope, expect: Expect) -> Result<Checked, 
             // A scope that compiles from inside `compile`: a session of its own.
             return Session::default().compile(src, scope, expect);
         };
-        let result = session.compile(src, scope, expect);
-        // Buffers sized for an unusually large expression are not kept.
-        if src.len() > LARGE_SOURCE {
-            *session = Session::default();
+        if src.len() <= LARGE_SOURCE {
+            return session.compile(src, scope, expect);
         }
+        // Buffers sized for an unusually large expression are not kept.
+        let result = session.compile(src, scope, expect);
+        *session = Session::default();
         result
     })
 }
@@ -546,7 +547,8 @@ impl Checker<'_> {
         };
         let span = self.span(arg);
         let value = match &self.ast.node(arg).kind {
-            Kind::Num(v) if v.fract() == 0.0 && *v >= lo as f64 && *v <= hi as f64 => {
+            // In range first: then the integer test is an exact round trip through i64.
+            Kind::Num(v) if *v >= lo as f64 && *v <= hi as f64 && (*v as i64) as f64 == *v => {
                 Some(*v as i64)
             }
             _ => None,

@@ -121,8 +121,18 @@ pub fn number_value(text: &str) -> f64 {
 
 fn parse_digits(text: &str) -> f64 {
     // Integers of up to 15 digits (IDs, most constants) are exact in an f64.
-    if text.len() <= 15 && text.bytes().all(|b| b.is_ascii_digit()) {
-        return text.bytes().fold(0u64, |n, b| n * 10 + u64::from(b - b'0')) as f64;
+    if text.len() <= 15 {
+        let mut n = 0u64;
+        for b in text.bytes() {
+            if !b.is_ascii_digit() {
+                n = u64::MAX;
+                break;
+            }
+            n = n * 10 + u64::from(b - b'0');
+        }
+        if n != u64::MAX {
+            return n as f64;
+        }
     }
     if let Some(v) = short_decimal(text) {
         return v;
