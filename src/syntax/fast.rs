@@ -6,8 +6,8 @@
 //! diagnostics come from the grammar alone. `tests/language/fast_parser.rs` checks the
 //! two parsers against each other on generated token sequences and on the whole corpus.
 //!
-//! Operator chains and signs are parsed in loops; only brackets recurse, and the lexer
-//! bounds their depth.
+//! Operator chains and signs are parsed in loops; besides one step from `+ -` to `* / %`,
+//! only brackets recurse, and the lexer bounds their depth.
 
 use crate::syntax::ast::{BinOp, Builder, NodeId, UnOp};
 use crate::syntax::lexer::Tok;
@@ -49,12 +49,28 @@ pub fn parse(
         frames,
         depth: 0,
     };
-    let root = p.expr()?;
+    let root = p.expr(EXPR)?;
     if p.pos == tokens.len() {
         Ok(root.id)
     } else {
         Err(Reject)
     }
+}
+
+/// Precedence levels of the binary operators: `+ -` (`Expr`), then `* / %` (`Term`).
+const EXPR: u8 = 1;
+const TERM: u8 = 2;
+
+/// The binary operator a token denotes, with its precedence level.
+fn binary_op(t: Tok) -> Option<(BinOp, u8)> {
+    Some(match t {
+        Tok::Plus => (BinOp::Add, EXPR),
+        Tok::Minus => (BinOp::Sub, EXPR),
+        Tok::Star => (BinOp::Mul, TERM),
+        Tok::Slash => (BinOp::Div, TERM),
+        Tok::Percent => (BinOp::Cross, TERM),
+        _ => return None,
+    })
 }
 
 struct Parser<'t, 'b> {
@@ -86,36 +102,22 @@ impl Parser<'_, '_> {
         }
     }
 
-    /// `Expr: Expr ("+" | "-") Term | Term`.
-    fn expr(&mut self) -> Result<Sub, Reject> {
-        self.chain(Self::term, |t| match t {
-            Tok::Plus => Some(BinOp::Add),
-            Tok::Minus => Some(BinOp::Sub),
-            _ => None,
-        })
-    }
-
-    /// `Term: Term ("*" | "/" | "%") Unary | Unary`.
-    fn term(&mut self) -> Result<Sub, Reject> {
-        self.chain(Self::unary, |t| match t {
-            Tok::Star => Some(BinOp::Mul),
-            Tok::Slash => Some(BinOp::Div),
-            Tok::Percent => Some(BinOp::Cross),
-            _ => None,
-        })
-    }
-
-    /// A left-associative chain of `operand`s joined by the operators `op` recognises.
-    #[inline(always)]
-    fn chain(
-        &mut self,
-        operand: fn(&mut Self) -> Result<Sub, Reject>,
-        op: fn(Tok) -> Option<BinOp>,
-    ) -> Result<Sub, Reject> {
-        let mut a = operand(self)?;
-        while let Some(op) = self.peek().and_then(op) {
+    /// `Expr: Expr ("+" | "-") Term | Term` and `Term: Term ("*" | "/" | "%") Unary | Unary`
+    /// by precedence climbing: the operands of this level's operators are parsed at the
+    /// next level up, so left-associative chains are loops and operands at the level of
+    /// `min` or above build their nodes in the order the grammar reduces them.
+    fn expr(&mut self, min: u8) -> Result<Sub, Reject> {
+        let mut a = self.unary()?;
+        while let Some((op, level)) = self.peek().and_then(binary_op) {
+            if level < min {
+                break;
+            }
             self.pos += 1;
-            let c = operand(self)?;
+            let c = if level == TERM {
+                self.unary()?
+            } else {
+                self.expr(TERM)?
+            };
             a = self.binary(op, a, c);
         }
         Ok(a)
@@ -181,7 +183,7 @@ impl Parser<'_, '_> {
     /// bounds bracket depth), on a stack that grows on demand.
     fn nested(&mut self) -> Result<Sub, Reject> {
         self.depth += 1;
-        let sub = crate::stack::every_few_levels(self.depth, || self.expr());
+        let sub = crate::stack::every_few_levels(self.depth, || self.expr(EXPR));
         self.depth -= 1;
         sub
     }
