@@ -545,7 +545,6 @@ impl Checker<'_> {
             Param::Code(lo, hi) => (lo, hi, "an integer code"),
             _ => (0, i64::from(i32::MAX), "an ID (a non-negative integer)"),
         };
-        let span = self.span(arg);
         let value = match &self.ast.node(arg).kind {
             // In range first: then the integer test is an exact round trip through i64.
             Kind::Num(v) if *v >= lo as f64 && *v <= hi as f64 && (*v as i64) as f64 == *v => {
@@ -554,6 +553,7 @@ impl Checker<'_> {
             _ => None,
         };
         if value.is_none() {
+            let span = self.span(arg);
             let range = if hi == i64::MAX {
                 format!("at least {lo}")
             } else {
