@@ -318,8 +318,8 @@ pub fn lex_into(src: &str, out: &mut Lexed) {
                 Tok::Num(number_value(&src[start..end]))
             }
             Raw::Name => {
-                let idx = out.names.push(&src[start..end]);
-                let upper = out.names.get(idx);
+                let text = &src[start..end];
+                let idx = out.names.push(text);
                 // A name directly followed by `(` is a call; with a blank in between it is
                 // an error for a known function (spec §1.4), a missing operator otherwise.
                 let rest = &src[end..];
@@ -329,18 +329,23 @@ pub fn lex_into(src: &str, out: &mut Lexed) {
                     && matches!(rest.as_bytes().first(), Some(b' ' | b'\t' | b'\r' | b'\n'))
                     && (rest.trim_start_matches([' ', '\t']).starts_with('(')
                         || continued_paren(rest));
-                if spaced && crate::check::builtins::is_callable(upper) {
-                    out.diagnostics.push(
-                        Diagnostic::error(
-                            Code::BlankBeforeParen,
-                            start..end + (rest.len() - rest.trim_start().len()),
-                            format!("blank between function name `{upper}` and `(`"),
-                        )
-                        .with_help(format!("write `{upper}(` with no blank")),
-                    );
-                }
-                let call = direct || (spaced && crate::check::builtins::is_callable(upper));
-                if call && upper == "IF" {
+                let spaced_call = spaced && {
+                    let upper = out.names.get(idx);
+                    let callable = crate::check::builtins::is_callable(upper);
+                    if callable {
+                        out.diagnostics.push(
+                            Diagnostic::error(
+                                Code::BlankBeforeParen,
+                                start..end + (rest.len() - rest.trim_start().len()),
+                                format!("blank between function name `{upper}` and `(`"),
+                            )
+                            .with_help(format!("write `{upper}(` with no blank")),
+                        );
+                    }
+                    callable
+                };
+                let call = direct || spaced_call;
+                if call && text.eq_ignore_ascii_case("IF") {
                     Tok::If
                 } else if call {
                     Tok::Call(idx)
