@@ -16,8 +16,9 @@ pub fn guard<R>(f: impl FnOnce() -> R) -> R {
 }
 
 /// Levels of recursion between two stack checks of [`every_few_levels`]; each level of
-/// the recursive passes takes well under `RED_ZONE / LEVELS_PER_CHECK` (4 KiB) of stack.
-const LEVELS_PER_CHECK: u32 = 16;
+/// the recursive passes takes well under `RED_ZONE / LEVELS_PER_CHECK` (8 KiB) of stack,
+/// even unoptimised.
+const LEVELS_PER_CHECK: u32 = 8;
 
 /// Runs `f` at recursion level `level`, checking the stack (as [`guard`] does) only at
 /// every [`LEVELS_PER_CHECK`]th level.
