@@ -6,6 +6,8 @@
 //! the "did you mean" hints.
 
 use crate::ir::func::Func;
+use rustc_hash::FxHashMap;
+use std::sync::OnceLock;
 
 /// What kind of argument a parameter takes (spec §2.5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -324,12 +326,15 @@ pub static BUILTINS: &[Builtin] = &[
     m("YAW", ID2, 1, Sc, P, "YAW(i[,j]): yaw of the body-fixed 3-2-1 sequence of i relative to j"),
 ];
 
-/// Looks a name up (names are upper case; the lexer normalises them).
+/// Looks a name up (names are upper case; the lexer normalises them). The checker looks
+/// up every name it meets, so this is a hash table built on first use rather than a
+/// binary search of string comparisons.
 pub fn lookup(name: &str) -> Option<&'static Builtin> {
-    BUILTINS
-        .binary_search_by(|b| b.name.cmp(name))
-        .ok()
-        .map(|i| &BUILTINS[i])
+    static INDEX: OnceLock<FxHashMap<&'static str, &'static Builtin>> = OnceLock::new();
+    INDEX
+        .get_or_init(|| BUILTINS.iter().map(|b| (b.name, b)).collect())
+        .get(name)
+        .copied()
 }
 
 /// True when `name` (upper case) is a function or measure written with `(`.

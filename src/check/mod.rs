@@ -19,6 +19,7 @@ use crate::syntax::ast::{Ast, BinOp, Kind, NodeId, UnOp};
 use crate::syntax::parser;
 use builtins::{Builtin, Param, Role};
 pub use scope::{EveryIdExists, MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
+use std::cell::RefCell;
 
 /// Deepest nesting of arithmetic IFs (decision 2).
 pub const MAX_IF_NESTING: usize = 9;
@@ -42,53 +43,108 @@ pub struct Checked {
 }
 
 /// Parses, checks and lowers `src`. On error, returns every diagnostic found (errors
-/// and warnings).
+/// and warnings). Runs in this thread's [`Session`], so that compiling many expressions
+/// reuses the front end's buffers.
 pub fn compile(src: &str, scope: &dyn Scope, expect: Expect) -> Result<Checked, Vec<Diagnostic>> {
-    let parsed = parser::parse(src);
-    let mut diags = parsed.diagnostics;
-    let root = match parsed.root {
-        Some(r) if !has_errors(&diags) => r,
-        _ => return Err(diags),
-    };
-    let mut c = Checker {
-        ast: &parsed.ast,
-        scope,
-        b: Builder::new(),
-        diags: Vec::new(),
-        ifs: Vec::new(),
-        if_limit_reported: false,
-    };
-    let lowered = c.expr(root);
-    diags.append(&mut c.diags);
-    let outputs = match (lowered, expect) {
-        (Some(Lowered::S(v)), Expect::Scalar | Expect::Any) => vec![v],
-        (Some(Lowered::V(v)), Expect::Vector | Expect::Any) => v.to_vec(),
-        (Some(l), _) => {
-            let (want, got) = if matches!(l, Lowered::S(_)) {
-                ("a vector", "a scalar")
-            } else {
-                ("a scalar", "a vector")
-            };
-            diags.push(
-                Diagnostic::error(
-                    Code::Type,
-                    parsed.ast.node(root).span(),
-                    format!("the expression must be {want}, but this is {got}"),
-                )
-                .with_help("only FXYZ= and TXYZ= take vector expressions"),
-            );
-            Vec::new()
-        }
-        (None, _) => Vec::new(),
-    };
-    if has_errors(&diags) || outputs.is_empty() {
-        crate::diag::cap(&mut diags);
-        return Err(diags);
+    thread_local! {
+        static SESSION: RefCell<Session> = RefCell::default();
     }
-    Ok(Checked {
-        function: c.b.finish(outputs),
-        warnings: diags,
+    SESSION.with(|cell| {
+        let Ok(mut session) = cell.try_borrow_mut() else {
+            // A scope that compiles from inside `compile`: a session of its own.
+            return Session::default().compile(src, scope, expect);
+        };
+        if src.len() <= LARGE_SOURCE {
+            return session.compile(src, scope, expect);
+        }
+        // Buffers sized for an unusually large expression are not kept.
+        let result = session.compile(src, scope, expect);
+        *session = Session::default();
+        result
     })
+}
+
+/// Source length above which [`compile`] frees its session's buffers after use.
+const LARGE_SOURCE: usize = 1 << 16;
+
+/// The buffers of parsing, checking and lowering (tokens, syntax tree, IR tables), kept
+/// between expressions: once they have grown, compiling allocates only for the diagnostics
+/// and the [`Function`] it returns.
+#[derive(Default)]
+pub struct Session {
+    parse: parser::Session,
+    ir: Builder,
+    ifs: Vec<Span>,
+    ids: Vec<i64>,
+    spans: Vec<Span>,
+    values: Vec<Value>,
+}
+
+impl Session {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Parses, checks and lowers `src` (see [`compile`]).
+    pub fn compile(
+        &mut self,
+        src: &str,
+        scope: &dyn Scope,
+        expect: Expect,
+    ) -> Result<Checked, Vec<Diagnostic>> {
+        let parsed = self.parse.parse(src, true);
+        let mut diags = parsed.diagnostics;
+        let root = match parsed.root {
+            Some(r) if !has_errors(&diags) => r,
+            _ => return Err(diags),
+        };
+        let ast: &Ast = parsed.ast;
+        self.ir.clear();
+        self.ifs.clear();
+        let mut c = Checker {
+            ast,
+            scope,
+            b: &mut self.ir,
+            diags,
+            ifs: &mut self.ifs,
+            if_limit_reported: false,
+            level: 0,
+            ids: &mut self.ids,
+            spans: &mut self.spans,
+        };
+        let lowered = c.expr(root);
+        diags = c.diags;
+        let outputs = &mut self.values;
+        outputs.clear();
+        match (lowered, expect) {
+            (Some(Lowered::S(v)), Expect::Scalar | Expect::Any) => outputs.push(v),
+            (Some(Lowered::V(v)), Expect::Vector | Expect::Any) => outputs.extend(v),
+            (Some(l), _) => {
+                let (want, got) = if matches!(l, Lowered::S(_)) {
+                    ("a vector", "a scalar")
+                } else {
+                    ("a scalar", "a vector")
+                };
+                diags.push(
+                    Diagnostic::error(
+                        Code::Type,
+                        ast.node(root).span(),
+                        format!("the expression must be {want}, but this is {got}"),
+                    )
+                    .with_help("only FXYZ= and TXYZ= take vector expressions"),
+                );
+            }
+            (None, _) => {}
+        }
+        if has_errors(&diags) || outputs.is_empty() {
+            crate::diag::cap(&mut diags);
+            return Err(diags);
+        }
+        Ok(Checked {
+            function: self.ir.finish(outputs),
+            warnings: diags,
+        })
+    }
 }
 
 /// A lowered subexpression: one scalar or three.
@@ -101,11 +157,16 @@ enum Lowered {
 struct Checker<'a> {
     ast: &'a Ast,
     scope: &'a dyn Scope,
-    b: Builder,
+    b: &'a mut Builder,
     diags: Vec<Diagnostic>,
     /// Spans of the IFs enclosing the node being checked, outermost first.
-    ifs: Vec<Span>,
+    ifs: &'a mut Vec<Span>,
     if_limit_reported: bool,
+    /// Recursion depth of [`Checker::expr`].
+    level: u32,
+    /// Scratch for the ID arguments of a measure and their spans.
+    ids: &'a mut Vec<i64>,
+    spans: &'a mut Vec<Span>,
 }
 
 impl Checker<'_> {
@@ -140,7 +201,10 @@ impl Checker<'_> {
     }
 
     fn expr(&mut self, id: NodeId) -> Option<Lowered> {
-        crate::stack::guard(|| self.expr_inner(id))
+        self.level += 1;
+        let lowered = crate::stack::every_few_levels(self.level, || self.expr_inner(id));
+        self.level -= 1;
+        lowered
     }
 
     fn expr_inner(&mut self, id: NodeId) -> Option<Lowered> {
@@ -217,13 +281,13 @@ impl Checker<'_> {
             return Some(self.b.var(slot, span));
         }
         let mut d = Diagnostic::error(Code::UnknownName, span, format!("unknown name `{name}`"));
-        let mut candidates: Vec<String> = builtins::BUILTINS
+        let variables = self.scope.variable_names();
+        let candidates = builtins::BUILTINS
             .iter()
             .filter(|b| !b.is_callable())
-            .map(|b| b.name.to_string())
-            .collect();
-        candidates.extend(self.scope.variable_names());
-        if let Some(s) = suggest::closest(name, candidates.iter().map(String::as_str)) {
+            .map(|b| b.name)
+            .chain(variables.iter().map(String::as_str));
+        if let Some(s) = suggest::closest(name, candidates) {
             d = d.with_help(format!("did you mean `{s}`?"));
         } else if name.starts_with('.') {
             d = d.with_note("Adams View names are resolved by the model that defines them");
@@ -431,13 +495,22 @@ impl Checker<'_> {
         match b.role {
             Role::Function(func) => {
                 let mut vals = Vec::with_capacity(args.len());
+                let mut ok = true;
                 for (i, &a) in args.iter().enumerate() {
-                    vals.push(self.scalar(a, || format!("argument {} of {name}", i + 1)));
+                    match self.scalar(a, || format!("argument {} of {name}", i + 1)) {
+                        Some(v) => vals.push(v),
+                        None => ok = false,
+                    }
                 }
-                let vals: Vec<Value> = vals.into_iter().collect::<Option<_>>()?;
-                let consts: Vec<Option<f64>> = vals.iter().map(|&v| self.b.get_const(v)).collect();
-                let spans: Vec<Span> = args.iter().map(|&a| self.span(a)).collect();
-                let problems = validate::constant_arguments(func, &consts, &spans, &span);
+                if !ok {
+                    return None;
+                }
+                let problems = validate::constant_arguments(
+                    func,
+                    |i| vals.get(i).and_then(|&v| self.b.get_const(v)),
+                    |i| args.get(i).map_or_else(|| span.clone(), |&a| self.span(a)),
+                    &span,
+                );
                 let failed = has_errors(&problems);
                 self.diags.extend(problems);
                 if failed {
@@ -472,14 +545,15 @@ impl Checker<'_> {
             Param::Code(lo, hi) => (lo, hi, "an integer code"),
             _ => (0, i64::from(i32::MAX), "an ID (a non-negative integer)"),
         };
-        let span = self.span(arg);
         let value = match &self.ast.node(arg).kind {
-            Kind::Num(v) if v.fract() == 0.0 && *v >= lo as f64 && *v <= hi as f64 => {
+            // In range first: then the integer test is an exact round trip through i64.
+            Kind::Num(v) if *v >= lo as f64 && *v <= hi as f64 && (*v as i64) as f64 == *v => {
                 Some(*v as i64)
             }
             _ => None,
         };
         if value.is_none() {
+            let span = self.span(arg);
             let range = if hi == i64::MAX {
                 format!("at least {lo}")
             } else {
@@ -545,17 +619,25 @@ impl Checker<'_> {
     }
 
     fn measure(&mut self, b: &'static Builtin, args: &[NodeId], span: Span) -> Option<Lowered> {
-        let ids: Vec<Option<i64>> = args
-            .iter()
-            .enumerate()
-            .map(|(i, &a)| self.integer_arg(b, i, a))
-            .collect();
-        let ids: Vec<i64> = ids.into_iter().collect::<Option<_>>()?;
-        let arg_spans: Vec<Span> = args.iter().map(|&a| self.span(a)).collect();
+        // Every argument is checked (and diagnosed) before any failure counts.
+        let mut ok = true;
+        self.ids.clear();
+        for (i, &a) in args.iter().enumerate() {
+            match self.integer_arg(b, i, a) {
+                Some(id) => self.ids.push(id),
+                None => ok = false,
+            }
+        }
+        if !ok {
+            return None;
+        }
+        self.spans.clear();
+        self.spans
+            .extend(args.iter().map(|&a| self.ast.node(a).span()));
         let call = MeasureCall {
             builtin: b,
-            ids: &ids,
-            arg_spans: &arg_spans,
+            ids: self.ids,
+            arg_spans: self.spans,
             span: span.clone(),
         };
         match self.scope.measure(&call) {
@@ -587,4 +669,29 @@ fn arity_error(b: &Builtin, found: usize, span: Span) -> Diagnostic {
         ),
     )
     .with_help(format!("signature: {}", b.signature()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scope that compiles an expression of its own while answering, as a host that
+    /// defines variables by expressions might.
+    struct Reentrant;
+
+    impl Scope for Reentrant {
+        fn variable(&self, name: &str) -> Option<u32> {
+            let inner = compile("2*PI", &Variables::new(), Expect::Scalar).ok()?;
+            (name == "X" && inner.function.outputs.len() == 1).then_some(0)
+        }
+    }
+
+    #[test]
+    fn compile_may_be_called_from_inside_compile() {
+        let checked = compile("X + 1", &Reentrant, Expect::Scalar).expect("checks");
+        assert_eq!(checked.function.uses.vars, [0]);
+        // The thread's session is usable again afterwards.
+        assert!(compile("SIN(", &Variables::new(), Expect::Scalar).is_err());
+        assert!(compile("COS(0)", &Variables::new(), Expect::Scalar).is_ok());
+    }
 }

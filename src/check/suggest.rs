@@ -21,6 +21,8 @@ fn distance(a: &str, b: &str) -> usize {
 pub fn closest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
     let limit = if name.len() <= 3 { 1 } else { 2 };
     candidates
+        // The distance is at least the difference in length.
+        .filter(|c| c.len().abs_diff(name.len()) <= limit)
         .map(|c| (distance(name, c), c))
         .filter(|&(d, _)| d <= limit)
         .min_by_key(|&(d, c)| (d, c.len()))

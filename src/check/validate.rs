@@ -9,20 +9,18 @@ use crate::ir::Func;
 /// (argument index, condition it must meet, what the condition says).
 type Bound = (usize, fn(f64) -> bool, &'static str);
 
-/// Diagnostics for the constant arguments of a call (`None` = not constant).
+/// Diagnostics for the constant arguments of a call: `arg(i)` is argument `i`'s value if
+/// it is a constant, `at(i)` its span. Allocates only to report a problem.
 pub fn constant_arguments(
     func: Func,
-    args: &[Option<f64>],
-    spans: &[Span],
+    arg: impl Fn(usize) -> Option<f64>,
+    at: impl Fn(usize) -> Span,
     call: &Span,
 ) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    let arg = |i: usize| args.get(i).copied().flatten();
-    let at = |i: usize| spans.get(i).cloned().unwrap_or_else(|| call.clone());
-    let name = format!("{func:?}").to_ascii_uppercase();
+    let name = || format!("{func:?}").to_ascii_uppercase();
     // (argument index, condition, what it must be) for the simple sign conditions.
-    let mut bounds: Vec<Bound> = Vec::new();
-    match func {
+    let bounds: &[Bound] = match func {
         Func::Step | Func::Step5 | Func::Havsin => {
             if let (Some(x0), Some(x1)) = (arg(1), arg(3)) {
                 if x0 >= x1 {
@@ -35,7 +33,7 @@ pub fn constant_arguments(
                         Diagnostic::error(
                             Code::Domain,
                             call.clone(),
-                            format!("{name}: {why} ({x0:?} and {x1:?})"),
+                            format!("{}: {why} ({x0:?} and {x1:?})", name()),
                         )
                         .with_label(at(1), "x0")
                         .with_label(at(3), "x1")
@@ -43,13 +41,14 @@ pub fn constant_arguments(
                     );
                 }
             }
+            &[]
         }
-        Func::Impact => {
-            bounds.push((3, |k| k >= 0.0, "the stiffness k must be >= 0"));
-            bounds.push((4, |e| e > 0.0, "the exponent e must be > 0"));
-            bounds.push((5, |c| c >= 0.0, "the damping cmax must be >= 0"));
-            bounds.push((6, |d| d > 0.0, "the penetration d must be > 0"));
-        }
+        Func::Impact => &[
+            (3, |k| k >= 0.0, "the stiffness k must be >= 0"),
+            (4, |e| e > 0.0, "the exponent e must be > 0"),
+            (5, |c| c >= 0.0, "the damping cmax must be >= 0"),
+            (6, |d| d > 0.0, "the penetration d must be > 0"),
+        ],
         Func::Bistop => {
             if let (Some(x1), Some(x2)) = (arg(2), arg(3)) {
                 if x1 >= x2 {
@@ -64,20 +63,22 @@ pub fn constant_arguments(
                     );
                 }
             }
-            bounds.push((4, |k| k >= 0.0, "the stiffness k must be >= 0"));
-            bounds.push((5, |e| e > 0.0, "the exponent e must be > 0"));
-            bounds.push((6, |c| c >= 0.0, "the damping cmax must be >= 0"));
-            bounds.push((7, |d| d > 0.0, "the penetration d must be > 0"));
+            &[
+                (4, |k| k >= 0.0, "the stiffness k must be >= 0"),
+                (5, |e| e > 0.0, "the exponent e must be > 0"),
+                (6, |c| c >= 0.0, "the damping cmax must be >= 0"),
+                (7, |d| d > 0.0, "the penetration d must be > 0"),
+            ]
         }
-        Func::Mod => bounds.push((1, |d| d != 0.0, "the divisor must not be 0")),
-        _ => {}
-    }
-    for (i, ok, what) in bounds {
+        Func::Mod => &[(1, |d| d != 0.0, "the divisor must not be 0")],
+        _ => &[],
+    };
+    for &(i, ok, what) in bounds {
         if let Some(v) = arg(i).filter(|&v| !ok(v)) {
             out.push(Diagnostic::error(
                 Code::Domain,
                 at(i),
-                format!("{name}: {what}, found {v:?}"),
+                format!("{}: {what}, found {v:?}", name()),
             ));
         }
     }

@@ -58,6 +58,22 @@ impl Builder {
         }
     }
 
+    /// Starts a new function, keeping the buffers of the last one (a caller building many
+    /// functions allocates only for what each function keeps).
+    pub fn clear(&mut self) {
+        self.f.insts.clear();
+        self.f.spans.clear();
+        self.f.outputs.clear();
+        self.consts.clear();
+        self.shared.clear();
+        self.added.clear();
+        self.lists.truncate(1);
+        self.lists.iter_mut().for_each(Vec::clear);
+        if self.lists.is_empty() {
+            self.lists.push(Vec::new());
+        }
+    }
+
     fn push(&mut self, inst: Inst, span: Span) -> Value {
         let v = self.f.insts.len() as Value;
         self.f.insts.push(inst);
@@ -224,12 +240,27 @@ impl Builder {
         v
     }
 
-    /// Finishes the function with its outputs.
-    pub fn finish(mut self, outputs: Vec<Value>) -> Function {
-        self.f.body = self.lists.pop().unwrap_or_default();
-        self.f.outputs = outputs;
-        self.f.uses = collect_uses(&self.f);
-        self.f
+    /// Finishes the function with its outputs. The function gets buffers of its own, of
+    /// exactly its size; the builder keeps its buffers for the next function ([`clear`]).
+    ///
+    /// [`clear`]: Builder::clear
+    pub fn finish(&mut self, outputs: &[Value]) -> Function {
+        /// Moves the elements into a vector of exactly their number (one copy, no growth).
+        fn exact<T>(from: &mut Vec<T>) -> Vec<T> {
+            let mut to = Vec::with_capacity(from.len());
+            to.append(from);
+            to
+        }
+        let mut f = Function {
+            insts: exact(&mut self.f.insts),
+            spans: exact(&mut self.f.spans),
+            body: self.lists.first().cloned().unwrap_or_default(),
+            outputs: outputs.to_vec(),
+            uses: Uses::default(),
+        };
+        f.uses = collect_uses(&f);
+        self.clear();
+        f
     }
 }
 
@@ -256,8 +287,10 @@ impl Arith {
 /// What a finished function reads, walking only reachable instructions.
 fn collect_uses(f: &Function) -> Uses {
     let mut uses = Uses::default();
-    let mut stack: Vec<&[Value]> = vec![&f.body];
-    while let Some(list) = stack.pop() {
+    // Arms of IFs still to walk; most functions have none, so this rarely allocates.
+    let mut stack: Vec<&[Value]> = Vec::new();
+    let mut next: Option<&[Value]> = Some(&f.body);
+    while let Some(list) = next {
         for &v in list {
             match f.inst(v) {
                 Inst::Time => uses.time = true,
@@ -269,6 +302,7 @@ fn collect_uses(f: &Function) -> Uses {
                 _ => {}
             }
         }
+        next = stack.pop();
     }
     for list in [&mut uses.vars, &mut uses.measures, &mut uses.splines] {
         list.sort_unstable();

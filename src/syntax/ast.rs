@@ -87,12 +87,10 @@ pub struct Names {
 }
 
 impl Names {
-    /// An empty table with room for names totalling `bytes`.
-    pub fn with_capacity(bytes: usize) -> Self {
-        Names {
-            text: String::with_capacity(bytes),
-            ends: Vec::with_capacity(bytes / 4 + 1),
-        }
+    /// Forgets every name, keeping the buffers.
+    pub fn clear(&mut self) {
+        self.text.clear();
+        self.ends.clear();
     }
 
     /// Appends `name` upper-cased and returns its index.
@@ -198,6 +196,7 @@ impl Ast {
 }
 
 /// Builds nodes for the parser's actions; also collects the parser's recovered errors.
+#[derive(Default)]
 pub struct Builder {
     pub ast: Ast,
     pub recovered: Vec<crate::syntax::parser::Recovered>,
@@ -207,16 +206,22 @@ pub struct Builder {
 }
 
 impl Builder {
-    pub fn new(names: Names, tokens: usize) -> Self {
+    /// An empty builder.
+    pub fn new() -> Self {
         Builder {
-            ast: Ast {
-                nodes: Vec::with_capacity(tokens),
-                args: Vec::with_capacity(tokens / 2),
-                names,
-            },
+            ast: Ast::default(),
             recovered: Vec::new(),
-            pending_args: Vec::with_capacity(16),
+            pending_args: Vec::new(),
         }
+    }
+
+    /// Forgets the tree built so far (names included), keeping the buffers.
+    pub fn clear(&mut self) {
+        self.ast.nodes.clear();
+        self.ast.args.clear();
+        self.ast.names.clear();
+        self.recovered.clear();
+        self.pending_args.clear();
     }
 
     /// Records one argument of the call being parsed.

@@ -112,35 +112,117 @@ pub struct Lexed {
 
 /// Value of a number literal: the digits as an `f64`, times π/180 with a `D` suffix.
 pub fn number_value(text: &str) -> f64 {
-    match text.strip_suffix(['d', 'D']) {
-        Some(digits) => parse_digits(digits) * (std::f64::consts::PI / 180.0),
-        None => parse_digits(text),
+    match text.as_bytes().last() {
+        // The suffix is ASCII, so slicing it off keeps a char boundary.
+        Some(b'd' | b'D') => parse_digits(&text[..text.len() - 1]) * (std::f64::consts::PI / 180.0),
+        _ => parse_digits(text),
     }
 }
 
 fn parse_digits(text: &str) -> f64 {
-    // Integers of up to 15 digits (IDs, most constants) are exact in an f64, so they skip
-    // the general decimal parser.
-    if text.len() <= 15 && text.bytes().all(|b| b.is_ascii_digit()) {
-        return text.bytes().fold(0u64, |n, b| n * 10 + u64::from(b - b'0')) as f64;
+    // Integers of up to 15 digits (IDs, most constants) are exact in an f64.
+    if text.len() <= 15 {
+        let mut n = 0u64;
+        for b in text.bytes() {
+            if !b.is_ascii_digit() {
+                n = u64::MAX;
+                break;
+            }
+            n = n * 10 + u64::from(b - b'0');
+        }
+        if n != u64::MAX {
+            return n as f64;
+        }
+    }
+    if let Some(v) = short_decimal(text) {
+        return v;
     }
     // The regex admits only forms Rust's parser accepts ("1.", ".5", "1.E2" included).
     text.parse().unwrap_or(f64::NAN)
 }
 
+/// Value of a decimal of at most 15 significant digits and a decimal exponent within
+/// ±22 (IDs and nearly every constant), without the general parser: the digits as an
+/// integer are exact in an f64, and so is 10^k for k <= 22, so one IEEE multiplication or
+/// division gives the correctly rounded value (Clinger's fast path). `None` otherwise.
+fn short_decimal(text: &str) -> Option<f64> {
+    let bytes = text.as_bytes();
+    let (mut mantissa, mut digits, mut scale, mut point) = (0u64, 0u32, 0i32, false);
+    let mut i = 0;
+    while let Some(&b) = bytes.get(i) {
+        match b {
+            b'0'..=b'9' => {
+                // Leading zeros are not significant.
+                if mantissa != 0 || b != b'0' {
+                    digits += 1;
+                }
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                scale -= i32::from(point);
+            }
+            b'.' if !point => point = true,
+            b'e' | b'E' => break,
+            _ => return None,
+        }
+        i += 1;
+    }
+    if digits > 15 {
+        return None;
+    }
+    if i < bytes.len() {
+        let exp = text[i + 1..].parse::<i32>().ok()?;
+        scale = scale.checked_add(exp)?;
+    }
+    let m = mantissa as f64;
+    match scale {
+        0..=22 => Some(m * POWERS_OF_TEN[scale as usize]),
+        -22..=-1 => Some(m / POWERS_OF_TEN[(-scale) as usize]),
+        _ => None,
+    }
+}
+
+/// 10^0 to 10^22, each exact in an f64.
+const POWERS_OF_TEN: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
 fn is_word_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_' || b == b'.'
 }
 
+impl Lexed {
+    /// Empty buffers, for [`lex_into`] to fill.
+    pub fn new() -> Self {
+        Lexed {
+            tokens: Vec::new(),
+            names: Names::default(),
+            diagnostics: Vec::new(),
+            aborted: false,
+        }
+    }
+}
+
+impl Default for Lexed {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// Lexes `src`. Never fails: problems become diagnostics plus [`Tok::Invalid`].
 pub fn lex(src: &str) -> Lexed {
+    let mut out = Lexed::new();
+    lex_into(src, &mut out);
+    out
+}
+
+/// Lexes `src` into `out`, replacing what it held but keeping its buffers, so a caller
+/// that lexes many expressions allocates only while its buffers grow.
+pub fn lex_into(src: &str, out: &mut Lexed) {
     let bytes = src.as_bytes();
-    let mut out = Lexed {
-        tokens: Vec::with_capacity(src.len() / 3 + 1),
-        names: Names::with_capacity(src.len()),
-        diagnostics: Vec::new(),
-        aborted: false,
-    };
+    out.tokens.clear();
+    out.names.clear();
+    out.diagnostics.clear();
+    out.aborted = false;
     let mut raw = Raw::lexer(src);
     let mut depth = 0usize;
     // End of the last token that was not a blank: decides "directly followed by".
@@ -236,8 +318,8 @@ pub fn lex(src: &str) -> Lexed {
                 Tok::Num(number_value(&src[start..end]))
             }
             Raw::Name => {
-                let idx = out.names.push(&src[start..end]);
-                let upper = out.names.get(idx);
+                let text = &src[start..end];
+                let idx = out.names.push(text);
                 // A name directly followed by `(` is a call; with a blank in between it is
                 // an error for a known function (spec §1.4), a missing operator otherwise.
                 let rest = &src[end..];
@@ -247,18 +329,23 @@ pub fn lex(src: &str) -> Lexed {
                     && matches!(rest.as_bytes().first(), Some(b' ' | b'\t' | b'\r' | b'\n'))
                     && (rest.trim_start_matches([' ', '\t']).starts_with('(')
                         || continued_paren(rest));
-                if spaced && crate::check::builtins::is_callable(upper) {
-                    out.diagnostics.push(
-                        Diagnostic::error(
-                            Code::BlankBeforeParen,
-                            start..end + (rest.len() - rest.trim_start().len()),
-                            format!("blank between function name `{upper}` and `(`"),
-                        )
-                        .with_help(format!("write `{upper}(` with no blank")),
-                    );
-                }
-                let call = direct || (spaced && crate::check::builtins::is_callable(upper));
-                if call && upper == "IF" {
+                let spaced_call = spaced && {
+                    let upper = out.names.get(idx);
+                    let callable = crate::check::builtins::is_callable(upper);
+                    if callable {
+                        out.diagnostics.push(
+                            Diagnostic::error(
+                                Code::BlankBeforeParen,
+                                start..end + (rest.len() - rest.trim_start().len()),
+                                format!("blank between function name `{upper}` and `(`"),
+                            )
+                            .with_help(format!("write `{upper}(` with no blank")),
+                        );
+                    }
+                    callable
+                };
+                let call = direct || spaced_call;
+                if call && text.eq_ignore_ascii_case("IF") {
                     Tok::If
                 } else if call {
                     Tok::Call(idx)
@@ -297,7 +384,7 @@ pub fn lex(src: &str) -> Lexed {
                         .with_help("split the expression, e.g. into VARIABLE statements"),
                     );
                     out.aborted = true;
-                    return out;
+                    return;
                 }
                 if kind == Raw::LParen {
                     Tok::LParen
@@ -347,7 +434,6 @@ pub fn lex(src: &str) -> Lexed {
         blank_since = None;
         out.tokens.push((start, tok, end));
     }
-    out
 }
 
 /// True when `rest` (text after a name) is blanks, a continuation join, blanks, then `(`:
@@ -361,5 +447,67 @@ fn continued_paren(rest: &str) -> bool {
             .strip_prefix(',')
             .is_some_and(|r| r.trim_start_matches([' ', '\t']).starts_with('(')),
         None => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number_value;
+    use proptest::prelude::*;
+
+    fn decimal() -> impl Strategy<Value = String> {
+        (
+            prop::sample::select(vec!["", "0", "00", "7", "12", "123456789", "9007199254740"]),
+            prop::option::of("[0-9]{0,9}"),
+            prop::option::of((
+                prop::sample::select(vec!["E", "e"]),
+                -40i32..40,
+                any::<bool>(),
+            )),
+        )
+            .prop_filter_map("a number has a digit", |(int, frac, exp)| {
+                let mut t = int.to_string();
+                if let Some(f) = frac {
+                    t.push('.');
+                    t.push_str(&f);
+                }
+                if !t.bytes().any(|b| b.is_ascii_digit()) {
+                    return None;
+                }
+                if let Some((e, x, plus)) = exp {
+                    let sign = if plus && x >= 0 { "+" } else { "" };
+                    t.push_str(&format!("{e}{sign}{x:03}"));
+                }
+                Some(t)
+            })
+    }
+
+    proptest! {
+        /// The short-decimal fast path gives the bits of Rust's correctly rounded parser.
+        #[test]
+        fn decimals_parse_to_the_correctly_rounded_value(text in decimal()) {
+            let want: f64 = text.parse().expect("valid decimal");
+            prop_assert_eq!(number_value(&text).to_bits(), want.to_bits(), "{}", text);
+        }
+    }
+
+    #[test]
+    fn decimals_at_the_edges_of_the_fast_path() {
+        for text in [
+            "999999999999999",
+            "9999999999999999",
+            "123456789012345678",
+            "1E22",
+            "1E23",
+            "1.5E-22",
+            "1.387778781E-014",
+            "0.000000000000000000000001",
+            "1.",
+            ".5",
+            "0",
+        ] {
+            let want: f64 = text.parse().expect("valid decimal");
+            assert_eq!(number_value(text).to_bits(), want.to_bits(), "{text}");
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! text ([`print`]).
 
 pub mod ast;
+pub mod fast;
 pub mod lexer;
 pub mod parser;
 pub mod print;

@@ -1,10 +1,13 @@
-//! Parser glue: runs the LALRPOP grammar (`grammar/function.lalrpop`, generated at build
-//! time) over the lexer's tokens and converts LALRPOP's errors into diagnostics in exactly
-//! one function, [`to_diagnostic`]. The parser recovers from errors, so one run reports
-//! every syntax error it finds; it never panics and never recurses.
+//! Parser glue: lexes, then parses valid input with the hand-written fast path
+//! ([`fast`]) and anything it rejects with the LALRPOP grammar (`grammar/function.lalrpop`,
+//! generated at build time), the grammar of record. LALRPOP's errors are converted into
+//! diagnostics in exactly one function, [`to_diagnostic`]. The LALRPOP parser recovers
+//! from errors, so one run reports every syntax error it finds; neither parser panics.
+//! A [`Session`] keeps the buffers between expressions.
 
 use crate::diag::{Code, Diagnostic};
 use crate::syntax::ast::{Ast, Builder, NodeId};
+use crate::syntax::fast;
 use crate::syntax::lexer::{self, Lexed, Tok};
 use lalrpop_util::{lalrpop_mod, ErrorRecovery, ParseError};
 
@@ -12,14 +15,6 @@ lalrpop_mod!(
     #[allow(clippy::all, clippy::pedantic, unused)]
     grammar,
     "/function.rs"
-);
-
-// The same grammar without its error-recovery production (see build.rs): the fast path
-// for input that has no error.
-lalrpop_mod!(
-    #[allow(clippy::all, clippy::pedantic, unused)]
-    grammar_fast,
-    "/function_fast.rs"
 );
 
 /// Deepest syntax tree accepted. Operator chains (`1+1+…`) make trees as deep as they are
@@ -45,76 +40,102 @@ pub struct Parsed {
 /// Lexes and parses one expression: valid input through the fast parser, anything with an
 /// error through the recovering one, which reports every error.
 pub fn parse(src: &str) -> Parsed {
-    parse_with(src, true)
+    Session::new().parse(src, true).into_parsed()
 }
 
 /// Parses with the recovering parser only (the one that reports every error). Both parsers
-/// come from the same grammar; tests check that they build the same trees.
+/// build the same trees; `tests/language/fast_parser.rs` checks it.
 pub fn parse_recovering(src: &str) -> Parsed {
-    parse_with(src, false)
+    Session::new().parse(src, false).into_parsed()
 }
 
-fn parse_with(src: &str, fast_first: bool) -> Parsed {
-    let Lexed {
-        tokens,
-        names,
-        mut diagnostics,
-        aborted,
-    } = lexer::lex(src);
-    let mut builder = Builder::new(names, tokens.len());
-    if aborted {
-        return Parsed {
-            ast: builder.ast,
-            root: None,
-            diagnostics,
-        };
-    }
-    if tokens.is_empty() {
-        if diagnostics.is_empty() {
-            diagnostics.push(
-                Diagnostic::error(Code::EmptyExpression, 0..src.len(), "empty expression")
-                    .with_help("write a value, e.g. 0"),
-            );
-        }
-        return Parsed {
-            ast: builder.ast,
-            root: None,
-            diagnostics,
-        };
-    }
-    if fast_first && diagnostics.is_empty() {
-        let fast = grammar_fast::ExprParser::new().parse(&mut builder, tokens.iter().copied());
-        match fast {
-            Ok(root) => return finish(builder.ast, root, src, diagnostics),
-            // An error: parse again with recovery to report every error there is.
-            Err(_) => builder = Builder::new(std::mem::take(&mut builder.ast.names), tokens.len()),
+/// The buffers of the front end's lexing and parsing, kept between expressions so that a
+/// caller compiling many of them allocates only while the buffers grow.
+#[derive(Default)]
+pub struct Session {
+    lexed: Lexed,
+    builder: Builder,
+    frames: Vec<fast::Frame>,
+}
+
+/// The outcome of [`Session::parse`]: the tree stays in the session.
+pub struct Outcome<'s> {
+    pub ast: &'s mut Ast,
+    /// `None` when nothing could be parsed (empty input, nesting limit, ...).
+    pub root: Option<NodeId>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Outcome<'_> {
+    fn into_parsed(self) -> Parsed {
+        Parsed {
+            ast: std::mem::take(self.ast),
+            root: self.root,
+            diagnostics: self.diagnostics,
         }
     }
-    let result = grammar::ExprParser::new().parse(&mut builder, tokens.iter().copied());
-    let recovered = std::mem::take(&mut builder.recovered);
-    for r in recovered {
-        diagnostics.push(to_diagnostic(r.error, src, &tokens));
+}
+
+impl Session {
+    pub fn new() -> Self {
+        Self::default()
     }
-    let root = match result {
-        Ok(root) => Some(root),
-        Err(e) => {
-            diagnostics.push(to_diagnostic(e, src, &tokens));
+
+    /// Lexes and parses `src`, replacing the tree of the previous expression. With
+    /// `fast_first`, valid input takes the hand-written parser ([`fast`]); anything it
+    /// rejects is parsed by the LALRPOP grammar, which reports every error.
+    pub fn parse(&mut self, src: &str, fast_first: bool) -> Outcome<'_> {
+        lexer::lex_into(src, &mut self.lexed);
+        let b = &mut self.builder;
+        b.clear();
+        let lexed = &mut self.lexed;
+        // The lexer's names become the tree's; the swap keeps both buffers for reuse.
+        std::mem::swap(&mut b.ast.names, &mut lexed.names);
+        let mut diagnostics = std::mem::take(&mut lexed.diagnostics);
+        let tokens = &lexed.tokens;
+        let root = if lexed.aborted {
             None
-        }
-    };
-    let Some(root) = root else {
-        tidy(&mut diagnostics);
-        return Parsed {
-            ast: builder.ast,
-            root: None,
-            diagnostics,
+        } else if tokens.is_empty() {
+            if diagnostics.is_empty() {
+                diagnostics.push(
+                    Diagnostic::error(Code::EmptyExpression, 0..src.len(), "empty expression")
+                        .with_help("write a value, e.g. 0"),
+                );
+            }
+            None
+        } else if let Some(root) = (fast_first && diagnostics.is_empty())
+            .then(|| fast::parse(tokens, b, &mut self.frames).ok())
+            .flatten()
+        {
+            finish(&b.ast, root, src, &mut diagnostics)
+        } else {
+            // An error (or no fast path): parse with recovery to report every error there is.
+            let names = std::mem::take(&mut b.ast.names);
+            b.clear();
+            b.ast.names = names;
+            let result = grammar::ExprParser::new().parse(b, tokens.iter().copied());
+            for r in b.recovered.drain(..) {
+                diagnostics.push(to_diagnostic(r.error, src, tokens));
+            }
+            match result {
+                Ok(root) => finish(&b.ast, root, src, &mut diagnostics),
+                Err(e) => {
+                    diagnostics.push(to_diagnostic(e, src, tokens));
+                    tidy(&mut diagnostics);
+                    None
+                }
+            }
         };
-    };
-    finish(builder.ast, root, src, diagnostics)
+        Outcome {
+            ast: &mut b.ast,
+            root,
+            diagnostics,
+        }
+    }
 }
 
-/// Applies the tree-depth limit and orders, de-duplicates and caps the diagnostics.
-fn finish(ast: Ast, root: NodeId, src: &str, mut diagnostics: Vec<Diagnostic>) -> Parsed {
+/// Applies the tree-depth limit and tidies the diagnostics; the root, if within the limit.
+fn finish(ast: &Ast, root: NodeId, src: &str, diagnostics: &mut Vec<Diagnostic>) -> Option<NodeId> {
     let depth = ast.node(root).depth;
     if depth > MAX_TREE_DEPTH {
         diagnostics.push(
@@ -125,18 +146,10 @@ fn finish(ast: Ast, root: NodeId, src: &str, mut diagnostics: Vec<Diagnostic>) -
             )
             .with_help("split the expression, e.g. into VARIABLE statements"),
         );
-        return Parsed {
-            ast,
-            root: None,
-            diagnostics,
-        };
+        return None;
     }
-    tidy(&mut diagnostics);
-    Parsed {
-        ast,
-        root: Some(root),
-        diagnostics,
-    }
+    tidy(diagnostics);
+    Some(root)
 }
 
 /// Orders diagnostics by position, drops duplicates and follow-on errors, and caps them.

@@ -3,9 +3,10 @@
 //! checked against a scope in which every marker and element exists (their evaluation
 //! belongs to the multibody core). Every expression that does not check is matched to a
 //! listed reason; an unexplained failure, or a listed reason that no longer occurs, fails.
+//! Compiling the corpus in one reused session gives what fresh sessions give.
 
 use crate::support::shared;
-use mbfx::check::{compile, EveryIdExists, Expect};
+use mbfx::check::{compile, EveryIdExists, Expect, Session};
 use mbfx::diag::{Code, Diagnostic};
 use std::collections::BTreeMap;
 
@@ -108,4 +109,24 @@ fn view_corpus_expressions_check() {
             "{r}"
         );
     }
+}
+
+/// `compile` reuses one session's buffers for every expression; reusing them changes no
+/// result: the whole corpus, compiled in sequence in one session, gives exactly what a
+/// fresh session gives for each expression (IR, spans, warnings, or diagnostics).
+#[test]
+fn reusing_a_session_changes_no_result() {
+    let mut session = Session::new();
+    let mut compared = 0;
+    for file in ["expressions.txt", "expressions-cmd.txt"] {
+        let path = shared().join("corpus").join(file);
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{e}"));
+        for (_, expr) in text.lines().filter_map(|l| l.split_once('\t')) {
+            let reused = session.compile(expr, &EveryIdExists, Expect::Any);
+            let fresh = Session::new().compile(expr, &EveryIdExists, Expect::Any);
+            assert_eq!(format!("{reused:?}"), format!("{fresh:?}"), "{expr}");
+            compared += 1;
+        }
+    }
+    assert!(compared > 1000, "only {compared} expressions");
 }
