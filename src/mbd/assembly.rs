@@ -155,10 +155,8 @@ impl System {
 
     /// The constraint residual Φ over the active rows (unscaled).
     pub fn residual(&self) -> Result<DVec, MbdError> {
-        let v: Result<Vec<f64>, MbdError> = self
-            .rows()
-            .map(|(e, q)| self.eval_row(e, q).map(|r| r.value))
-            .collect();
+        let v: Result<Vec<f64>, MbdError> =
+            self.rows().map(|(e, q)| self.row_value(e, q)).collect();
         Ok(DVec::from_vec(v?))
     }
 
@@ -226,7 +224,7 @@ impl System {
             .enumerate()
             .filter(|(r, _)| only.is_none_or(|o| o[*r]))
             .filter_map(|(_, (e, q))| {
-                let v = self.eval_row(e, q).ok()?.value * self.row_scale(e, q);
+                let v = self.row_value(e, q).ok()? * self.row_scale(e, q);
                 (v.abs() > tol).then(|| Violation {
                     element: self.elements[e].elref.clone(),
                     equation: self.elements[e].eqs[q].label,

@@ -101,33 +101,6 @@ fn axis(c: usize) -> Vec3 {
     v
 }
 
-fn prim(eq: Equation, i: MarkerHandle, j: MarkerHandle) -> Row {
-    use Equation::*;
-    let along = |c| Row::Along {
-        i,
-        j,
-        dir: axis(c),
-        sign: 1.0,
-    };
-    let dot = |a, b| Row::Dot {
-        i,
-        j,
-        a: axis(a),
-        b: axis(b),
-    };
-    match eq {
-        XDelta => along(0),
-        YDelta => along(1),
-        ZDelta => along(2),
-        ZiXj => dot(2, 0),
-        ZiYj => dot(2, 1),
-        XiYj => dot(0, 1),
-        ZiZj => dot(2, 2),
-        // x_I·y_J + y_I·x_J: two dot terms, summed by `Row::Measured`-free code below.
-        Convel | Rackpin | Screw | Gcon | Motion => unreachable!("not a primitive"),
-    }
-}
-
 impl Equ {
     fn new(row: Row, label: Equation, translational: bool) -> Equ {
         Equ {
@@ -170,35 +143,67 @@ impl System {
         self.check_pair(&elref, i, j)?;
         let eqs = primitive_set(elref.kind)
             .iter()
-            .map(|&eq| match eq {
-                Equation::Convel => {
-                    let (x, y) = (axis(0), axis(1));
-                    let terms = vec![
-                        (1.0, self.measures_dot(i, j, x, y)),
-                        (1.0, self.measures_dot(i, j, y, x)),
-                    ];
-                    Equ::new(Row::Measured { terms, drive: None }, eq, false)
-                }
-                _ => Equ::new(
-                    prim(eq, i, j),
-                    eq,
-                    matches!(eq, Equation::XDelta | Equation::YDelta | Equation::ZDelta),
-                ),
-            })
-            .collect();
+            .map(|&eq| self.primitive(eq, i, j))
+            .collect::<Result<_, _>>()?;
         Ok(self.add_element(elref, eqs))
     }
 
-    /// x_I·y_J style terms for CONVEL, as UVX(i, j)-type measures.
-    fn measures_dot(&mut self, i: MarkerHandle, j: MarkerHandle, a: Vec3, b: Vec3) -> usize {
-        let ax = a.iamax() as u8;
-        let comp = b.iamax() as u8;
-        self.measures.add(Measure::UnitVec {
-            i: Some(i),
-            k: Some(j),
-            axis: ax,
-            comp,
-        })
+    /// One primitive equation of spec §4.1 (plus Zi.Zj and CONVEL's x_I·y_J + y_I·x_J,
+    /// whose two terms are UVX(I, J)-type measures).
+    fn primitive(
+        &mut self,
+        eq: Equation,
+        i: MarkerHandle,
+        j: MarkerHandle,
+    ) -> Result<Equ, MbdError> {
+        use Equation::*;
+        let along = |c| Row::Along {
+            i,
+            j,
+            dir: axis(c),
+            sign: 1.0,
+        };
+        let dot = |a, b| Row::Dot {
+            i,
+            j,
+            a: axis(a),
+            b: axis(b),
+        };
+        let row = match eq {
+            XDelta => along(0),
+            YDelta => along(1),
+            ZDelta => along(2),
+            ZiXj => dot(2, 0),
+            ZiYj => dot(2, 1),
+            XiYj => dot(0, 1),
+            ZiZj => dot(2, 2),
+            Convel => {
+                let (i, k) = (Some(i), Some(j));
+                let xy = self.measures.add(Measure::UnitVec {
+                    i,
+                    k,
+                    axis: 0,
+                    comp: 1,
+                });
+                let yx = self.measures.add(Measure::UnitVec {
+                    i,
+                    k,
+                    axis: 1,
+                    comp: 0,
+                });
+                Row::Measured {
+                    terms: vec![(1.0, xy), (1.0, yx)],
+                    drive: None,
+                }
+            }
+            Rackpin | Screw | Gcon | Motion => {
+                return Err(MbdError::Unsupported(format!(
+                    "{} is not a primitive equation",
+                    eq.label()
+                )))
+            }
+        };
+        Ok(Equ::new(row, eq, matches!(eq, XDelta | YDelta | ZDelta)))
     }
 
     /// A JOINT (spec §4.2). `param` is PD for RACKPIN, PITCH for SCREW, unused otherwise.
@@ -404,6 +409,15 @@ impl System {
 
     /// Value and derivatives of equation `q` of element `e` at the current state.
     pub fn eval_row(&self, e: usize, q: usize) -> Result<RowEval, MbdError> {
+        self.eval_row_with(e, q, true)
+    }
+
+    /// The value of equation `q` of element `e` (no derivatives asked of expressions).
+    pub fn row_value(&self, e: usize, q: usize) -> Result<f64, MbdError> {
+        Ok(self.eval_row_with(e, q, false)?.value)
+    }
+
+    fn eval_row_with(&self, e: usize, q: usize, derivs: bool) -> Result<RowEval, MbdError> {
         let mut out = RowEval::default();
         match &self.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {
@@ -460,6 +474,9 @@ impl System {
                 out.value = f
                     .value(self.time, &vals)
                     .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                if !derivs {
+                    return Ok(out);
+                }
                 let mut grad = vec![0.0; slots.len()];
                 out.dt = f
                     .gradient(self.time, &vals, &mut grad)

@@ -850,3 +850,337 @@ fn acceleration_and_force_measures_wait_for_dynamics() {
         }
     );
 }
+
+#[test]
+fn screw_travel_follows_the_pitch() {
+    // CYLINDRICAL + SCREW (PITCH 0.2) + MOTION of the rotation to 1 rad: the travel
+    // along z_J is PITCH·θ/2π.
+    let mut sys = System::new();
+    let p = sys.add_part(None, Vec3::new(0.02, -0.01, 0.3), rot(0.01, 0.02, 0.7));
+    let i = sys.add_marker(None, p, Vec3::zeros(), Mat3::identity());
+    let j = ground_marker(&mut sys, Vec3::zeros(), Mat3::identity());
+    let cyl = ElementRef {
+        kind: ElementKind::Gcon,
+        id: 1,
+        name: None,
+    };
+    sys.joint(cyl.clone(), JointType::Cylindrical, i, j, 0.0)
+        .unwrap();
+    sys.joint(cyl, JointType::Screw, i, j, 0.2).unwrap();
+    let az = Measure::Angle {
+        i: Some(i),
+        j: Some(j),
+        axis: 2,
+    };
+    sys.motion(er(1), az, time_fn(1.0, 0.5)).unwrap();
+    sys.prepare(Dim::Auto);
+    sys.assemble(&AssemblyOptions::default()).unwrap();
+    let part = sys.part(p);
+    assert!((part.r.z - 0.2 / (2.0 * PI)).abs() < 1e-10, "{}", part.r);
+    assert!((part.r.x.abs() + part.r.y.abs()) < 1e-10);
+    // Velocities: ω_z = 0.5, travel rate PITCH·ω/2π.
+    assert!((part.w.z - 0.5).abs() < 1e-9 && (part.v.z - 0.1 / (2.0 * PI)).abs() < 1e-9);
+}
+
+#[test]
+fn prismatic_2d_joint_slides_along_its_axis() {
+    // Exudyn's 2D prismatic joint through the library API: the slider keeps its x (the
+    // free coordinate, which the minimum-norm steps leave alone) and loses its y offset
+    // and rotation.
+    let mut sys = System::new();
+    let p = sys.add_part(None, Vec3::new(0.7, 0.1, 0.0), rz(0.05));
+    let i = sys.add_marker(None, p, Vec3::zeros(), Mat3::identity());
+    let j = ground_marker(&mut sys, Vec3::zeros(), Mat3::identity());
+    sys.prismatic_2d(er(1), i, j, Vec3::x(), Vec3::y()).unwrap();
+    sys.set_part_velocity(p, Vec3::new(0.3, 0.4, 0.0), Vec3::new(0.0, 0.0, 0.2));
+    sys.prepare(Dim::Auto);
+    assert_eq!(sys.dim, Dimension::Two, "{}", sys.dim_reason);
+    assert_eq!(sys.labels().len(), 2);
+    sys.assemble(&AssemblyOptions::default()).unwrap();
+    let part = sys.part(p);
+    // The rotation is undone about the marker origin, so x moves only by second-order
+    // terms of the first step: y = 0, angle 0 exactly; x near its input.
+    assert!(part.r.y.abs() < 1e-12 && part.rot.angle() < 1e-12);
+    assert!((part.r.x - 0.7).abs() < 1e-2);
+    // Velocity closest to the input: the sliding speed is kept, the rest removed.
+    assert!((part.v.x - 0.3).abs() < 1e-12 && part.v.y.abs() < 1e-12 && part.w.z.abs() < 1e-12);
+}
+
+#[test]
+fn non_holonomic_gcon_sets_the_velocity() {
+    // GCON VX(i) − 0.5 = 0 (Pfaffian, spec §4.3): the velocity solve meets it and leaves
+    // the other input velocities alone.
+    let mut sys = System::new();
+    let p = sys.add_part(None, Vec3::new(0.2, 0.0, 0.0), Mat3::identity());
+    let i = sys.add_marker(None, p, Vec3::new(0.5, 0.0, 0.0), Mat3::identity());
+    sys.set_part_velocity(p, Vec3::new(0.0, 0.7, 0.0), Vec3::zeros());
+    let vx = sys.measures.add(Measure::Vel {
+        i: Some(i),
+        j: None,
+        k: None,
+        l: None,
+        comp: 0,
+    });
+    let f = Closure {
+        slots: vec![0],
+        f: |_: f64, m: &[f64]| m[0] - 0.5,
+        g: |_: f64, _: &[f64], g: &mut [f64]| {
+            g[0] = 1.0;
+            0.0
+        },
+    };
+    sys.gcon(er(1), Box::new(f), vec![vx]);
+    sys.prepare(Dim::Auto);
+    let rep = sys.assemble(&AssemblyOptions::default()).unwrap();
+    let part = sys.part(p);
+    assert!(
+        (part.v.x - 0.5).abs() < 1e-12 && (part.v.y - 0.7).abs() < 1e-12,
+        "{}",
+        part.v
+    );
+    assert!(rep.velocity_residual < 1e-12);
+}
+
+/// A02 N-four-bar (reference-problems §4.2): N + 1 unit cranks pinned at x = 0..N, N
+/// unit couplers joining their tops; every part starts near crank angle `theta`.
+fn n_four_bar(
+    n: usize,
+    theta: f64,
+    dim: Dim,
+) -> (System, Vec<super::PartHandle>, Vec<super::PartHandle>) {
+    let mut sys = System::new();
+    let (mut cranks, mut couplers) = (Vec::new(), Vec::new());
+    let up = rz(PI / 2.0 - theta);
+    let jitter = |k: usize| 0.02 * ((k * 37 % 11) as f64 / 11.0 - 0.5);
+    let mut tops = Vec::new();
+    for k in 0..=n {
+        let x = k as f64;
+        let c = sys.add_part(
+            None,
+            Vec3::new(x + jitter(k), jitter(k + 3), 0.0),
+            up * rz(jitter(k + 5)),
+        );
+        let bottom = sys.add_marker(None, c, Vec3::zeros(), Mat3::identity());
+        tops.push(sys.add_marker(None, c, Vec3::x(), Mat3::identity()));
+        let g = ground_marker(&mut sys, Vec3::new(x, 0.0, 0.0), Mat3::identity());
+        rev(&mut sys, k as u32, bottom, g);
+        cranks.push(c);
+    }
+    for k in 0..n {
+        let at = Vec3::new(k as f64 + theta.sin() + jitter(k + 7), theta.cos(), 0.0);
+        let c = sys.add_part(None, at, rz(jitter(k + 2)));
+        let a = sys.add_marker(None, c, Vec3::zeros(), Mat3::identity());
+        let b = sys.add_marker(None, c, Vec3::x(), Mat3::identity());
+        rev(&mut sys, 1000 + k as u32, a, tops[k]);
+        rev(&mut sys, 2000 + k as u32, b, tops[k + 1]);
+        couplers.push(c);
+    }
+    sys.prepare(dim);
+    (sys, cranks, couplers)
+}
+
+#[test]
+fn n_four_bar_redundancy_counts_match_reference_problems() {
+    // reference-problems §5.1: 3N redundant equations in 3D, none in 2D; 1 DOF.
+    let n = 4;
+    let (sys, _, _) = n_four_bar(n, 0.3, Dim::Three);
+    let j = dense(&sys.jacobian(true).unwrap());
+    assert_eq!(j.nrows() - rank(&j), 3 * n);
+    assert_eq!(j.ncols() - rank(&j), 1);
+    let (sys, _, _) = n_four_bar(n, 0.3, Dim::Auto);
+    assert_eq!(sys.dim, Dimension::Two);
+    let j = dense(&sys.jacobian(true).unwrap());
+    assert_eq!((j.nrows() - rank(&j), j.ncols() - rank(&j)), (0, 1));
+}
+
+#[test]
+fn forty_window_four_bar_assembles_onto_the_parallelogram() {
+    // N = 40 in 3D: 81 parts, 605 equations of which 120 are redundant. Assembled, every
+    // crank has one angle and every coupler is level (the parallelogram branch).
+    for dim in [Dim::Three, Dim::Auto] {
+        let (mut sys, cranks, couplers) = n_four_bar(40, 0.3, dim);
+        let t0 = std::time::Instant::now();
+        let rep = sys.assemble(&AssemblyOptions::default()).unwrap();
+        eprintln!(
+            "N = 40 four-bar ({:?}): {} iterations, {:?}",
+            sys.dim,
+            rep.iterations,
+            t0.elapsed()
+        );
+        let angle = |p: super::PartHandle| {
+            let x = sys.part(p).rot * Vec3::x();
+            x.y.atan2(x.x)
+        };
+        let a0 = angle(cranks[0]);
+        for &c in &cranks {
+            assert!((angle(c) - a0).abs() < 1e-8, "{dim:?}");
+        }
+        for &c in &couplers {
+            assert!(angle(c).abs() < 1e-8, "{dim:?}");
+        }
+        assert!((a0 - (PI / 2.0 - 0.3)).abs() < 0.05);
+    }
+}
+
+// ---------------------------------------------------------------- from a Model
+
+mod from_model {
+    use super::*;
+    use crate::check::{self, Expect, MeasureCall, MeasureValue, Scope};
+    use crate::diag::Diagnostic;
+    use crate::mbd::build::InterpretOnly;
+    use crate::model::elements::{self as el, MeasureSlot, Model, Named};
+    use std::cell::RefCell;
+
+    /// A model scope that gives every measure call the next slot(s).
+    #[derive(Default)]
+    struct Slots(RefCell<Vec<MeasureSlot>>);
+
+    impl Scope for Slots {
+        fn variable(&self, _: &str) -> Option<u32> {
+            None
+        }
+
+        fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+            let mut v = self.0.borrow_mut();
+            let mut push = |component: u8| {
+                v.push(MeasureSlot {
+                    name: call.builtin.name.into(),
+                    ids: call.ids.to_vec(),
+                    component,
+                });
+                v.len() as u32 - 1
+            };
+            Ok(match call.builtin.result {
+                check::builtins::Ty::Scalar => MeasureValue::Scalar(push(0)),
+                check::builtins::Ty::Vector => MeasureValue::Vector([push(0), push(1), push(2)]),
+            })
+        }
+    }
+
+    fn named(id: u32) -> Named {
+        Named {
+            id,
+            name: Some(format!("el_{id}")),
+            span: 0..0,
+        }
+    }
+
+    fn part(id: u32, ground: bool, at: Vec3) -> el::Part {
+        el::Part {
+            el: named(id),
+            ground,
+            mass: Some(1.0),
+            cm: None,
+            im: None,
+            ip: [1.0, 1.0, 1.0, 0.0, 0.0, 0.0],
+            position: at,
+            orientation: Mat3::identity(),
+            velocity: [None; 3],
+            angular_velocity: [None; 3],
+            vm: None,
+            wm: None,
+            exact: [false; 6],
+        }
+    }
+
+    fn marker(id: u32, part: u32, at: Vec3) -> el::Marker {
+        el::Marker {
+            el: named(id),
+            part,
+            position: at,
+            orientation: Mat3::identity(),
+            floating: false,
+        }
+    }
+
+    /// The IFToMM A01 pendulum (reference-problems §4.1): unit link from the origin to
+    /// P1 = (1, 0), gravity −y; the dataset places the part slightly off.
+    fn pendulum() -> Model {
+        let mut m = Model {
+            parts: vec![
+                part(1, true, Vec3::zeros()),
+                part(2, false, Vec3::new(1.05, 0.1, 0.0)),
+            ],
+            markers: vec![
+                marker(10, 1, Vec3::zeros()),
+                marker(20, 2, Vec3::new(-1.0, 0.0, 0.0)),
+            ],
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            ..Default::default()
+        };
+        m.joints.push(el::Joint {
+            el: named(1),
+            kind: JointType::Revolute,
+            i: 20,
+            j: 10,
+            pd: None,
+            pitch: None,
+            ic: None,
+            ic_tran: None,
+            ic_rot: None,
+        });
+        m
+    }
+
+    #[test]
+    fn pendulum_model_builds_in_2d_and_assembles() {
+        let model = pendulum();
+        let mut sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
+        assert_eq!(sys.dim, Dimension::Two);
+        assert!(sys.dim_reason.starts_with("2D"), "{}", sys.dim_reason);
+        // REVOLUTE in 2D: X Delta and Y Delta only.
+        assert_eq!(sys.labels().len(), 2);
+        sys.assemble(&AssemblyOptions::default()).unwrap();
+        let p = sys.part(super::super::PartHandle(1));
+        assert!((p.r.norm() - 1.0).abs() < 1e-12 && p.id == Some(2));
+        let sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
+        assert_eq!((sys.dim, sys.labels().len()), (Dimension::Three, 5));
+        // Gravity out of the plane makes it 3D, with the reason.
+        let mut tilted = pendulum();
+        tilted.gravity = Vec3::new(0.0, -9.81, 1.0);
+        let sys = System::from_model(&tilted, Dim::Auto, &InterpretOnly).unwrap();
+        assert!(sys.dim_reason.contains("gravity"), "{}", sys.dim_reason);
+    }
+
+    #[test]
+    fn gcon_without_a_derivative_says_what_is_missing() {
+        let scope = Slots::default();
+        let f = check::compile("DM(20, 10) - 1", &scope, Expect::Scalar)
+            .unwrap()
+            .function;
+        let mut model = pendulum();
+        model.joints.clear();
+        model.measures = scope.0.into_inner();
+        model.gcons.push(el::Gcon {
+            el: named(5),
+            i: Some(20),
+            function: el::Expr {
+                span: 0..0,
+                function: f,
+            },
+        });
+        let mut sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
+        // The value comes through the interpreter: DM = |(0.05, 0.1, 0)| at the input.
+        let r = sys.residual().unwrap();
+        assert!((r[0] - ((0.05f64.powi(2) + 0.01).sqrt() - 1.0)).abs() < 1e-14);
+        let err = sys
+            .assemble(&AssemblyOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("GCON/5 'el_5'") && err.contains("derivative"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn unknown_markers_and_unsupported_motions_are_errors() {
+        let mut model = pendulum();
+        model.joints[0].i = 99;
+        let err = System::from_model(&model, Dim::Auto, &InterpretOnly)
+            .err()
+            .unwrap();
+        assert_eq!(err.to_string(), "MARKER/99 does not exist");
+    }
+}
