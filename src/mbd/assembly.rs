@@ -336,8 +336,8 @@ impl System {
             }
         }
         let rows: Vec<(usize, (usize, usize))> = self.rows().enumerate().collect();
-        let mut worst = 0.0;
-        for _ in 0..4 {
+        let (mut worst, mut first) = (0.0, None);
+        for iter in 0..5 {
             let v = self.v();
             let mut lin = Linear {
                 rows: Vec::new(),
@@ -366,7 +366,10 @@ impl System {
                 lin.rhs.push(-value * s);
             }
             worst = lin.rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            if worst < 1e-12 || lin.rows.is_empty() {
+            let start = *first.get_or_insert(worst);
+            // Linear rows converge in one solve plus refinement; non-holonomic ones in a
+            // few Newton rounds.
+            if worst <= 1e-14 * (1.0 + start) || lin.rows.is_empty() || iter == 4 {
                 break;
             }
             let Some(dv) = min_norm(n, &lin.rows, &lin.rhs, 1e-10, 3) else {

@@ -36,6 +36,31 @@ fn elref(kind: ElementKind, n: &Named) -> ElementRef {
 }
 
 impl System {
+    /// Resolves the model's measure slots `slots` (as an expression's
+    /// [`ExprFn::slots`] lists them) to measures of the system; only these are ever
+    /// computed. Returns the measure index of each slot, in order.
+    pub fn resolve_slots(&mut self, model: &Model, slots: &[u32]) -> Result<Vec<usize>, MbdError> {
+        let mut map = Vec::with_capacity(slots.len());
+        for &s in slots {
+            let slot = model.measures.get(s as usize).ok_or_else(|| {
+                MbdError::Unsupported(format!("measure slot {s} is not in the model"))
+            })?;
+            let marker = |id: i64| -> Result<M, MbdError> {
+                if id == 0 {
+                    return Ok(None);
+                }
+                u32::try_from(id)
+                    .ok()
+                    .and_then(|id| self.marker_by_id(id))
+                    .map(Some)
+                    .ok_or(MbdError::UnknownMarker(id))
+            };
+            let m = Measure::resolve(slot, &marker)?;
+            map.push(self.measures.add(m));
+        }
+        Ok(map)
+    }
+
     /// Builds the system of `model` in the dimension `dim` allows.
     pub fn from_model(
         model: &Model,
@@ -66,16 +91,6 @@ impl System {
                 .get(&id)
                 .copied()
                 .ok_or(MbdError::UnknownMarker(id as i64))
-        };
-        let opt_marker = |id: i64| -> Result<M, MbdError> {
-            if id == 0 {
-                Ok(None)
-            } else {
-                u32::try_from(id)
-                    .map_err(|_| MbdError::UnknownMarker(id))
-                    .and_then(marker)
-                    .map(Some)
-            }
         };
         // Initial velocities: VX.. of the CM (global), WX.. in CM (or WM) marker axes.
         for p in model.parts.iter().filter(|p| !p.ground) {
@@ -111,16 +126,7 @@ impl System {
         }
         for g in &model.gcons {
             let f = exprs.compile(&g.function);
-            let mut map = Vec::new();
-            for &s in f.slots() {
-                let slot = model.measures.get(s as usize).ok_or_else(|| {
-                    MbdError::Unsupported(format!(
-                        "GCON/{}: measure slot {s} is not in the model",
-                        g.el.id
-                    ))
-                })?;
-                map.push(sys.measures.add(Measure::resolve(slot, &opt_marker)?));
-            }
+            let map = sys.resolve_slots(model, f.slots())?;
             sys.gcon(elref(ElementKind::Gcon, &g.el), f, map);
         }
         for m in &model.motions {

@@ -467,10 +467,7 @@ impl System {
                 let slots = f.slots();
                 let len = slots.last().map_or(0, |&s| s as usize + 1);
                 let mut vals = vec![0.0; len];
-                let evs: Vec<_> = map.iter().map(|&m| self.measures.eval(self, m)).collect();
-                for (k, &s) in slots.iter().enumerate() {
-                    vals[s as usize] = evs[k].value();
-                }
+                let evs = self.fill_slots(map, slots, &mut vals);
                 out.value = f
                     .value(self.time, &vals)
                     .map_err(|s| MbdError::Expression(el.clone(), s))?;

@@ -413,6 +413,19 @@ impl MeasureSet {
     }
 }
 
+impl System {
+    /// Evaluates the measures `map` (from [`System::resolve_slots`]) and writes each
+    /// value to `out[slot]` for the matching entry of `slots`, the array an expression's
+    /// evaluation context reads. Returns the evaluations, derivatives included.
+    pub fn fill_slots(&self, map: &[usize], slots: &[u32], out: &mut [f64]) -> Vec<Evaluated> {
+        let evs: Vec<Evaluated> = map.iter().map(|&m| self.measures.eval(self, m)).collect();
+        for (ev, &s) in evs.iter().zip(slots) {
+            out[s as usize] = ev.value();
+        }
+        evs
+    }
+}
+
 /// 1/x as a dual.
 fn recip(x: D) -> D {
     let mut g = x.g;

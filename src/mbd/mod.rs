@@ -25,6 +25,7 @@ pub mod system;
 
 pub use assembly::{AssemblyError, AssemblyOptions, AssemblyReport};
 pub use error::MbdError;
+pub use planar::Dim;
 pub use system::{Dimension, ElementHandle, MarkerHandle, PartHandle, System};
 
 #[cfg(test)]

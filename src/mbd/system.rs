@@ -19,6 +19,7 @@ use super::constraints::Element;
 use super::math::{DVec, Mat3, Quat, Vec3};
 use super::measures::MeasureSet;
 use crate::model::elements::Id;
+use std::collections::HashMap;
 
 /// A part: index into [`System::parts`]; ground is [`System::GROUND`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -124,6 +125,7 @@ pub struct System {
     /// Time at which MOTIONs and GCONs are evaluated.
     pub time: f64,
     moving: usize,
+    marker_ids: HashMap<Id, MarkerHandle>,
 }
 
 impl Default for System {
@@ -150,6 +152,7 @@ impl System {
             length: 1.0,
             time: 0.0,
             moving: 0,
+            marker_ids: HashMap::new(),
         }
     }
 
@@ -181,7 +184,16 @@ impl System {
             rot,
             floating: false,
         });
-        MarkerHandle(self.markers.len() as u32 - 1)
+        let h = MarkerHandle(self.markers.len() as u32 - 1);
+        if let Some(id) = id {
+            self.marker_ids.insert(id, h);
+        }
+        h
+    }
+
+    /// The marker with Adams id `id`.
+    pub fn marker_by_id(&self, id: Id) -> Option<MarkerHandle> {
+        self.marker_ids.get(&id).copied()
     }
 
     pub fn part(&self, h: PartHandle) -> &Part {

@@ -1184,3 +1184,56 @@ mod from_model {
         assert_eq!(err.to_string(), "MARKER/99 does not exist");
     }
 }
+
+#[test]
+fn bricard_has_one_redundant_equation_and_one_dof() {
+    // IFToMM A04 (reference-problems §4.4, §5.3): five unit rods and six revolutes whose
+    // axes alternate y, z, x; Grübler gives 0 DOF, the true mobility is 1, so exactly one
+    // equation is redundant.
+    let pts = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 1.0),
+        Vec3::new(0.0, -1.0, 1.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    ];
+    // z of the joint marker along the joint axis.
+    let ax = |k: usize| match k % 3 {
+        0 => rot(-PI / 2.0, 0.0, 0.0), // z → y
+        1 => Mat3::identity(),         // z → z
+        _ => rot(0.0, PI / 2.0, 0.0),  // z → x
+    };
+    let build = |jitter: f64| {
+        let mut sys = System::new();
+        let rods: Vec<_> = (0..5)
+            .map(|k| {
+                sys.add_part(
+                    None,
+                    pts[k] + Vec3::new(jitter, -jitter, jitter) * k as f64,
+                    rot(jitter, 0.0, -jitter),
+                )
+            })
+            .collect();
+        for k in 0..6 {
+            // Joint k joins rod k−1 (ground for k = 0) and rod k (ground for k = 5).
+            let on = |sys: &mut System, r: Option<usize>| match r {
+                Some(r) => sys.add_marker(None, rods[r], pts[k] - pts[r], ax(k)),
+                None => ground_marker(sys, pts[k], ax(k)),
+            };
+            let i = on(&mut sys, (k < 5).then_some(k));
+            let j = on(&mut sys, k.checked_sub(1));
+            rev(&mut sys, k as u32 + 1, i, j);
+        }
+        sys.prepare(Dim::Auto);
+        sys
+    };
+    let sys = build(0.0);
+    assert_eq!(sys.dim, Dimension::Three);
+    let j = dense(&sys.jacobian(true).unwrap());
+    assert_eq!((j.nrows(), j.ncols(), rank(&j)), (30, 30, 29));
+    // From perturbed positions it assembles; every joint closes.
+    let mut sys = build(0.01);
+    sys.assemble(&AssemblyOptions::default()).unwrap();
+    assert!(sys.residual().unwrap().amax() < 1e-10);
+}
