@@ -10,6 +10,7 @@
 //! dropped can be passed in [`AssemblyOptions::dropped`]; they are left out of the solve
 //! and checked afterwards (a violated dropped row is a conflict, not a redundancy).
 
+use super::constraints::Row;
 use super::equations::{ElementRef, Equation};
 use super::error::{element_name, MbdError};
 use super::math::{DVec, Quat, Vec3};
@@ -250,6 +251,7 @@ impl System {
                 keep[d] = false;
             }
         }
+        self.seed_motion_angles()?;
         let n = self.ncols();
         let (mut lin, mut worst) = self.position_system(&keep)?;
         let mut mu = 1e-10;
@@ -319,6 +321,31 @@ impl System {
             velocity_residual,
             moves,
         })
+    }
+
+    /// Seeds the unwrapping reference of every driven angle with its target g(t).
+    fn seed_motion_angles(&mut self) -> Result<(), MbdError> {
+        let mut seeds = Vec::new();
+        for el in &self.elements {
+            for q in el.eqs.iter().filter(|q| q.active) {
+                if let Row::Measured {
+                    terms,
+                    drive: Some(g),
+                } = &q.row
+                {
+                    if let [(c, m)] = terms[..] {
+                        let target = g
+                            .value(self.time, &[])
+                            .map_err(|s| MbdError::Expression(el.elref.clone(), s))?;
+                        seeds.push((m, target / c));
+                    }
+                }
+            }
+        }
+        for (m, v) in seeds {
+            self.measures.seed(m, v);
+        }
+        Ok(())
     }
 
     /// Velocities closest (in scaled norm) to the input ones satisfying the velocity

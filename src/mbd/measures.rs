@@ -257,6 +257,14 @@ impl MeasureSet {
         self.list.len() - 1
     }
 
+    /// Gives an unwrapped measure without a reference yet the reference `value` (a
+    /// MOTION's target at assembly, so a drive to 200° is not read as −160°).
+    pub fn seed(&mut self, n: usize, value: f64) {
+        if self.list[n].unwrapped() && self.refs[n].is_nan() {
+            self.refs[n] = value;
+        }
+    }
+
     /// Moves the unwrapping references to the current values (after an accepted state).
     pub fn commit(&mut self, sys: &System) {
         for n in 0..self.list.len() {

@@ -1237,3 +1237,28 @@ fn bricard_has_one_redundant_equation_and_one_dof() {
     sys.assemble(&AssemblyOptions::default()).unwrap();
     assert!(sys.residual().unwrap().amax() < 1e-10);
 }
+
+#[test]
+fn a_motion_beyond_half_a_turn_is_reached_not_wrapped() {
+    // MOTION of a revolute to 200°: the angle must come out as 200°, not −160° (AZ is
+    // unwrapped, expr-language §6.2), and the crank tip sits at 200° on the unit circle.
+    let mut sys = System::new();
+    let p = sys.add_part(None, Vec3::zeros(), rz(190f64.to_radians()));
+    let i = sys.add_marker(None, p, Vec3::zeros(), Mat3::identity());
+    let j = ground_marker(&mut sys, Vec3::zeros(), Mat3::identity());
+    rev(&mut sys, 1, i, j);
+    let az = Measure::Angle {
+        i: Some(i),
+        j: Some(j),
+        axis: 2,
+    };
+    sys.motion(er(1), az, time_fn(200f64.to_radians(), 0.0))
+        .unwrap();
+    sys.prepare(Dim::Auto);
+    sys.assemble(&AssemblyOptions::default()).unwrap();
+    let x = sys.part(p).rot * Vec3::x();
+    let want = 200f64.to_radians();
+    assert!((x - Vec3::new(want.cos(), want.sin(), 0.0)).norm() < 1e-10);
+    let n = sys.measures.add(az);
+    assert!((sys.measures.eval(&sys, n).value() - want).abs() < 1e-10);
+}
