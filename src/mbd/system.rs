@@ -139,7 +139,7 @@ impl System {
 
     /// An empty 3D system holding only ground.
     pub fn new() -> Self {
-        let ground = Part::new(None, None, Vec3::zeros(), Quat::identity(), false);
+        let ground = Part::new(None, Vec3::zeros(), Quat::identity());
         System {
             parts: vec![ground],
             markers: Vec::new(),
@@ -162,7 +162,7 @@ impl System {
         // a non-finite matrix), then renormalised.
         let rq = Quat::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(rot));
         let q = Quat::new_normalize(*rq.quaternion());
-        let mut p = Part::new(id, None, position, q, true);
+        let mut p = Part::new(id, position, q);
         p.index = Some(self.moving);
         self.moving += 1;
         self.parts.push(p);
@@ -359,10 +359,10 @@ impl System {
 }
 
 impl Part {
-    fn new(id: Option<Id>, name: Option<String>, r: Vec3, rot: Quat, _moving: bool) -> Part {
+    fn new(id: Option<Id>, r: Vec3, rot: Quat) -> Part {
         Part {
             id,
-            name,
+            name: None,
             r,
             rot,
             v: Vec3::zeros(),

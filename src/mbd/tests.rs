@@ -1174,6 +1174,78 @@ mod from_model {
         );
     }
 
+    /// Every expression becomes g(t) = 0.5 + t (stands in for the compiled derivative).
+    struct Ramp;
+
+    impl crate::mbd::build::ExprCompiler for Ramp {
+        fn compile(&self, _: &el::Expr) -> Box<dyn ExprFn> {
+            time_fn(0.5, 1.0)
+        }
+    }
+
+    #[test]
+    fn motions_of_a_model_drive_joint_and_marker_angles() {
+        let expr = el::Expr {
+            span: 0..0,
+            function: Default::default(),
+        };
+        let motion = |target| el::Motion {
+            el: named(3),
+            target,
+            level: el::MotionLevel::Displacement,
+            function: expr.clone(),
+            icdisp: None,
+            icvel: None,
+        };
+        // JOINT ROTATION and the marker form B3 both drive the pendulum angle to 0.5 rad
+        // (relative to the input angle 0, about z).
+        for target in [
+            el::MotionTarget::Joint {
+                joint: 1,
+                rotation: true,
+            },
+            el::MotionTarget::Markers {
+                i: 20,
+                j: 10,
+                axis: el::MotionAxis::B3,
+            },
+        ] {
+            let mut model = pendulum();
+            model.motions.push(motion(target));
+            let mut sys = System::from_model(&model, Dim::Auto, &Ramp).unwrap();
+            sys.assemble(&AssemblyOptions::default()).unwrap();
+            let p = sys.part(super::super::PartHandle(1));
+            let x = p.rot * Vec3::x();
+            assert!((x.y.atan2(x.x) - 0.5).abs() < 1e-10 && (p.w.z - 1.0).abs() < 1e-10);
+            // The link hangs from the pivot: r = −R·(−1, 0, 0).
+            assert!((p.r - x).norm() < 1e-10);
+        }
+    }
+
+    #[test]
+    fn part_velocities_are_given_at_the_cm_in_cm_axes() {
+        // CM marker 21 at (0.5, 0, 0) on part 2, turned 90° about z: WX = 2 about the CM
+        // x axis is ω = (0, 2, 0) globally; VX = 1 is the CM velocity, so the BCS origin
+        // moves with v_cm − ω × (r_cm − r_origin) = (1, 0, 0) − (0, 2, 0) × (0.5, 0, 0).
+        let mut model = pendulum();
+        model.joints.clear();
+        let mut cm = marker(21, 2, Vec3::new(0.5, 0.0, 0.0));
+        cm.orientation = rz(PI / 2.0);
+        model.markers.push(cm);
+        model.parts[1].cm = Some(21);
+        model.parts[1].velocity = [Some(1.0), None, None];
+        model.parts[1].angular_velocity = [Some(2.0), None, None];
+        let sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
+        assert!(
+            sys.dim_reason.contains("velocity out of the XY plane"),
+            "{}",
+            sys.dim_reason
+        );
+        let p = sys.part(super::super::PartHandle(1));
+        assert!((p.w - Vec3::new(0.0, 2.0, 0.0)).norm() < 1e-15);
+        assert!((p.v - Vec3::new(1.0, 0.0, 1.0)).norm() < 1e-15, "{}", p.v);
+    }
+
     #[test]
     fn unknown_markers_and_unsupported_motions_are_errors() {
         let mut model = pendulum();
@@ -1182,6 +1254,26 @@ mod from_model {
             .err()
             .unwrap();
         assert_eq!(err.to_string(), "MARKER/99 does not exist");
+        let mut model = pendulum();
+        model.motions.push(el::Motion {
+            el: named(3),
+            target: el::MotionTarget::Joint {
+                joint: 1,
+                rotation: true,
+            },
+            level: el::MotionLevel::Velocity,
+            function: el::Expr {
+                span: 0..0,
+                function: Default::default(),
+            },
+            icdisp: None,
+            icvel: None,
+        });
+        let err = System::from_model(&model, Dim::Auto, &Ramp).err().unwrap();
+        assert!(
+            err.to_string().contains("only DISPLACEMENT motions"),
+            "{err}"
+        );
     }
 }
 
