@@ -125,6 +125,17 @@ impl fmt::Display for AssemblyError {
 
 impl std::error::Error for AssemblyError {}
 
+/// The largest |x|, infinite when any x is NaN (`f64::max` would skip it).
+fn largest(xs: &[f64]) -> f64 {
+    xs.iter().fold(0.0, |m, x| {
+        if x.is_nan() {
+            f64::INFINITY
+        } else {
+            m.max(x.abs())
+        }
+    })
+}
+
 /// A linearised set of rows: sparse rows over columns, right-hand sides.
 struct Linear {
     rows: Vec<Vec<(usize, f64)>>,
@@ -190,14 +201,12 @@ impl System {
             rows: Vec::new(),
             rhs: Vec::new(),
         };
-        let mut worst: f64 = 0.0;
         for (r, (e, q)) in self.rows().enumerate() {
             if !keep[r] {
                 continue;
             }
             let ev = self.eval_row(e, q)?;
             let s = self.row_scale(e, q);
-            worst = worst.max((ev.value * s).abs());
             lin.rows.push(
                 ev.dq
                     .iter()
@@ -206,6 +215,7 @@ impl System {
             );
             lin.rhs.push(-ev.value * s);
         }
+        let worst = largest(&lin.rhs);
         Ok((lin, worst))
     }
 
@@ -226,7 +236,7 @@ impl System {
             .filter(|(r, _)| only.is_none_or(|o| o[*r]))
             .filter_map(|(_, (e, q))| {
                 let v = self.row_value(e, q).ok()? * self.row_scale(e, q);
-                (v.abs() > tol).then(|| Violation {
+                (v.is_nan() || v.abs() > tol).then(|| Violation {
                     element: self.elements[e].elref.clone(),
                     equation: self.elements[e].eqs[q].label,
                     residual: v.abs(),
@@ -392,7 +402,7 @@ impl System {
                 );
                 lin.rhs.push(-value * s);
             }
-            worst = lin.rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            worst = largest(&lin.rhs);
             let start = *first.get_or_insert(worst);
             // Linear rows converge in one solve plus refinement; non-holonomic ones in a
             // few Newton rounds.

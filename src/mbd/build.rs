@@ -127,7 +127,7 @@ impl System {
         for g in &model.gcons {
             let f = exprs.compile(&g.function);
             let map = sys.resolve_slots(model, f.slots())?;
-            sys.gcon(elref(ElementKind::Gcon, &g.el), f, map);
+            sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
         }
         for m in &model.motions {
             let r = elref(ElementKind::Motion, &m.el);

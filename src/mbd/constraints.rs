@@ -321,15 +321,21 @@ impl System {
         elref: ElementRef,
         f: Box<dyn ExprFn>,
         map: Vec<usize>,
-    ) -> ElementHandle {
+    ) -> Result<ElementHandle, MbdError> {
         let elref = ElementRef {
             kind: ElementKind::Gcon,
             ..elref
         };
-        self.add_element(
-            elref,
-            vec![Equ::new(Row::Gcon { f, map }, Equation::Gcon, false)],
-        )
+        if map.len() != f.slots().len() || map.iter().any(|&m| m >= self.measures.list.len()) {
+            return Err(MbdError::Unsupported(format!(
+                "GCON/{}: its FUNCTION reads {} measure slots but {} measures were given",
+                elref.id,
+                f.slots().len(),
+                map.len()
+            )));
+        }
+        let row = Row::Gcon { f, map };
+        Ok(self.add_element(elref, vec![Equ::new(row, Equation::Gcon, false)]))
     }
 
     /// A displacement MOTION: measure − g(t) = 0.

@@ -440,7 +440,7 @@ proptest! {
         let dm = sys.measures.add(Measure::Dist { i: Some(m1), j: Some(m3) });
         let dz = sys.measures.add(Measure::Disp { i: Some(m1), j: Some(g), k: Some(m2), comp: 2 });
         let f = Closure { slots: vec![0, 2], f: |_t: f64, m: &[f64]| m[0] * m[1] - 0.5, g: |_t: f64, m: &[f64], g: &mut [f64]| { g[0] = m[1]; g[1] = m[0]; 0.0 } };
-        sys.gcon(er(1), Box::new(f), vec![dm, dz]);
+        sys.gcon(er(1), Box::new(f), vec![dm, dz]).unwrap();
         sys.motion(er(1), Measure::Angle { i: Some(m1), j: Some(m2), axis: 2 }, time_fn(0.2, 1.0)).unwrap();
         sys.prepare(Dim::Three);
         jacobian_fd(&mut sys);
@@ -802,7 +802,7 @@ fn gcon_distance_moves_the_point_radially() {
             0.0
         },
     };
-    sys.gcon(er(1), Box::new(f), vec![dm]);
+    sys.gcon(er(1), Box::new(f), vec![dm]).unwrap();
     sys.prepare(Dim::Three);
     sys.assemble(&AssemblyOptions::default()).unwrap();
     let want = Vec3::new(1.0, 0.3, 0.0).normalize() * 1.5;
@@ -929,7 +929,7 @@ fn non_holonomic_gcon_sets_the_velocity() {
             0.0
         },
     };
-    sys.gcon(er(1), Box::new(f), vec![vx]);
+    sys.gcon(er(1), Box::new(f), vec![vx]).unwrap();
     sys.prepare(Dim::Auto);
     let rep = sys.assemble(&AssemblyOptions::default()).unwrap();
     let part = sys.part(p);
@@ -1353,4 +1353,18 @@ fn a_motion_beyond_half_a_turn_is_reached_not_wrapped() {
     assert!((x - Vec3::new(want.cos(), want.sin(), 0.0)).norm() < 1e-10);
     let n = sys.measures.add(az);
     assert!((sys.measures.eval(&sys, n).value() - want).abs() < 1e-10);
+}
+
+#[test]
+fn non_finite_pose_fails_assembly_instead_of_hanging_or_passing() {
+    // Regression: nalgebra's iterative `from_matrix` never returned on a NaN matrix, and
+    // a NaN residual compared as "not above tolerance".
+    let mut sys = System::new();
+    let p = sys.add_part(Some(2), Vec3::new(f64::NAN, 0.0, 0.0), rz(f64::NAN));
+    let i = sys.add_marker(None, p, Vec3::zeros(), Mat3::identity());
+    let j = ground_marker(&mut sys, Vec3::zeros(), Mat3::identity());
+    rev(&mut sys, 1, i, j);
+    sys.prepare(Dim::Auto);
+    let err = sys.assemble(&AssemblyOptions::default()).unwrap_err();
+    assert!(matches!(err, AssemblyError::NotAssembled { .. }), "{err}");
 }
