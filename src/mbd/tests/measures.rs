@@ -46,6 +46,16 @@ fn angles_and_unit_vectors_on_known_rotations() {
         let n = sys.measures.add(Measure::Angle { i, j: None, axis });
         assert!((sys.measures.eval(&sys, n).value() - want).abs() < 1e-15);
     }
+    // AX: i turned +0.3 about ground x (y_j toward y_i counter-clockwise); AY likewise.
+    for (axis, r) in [(0u8, rot(0.3, 0.0, 0.0)), (1, rot(0.0, 0.3, 0.0))] {
+        let m = Some(sys.add_marker(None, System::GROUND, Vec3::zeros(), r));
+        let n = sys.measures.add(Measure::Angle {
+            i: m,
+            j: None,
+            axis,
+        });
+        assert!((sys.measures.eval(&sys, n).value() - 0.3).abs() < 1e-15);
+    }
     // UVX(i) = (cos 30°, sin 30°, 0).
     let n = sys.measures.add(Measure::UnitVec {
         i,
@@ -214,18 +224,35 @@ fn acceleration_and_force_measures_wait_for_dynamics() {
         let err = Measure::resolve(&slot, &marker).unwrap_err().to_string();
         assert!(err.contains("once dynamics exist"), "{err}");
     }
-    let slot = MeasureSlot {
-        name: "DX".into(),
-        ids: vec![5, 0, 0],
-        component: 0,
+    // Components: from the name for DY and WZ, from the slot for DXYZ and UVZ.
+    let resolve = |name: &str, component: u8| {
+        let slot = MeasureSlot {
+            name: name.into(),
+            ids: vec![5, 0, 0],
+            component,
+        };
+        Measure::resolve(&slot, &marker).unwrap()
     };
+    let (i, j, k) = (None, None, None);
+    assert_eq!(resolve("DY", 0), Measure::Disp { i, j, k, comp: 1 });
+    assert_eq!(resolve("DXYZ", 2), Measure::Disp { i, j, k, comp: 2 });
+    assert_eq!(resolve("WZ", 0), Measure::AngVel { i, j, k, comp: 2 });
     assert_eq!(
-        Measure::resolve(&slot, &marker).unwrap(),
-        Measure::Disp {
-            i: None,
-            j: None,
-            k: None,
-            comp: 0
+        resolve("UVZ", 1),
+        Measure::UnitVec {
+            i,
+            k,
+            axis: 2,
+            comp: 1
         }
     );
+    assert_eq!(resolve("THETA", 0), Measure::Euler313 { i, j, which: 1 });
+    for name in ["VARVAL", "ORIENT"] {
+        let err = MeasureSlot {
+            name: name.into(),
+            ids: vec![1],
+            component: 0,
+        };
+        assert!(Measure::resolve(&err, &marker).is_err());
+    }
 }
