@@ -258,3 +258,33 @@ fn unknown_markers_and_unsupported_motions_are_errors() {
         "{err}"
     );
 }
+
+#[test]
+fn motion_function_is_evaluated_by_the_interpreter() {
+    // MOTION/3, JOINT=1, ROTATION, FUNCTION = 30D*TIME + 0.5: the row is AZ − g(t), with
+    // AZ = 0 at the input pose.
+    let scope = Slots::default();
+    let f = check::compile("30D*TIME + 0.5", &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    let mut model = pendulum();
+    model.motions.push(el::Motion {
+        el: named(3),
+        target: el::MotionTarget::Joint {
+            joint: 1,
+            rotation: true,
+        },
+        level: el::MotionLevel::Displacement,
+        function: el::Expr {
+            span: 0..0,
+            function: f,
+        },
+        icdisp: None,
+        icvel: None,
+    });
+    let mut sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
+    let last = sys.labels().len() - 1;
+    assert!((sys.residual().unwrap()[last] + 0.5).abs() < 1e-15);
+    sys.time = 2.0;
+    assert!((sys.residual().unwrap()[last] + 0.5 + PI / 3.0).abs() < 1e-15);
+}
