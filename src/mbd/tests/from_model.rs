@@ -230,7 +230,7 @@ fn part_velocities_are_given_at_the_cm_in_cm_axes() {
 }
 
 #[test]
-fn unknown_markers_and_unsupported_motions_are_errors() {
+fn unknown_markers_and_joints_are_errors() {
     let mut model = pendulum();
     model.joints[0].i = 99;
     let err = System::from_model(&model, Dim::Auto, &InterpretOnly)
@@ -241,10 +241,10 @@ fn unknown_markers_and_unsupported_motions_are_errors() {
     model.motions.push(el::Motion {
         el: named(3),
         target: el::MotionTarget::Joint {
-            joint: 1,
+            joint: 8,
             rotation: true,
         },
-        level: el::MotionLevel::Velocity,
+        level: el::MotionLevel::Displacement,
         function: el::Expr {
             span: 0..0,
             function: Default::default(),
@@ -253,10 +253,7 @@ fn unknown_markers_and_unsupported_motions_are_errors() {
         icvel: None,
     });
     let err = System::from_model(&model, Dim::Auto, &Ramp).err().unwrap();
-    assert!(
-        err.to_string().contains("only DISPLACEMENT motions"),
-        "{err}"
-    );
+    assert_eq!(err.to_string(), "MOTION/3: JOINT/8 does not exist");
 }
 
 #[test]
@@ -287,4 +284,43 @@ fn motion_function_is_evaluated_by_the_interpreter() {
     assert!((sys.residual().unwrap()[last] + 0.5).abs() < 1e-15);
     sys.time = 2.0;
     assert!((sys.residual().unwrap()[last] + 0.5 + PI / 3.0).abs() < 1e-15);
+}
+
+#[test]
+fn velocity_and_acceleration_motions_assemble_at_time_zero() {
+    // spec §4.5: g(0) = ICDISP; ġ(0) = f(0) for VELOCITY, ICVEL for ACCELERATION.
+    // The FUNCTION goes through the interpreter: 2 + TIME, so f(0) = 2.
+    let scope = Slots::default();
+    let f = check::compile("2 + TIME", &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    for (level, rate) in [
+        (el::MotionLevel::Velocity, 2.0),
+        (el::MotionLevel::Acceleration, -0.7),
+    ] {
+        let mut model = pendulum();
+        model.motions.push(el::Motion {
+            el: named(3),
+            target: el::MotionTarget::Joint {
+                joint: 1,
+                rotation: true,
+            },
+            level,
+            function: el::Expr {
+                span: 0..0,
+                function: f.clone(),
+            },
+            icdisp: Some(0.4),
+            icvel: Some(-0.7),
+        });
+        let mut sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
+        sys.assemble(&AssemblyOptions::default()).unwrap();
+        let p = sys.part(PartHandle(1));
+        let x = p.rot * Vec3::x();
+        assert!((x.y.atan2(x.x) - 0.4).abs() < 1e-10, "{level:?}");
+        assert!((p.w.z - rate).abs() < 1e-10, "{level:?}: {}", p.w.z);
+        // Later times need the integrator.
+        sys.time = 0.5;
+        assert!(sys.residual().is_err());
+    }
 }
