@@ -49,6 +49,33 @@ fn named(id: u32) -> Named {
     }
 }
 
+/// An expression of time alone, checked and lowered.
+fn time_expr(src: &str) -> el::Expr {
+    let scope = Slots::default();
+    let function = check::compile(src, &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    el::Expr {
+        span: 0..0,
+        function,
+    }
+}
+
+/// MOTION/3 on the ROTATION of JOINT/`joint`.
+fn rotation_motion(joint: u32, level: el::MotionLevel, function: el::Expr) -> el::Motion {
+    el::Motion {
+        el: named(3),
+        target: el::MotionTarget::Joint {
+            joint,
+            rotation: true,
+        },
+        level,
+        function,
+        icdisp: None,
+        icvel: None,
+    }
+}
+
 fn part(id: u32, ground: bool, at: Vec3) -> el::Part {
     el::Part {
         el: named(id),
@@ -238,20 +265,8 @@ fn unknown_markers_and_joints_are_errors() {
         .unwrap();
     assert_eq!(err.to_string(), "MARKER/99 does not exist");
     let mut model = pendulum();
-    model.motions.push(el::Motion {
-        el: named(3),
-        target: el::MotionTarget::Joint {
-            joint: 8,
-            rotation: true,
-        },
-        level: el::MotionLevel::Displacement,
-        function: el::Expr {
-            span: 0..0,
-            function: Default::default(),
-        },
-        icdisp: None,
-        icvel: None,
-    });
+    let motion = rotation_motion(8, el::MotionLevel::Displacement, time_expr("0"));
+    model.motions.push(motion);
     let err = System::from_model(&model, Dim::Auto, &Ramp).err().unwrap();
     assert_eq!(err.to_string(), "MOTION/3: JOINT/8 does not exist");
 }
@@ -260,25 +275,11 @@ fn unknown_markers_and_joints_are_errors() {
 fn motion_function_is_evaluated_by_the_interpreter() {
     // MOTION/3, JOINT=1, ROTATION, FUNCTION = 30D*TIME + 0.5: the row is AZ − g(t), with
     // AZ = 0 at the input pose.
-    let scope = Slots::default();
-    let f = check::compile("30D*TIME + 0.5", &scope, Expect::Scalar)
-        .unwrap()
-        .function;
     let mut model = pendulum();
-    model.motions.push(el::Motion {
-        el: named(3),
-        target: el::MotionTarget::Joint {
-            joint: 1,
-            rotation: true,
-        },
-        level: el::MotionLevel::Displacement,
-        function: el::Expr {
-            span: 0..0,
-            function: f,
-        },
-        icdisp: None,
-        icvel: None,
-    });
+    let f = time_expr("30D*TIME + 0.5");
+    model
+        .motions
+        .push(rotation_motion(1, el::MotionLevel::Displacement, f));
     let mut sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
     let last = sys.labels().len() - 1;
     assert!((sys.residual().unwrap()[last] + 0.5).abs() < 1e-15);
@@ -290,28 +291,16 @@ fn motion_function_is_evaluated_by_the_interpreter() {
 fn velocity_and_acceleration_motions_assemble_at_time_zero() {
     // spec §4.5: g(0) = ICDISP; ġ(0) = f(0) for VELOCITY, ICVEL for ACCELERATION.
     // The FUNCTION goes through the interpreter: 2 + TIME, so f(0) = 2.
-    let scope = Slots::default();
-    let f = check::compile("2 + TIME", &scope, Expect::Scalar)
-        .unwrap()
-        .function;
+    let f = time_expr("2 + TIME");
     for (level, rate) in [
         (el::MotionLevel::Velocity, 2.0),
         (el::MotionLevel::Acceleration, -0.7),
     ] {
         let mut model = pendulum();
         model.motions.push(el::Motion {
-            el: named(3),
-            target: el::MotionTarget::Joint {
-                joint: 1,
-                rotation: true,
-            },
-            level,
-            function: el::Expr {
-                span: 0..0,
-                function: f.clone(),
-            },
             icdisp: Some(0.4),
             icvel: Some(-0.7),
+            ..rotation_motion(1, level, f.clone())
         });
         let mut sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
         sys.assemble(&AssemblyOptions::default()).unwrap();
