@@ -1,0 +1,224 @@
+//! Planar scenes: decides whether a system can run in 2D (two translations and a
+//! rotation per part in the global XY, ZX or YZ plane) with the same results as in 3D,
+//! and says why in words.
+//!
+//! The scene is planar in the plane normal to axis n when gravity and every initial
+//! velocity lie in the plane, every part has a BCS axis along n, every marker a constraint reads
+//! has each axis along or across n, and every constraint row at the input configuration
+//! is either in-plane (no derivative along δr_n or the two in-plane rotations) or
+//! out-of-plane (no derivative along the in-plane translations or δθ_n) and then already
+//! satisfied. With the marker-axis condition an out-of-plane row keeps its value
+//! under any planar motion, so dropping it loses nothing; an in-plane row of the 2D
+//! system is the 3D row restricted to the planar columns. Exudyn's 2D joints are what
+//! remains: a REVOLUTE keeps X Delta and Y Delta, a TRANSLATIONAL with z_J in the plane
+//! keeps one transverse Delta and Xi.Yj or Zi.Xj, the equations of the 2D prismatic joint.
+
+use super::constraints::Row;
+use super::error::element_name;
+use super::system::{Dimension, MarkerHandle, System};
+
+/// Which dimension to build.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Dim {
+    /// 2D when the scene is planar, else 3D.
+    #[default]
+    Auto,
+    /// 3D whatever the scene.
+    Three,
+}
+
+const TOL: f64 = 1e-9;
+
+/// The coordinate plane normal to axis 0, 1, 2.
+const PLANES: [&str; 3] = ["YZ", "ZX", "XY"];
+
+impl System {
+    /// Fixes the model length and the dimension once every part, marker and element is
+    /// in. Call it at the input configuration, before assembly.
+    pub fn prepare(&mut self, dim: Dim) {
+        self.length = self.characteristic_length();
+        self.dim = Dimension::Three;
+        for el in &mut self.elements {
+            for q in &mut el.eqs {
+                q.active = true;
+            }
+        }
+        match self.planar(dim) {
+            Ok((normal, drop)) => {
+                let kept = self.rows().count() - drop.len();
+                for &(e, q) in &drop {
+                    self.elements[e].eqs[q].active = false;
+                }
+                self.dim = Dimension::Two;
+                self.normal = normal;
+                for p in &mut self.parts {
+                    p.theta = 0.0;
+                }
+                self.dim_reason = format!(
+                    "2D: every part stays in the global {} plane ({kept} in-plane equations; {} out-of-plane equations are satisfied identically and left out)",
+                    PLANES[normal],
+                    drop.len()
+                );
+            }
+            Err(why) => self.dim_reason = format!("3D: {why}"),
+        }
+    }
+
+    /// The plane normal and the rows to drop in 2D, or why the scene is not planar. Tries
+    /// the plane normal to most joint axes first, then the others; when none fits, the
+    /// reason given is the one for the plane of the joint axes.
+    fn planar(&self, dim: Dim) -> Result<(usize, Vec<(usize, usize)>), String> {
+        if dim == Dim::Three {
+            return Err("forced by the Dim option".into());
+        }
+        let first = self.joint_axis_normal();
+        let mut why = String::new();
+        for normal in [first, 2, 1, 0] {
+            match self.planar_in(normal) {
+                Ok(drop) => return Ok((normal, drop)),
+                Err(w) if normal == first && why.is_empty() => why = w,
+                Err(_) => {}
+            }
+        }
+        Err(why)
+    }
+
+    /// The global axis most elements' J-marker z axes lie along (Z when none does).
+    fn joint_axis_normal(&self) -> usize {
+        let mut votes = [0usize; 3];
+        for el in &self.elements {
+            if let Some(Row::Along { j, .. } | Row::Dot { j, .. }) = el.eqs.first().map(|q| &q.row)
+            {
+                let z = self.frame(Some(*j)).rot.column(2).into_owned();
+                if let Some(k) = (0..3).find(|&k| (z[k].abs() - 1.0).abs() <= TOL) {
+                    votes[k] += 1;
+                }
+            }
+        }
+        let best = votes.iter().copied().max().unwrap_or(0);
+        if best == 0 || votes[2] == best {
+            2
+        } else if votes[1] == best {
+            1
+        } else {
+            0
+        }
+    }
+
+    fn part_word(&self, h: super::system::PartHandle) -> String {
+        match self.part(h).id {
+            Some(id) => format!("PART/{id}"),
+            None => format!("part #{}", h.0),
+        }
+    }
+
+    /// The rows to drop for motion in the plane normal to axis `n`, or why not.
+    fn planar_in(&self, n: usize) -> Result<Vec<(usize, usize)>, String> {
+        let (a, b) = ((n + 1) % 3, (n + 2) % 3);
+        let plane = PLANES[n];
+        let axis = ["X", "Y", "Z"][n];
+        if self.gravity[n].abs() > TOL * self.gravity.norm().max(1.0) {
+            return Err(format!("gravity has a component along global {axis}"));
+        }
+        for (i, p) in self
+            .parts
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.index.is_some())
+        {
+            let h = super::system::PartHandle(i as u32);
+            // Some BCS axis along the normal (kinematics would not need it, but a body
+            // turned obliquely would leave the plane under its own inertia).
+            let r = p.rot.to_rotation_matrix().into_inner();
+            if !(0..3).any(|c| (r[(n, c)].abs() - 1.0).abs() <= TOL) {
+                let why = format!(
+                    "{} has no axis normal to the global {plane} plane",
+                    self.part_word(h)
+                );
+                return Err(why);
+            }
+            if p.input_v[n].abs() > TOL || p.input_w[a].abs() > TOL || p.input_w[b].abs() > TOL {
+                let why = format!(
+                    "{} has an initial velocity out of the {plane} plane",
+                    self.part_word(h)
+                );
+                return Err(why);
+            }
+        }
+        let mut drop = Vec::new();
+        for (e, q) in self.rows() {
+            let el = &self.elements[e];
+            let markers: Vec<MarkerHandle> = match &el.eqs[q].row {
+                Row::Along { i, j, .. } | Row::Dot { i, j, .. } => vec![*i, *j],
+                Row::Measured { terms, .. } => terms
+                    .iter()
+                    .flat_map(|t| self.measures.list[t.1].markers())
+                    .flatten()
+                    .collect(),
+                Row::Gcon { map, .. } => map
+                    .iter()
+                    .flat_map(|&m| self.measures.list[m].markers())
+                    .flatten()
+                    .collect(),
+            };
+            for m in markers {
+                let rot = self.frame(Some(m)).rot;
+                if (0..3).any(|c| {
+                    let z = rot[(n, c)].abs();
+                    z > TOL && (z - 1.0).abs() > TOL
+                }) {
+                    let id = self
+                        .marker(m)
+                        .id
+                        .map_or("a marker".into(), |i| format!("MARKER/{i}"));
+                    let why = format!(
+                        "{id} of {} has an axis oblique to global {axis}",
+                        element_name(&el.elref)
+                    );
+                    return Err(why);
+                }
+            }
+            let ev = self.eval_row(e, q).map_err(|x| x.to_string())?;
+            let entries = if self.row_reads_velocity(e, q) {
+                &ev.dv
+            } else {
+                &ev.dq
+            };
+            let (mut inp, mut outp) = (0.0f64, 0.0f64);
+            for &(c, x) in entries {
+                let k = c % 6;
+                let scaled = if k < 3 { x * self.length } else { x };
+                if k == a || k == b || k == 3 + n {
+                    inp = inp.max(scaled.abs());
+                } else {
+                    outp = outp.max(scaled.abs());
+                }
+            }
+            let label = el.eqs[q].label.label();
+            if outp <= TOL {
+                continue;
+            }
+            if inp > TOL {
+                let why = format!(
+                    "{} ({label}) couples motion in and out of the {plane} plane",
+                    element_name(&el.elref)
+                );
+                return Err(why);
+            }
+            let scale = if el.eqs[q].translational {
+                1.0 / self.length
+            } else {
+                1.0
+            };
+            if (ev.value * scale).abs() > TOL {
+                let why = format!(
+                    "{} ({label}) is violated out of the {plane} plane",
+                    element_name(&el.elref)
+                );
+                return Err(why);
+            }
+            drop.push((e, q));
+        }
+        Ok(drop)
+    }
+}
