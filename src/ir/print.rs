@@ -50,12 +50,28 @@ fn block(f: &Function, list: &[Value], indent: usize, out: &mut String) {
                 spline,
                 iord,
             } => format!("spline {kind:?}[{spline}] v{x}, v{z}, iord {iord}"),
+            Inst::IfExtra { of, index } => format!("result {} of v{of}", index + 1),
+            Inst::Select {
+                cmp,
+                a,
+                b,
+                then,
+                otherwise,
+            } => format!("select v{a} {} v{b} ? v{then} : v{otherwise}", cmp.symbol()),
+            Inst::Partial { func, wrt, args } => {
+                let args: Vec<String> = args.iter().map(|a| format!("v{a}")).collect();
+                format!("partial[{wrt}] {} {}", func.symbol(), args.join(", "))
+            }
             Inst::If { test, arms } => {
                 let _ = writeln!(out, "{pad}v{v} = if v{test}");
                 for (label, arm) in ["<0", "=0", ">0"].iter().zip(arms.iter()) {
                     let _ = writeln!(out, "{pad}  {label}:");
                     block(f, &arm.insts, indent + 2, out);
-                    let _ = writeln!(out, "{pad}    yield v{}", arm.result);
+                    let results: Vec<String> = std::iter::once(&arm.result)
+                        .chain(&arm.extra)
+                        .map(|r| format!("v{r}"))
+                        .collect();
+                    let _ = writeln!(out, "{pad}    yield {}", results.join(", "));
                 }
                 continue;
             }
