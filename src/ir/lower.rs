@@ -1,9 +1,11 @@
 //! Branch-free lowering of the cheap library functions, for the JIT.
 //!
-//! [`lower`] rebuilds a function with MIN, MAX, DIM, SIGN, STEP, STEP5, HAVSIN, IMPACT,
-//! BISTOP and POLY replaced by IEEE arithmetic and [`Inst::Select`]s (every row of the
-//! piecewise definition is computed, then chosen), so the machine code has no
-//! data-dependent jumps for them. Each lowering follows the operation order documented in
+//! [`lower`] rebuilds a function with MIN, MAX, DIM, SIGN, STEP, STEP5, HAVSIN and POLY
+//! replaced by IEEE arithmetic and [`Inst::Select`]s (every row of the piecewise
+//! definition is computed, then chosen), so the machine code has no data-dependent jumps
+//! for them. IMPACT and BISTOP stay calls: their `pow` dominates, and a branch-free form
+//! (which must compute it, and both damping steps, on every evaluation) measured slower
+//! than the runtime's branches, even on unpredictable inputs. Each lowering follows the operation order documented in
 //! `mbfx-runtime` exactly, so it gives the runtime's bits (NaN payloads aside); the
 //! interpreter keeps calling the runtime, so the interpreter ≡ JIT tests check every
 //! lowering against the runtime itself. Transcendentals (`pow`, `sin`) stay calls; ABS
@@ -103,29 +105,6 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span) -> Value 
             let nan = l.c(f64::NAN);
             let r = l.sel(Cmp::Uno, h0, h1, nan, rows);
             l.sel(Cmp::Lt, x0, x1, r, nan)
-        }
-        (Func::Impact, &[x, xd, x1, k, e, cmax, d]) => {
-            let p = l.sub(x1, x);
-            let spring = l.spring(k, p, e);
-            let f = l.lower_force(spring, x, xd, x1, cmax, d);
-            let zero = l.c(0.0);
-            let r = l.sel(Cmp::Ge, x, x1, zero, f);
-            l.valid(&[x, xd], k, e, cmax, d, r)
-        }
-        (Func::Bistop, &[x, xd, x1, x2, k, e, cmax, d]) => {
-            // One pow: the penetration on whichever side x is (the runtime's two branches
-            // compute the same `k * p.powf(e)` on the same p).
-            let (below, above) = (l.sub(x1, x), l.sub(x, x2));
-            let p = l.sel(Cmp::Lt, x, x1, below, above);
-            let spring = l.spring(k, p, e);
-            let lower = l.lower_force(spring, x, xd, x1, cmax, d);
-            let upper = l.upper_force(spring, x, xd, x2, cmax, d);
-            let zero = l.c(0.0);
-            let r = l.sel(Cmp::Gt, x, x2, upper, zero);
-            let r = l.sel(Cmp::Lt, x, x1, lower, r);
-            let nan = l.c(f64::NAN);
-            let r = l.sel(Cmp::Lt, x1, x2, r, nan);
-            l.valid(&[x, xd], k, e, cmax, d, r)
         }
         (Func::Poly, [x, x0, coeffs @ ..])
             if (1..=super::MAX_CALL_ARGS - 3).contains(&coeffs.len()) =>
@@ -243,66 +222,5 @@ impl Lower<'_> {
         let s = self.call(Func::Sin, &[theta]);
         let hs = self.mul(half, s);
         self.add(mean, hs)
-    }
-
-    /// `k * p.powf(e)`.
-    fn spring(&mut self, k: Value, p: Value, e: Value) -> Value {
-        let pe = self.call(Func::Pow, &[p, e]);
-        self.mul(k, pe)
-    }
-
-    /// `push_only(spring - STEP(x, x1 - d, cmax, x1, 0.0) * xd)`: f ≤ 0 gives 0.
-    fn lower_force(
-        &mut self,
-        spring: Value,
-        x: Value,
-        xd: Value,
-        x1: Value,
-        cmax: Value,
-        d: Value,
-    ) -> Value {
-        let zero = self.c(0.0);
-        let x0 = self.sub(x1, d);
-        let c = self.rows(x, x0, cmax, x1, zero, |l, dd| l.cubic(cmax, zero, dd));
-        let damp = self.mul(c, xd);
-        let f = self.sub(spring, damp);
-        self.sel(Cmp::Le, f, zero, zero, f)
-    }
-
-    /// `pull_only(-spring - STEP(x, x2, 0.0, x2 + d, cmax) * xd)`: f ≥ 0 gives 0.
-    fn upper_force(
-        &mut self,
-        spring: Value,
-        x: Value,
-        xd: Value,
-        x2: Value,
-        cmax: Value,
-        d: Value,
-    ) -> Value {
-        let zero = self.c(0.0);
-        let x1 = self.add(x2, d);
-        let c = self.rows(x, x2, zero, x1, cmax, |l, dd| l.cubic(zero, cmax, dd));
-        let damp = self.mul(c, xd);
-        let ns = self.neg(spring);
-        let f = self.sub(ns, damp);
-        self.sel(Cmp::Ge, f, zero, zero, f)
-    }
-
-    /// NaN unless k ≥ 0, e > 0, cmax ≥ 0, d > 0 and the `free` arguments are numbers.
-    fn valid(
-        &mut self,
-        free: &[Value; 2],
-        k: Value,
-        e: Value,
-        cmax: Value,
-        d: Value,
-        r: Value,
-    ) -> Value {
-        let (zero, nan) = (self.c(0.0), self.c(f64::NAN));
-        let mut r = self.sel(Cmp::Uno, free[0], free[1], nan, r);
-        for (cmp, v) in [(Cmp::Ge, k), (Cmp::Gt, e), (Cmp::Ge, cmax), (Cmp::Gt, d)] {
-            r = self.sel(cmp, v, zero, r, nan);
-        }
-        r
     }
 }

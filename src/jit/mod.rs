@@ -5,7 +5,7 @@
 //! `JITModule` with one finalisation; the module lives as long as any [`CompiledExpr`]
 //! made from it and its memory is freed when the last one drops. Before translation each
 //! function goes through [`crate::ir::lower`], so MIN, MAX, DIM, SIGN, STEP, STEP5,
-//! HAVSIN, IMPACT, BISTOP and POLY run without data-dependent jumps.
+//! HAVSIN and POLY run without data-dependent jumps.
 //!
 //! Invariant: a compiled expression gives the interpreter's bits (NaN payloads aside):
 //! both run the same IR, call the same runtime functions, and the lowering follows the
