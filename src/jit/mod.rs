@@ -158,6 +158,9 @@ pub struct Jit {
     fctx: FunctionBuilderContext,
     /// Lower the cheap library functions to branch-free code (on by default).
     pub lower: bool,
+    /// Seconds each function of the last batch took (lowering, translation, Cranelift),
+    /// for the compile benchmark.
+    times: Vec<f64>,
 }
 
 impl Jit {
@@ -185,6 +188,7 @@ impl Jit {
             ctx: cranelift_codegen::Context::new(),
             fctx: FunctionBuilderContext::new(),
             lower: true,
+            times: Vec::new(),
         })
     }
 
@@ -205,7 +209,9 @@ impl Jit {
         let mut module = self.module();
         let mut declared = FxHashMap::default();
         let mut ids = Vec::with_capacity(fs.len());
+        self.times.clear();
         for f in fs {
+            let t0 = std::time::Instant::now();
             let lowered;
             let f = if self.lower {
                 lowered = crate::ir::lower::lower(f);
@@ -215,6 +221,7 @@ impl Jit {
             };
             let id = self.define(&mut module, &mut declared, f)?;
             ids.push((id, f.outputs.len(), needs(f)));
+            self.times.push(t0.elapsed().as_secs_f64());
         }
         module
             .finalize_definitions()
@@ -237,6 +244,12 @@ impl Jit {
                 }
             })
             .collect())
+    }
+
+    /// Seconds each function of the last [`Jit::compile_batch`] took to lower, translate
+    /// and compile (the module's finalisation, shared by the batch, is not included).
+    pub fn last_batch_times(&self) -> &[f64] {
+        &self.times
     }
 
     /// Translates `f` into `module` and defines it; returns its id.

@@ -161,3 +161,24 @@ proptest! {
         }
     }
 }
+
+/// The README's library example: value and derivative compiled together.
+#[test]
+fn readme_example_value_and_gradient() {
+    use mbfx::check::{compile, Expect, Variables};
+    let mut scope = Variables::new();
+    let x = scope.define("x");
+    let f = compile("STEP(x, 0, 0, 1, 5) * x", &scope, Expect::Scalar)
+        .expect("valid")
+        .function;
+    let mut jit = Jit::new().expect("a supported CPU");
+    let code = jit.compile(&f).expect("compiles");
+    assert_eq!(code.eval(&Context::new(0.0, &[0.5])), 1.25);
+    let g = jit
+        .compile(&gradient(&f, &[Input::Var(x)]).expect("differentiable"))
+        .expect("compiles");
+    let mut out = [0.0; 2];
+    g.eval_into(&Context::new(0.0, &[0.5]), &mut out);
+    // d/dx (STEP·x) = STEP'·x + STEP = 30·Δ(1−Δ)·x + 2.5 = 3.75 + 2.5 at x = 0.5.
+    assert_eq!(out, [1.25, 6.25]);
+}
