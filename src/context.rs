@@ -64,6 +64,11 @@ impl<'a> Context<'a> {
         self.n_vars >= needs[0] && self.n_measures >= needs[1] && self.n_splines >= needs[2]
     }
 
+    /// The variable and measure arrays' addresses, which compiled code takes as arguments.
+    pub(crate) fn arrays(&self) -> (*const f64, *const f64) {
+        (self.vars, self.measures)
+    }
+
     pub fn vars(&self) -> &'a [f64] {
         // SAFETY: `vars`/`n_vars` come from a `&'a [f64]` given to `new`.
         unsafe { std::slice::from_raw_parts(self.vars, self.n_vars) }
@@ -86,9 +91,6 @@ pub(crate) mod layout {
     use super::Context;
     use std::mem::offset_of;
 
-    pub const TIME: i32 = offset_of!(Context<'static>, time) as i32;
     pub const MODE: i32 = offset_of!(Context<'static>, mode) as i32;
-    pub const VARS: i32 = offset_of!(Context<'static>, vars) as i32;
-    pub const MEASURES: i32 = offset_of!(Context<'static>, measures) as i32;
     pub const SPLINES: i32 = offset_of!(Context<'static>, splines) as i32;
 }

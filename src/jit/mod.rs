@@ -76,7 +76,7 @@ unsafe impl Send for Code {}
 unsafe impl Sync for Code {}
 
 /// Signature of the generated code.
-type RawFn = unsafe extern "C" fn(*const Context<'_>, *mut f64) -> f64;
+type RawFn = unsafe extern "C" fn(*const Context<'_>, *const f64, *const f64, *mut f64, f64) -> f64;
 
 /// A compiled expression. Cloning shares the code.
 #[derive(Clone)]
@@ -121,7 +121,20 @@ impl CompiledExpr {
         }
         // SAFETY: the code reads only context slots below `needs`, which `covered_by`
         // checked, and with one output it never writes `out`; `_owner` keeps the code alive.
-        unsafe { (self.code)(ctx, std::ptr::null_mut()) }
+        unsafe { self.call(ctx, std::ptr::null_mut()) }
+    }
+
+    /// Runs the code.
+    ///
+    /// # Safety
+    /// `ctx` must cover the expression's needs, and `out` must have room for every output
+    /// when there are several (it is not written when there is one).
+    #[inline(always)]
+    unsafe fn call(&self, ctx: &Context, out: *mut f64) -> f64 {
+        let (vars, measures) = ctx.arrays();
+        // SAFETY: the caller's guarantees are the code's requirements; `_owner` keeps the
+        // code alive.
+        unsafe { (self.code)(ctx, vars, measures, out, ctx.time) }
     }
 
     /// Evaluates every output into `out` (extra slots are left alone; a shorter `out`
@@ -134,18 +147,18 @@ impl CompiledExpr {
         if self.outputs <= 1 {
             if let Some(o) = out.first_mut() {
                 // SAFETY: as in `eval`.
-                *o = unsafe { (self.code)(ctx, std::ptr::null_mut()) };
+                *o = unsafe { self.call(ctx, std::ptr::null_mut()) };
             }
             return;
         }
         if out.len() >= self.outputs {
             // SAFETY: the context is covered (see `eval`) and `out` has room for every
             // output the code writes.
-            unsafe { (self.code)(ctx, out.as_mut_ptr()) };
+            unsafe { self.call(ctx, out.as_mut_ptr()) };
         } else {
             let mut all = vec![0.0; self.outputs];
             // SAFETY: as above, with a buffer of exactly `outputs` values.
-            unsafe { (self.code)(ctx, all.as_mut_ptr()) };
+            unsafe { self.call(ctx, all.as_mut_ptr()) };
             out.copy_from_slice(&all[..out.len()]);
         }
     }

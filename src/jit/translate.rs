@@ -1,8 +1,10 @@
 //! IR → Cranelift IR, one method per IR instruction.
 //!
-//! The generated function is `extern "C" fn(ctx: *const Context, out: *mut f64) -> f64`:
-//! it returns the first output and, when there are several (a vector, a gradient),
-//! writes all of them to `out`. Arithmetic is inlined (`fadd`, `fmul`, `sqrt`, `fabs`, no
+//! The generated function is `extern "C" fn(ctx: *const Context, vars: *const f64,
+//! measures: *const f64, out: *mut f64, time: f64) -> f64`: it returns the first output
+//! and, when there are several (a vector, a gradient), writes all of them to `out`. The
+//! variable and measure arrays and the time come as arguments (the caller has them in
+//! registers) so the code does not load them from the context first. Arithmetic is inlined (`fadd`, `fmul`, `sqrt`, `fabs`, no
 //! fused multiply-add); an arithmetic IF is real branches (only the taken arm runs); a
 //! [`Inst::Select`] is a branch-free SSE compare-and-blend; library functions are calls
 //! to the runtime's `extern "C"` wrappers.
@@ -27,8 +29,10 @@ use rustc_hash::FxHashMap;
 pub fn expr_signature(module: &JITModule) -> Signature {
     let ptr = module.target_config().pointer_type();
     let mut sig = module.make_signature();
-    sig.params.push(AbiParam::new(ptr));
-    sig.params.push(AbiParam::new(ptr));
+    for _ in 0..4 {
+        sig.params.push(AbiParam::new(ptr));
+    }
+    sig.params.push(AbiParam::new(types::F64));
     sig.returns.push(AbiParam::new(types::F64));
     sig
 }
@@ -44,6 +48,9 @@ pub struct Translator<'a, 'b> {
     refs: FxHashMap<String, FuncRef>,
     ptr: Type,
     ctx: ir::Value,
+    time: ir::Value,
+    /// Where several outputs are written.
+    out: ir::Value,
     /// Base pointers of the variable, measure and spline arrays (loaded once, on entry).
     bases: [Option<ir::Value>; 3],
     /// Cranelift value of each IR value translated so far.
@@ -65,21 +72,13 @@ impl<'a, 'b> Translator<'a, 'b> {
         let entry = fb.create_block();
         fb.append_block_params_for_function_params(entry);
         fb.switch_to_block(entry);
-        let ctx = fb.block_params(entry)[0];
-        let uses = &f.uses;
-        let mut bases = [None; 3];
-        for (slot, (used, offset)) in [
-            (!uses.vars.is_empty(), layout::VARS),
-            (!uses.measures.is_empty(), layout::MEASURES),
-            (!uses.splines.is_empty(), layout::SPLINES),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            if used {
-                bases[slot] = Some(fb.ins().load(ptr, TRUSTED.with_readonly(), ctx, offset));
-            }
-        }
+        let params = fb.block_params(entry).to_vec();
+        let ctx = params[0];
+        let splines = (!f.uses.splines.is_empty()).then(|| {
+            fb.ins()
+                .load(ptr, TRUSTED.with_readonly(), ctx, layout::SPLINES)
+        });
+        let bases = [Some(params[1]), Some(params[2]), splines];
         Translator {
             f,
             fb,
@@ -88,6 +87,8 @@ impl<'a, 'b> Translator<'a, 'b> {
             refs: FxHashMap::default(),
             ptr,
             ctx,
+            time: params[4],
+            out: params[3],
             bases,
             vals: vec![None; f.insts.len()],
             extras: FxHashMap::default(),
@@ -105,9 +106,7 @@ impl<'a, 'b> Translator<'a, 'b> {
             .map(|&o| self.value(o))
             .collect::<Result<_, _>>()?;
         if outs.len() > 1 {
-            let out = self
-                .fb
-                .block_params(self.fb.func.layout.entry_block().expect("entry"))[1];
+            let out = self.out;
             for (i, &v) in outs.iter().enumerate() {
                 self.fb.ins().store(TRUSTED, v, out, (i * 8) as i32);
             }
@@ -149,7 +148,7 @@ impl<'a, 'b> Translator<'a, 'b> {
             Inst::Const(_) => return Ok(()),
             Inst::Var(s) => self.load_slot(0, *s)?,
             Inst::Measure(s) => self.load_slot(1, *s)?,
-            Inst::Time => self.load_ctx(layout::TIME),
+            Inst::Time => self.time,
             Inst::Mode => self.load_ctx(layout::MODE),
             Inst::Neg(a) => {
                 let a = self.value(*a)?;
