@@ -14,7 +14,10 @@
 mod symbols;
 mod translate;
 
-pub use symbols::{lookup as runtime_symbol, names as symbol_name, params as symbol_params};
+pub use symbols::{
+    lookup as runtime_symbol, names as symbol_name, params as symbol_params,
+    spline as spline_symbol,
+};
 
 use crate::context::Context;
 use crate::ir::Function;

@@ -1,10 +1,11 @@
 //! The JIT's own contracts.
 
 use super::support::{ir, same};
+use mbfx::check::builtins::SplineKind;
 use mbfx::context::Context;
 use mbfx::interp::Program;
 use mbfx::ir::Func;
-use mbfx::jit::{runtime_symbol, symbol_name, symbol_params, Jit};
+use mbfx::jit::{runtime_symbol, spline_symbol, symbol_name, symbol_params, Jit};
 
 /// Every function of the IR has a runtime symbol, and so does its derivative companion,
 /// with exactly the parameters the translator passes.
@@ -16,6 +17,11 @@ fn every_builtin_has_a_symbol_with_the_right_signature() {
             let sym = runtime_symbol(&name).unwrap_or_else(|| panic!("no symbol {name}"));
             assert_eq!(sym.params, symbol_params(func, grad).as_slice(), "{name}");
         }
+    }
+    for kind in [SplineKind::Akima, SplineKind::Cubic] {
+        let (name, params) = spline_symbol(kind);
+        let sym = runtime_symbol(name).unwrap_or_else(|| panic!("no symbol {name}"));
+        assert_eq!(sym.params, params.as_slice(), "{name}");
     }
 }
 
