@@ -11,6 +11,7 @@ pub mod context;
 pub mod diag;
 pub mod interp;
 pub mod ir;
+pub mod jit;
 pub mod mbd;
 pub mod model;
 mod stack;
