@@ -24,8 +24,8 @@ pub fn lower(f: &Function) -> Function {
     let mut m = constants(f, &mut b);
     let mut ifs = FxHashMap::default();
     list(f, &mut b, &mut m, &mut ifs, &f.body);
-    let outputs = f.outputs.iter().map(|&o| m[o as usize]).collect();
-    b.finish(outputs)
+    let outputs = f.outputs.iter().map(|&o| m[o as usize]).collect::<Vec<_>>();
+    b.finish(&outputs)
 }
 
 fn list(

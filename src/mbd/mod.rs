@@ -32,6 +32,7 @@
 
 pub mod assembly;
 pub mod build;
+pub mod compiled;
 pub mod constraints;
 mod dual;
 pub mod equations;
