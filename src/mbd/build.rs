@@ -1,0 +1,198 @@
+//! From a [`Model`] to a [`System`]: parts, markers, JOINT, JPRIM, GCON and MOTION
+//! through the library constructors, then the choice of 2D or 3D. Expressions become
+//! [`ExprFn`]s through an [`ExprCompiler`]: the integration plugs in the compiled IR
+//! derivative; [`InterpretOnly`] evaluates values alone.
+
+use super::equations::{ElementKind, ElementRef};
+use super::error::MbdError;
+use super::expr::{ExprFn, Interpreted};
+use super::math::Vec3;
+use super::measures::{Measure, M};
+use super::planar::Dim;
+use super::system::{MarkerHandle, PartHandle, System};
+use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
+use std::collections::HashMap;
+
+/// Turns an expression of the model into an [`ExprFn`].
+pub trait ExprCompiler {
+    fn compile(&self, e: &Expr) -> Box<dyn ExprFn>;
+}
+
+/// Values through the interpreter, no derivatives.
+pub struct InterpretOnly;
+
+impl ExprCompiler for InterpretOnly {
+    fn compile(&self, e: &Expr) -> Box<dyn ExprFn> {
+        Box::new(Interpreted::new(e.function.clone()))
+    }
+}
+
+fn elref(kind: ElementKind, n: &Named) -> ElementRef {
+    ElementRef {
+        kind,
+        id: n.id,
+        name: n.name.clone(),
+    }
+}
+
+impl System {
+    /// Resolves the model's measure slots `slots` (as an expression's
+    /// [`ExprFn::slots`] lists them) to measures of the system; only these are ever
+    /// computed. Returns the measure index of each slot, in order.
+    pub fn resolve_slots(&mut self, model: &Model, slots: &[u32]) -> Result<Vec<usize>, MbdError> {
+        let mut map = Vec::with_capacity(slots.len());
+        for &s in slots {
+            let slot = model.measures.get(s as usize).ok_or_else(|| {
+                MbdError::Unsupported(format!("measure slot {s} is not in the model"))
+            })?;
+            let marker = |id: i64| -> Result<M, MbdError> {
+                if id == 0 {
+                    return Ok(None);
+                }
+                u32::try_from(id)
+                    .ok()
+                    .and_then(|id| self.marker_by_id(id))
+                    .map(Some)
+                    .ok_or(MbdError::UnknownMarker(id))
+            };
+            let m = Measure::resolve(slot, &marker)?;
+            map.push(self.measures.add(m));
+        }
+        Ok(map)
+    }
+
+    /// Builds the system of `model` in the dimension `dim` allows.
+    pub fn from_model(
+        model: &Model,
+        dim: Dim,
+        exprs: &dyn ExprCompiler,
+    ) -> Result<System, MbdError> {
+        let mut sys = System::new();
+        let mut parts: HashMap<Id, PartHandle> = HashMap::new();
+        for p in &model.parts {
+            let h = if p.ground {
+                System::GROUND
+            } else {
+                sys.add_part(Some(p.el.id), p.position, p.orientation)
+            };
+            sys.part_mut(h).id = Some(p.el.id);
+            sys.part_mut(h).name = p.el.name.clone();
+            parts.insert(p.el.id, h);
+        }
+        let mut markers: HashMap<Id, MarkerHandle> = HashMap::new();
+        for m in &model.markers {
+            let part = *parts.get(&m.part).ok_or(MbdError::UnknownPart(m.part))?;
+            let h = sys.add_marker(Some(m.el.id), part, m.position, m.orientation);
+            sys.markers[h.0 as usize].floating = m.floating;
+            markers.insert(m.el.id, h);
+        }
+        let marker = |id: Id| {
+            markers
+                .get(&id)
+                .copied()
+                .ok_or(MbdError::UnknownMarker(id as i64))
+        };
+        // Initial velocities: VX.. of the CM (global), WX.. in CM (or WM) marker axes.
+        for p in model.parts.iter().filter(|p| !p.ground) {
+            let h = parts[&p.el.id];
+            let frame_of = |m: Option<Id>| {
+                m.and_then(|id| markers.get(&id).copied())
+                    .map(|m| sys.frame(Some(m)))
+            };
+            let wframe = frame_of(p.wm.or(p.cm));
+            let wl = Vec3::from(p.angular_velocity.map(|x| x.unwrap_or(0.0)));
+            let w = wframe.map_or(sys.part(h).rot * wl, |f| f.rot * wl);
+            let vcm = Vec3::from(p.velocity.map(|x| x.unwrap_or(0.0)));
+            let arm = frame_of(p.cm).map_or(Vec3::zeros(), |f| f.a);
+            sys.set_part_velocity(h, vcm - w.cross(&arm), w);
+        }
+        for j in &model.joints {
+            let param = j.pd.or(j.pitch).unwrap_or(0.0);
+            sys.joint(
+                elref(ElementKind::Joint(j.kind), &j.el),
+                j.kind,
+                marker(j.i)?,
+                marker(j.j)?,
+                param,
+            )?;
+        }
+        for j in &model.jprims {
+            sys.jprim(
+                elref(ElementKind::Jprim(j.kind), &j.el),
+                j.kind,
+                marker(j.i)?,
+                marker(j.j)?,
+            )?;
+        }
+        for g in &model.gcons {
+            let f = exprs.compile(&g.function);
+            let map = sys.resolve_slots(model, f.slots())?;
+            sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
+        }
+        for m in &model.motions {
+            let r = elref(ElementKind::Motion, &m.el);
+            if m.level != MotionLevel::Displacement {
+                return Err(MbdError::Unsupported(format!(
+                    "MOTION/{}: only DISPLACEMENT motions are supported yet (VELOCITY and ACCELERATION need the integrator)",
+                    m.el.id
+                )));
+            }
+            let measure = match m.target {
+                MotionTarget::Joint { joint, rotation } => {
+                    let j = model
+                        .joints
+                        .iter()
+                        .find(|j| j.el.id == joint)
+                        .ok_or_else(|| {
+                            MbdError::Unsupported(format!(
+                                "MOTION/{}: JOINT/{joint} does not exist",
+                                m.el.id
+                            ))
+                        })?;
+                    let (i, jm) = (Some(marker(j.i)?), Some(marker(j.j)?));
+                    if rotation {
+                        Measure::Angle { i, j: jm, axis: 2 }
+                    } else {
+                        Measure::Disp {
+                            i,
+                            j: jm,
+                            k: jm,
+                            comp: 2,
+                        }
+                    }
+                }
+                MotionTarget::Markers { i, j, axis } => {
+                    let (i, j) = (Some(marker(i)?), Some(marker(j)?));
+                    match axis {
+                        MotionAxis::X => Measure::Disp {
+                            i,
+                            j,
+                            k: j,
+                            comp: 0,
+                        },
+                        MotionAxis::Y => Measure::Disp {
+                            i,
+                            j,
+                            k: j,
+                            comp: 1,
+                        },
+                        MotionAxis::Z => Measure::Disp {
+                            i,
+                            j,
+                            k: j,
+                            comp: 2,
+                        },
+                        MotionAxis::B1 => Measure::Body123 { i, j, which: 0 },
+                        MotionAxis::B2 => Measure::Body123 { i, j, which: 1 },
+                        MotionAxis::B3 => Measure::Body123 { i, j, which: 2 },
+                    }
+                }
+            };
+            sys.motion(r, measure, exprs.compile(&m.function))?;
+        }
+        sys.gravity = model.gravity;
+        sys.ucf = model.units.ucf;
+        sys.prepare(dim);
+        Ok(sys)
+    }
+}

@@ -1,0 +1,515 @@
+//! Constraint elements: each is a set of scalar equations between two marker frames.
+//! The six primitive equations of multibody spec §4.1 (d·e_J = 0 and u_I·w_J = 0) are
+//! differentiated by hand; every JOINT of §4.2, every JPRIM and Exudyn's 2D prismatic
+//! joint (§6.4) is a constructor that lists primitives, not a separate code path.
+//! RACKPIN, SCREW and MOTION are linear combinations of measures minus a drive g(t);
+//! GCON is an expression of measures. Rows carry their [`EquationLabel`].
+
+use super::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType, JprimType};
+use super::error::MbdError;
+use super::expr::ExprFn;
+use super::math::Vec3;
+use super::measures::Measure;
+use super::system::{ElementHandle, MarkerHandle, PartHandle, System};
+use std::f64::consts::PI;
+
+/// How one scalar equation is computed.
+pub enum Row {
+    /// (r_I − r_J)·(R_J dir) · sign.
+    Along {
+        i: MarkerHandle,
+        j: MarkerHandle,
+        dir: Vec3,
+        sign: f64,
+    },
+    /// (R_I a)·(R_J b).
+    Dot {
+        i: MarkerHandle,
+        j: MarkerHandle,
+        a: Vec3,
+        b: Vec3,
+    },
+    /// Σ cₖ·measureₖ − g(t) (g = 0 when there is no drive).
+    Measured {
+        terms: Vec<(f64, usize)>,
+        drive: Option<Box<dyn ExprFn>>,
+    },
+    /// f(t, measures): `map[k]` is the measure index of the k-th slot f reads.
+    Gcon { f: Box<dyn ExprFn>, map: Vec<usize> },
+}
+
+/// One equation of an element.
+pub struct Equ {
+    pub row: Row,
+    pub label: Equation,
+    /// Length-valued (scaled by the model length in the scaled Jacobian).
+    pub translational: bool,
+    /// False when the 2D build drops it as identically satisfied out of plane.
+    pub active: bool,
+}
+
+/// A constraint element as the user named it, with its equations.
+pub struct Element {
+    pub elref: ElementRef,
+    pub eqs: Vec<Equ>,
+}
+
+/// Value and derivatives of one row: ∂/∂q and ∂/∂v over velocity-level columns, ∂/∂t.
+#[derive(Clone, Debug, Default)]
+pub struct RowEval {
+    pub value: f64,
+    pub dq: Vec<(usize, f64)>,
+    pub dv: Vec<(usize, f64)>,
+    pub dt: f64,
+}
+
+/// The primitive equations of a JOINT or JPRIM type (spec §4.2), in Adams label order.
+pub fn primitive_set(kind: ElementKind) -> &'static [Equation] {
+    use Equation::*;
+    const XYZ: &[Equation] = &[XDelta, YDelta, ZDelta];
+    match kind {
+        ElementKind::Joint(t) => match t {
+            JointType::Fixed => &[XDelta, YDelta, ZDelta, ZiXj, ZiYj, XiYj],
+            JointType::Revolute => &[XDelta, YDelta, ZDelta, ZiXj, ZiYj],
+            JointType::Spherical => XYZ,
+            JointType::Translational => &[XDelta, YDelta, ZiXj, ZiYj, XiYj],
+            JointType::Cylindrical => &[XDelta, YDelta, ZiXj, ZiYj],
+            JointType::Planar => &[ZDelta, ZiXj, ZiYj],
+            JointType::Hooke => &[XDelta, YDelta, ZDelta, XiYj],
+            JointType::Universal => &[XDelta, YDelta, ZDelta, ZiZj],
+            JointType::Convel => &[XDelta, YDelta, ZDelta, Convel],
+            JointType::Rackpin => &[Rackpin],
+            JointType::Screw => &[Screw],
+        },
+        ElementKind::Jprim(t) => match t {
+            JprimType::Atpoint => XYZ,
+            JprimType::Inline => &[XDelta, YDelta],
+            JprimType::Inplane => &[ZDelta],
+            JprimType::Orientation => &[ZiXj, ZiYj, XiYj],
+            JprimType::ParallelAxes => &[ZiXj, ZiYj],
+            JprimType::Perpendicular => &[ZiZj],
+        },
+        ElementKind::Prismatic2d => &[YDelta, XiYj],
+        ElementKind::Gcon => &[Gcon],
+        ElementKind::Motion => &[Motion],
+    }
+}
+
+fn axis(c: usize) -> Vec3 {
+    let mut v = Vec3::zeros();
+    v[c] = 1.0;
+    v
+}
+
+impl Equ {
+    fn new(row: Row, label: Equation, translational: bool) -> Equ {
+        Equ {
+            row,
+            label,
+            translational,
+            active: true,
+        }
+    }
+}
+
+impl System {
+    fn check_pair(&self, e: &ElementRef, i: MarkerHandle, j: MarkerHandle) -> Result<(), MbdError> {
+        for m in [i, j] {
+            if self.marker(m).floating {
+                return Err(MbdError::Floating(
+                    e.clone(),
+                    self.marker(m).id.unwrap_or(0) as i64,
+                ));
+            }
+        }
+        if self.marker(i).part == self.marker(j).part {
+            return Err(MbdError::SamePart(e.clone()));
+        }
+        Ok(())
+    }
+
+    /// Adds an element with its equations.
+    pub fn add_element(&mut self, elref: ElementRef, eqs: Vec<Equ>) -> ElementHandle {
+        self.elements.push(Element { elref, eqs });
+        ElementHandle(self.elements.len() as u32 - 1)
+    }
+
+    fn primitives(
+        &mut self,
+        elref: ElementRef,
+        i: MarkerHandle,
+        j: MarkerHandle,
+    ) -> Result<ElementHandle, MbdError> {
+        self.check_pair(&elref, i, j)?;
+        let eqs = primitive_set(elref.kind)
+            .iter()
+            .map(|&eq| self.primitive(eq, i, j))
+            .collect::<Result<_, _>>()?;
+        Ok(self.add_element(elref, eqs))
+    }
+
+    /// One primitive equation of spec §4.1 (plus Zi.Zj and CONVEL's x_I·y_J + y_I·x_J,
+    /// whose two terms are UVX(I, J)-type measures).
+    fn primitive(
+        &mut self,
+        eq: Equation,
+        i: MarkerHandle,
+        j: MarkerHandle,
+    ) -> Result<Equ, MbdError> {
+        use Equation::*;
+        let along = |c| Row::Along {
+            i,
+            j,
+            dir: axis(c),
+            sign: 1.0,
+        };
+        let dot = |a, b| Row::Dot {
+            i,
+            j,
+            a: axis(a),
+            b: axis(b),
+        };
+        let row = match eq {
+            XDelta => along(0),
+            YDelta => along(1),
+            ZDelta => along(2),
+            ZiXj => dot(2, 0),
+            ZiYj => dot(2, 1),
+            XiYj => dot(0, 1),
+            ZiZj => dot(2, 2),
+            Convel => {
+                let (i, k) = (Some(i), Some(j));
+                let xy = self.measures.add(Measure::UnitVec {
+                    i,
+                    k,
+                    axis: 0,
+                    comp: 1,
+                });
+                let yx = self.measures.add(Measure::UnitVec {
+                    i,
+                    k,
+                    axis: 1,
+                    comp: 0,
+                });
+                Row::Measured {
+                    terms: vec![(1.0, xy), (1.0, yx)],
+                    drive: None,
+                }
+            }
+            Rackpin | Screw | Gcon | Motion => {
+                return Err(MbdError::Unsupported(format!(
+                    "{} is not a primitive equation",
+                    eq.label()
+                )))
+            }
+        };
+        Ok(Equ::new(row, eq, matches!(eq, XDelta | YDelta | ZDelta)))
+    }
+
+    /// A JOINT (spec §4.2). `param` is PD for RACKPIN, PITCH for SCREW, unused otherwise.
+    pub fn joint(
+        &mut self,
+        elref: ElementRef,
+        kind: JointType,
+        i: MarkerHandle,
+        j: MarkerHandle,
+        param: f64,
+    ) -> Result<ElementHandle, MbdError> {
+        let elref = ElementRef {
+            kind: ElementKind::Joint(kind),
+            ..elref
+        };
+        let (mi, mj) = (Some(i), Some(j));
+        match kind {
+            JointType::Rackpin | JointType::Screw => {
+                self.check_pair(&elref, i, j)?;
+                // One equation on the travel of I along z_J and an unwrapped angle. RACKPIN:
+                // −(r_I − r_J)·z_J − (PD/2)·θ, θ = rotation of x_I about z_I from z_J;
+                // SCREW: (r_I − r_J)·z_J − PITCH·θ/2π, θ = AZ(I, J). The signs are
+                // decisions (the spec marks them [RECALL]).
+                let travel = self.measures.add(Measure::Disp {
+                    i: mi,
+                    j: mj,
+                    k: mj,
+                    comp: 2,
+                });
+                let (sign, angle, coef, label) = if kind == JointType::Rackpin {
+                    (
+                        -1.0,
+                        Measure::PinionAngle { i: mi, j: mj },
+                        -param / 2.0,
+                        Equation::Rackpin,
+                    )
+                } else {
+                    (
+                        1.0,
+                        Measure::Angle {
+                            i: mi,
+                            j: mj,
+                            axis: 2,
+                        },
+                        -param / (2.0 * PI),
+                        Equation::Screw,
+                    )
+                };
+                let angle = self.measures.add(angle);
+                let row = Row::Measured {
+                    terms: vec![(sign, travel), (coef, angle)],
+                    drive: None,
+                };
+                Ok(self.add_element(elref, vec![Equ::new(row, label, true)]))
+            }
+            _ => self.primitives(elref, i, j),
+        }
+    }
+
+    /// A JPRIM (spec §4.2).
+    pub fn jprim(
+        &mut self,
+        elref: ElementRef,
+        kind: JprimType,
+        i: MarkerHandle,
+        j: MarkerHandle,
+    ) -> Result<ElementHandle, MbdError> {
+        self.primitives(
+            ElementRef {
+                kind: ElementKind::Jprim(kind),
+                ..elref
+            },
+            i,
+            j,
+        )
+    }
+
+    /// Exudyn's 2D prismatic joint (spec §6.4) with marker 0 = I, marker 1 = J:
+    /// (r_J − r_I)·(R_J n) = 0 (`Y Delta` with the default n = y) and
+    /// (R_I t)·(R_J n) = 0 (`Xi.Yj` with the default t = x). `t` is the sliding axis in
+    /// I's frame, `n` the normal in J's frame.
+    pub fn prismatic_2d(
+        &mut self,
+        elref: ElementRef,
+        i: MarkerHandle,
+        j: MarkerHandle,
+        t: Vec3,
+        n: Vec3,
+    ) -> Result<ElementHandle, MbdError> {
+        let elref = ElementRef {
+            kind: ElementKind::Prismatic2d,
+            ..elref
+        };
+        self.check_pair(&elref, i, j)?;
+        let eqs = vec![
+            Equ::new(
+                Row::Along {
+                    i,
+                    j,
+                    dir: n,
+                    sign: -1.0,
+                },
+                Equation::YDelta,
+                true,
+            ),
+            Equ::new(Row::Dot { i, j, a: t, b: n }, Equation::XiYj, false),
+        ];
+        Ok(self.add_element(elref, eqs))
+    }
+
+    /// A GCON: f(t, measures) = 0, where `map[k]` is the measure index of the k-th slot
+    /// `f` reads.
+    pub fn gcon(
+        &mut self,
+        elref: ElementRef,
+        f: Box<dyn ExprFn>,
+        map: Vec<usize>,
+    ) -> Result<ElementHandle, MbdError> {
+        let elref = ElementRef {
+            kind: ElementKind::Gcon,
+            ..elref
+        };
+        if map.len() != f.slots().len() || map.iter().any(|&m| m >= self.measures.list.len()) {
+            return Err(MbdError::Unsupported(format!(
+                "GCON/{}: its FUNCTION reads {} measure slots but {} measures were given",
+                elref.id,
+                f.slots().len(),
+                map.len()
+            )));
+        }
+        let row = Row::Gcon { f, map };
+        Ok(self.add_element(elref, vec![Equ::new(row, Equation::Gcon, false)]))
+    }
+
+    /// A displacement MOTION: measure − g(t) = 0.
+    pub fn motion(
+        &mut self,
+        elref: ElementRef,
+        measure: Measure,
+        g: Box<dyn ExprFn>,
+    ) -> Result<ElementHandle, MbdError> {
+        let elref = ElementRef {
+            kind: ElementKind::Motion,
+            ..elref
+        };
+        let markers = match measure {
+            Measure::Angle { i, j, .. }
+            | Measure::Disp { i, j, .. }
+            | Measure::Body123 { i, j, .. } => (i, j),
+            _ => {
+                return Err(MbdError::Unsupported(
+                    "a MOTION drives an angle, a displacement or a B1/B2/B3 angle".into(),
+                ))
+            }
+        };
+        if let (Some(i), Some(j)) = markers {
+            self.check_pair(&elref, i, j)?;
+        }
+        let translational = matches!(measure, Measure::Disp { .. });
+        let m = self.measures.add(measure);
+        let row = Row::Measured {
+            terms: vec![(1.0, m)],
+            drive: Some(g),
+        };
+        Ok(self.add_element(elref, vec![Equ::new(row, Equation::Motion, translational)]))
+    }
+
+    /// The element refs, indexed like [`EquationLabel::element`].
+    pub fn element_refs(&self) -> Vec<ElementRef> {
+        self.elements.iter().map(|e| e.elref.clone()).collect()
+    }
+
+    /// One label per active row, in row order.
+    pub fn labels(&self) -> Vec<EquationLabel> {
+        self.rows()
+            .map(|(e, q)| EquationLabel {
+                element: e,
+                equation: self.elements[e].eqs[q].label,
+            })
+            .collect()
+    }
+
+    /// (element, equation) of every active row, in row order.
+    pub fn rows(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.elements.iter().enumerate().flat_map(|(e, el)| {
+            el.eqs
+                .iter()
+                .enumerate()
+                .filter(|(_, q)| q.active)
+                .map(move |(q, _)| (e, q))
+        })
+    }
+
+    /// True when the row reads velocities (a non-holonomic GCON).
+    pub fn row_reads_velocity(&self, e: usize, q: usize) -> bool {
+        match &self.elements[e].eqs[q].row {
+            Row::Gcon { map, .. } => map.iter().any(|&m| self.measures.list[m].reads_velocity()),
+            _ => false,
+        }
+    }
+
+    fn push_part(&self, out: &mut Vec<(usize, f64)>, part: PartHandle, g: [f64; 6]) {
+        for (c, x) in g.iter().enumerate() {
+            if let (Some(col), true) = (self.col(part, c), *x != 0.0) {
+                out.push((col, *x));
+            }
+        }
+    }
+
+    /// Value and derivatives of equation `q` of element `e` at the current state.
+    pub fn eval_row(&self, e: usize, q: usize) -> Result<RowEval, MbdError> {
+        self.eval_row_with(e, q, true)
+    }
+
+    /// The value of equation `q` of element `e` (no derivatives asked of expressions).
+    pub fn row_value(&self, e: usize, q: usize) -> Result<f64, MbdError> {
+        Ok(self.eval_row_with(e, q, false)?.value)
+    }
+
+    fn eval_row_with(&self, e: usize, q: usize, derivs: bool) -> Result<RowEval, MbdError> {
+        let mut out = RowEval::default();
+        match &self.elements[e].eqs[q].row {
+            Row::Along { i, j, dir, sign } => {
+                let (fi, fj) = (self.frame(Some(*i)), self.frame(Some(*j)));
+                let ev = fj.rot * dir * *sign;
+                let d = fi.r - fj.r;
+                out.value = d.dot(&ev);
+                let ai = fi.a.cross(&ev);
+                self.push_part(&mut out.dq, fi.part, [ev.x, ev.y, ev.z, ai.x, ai.y, ai.z]);
+                let bj = -(fj.a + d).cross(&ev);
+                self.push_part(
+                    &mut out.dq,
+                    fj.part,
+                    [-ev.x, -ev.y, -ev.z, bj.x, bj.y, bj.z],
+                );
+            }
+            Row::Dot { i, j, a, b } => {
+                let (fi, fj) = (self.frame(Some(*i)), self.frame(Some(*j)));
+                let (u, w) = (fi.rot * a, fj.rot * b);
+                out.value = u.dot(&w);
+                let c = u.cross(&w);
+                self.push_part(&mut out.dq, fi.part, [0.0, 0.0, 0.0, c.x, c.y, c.z]);
+                self.push_part(&mut out.dq, fj.part, [0.0, 0.0, 0.0, -c.x, -c.y, -c.z]);
+            }
+            Row::Measured { terms, drive } => {
+                for &(c, m) in terms {
+                    let ev = self.measures.eval(self, m);
+                    out.value += c * ev.value();
+                    ev.scatter(
+                        self,
+                        &mut |col, g| out.dq.push((col, c * g)),
+                        &mut |col, g| out.dv.push((col, c * g)),
+                    );
+                }
+                if let Some(g) = drive {
+                    let el = &self.elements[e].elref;
+                    let val = g
+                        .value(self.time, &[])
+                        .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                    out.value -= val;
+                    // ∂g/∂t is needed only by the velocity solve; it asks for it lazily.
+                    out.dt = f64::NAN;
+                }
+            }
+            Row::Gcon { f, map } => {
+                let el = &self.elements[e].elref;
+                let slots = f.slots();
+                let len = slots.last().map_or(0, |&s| s as usize + 1);
+                let mut vals = vec![0.0; len];
+                let evs = self.fill_slots(map, slots, &mut vals);
+                out.value = f
+                    .value(self.time, &vals)
+                    .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                if !derivs {
+                    return Ok(out);
+                }
+                let mut grad = vec![0.0; slots.len()];
+                out.dt = f
+                    .gradient(self.time, &vals, &mut grad)
+                    .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                for (k, ev) in evs.iter().enumerate() {
+                    let c = grad[k];
+                    if c != 0.0 {
+                        ev.scatter(
+                            self,
+                            &mut |col, g| out.dq.push((col, c * g)),
+                            &mut |col, g| out.dv.push((col, c * g)),
+                        );
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// ∂Φ/∂t of a row (−ġ for a MOTION, ∂f/∂t for a GCON, 0 for the rest).
+    pub fn row_dt(&self, e: usize, q: usize) -> Result<f64, MbdError> {
+        match &self.elements[e].eqs[q].row {
+            Row::Measured { drive: Some(g), .. } => {
+                let el = &self.elements[e].elref;
+                g.gradient(self.time, &[], &mut [])
+                    .map(|d| -d)
+                    .map_err(|s| MbdError::Expression(el.clone(), s))
+            }
+            Row::Gcon { .. } => Ok(self.eval_row(e, q)?.dt),
+            _ => Ok(0.0),
+        }
+    }
+}

@@ -1,0 +1,456 @@
+//! Marker measures of expr-language §6 from the system state: value and exact
+//! derivatives with respect to the position-level increments (δr, δθ per part) and the
+//! velocities (v, ω per part), through [`super::dual`]. GCON and MOTION rows read them;
+//! their Jacobians follow by the chain rule ∂f/∂slot · ∂slot/∂(q, v).
+//!
+//! Conventions (spec §6): `i` measured marker, `j` reference (ground origin when absent
+//! or 0), `k` resolving frame (ground), `l` frame of time differentiation (ground).
+//! AX/AY/AZ, INCANG, the B1/B3 angles of MOTION and the RACKPIN pinion angle are
+//! unwrapped: each value is taken within π of a reference that [`MeasureSet::commit`]
+//! moves to the current value after every accepted state, so angles accumulate turns.
+//! Acceleration and force measures need dynamics and are refused with a clear error.
+
+use super::dual::{D, N, PARTS, PER_PART, V};
+use super::error::MbdError;
+use super::math::Vec3;
+use super::system::{MarkerHandle, PartHandle, System};
+use crate::model::elements::MeasureSlot;
+use std::f64::consts::PI;
+
+/// A marker, or the ground frame at the origin (None).
+pub type M = Option<MarkerHandle>;
+
+/// A resolved measure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Measure {
+    /// DX, DY, DZ (comp 0..3), DXYZ.
+    Disp { i: M, j: M, k: M, comp: u8 },
+    /// DM.
+    Dist { i: M, j: M },
+    /// AX, AY, AZ (axis 0..3), unwrapped.
+    Angle { i: M, j: M, axis: u8 },
+    /// PSI, THETA, PHI: body-fixed 3-1-3 angles of i relative to j.
+    Euler313 { i: M, j: M, which: u8 },
+    /// YAW, PITCH, ROLL: body-fixed 3-2-1, pitch about −y.
+    Euler321 { i: M, j: M, which: u8 },
+    /// MOTION B1, B2, B3: body-fixed 1-2-3 angles of i relative to j (B1, B3 unwrapped).
+    Body123 { i: M, j: M, which: u8 },
+    /// UVX, UVY, UVZ (axis) component `comp` in k.
+    UnitVec { i: M, k: M, axis: u8, comp: u8 },
+    /// INCANG: included angle at j between j→i and j→k.
+    IncAng { i: M, j: M, k: M },
+    /// VX, VY, VZ, VXYZ.
+    Vel { i: M, j: M, k: M, l: M, comp: u8 },
+    /// VM.
+    VelMag { i: M, j: M, l: M },
+    /// VR.
+    VelRad { i: M, j: M, l: M },
+    /// WX, WY, WZ, WXYZ.
+    AngVel { i: M, j: M, k: M, comp: u8 },
+    /// WM.
+    AngVelMag { i: M, j: M },
+    /// RACKPIN: rotation of x_I about z_I measured from z_J, unwrapped.
+    PinionAngle { i: M, j: M },
+}
+
+impl Measure {
+    /// The markers the measure reads (None = ground).
+    pub fn markers(&self) -> [M; 4] {
+        use Measure::*;
+        match *self {
+            Disp { i, j, k, .. } | IncAng { i, j, k } | AngVel { i, j, k, .. } => [i, j, k, None],
+            Vel { i, j, k, l, .. } => [i, j, k, l],
+            VelMag { i, j, l } | VelRad { i, j, l } => [i, j, l, None],
+            Dist { i, j }
+            | Angle { i, j, .. }
+            | Euler313 { i, j, .. }
+            | Euler321 { i, j, .. }
+            | Body123 { i, j, .. }
+            | AngVelMag { i, j }
+            | PinionAngle { i, j } => [i, j, None, None],
+            UnitVec { i, k, .. } => [i, k, None, None],
+        }
+    }
+
+    /// True for measures that accumulate turns.
+    pub fn unwrapped(&self) -> bool {
+        matches!(
+            self,
+            Measure::Angle { .. }
+                | Measure::IncAng { .. }
+                | Measure::PinionAngle { .. }
+                | Measure::Body123 { which: 0 | 2, .. }
+        )
+    }
+
+    /// True for measures that read velocities.
+    pub fn reads_velocity(&self) -> bool {
+        use Measure::*;
+        matches!(
+            self,
+            Vel { .. } | VelMag { .. } | VelRad { .. } | AngVel { .. } | AngVelMag { .. }
+        )
+    }
+
+    /// Resolves a measure slot of the model; `marker` maps an id (0 = ground) to a marker.
+    pub fn resolve(
+        slot: &MeasureSlot,
+        marker: &dyn Fn(i64) -> Result<M, MbdError>,
+    ) -> Result<Measure, MbdError> {
+        let name = slot.name.as_str();
+        let ids = &slot.ids;
+        let m = |n: usize| -> Result<M, MbdError> { ids.get(n).map_or(Ok(None), |&id| marker(id)) };
+        use Measure::*;
+        let xyz = |s: &str| match s.as_bytes().last() {
+            Some(b'X') => 0,
+            Some(b'Y') => 1,
+            _ => 2,
+        };
+        // Component of a vector measure: from the slot for DXYZ, VXYZ, WXYZ, UVX...;
+        // from the name for DX, VY, WZ.
+        let comp = if name.ends_with("XYZ") {
+            slot.component
+        } else {
+            xyz(name)
+        };
+        let which = |names: [&str; 3]| names.iter().position(|n| *n == name).unwrap_or(0) as u8;
+        Ok(match name {
+            "DX" | "DY" | "DZ" | "DXYZ" => Disp {
+                i: m(0)?,
+                j: m(1)?,
+                k: m(2)?,
+                comp,
+            },
+            "DM" => Dist { i: m(0)?, j: m(1)? },
+            "AX" | "AY" | "AZ" => Angle {
+                i: m(0)?,
+                j: m(1)?,
+                axis: comp,
+            },
+            "PSI" | "THETA" | "PHI" => Euler313 {
+                i: m(0)?,
+                j: m(1)?,
+                which: which(["PSI", "THETA", "PHI"]),
+            },
+            "YAW" | "PITCH" | "ROLL" => Euler321 {
+                i: m(0)?,
+                j: m(1)?,
+                which: which(["YAW", "PITCH", "ROLL"]),
+            },
+            "UVX" | "UVY" | "UVZ" => UnitVec {
+                i: m(0)?,
+                k: m(1)?,
+                axis: comp,
+                comp: slot.component,
+            },
+            "INCANG" => IncAng {
+                i: m(0)?,
+                j: m(1)?,
+                k: m(2)?,
+            },
+            "VX" | "VY" | "VZ" | "VXYZ" => Vel {
+                i: m(0)?,
+                j: m(1)?,
+                k: m(2)?,
+                l: m(3)?,
+                comp,
+            },
+            "VM" => VelMag {
+                i: m(0)?,
+                j: m(1)?,
+                l: m(2)?,
+            },
+            "VR" => VelRad {
+                i: m(0)?,
+                j: m(1)?,
+                l: m(2)?,
+            },
+            "WX" | "WY" | "WZ" | "WXYZ" => AngVel {
+                i: m(0)?,
+                j: m(1)?,
+                k: m(2)?,
+                comp,
+            },
+            "WM" => AngVelMag { i: m(0)?, j: m(1)? },
+            n if n.starts_with("ACC") || n.starts_with("WDT") => {
+                return Err(MbdError::NeedsDynamics(slot.name.clone(), "accelerations"))
+            }
+            "FX" | "FY" | "FZ" | "FM" | "TX" | "TY" | "TZ" | "TM" | "FXYZ" | "TXYZ" | "SFORCE"
+            | "VFORCE" | "VTORQ" | "GFORCE" | "BUSH" | "BEAM" | "FIELD" | "FRICTION" | "SPDP"
+            | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" => {
+                return Err(MbdError::NeedsDynamics(slot.name.clone(), "forces"))
+            }
+            _ => return Err(MbdError::NotKinematic(slot.name.clone())),
+        })
+    }
+}
+
+/// A measure's value and derivatives, with the parts its local directions belong to.
+pub struct Evaluated {
+    pub d: D,
+    pub parts: [Option<PartHandle>; PARTS],
+}
+
+impl Evaluated {
+    pub fn value(&self) -> f64 {
+        self.d.v
+    }
+
+    /// Calls `pos(col, ∂/∂q_col)` and `vel(col, ∂/∂v_col)` for every system column the
+    /// measure depends on (velocity-level columns, 2D or 3D layout).
+    pub fn scatter(
+        &self,
+        sys: &System,
+        pos: &mut dyn FnMut(usize, f64),
+        vel: &mut dyn FnMut(usize, f64),
+    ) {
+        for (s, p) in self.parts.iter().enumerate() {
+            let Some(p) = *p else { continue };
+            for c in 0..6 {
+                if let Some(col) = sys.col(p, c) {
+                    let (gp, gv) = (self.d.g[PER_PART * s + c], self.d.g[PER_PART * s + 6 + c]);
+                    if gp != 0.0 {
+                        pos(col, gp);
+                    }
+                    if gv != 0.0 {
+                        vel(col, gv);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A marker frame as duals: origin, axes, velocity of the origin, angular velocity.
+struct DFrame {
+    r: V,
+    axes: [V; 3],
+    vel: V,
+    w: V,
+}
+
+/// The measures of a system and their unwrapping state.
+#[derive(Clone, Debug, Default)]
+pub struct MeasureSet {
+    pub list: Vec<Measure>,
+    /// Unwrapping reference per measure (NaN: none yet).
+    refs: Vec<f64>,
+    /// INCANG rotation axis fixed at the first commit.
+    axes: Vec<Option<Vec3>>,
+}
+
+fn e(c: usize) -> Vec3 {
+    let mut v = Vec3::zeros();
+    v[c] = 1.0;
+    v
+}
+
+impl MeasureSet {
+    /// Adds a measure and returns its index.
+    pub fn add(&mut self, m: Measure) -> usize {
+        if let Some(i) = self.list.iter().position(|x| *x == m) {
+            return i;
+        }
+        self.list.push(m);
+        self.refs.push(f64::NAN);
+        self.axes.push(None);
+        self.list.len() - 1
+    }
+
+    /// Gives an unwrapped measure without a reference yet the reference `value` (a
+    /// MOTION's target at assembly, so a drive to 200° is not read as −160°).
+    pub fn seed(&mut self, n: usize, value: f64) {
+        if self.list[n].unwrapped() && self.refs[n].is_nan() {
+            self.refs[n] = value;
+        }
+    }
+
+    /// Moves the unwrapping references to the current values (after an accepted state).
+    pub fn commit(&mut self, sys: &System) {
+        for n in 0..self.list.len() {
+            if self.list[n].unwrapped() {
+                if let Measure::IncAng { i, j, k } = self.list[n] {
+                    if self.axes[n].is_none() {
+                        let (a, b) = (
+                            sys.frame(i).r - sys.frame(j).r,
+                            sys.frame(k).r - sys.frame(j).r,
+                        );
+                        let c = a.cross(&b);
+                        self.axes[n] = Some(if c.norm() > 0.0 {
+                            c.normalize()
+                        } else {
+                            Vec3::z()
+                        });
+                    }
+                }
+                self.refs[n] = self.eval(sys, n).value();
+            }
+        }
+    }
+
+    /// Value and derivatives of measure `n` at the current state.
+    pub fn eval(&self, sys: &System, n: usize) -> Evaluated {
+        let m = self.list[n];
+        let markers = m.markers();
+        let mut parts: [Option<PartHandle>; PARTS] = [None; PARTS];
+        let mut frames: Vec<DFrame> = Vec::with_capacity(4);
+        for mk in markers {
+            let f = sys.frame(mk);
+            let p = sys.part(f.part);
+            let slot = if p.index.is_none() {
+                None
+            } else if let Some(s) = parts.iter().position(|x| *x == Some(f.part)) {
+                Some(s)
+            } else {
+                let s = parts.iter().position(|x| x.is_none()).unwrap_or(PARTS - 1);
+                parts[s] = Some(f.part);
+                Some(s)
+            };
+            let axes = [0, 1, 2].map(|c| Vec3::from(f.rot.column(c)));
+            let vel = p.v + p.w.cross(&f.a);
+            let mut fr = DFrame {
+                r: V::c(f.r),
+                axes: axes.map(V::c),
+                vel: V::c(vel),
+                w: V::c(p.w),
+            };
+            if let Some(s) = slot {
+                let b = PER_PART * s;
+                for c in 0..3 {
+                    let ec = e(c);
+                    let rot_a = ec.cross(&f.a);
+                    for x in 0..3 {
+                        fr.r.0[x].g[b + c] = ec[x];
+                        fr.r.0[x].g[b + 3 + c] = rot_a[x];
+                        for (ax, u) in axes.iter().enumerate() {
+                            fr.axes[ax].0[x].g[b + 3 + c] = ec.cross(u)[x];
+                        }
+                        fr.vel.0[x].g[b + 3 + c] = p.w.cross(&rot_a)[x];
+                        fr.vel.0[x].g[b + 6 + c] = ec[x];
+                        fr.vel.0[x].g[b + 9 + c] = rot_a[x];
+                        fr.w.0[x].g[b + 9 + c] = ec[x];
+                    }
+                }
+            }
+            frames.push(fr);
+        }
+        let d = self.compute(n, &m, &frames);
+        Evaluated { d, parts }
+    }
+
+    fn compute(&self, n: usize, m: &Measure, f: &[DFrame]) -> D {
+        use Measure::*;
+        // Rotation of i relative to j: R[a][b] = axis_j[a] · axis_i[b].
+        let rel = |fi: &DFrame, fj: &DFrame, a: usize, b: usize| fj.axes[a].dot(&fi.axes[b]);
+        let raw = match *m {
+            Disp { comp, .. } => f[0].r.sub(&f[1].r).dot(&f[2].axes[comp as usize]),
+            Dist { .. } => f[0].r.sub(&f[1].r).norm(),
+            Angle { axis, .. } => {
+                let (i, j) = (&f[0], &f[1]);
+                match axis {
+                    0 => (-i.axes[2].dot(&j.axes[1])).atan2(i.axes[2].dot(&j.axes[2])),
+                    1 => i.axes[2].dot(&j.axes[0]).atan2(i.axes[2].dot(&j.axes[2])),
+                    _ => i.axes[0].dot(&j.axes[1]).atan2(i.axes[0].dot(&j.axes[0])),
+                }
+            }
+            Euler313 { which, .. } => {
+                let r = |a, b| rel(&f[0], &f[1], a, b);
+                match which {
+                    0 => r(0, 2).atan2(-r(1, 2)),
+                    1 => r(2, 2).acos(),
+                    _ => r(2, 0).atan2(r(2, 1)),
+                }
+            }
+            Euler321 { which, .. } => {
+                let r = |a, b| rel(&f[0], &f[1], a, b);
+                match which {
+                    0 => r(1, 0).atan2(r(0, 0)),
+                    1 => r(2, 0).asin(),
+                    _ => r(2, 1).atan2(r(2, 2)),
+                }
+            }
+            Body123 { which, .. } => {
+                let r = |a, b| rel(&f[0], &f[1], a, b);
+                match which {
+                    0 => (-r(1, 2)).atan2(r(2, 2)),
+                    1 => r(0, 2).asin(),
+                    _ => (-r(0, 1)).atan2(r(0, 0)),
+                }
+            }
+            UnitVec { axis, comp, .. } => f[0].axes[axis as usize].dot(&f[1].axes[comp as usize]),
+            IncAng { .. } => {
+                let (a, b) = (f[0].r.sub(&f[1].r), f[2].r.sub(&f[1].r));
+                let c = a.cross(&b);
+                let axis = self.axes[n].unwrap_or_else(|| {
+                    let cv = c.value();
+                    if cv.norm() > 0.0 {
+                        cv.normalize()
+                    } else {
+                        Vec3::z()
+                    }
+                });
+                c.dot(&V::c(axis)).atan2(a.dot(&b))
+            }
+            Vel { comp, .. } => rel_vel(f).dot(&f[2].axes[comp as usize]),
+            VelMag { .. } => rel_vel_l(f, 2).norm(),
+            VelRad { .. } => {
+                let d = f[0].r.sub(&f[1].r);
+                let dn = d.norm();
+                let w = rel_vel_l(f, 2);
+                let s = w.dot(&d);
+                s * recip(dn)
+            }
+            AngVel { comp, .. } => f[0].w.sub(&f[1].w).dot(&f[2].axes[comp as usize]),
+            AngVelMag { .. } => f[0].w.sub(&f[1].w).norm(),
+            PinionAngle { .. } => {
+                let (i, j) = (&f[0], &f[1]);
+                let s = i.axes[0].dot(&i.axes[2].cross(&j.axes[2]));
+                s.atan2(i.axes[0].dot(&j.axes[2]))
+            }
+        };
+        let r = self.refs[n];
+        if m.unwrapped() && r.is_finite() {
+            let k = ((r - raw.v) / (2.0 * PI)).round();
+            D {
+                v: raw.v + 2.0 * PI * k,
+                g: raw.g,
+            }
+        } else {
+            raw
+        }
+    }
+}
+
+impl System {
+    /// Evaluates the measures `map` (from [`System::resolve_slots`]) and writes each
+    /// value to `out[slot]` for the matching entry of `slots`, the array an expression's
+    /// evaluation context reads. Returns the evaluations, derivatives included.
+    pub fn fill_slots(&self, map: &[usize], slots: &[u32], out: &mut [f64]) -> Vec<Evaluated> {
+        let evs: Vec<Evaluated> = map.iter().map(|&m| self.measures.eval(self, m)).collect();
+        for (ev, &s) in evs.iter().zip(slots) {
+            out[s as usize] = ev.value();
+        }
+        evs
+    }
+}
+
+/// 1/x as a dual.
+fn recip(x: D) -> D {
+    let mut g = x.g;
+    let s = -1.0 / (x.v * x.v);
+    for v in &mut g[..N] {
+        *v *= s;
+    }
+    D { v: 1.0 / x.v, g }
+}
+
+/// d/dt|_l (r_i − r_j) with frames [i, j, k, l].
+fn rel_vel(f: &[DFrame]) -> V {
+    rel_vel_l(f, 3)
+}
+
+/// d/dt|_l (r_i − r_j) = ṙ_i − ṙ_j − ω_l × (r_i − r_j), with l = f[li].
+fn rel_vel_l(f: &[DFrame], li: usize) -> V {
+    let d = f[0].r.sub(&f[1].r);
+    f[0].vel.sub(&f[1].vel).sub(&f[li].w.cross(&d))
+}

@@ -1,0 +1,378 @@
+//! The assembled system: parts (ground and moving), markers, constraint elements and
+//! measures, each set addressed by a small `Copy` handle, plus the coordinate layout.
+//!
+//! **Coordinates.** A moving part's pose is its BCS origin `r` and a unit quaternion
+//! (`q` holds x, y, z, e0, e1, e2, e3 per part). Changes of pose are *velocity-level*
+//! increments (δr, δθ) in global axes: r ← r + δr, R ← exp([δθ]×)·R. This is the
+//! rotation-vector increment on a reference rotation: it has no Euler-angle singularity,
+//! needs no normalisation constraint (which would add rows that are not the user's
+//! equations to the redundancy analysis), and its Jacobian columns are exactly the
+//! velocity-level columns of multibody spec §5.3 (6 per moving part). The velocity `v`
+//! holds ṙ and ω in global axes, 6 per moving part.
+//!
+//! **2D.** A planar scene ([`super::planar`]) keeps the same poses but moves each part only
+//! by (x, y, θ) about global Z: R = Rz(θ)·R₀ with R₀ the input orientation. Its columns
+//! are δx, δy, δθz (3 per part); all kinematics are computed in 3D either way, so measures
+//! and equations are one code path and the 2D system gives the 3D results.
+
+use super::constraints::Element;
+use super::math::{DVec, Mat3, Quat, Vec3};
+use super::measures::MeasureSet;
+use crate::model::elements::Id;
+use std::collections::HashMap;
+
+/// A part: index into [`System::parts`]; ground is [`System::GROUND`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PartHandle(pub u32);
+
+/// A marker: index into [`System::markers`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MarkerHandle(pub u32);
+
+/// A constraint element: index into [`System::elements`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ElementHandle(pub u32);
+
+/// Whether the system runs in 2D or 3D.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dimension {
+    Two,
+    Three,
+}
+
+impl Dimension {
+    /// Columns per moving part.
+    pub fn cols(self) -> usize {
+        match self {
+            Dimension::Two => 3,
+            Dimension::Three => 6,
+        }
+    }
+
+    /// Column (within a part) of the 3D direction `c` (δr x y z, δθ x y z), if the
+    /// dimension has it.
+    pub fn col(self, c: usize) -> Option<usize> {
+        match (self, c) {
+            (Dimension::Three, c) => Some(c),
+            (Dimension::Two, 0) => Some(0),
+            (Dimension::Two, 1) => Some(1),
+            (Dimension::Two, 5) => Some(2),
+            _ => None,
+        }
+    }
+}
+
+/// A rigid part. Ground never moves and has no columns.
+#[derive(Clone, Debug)]
+pub struct Part {
+    pub id: Option<Id>,
+    pub name: Option<String>,
+    /// BCS origin, global.
+    pub r: Vec3,
+    pub rot: Quat,
+    /// Linear velocity of the BCS origin and angular velocity, global axes.
+    pub v: Vec3,
+    pub w: Vec3,
+    /// Input pose and velocity (assembly reports moves from these; the velocity solve
+    /// stays closest to these velocities).
+    pub input_r: Vec3,
+    pub input_rot: Quat,
+    pub input_v: Vec3,
+    pub input_w: Vec3,
+    /// 2D: rotation about global Z from the input orientation.
+    pub theta: f64,
+    /// Index among the moving parts (its column block); None for ground.
+    pub index: Option<usize>,
+}
+
+/// A marker: a frame fixed on a part.
+#[derive(Clone, Debug)]
+pub struct Marker {
+    pub id: Option<Id>,
+    pub part: PartHandle,
+    /// Origin in the part's BCS.
+    pub s: Vec3,
+    /// Columns are the marker axes in BCS coordinates.
+    pub rot: Mat3,
+    pub floating: bool,
+}
+
+/// A marker's frame in global coordinates at the current state.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    pub r: Vec3,
+    pub rot: Mat3,
+    /// r − (part's BCS origin).
+    pub a: Vec3,
+    pub part: PartHandle,
+}
+
+/// The multibody system.
+pub struct System {
+    pub parts: Vec<Part>,
+    pub markers: Vec<Marker>,
+    pub elements: Vec<Element>,
+    pub measures: MeasureSet,
+    pub dim: Dimension,
+    /// Why the system is 2D or 3D, in words.
+    pub dim_reason: String,
+    /// ACCGRAV, model units.
+    pub gravity: Vec3,
+    /// Units-consistency factor: Force·UCF = Mass·Acceleration.
+    pub ucf: f64,
+    /// The model length that scales translational rows (spec §5.3).
+    pub length: f64,
+    /// Time at which MOTIONs and GCONs are evaluated.
+    pub time: f64,
+    moving: usize,
+    marker_ids: HashMap<Id, MarkerHandle>,
+}
+
+impl Default for System {
+    fn default() -> Self {
+        System::new()
+    }
+}
+
+impl System {
+    pub const GROUND: PartHandle = PartHandle(0);
+
+    /// An empty 3D system holding only ground.
+    pub fn new() -> Self {
+        let ground = Part::new(None, Vec3::zeros(), Quat::identity());
+        System {
+            parts: vec![ground],
+            markers: Vec::new(),
+            elements: Vec::new(),
+            measures: MeasureSet::default(),
+            dim: Dimension::Three,
+            dim_reason: "3D: built through the library API".into(),
+            gravity: Vec3::zeros(),
+            ucf: 1.0,
+            length: 1.0,
+            time: 0.0,
+            moving: 0,
+            marker_ids: HashMap::new(),
+        }
+    }
+
+    /// Adds a moving part with its BCS pose (columns of `rot` = BCS axes, global).
+    pub fn add_part(&mut self, id: Option<Id>, position: Vec3, rot: Mat3) -> PartHandle {
+        // Shepperd's direct formula (nalgebra's `from_matrix` iterates and never ends on
+        // a non-finite matrix), then renormalised.
+        let rq = Quat::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(rot));
+        let q = Quat::new_normalize(*rq.quaternion());
+        let mut p = Part::new(id, position, q);
+        p.index = Some(self.moving);
+        self.moving += 1;
+        self.parts.push(p);
+        PartHandle(self.parts.len() as u32 - 1)
+    }
+
+    /// Adds a marker at `s` (BCS) with axes `rot` (BCS) on `part`.
+    pub fn add_marker(
+        &mut self,
+        id: Option<Id>,
+        part: PartHandle,
+        s: Vec3,
+        rot: Mat3,
+    ) -> MarkerHandle {
+        self.markers.push(Marker {
+            id,
+            part,
+            s,
+            rot,
+            floating: false,
+        });
+        let h = MarkerHandle(self.markers.len() as u32 - 1);
+        if let Some(id) = id {
+            self.marker_ids.insert(id, h);
+        }
+        h
+    }
+
+    /// The marker with Adams id `id`.
+    pub fn marker_by_id(&self, id: Id) -> Option<MarkerHandle> {
+        self.marker_ids.get(&id).copied()
+    }
+
+    pub fn part(&self, h: PartHandle) -> &Part {
+        &self.parts[h.0 as usize]
+    }
+
+    pub fn part_mut(&mut self, h: PartHandle) -> &mut Part {
+        &mut self.parts[h.0 as usize]
+    }
+
+    pub fn marker(&self, h: MarkerHandle) -> &Marker {
+        &self.markers[h.0 as usize]
+    }
+
+    /// Number of moving parts.
+    pub fn moving_parts(&self) -> usize {
+        self.moving
+    }
+
+    /// Columns of the Jacobians (= length of `v`).
+    pub fn ncols(&self) -> usize {
+        self.moving * self.dim.cols()
+    }
+
+    /// Global frame of marker `m` (None = the ground frame at the origin).
+    pub fn frame(&self, m: Option<MarkerHandle>) -> Frame {
+        match m {
+            None => Frame {
+                r: Vec3::zeros(),
+                rot: Mat3::identity(),
+                a: Vec3::zeros(),
+                part: Self::GROUND,
+            },
+            Some(m) => {
+                let mk = self.marker(m);
+                let p = self.part(mk.part);
+                let rp = p.rot.to_rotation_matrix().into_inner();
+                let a = rp * mk.s;
+                Frame {
+                    r: p.r + a,
+                    rot: rp * mk.rot,
+                    a,
+                    part: mk.part,
+                }
+            }
+        }
+    }
+
+    /// Sets the state velocity of a part (global axes) and makes it the input velocity.
+    pub fn set_part_velocity(&mut self, h: PartHandle, v: Vec3, w: Vec3) {
+        let p = self.part_mut(h);
+        (p.v, p.w, p.input_v, p.input_w) = (v, w, v, w);
+    }
+
+    /// The coordinate vector: x, y, z, e0, e1, e2, e3 per moving part in 3D; x, y, θ in 2D.
+    pub fn q(&self) -> DVec {
+        let mut out = Vec::new();
+        for p in self.parts.iter().filter(|p| p.index.is_some()) {
+            match self.dim {
+                Dimension::Three => {
+                    let c = p.rot.coords; // (i, j, k, w)
+                    out.extend_from_slice(&[p.r.x, p.r.y, p.r.z, c.w, c.x, c.y, c.z]);
+                }
+                Dimension::Two => out.extend_from_slice(&[p.r.x, p.r.y, p.theta]),
+            }
+        }
+        DVec::from_vec(out)
+    }
+
+    /// The velocity vector: ṙ, ω (global) per moving part in 3D; ẋ, ẏ, ω_z in 2D.
+    pub fn v(&self) -> DVec {
+        let n = self.dim.cols();
+        let mut out = DVec::zeros(self.ncols());
+        for p in self.parts.iter() {
+            if let Some(i) = p.index {
+                for c in 0..6 {
+                    if let Some(k) = self.dim.col(c) {
+                        out[i * n + k] = if c < 3 { p.v[c] } else { p.w[c - 3] };
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Sets every part's velocity from a vector laid out like [`System::v`]; in 2D the
+    /// out-of-plane components are zero.
+    pub fn set_v(&mut self, v: &DVec) {
+        let (n, dim) = (self.dim.cols(), self.dim);
+        for p in self.parts.iter_mut() {
+            if let Some(i) = p.index {
+                for c in 0..6 {
+                    let x = dim.col(c).map_or(0.0, |k| v[i * n + k]);
+                    if c < 3 {
+                        p.v[c] = x;
+                    } else {
+                        p.w[c - 3] = x;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Moves every part by a column-space increment: δr and δθ (global) in 3D, δx, δy,
+    /// δθz in 2D.
+    pub fn apply_increment(&mut self, dx: &[f64]) {
+        let (n, dim) = (self.dim.cols(), self.dim);
+        for p in self.parts.iter_mut() {
+            let Some(i) = p.index else { continue };
+            let b = &dx[i * n..(i + 1) * n];
+            match dim {
+                Dimension::Three => {
+                    p.r += Vec3::new(b[0], b[1], b[2]);
+                    let dq = Quat::from_scaled_axis(Vec3::new(b[3], b[4], b[5]));
+                    p.rot = Quat::new_normalize((dq * p.rot).into_inner());
+                }
+                Dimension::Two => {
+                    p.r.x += b[0];
+                    p.r.y += b[1];
+                    p.theta += b[2];
+                    let rz = Quat::from_axis_angle(&Vec3::z_axis(), p.theta);
+                    p.rot = rz * p.input_rot;
+                }
+            }
+        }
+    }
+
+    /// Global column of direction `c` (0..6) of part `h`, if it has one.
+    pub fn col(&self, h: PartHandle, c: usize) -> Option<usize> {
+        let i = self.part(h).index?;
+        Some(i * self.dim.cols() + self.dim.col(c)?)
+    }
+
+    /// Resets poses and velocities to the input ones.
+    pub fn reset_to_input(&mut self) {
+        for p in &mut self.parts {
+            (p.r, p.rot, p.v, p.w, p.theta) = (p.input_r, p.input_rot, p.input_v, p.input_w, 0.0);
+        }
+    }
+
+    /// A model length for scaling: the largest distance of a marker or part origin from
+    /// the origin or from each other's centroid, at least 1e-6 (the unit length when the
+    /// scene is a point).
+    pub(crate) fn characteristic_length(&self) -> f64 {
+        let pts: Vec<Vec3> = self
+            .markers
+            .iter()
+            .enumerate()
+            .map(|(i, _)| self.frame(Some(MarkerHandle(i as u32))).r)
+            .chain(self.parts.iter().skip(1).map(|p| p.r))
+            .collect();
+        if pts.is_empty() {
+            return 1.0;
+        }
+        let c = pts.iter().sum::<Vec3>() / pts.len() as f64;
+        let l = pts.iter().map(|p| (p - c).norm()).fold(0.0, f64::max);
+        if l > 1e-6 {
+            l
+        } else {
+            1.0
+        }
+    }
+}
+
+impl Part {
+    fn new(id: Option<Id>, r: Vec3, rot: Quat) -> Part {
+        Part {
+            id,
+            name: None,
+            r,
+            rot,
+            v: Vec3::zeros(),
+            w: Vec3::zeros(),
+            input_r: r,
+            input_rot: rot,
+            input_v: Vec3::zeros(),
+            input_w: Vec3::zeros(),
+            theta: 0.0,
+            index: None,
+        }
+    }
+}

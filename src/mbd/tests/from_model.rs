@@ -1,0 +1,290 @@
+//! Systems built from a `Model` constructed in code: dimension choice, MOTION and GCON
+//! paths, initial velocities, errors.
+
+use super::*;
+use crate::check::{self, Expect, MeasureCall, MeasureValue, Scope};
+use crate::diag::Diagnostic;
+use crate::mbd::assembly::AssemblyOptions;
+use crate::mbd::build::InterpretOnly;
+use crate::mbd::equations::JointType;
+use crate::mbd::expr::ExprFn;
+use crate::mbd::math::{Mat3, Vec3};
+use crate::mbd::planar::Dim;
+use crate::mbd::system::{Dimension, PartHandle, System};
+use crate::model::elements::{self as el, MeasureSlot, Model, Named};
+use std::cell::RefCell;
+use std::f64::consts::PI;
+
+/// A model scope that gives every measure call the next slot(s).
+#[derive(Default)]
+struct Slots(RefCell<Vec<MeasureSlot>>);
+
+impl Scope for Slots {
+    fn variable(&self, _: &str) -> Option<u32> {
+        None
+    }
+
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        let mut v = self.0.borrow_mut();
+        let mut push = |component: u8| {
+            v.push(MeasureSlot {
+                name: call.builtin.name.into(),
+                ids: call.ids.to_vec(),
+                component,
+            });
+            v.len() as u32 - 1
+        };
+        Ok(match call.builtin.result {
+            check::builtins::Ty::Scalar => MeasureValue::Scalar(push(0)),
+            check::builtins::Ty::Vector => MeasureValue::Vector([push(0), push(1), push(2)]),
+        })
+    }
+}
+
+fn named(id: u32) -> Named {
+    Named {
+        id,
+        name: Some(format!("el_{id}")),
+        span: 0..0,
+    }
+}
+
+fn part(id: u32, ground: bool, at: Vec3) -> el::Part {
+    el::Part {
+        el: named(id),
+        ground,
+        mass: Some(1.0),
+        cm: None,
+        im: None,
+        ip: [1.0, 1.0, 1.0, 0.0, 0.0, 0.0],
+        position: at,
+        orientation: Mat3::identity(),
+        velocity: [None; 3],
+        angular_velocity: [None; 3],
+        vm: None,
+        wm: None,
+        exact: [false; 6],
+    }
+}
+
+fn marker(id: u32, part: u32, at: Vec3) -> el::Marker {
+    el::Marker {
+        el: named(id),
+        part,
+        position: at,
+        orientation: Mat3::identity(),
+        floating: false,
+    }
+}
+
+/// The IFToMM A01 pendulum (reference-problems §4.1): unit link from the origin to
+/// P1 = (1, 0), gravity −y; the dataset places the part slightly off.
+fn pendulum() -> Model {
+    let mut m = Model {
+        parts: vec![
+            part(1, true, Vec3::zeros()),
+            part(2, false, Vec3::new(1.05, 0.1, 0.0)),
+        ],
+        markers: vec![
+            marker(10, 1, Vec3::zeros()),
+            marker(20, 2, Vec3::new(-1.0, 0.0, 0.0)),
+        ],
+        gravity: Vec3::new(0.0, -9.81, 0.0),
+        ..Default::default()
+    };
+    m.joints.push(el::Joint {
+        el: named(1),
+        kind: JointType::Revolute,
+        i: 20,
+        j: 10,
+        pd: None,
+        pitch: None,
+        ic: None,
+        ic_tran: None,
+        ic_rot: None,
+    });
+    m
+}
+
+#[test]
+fn pendulum_model_builds_in_2d_and_assembles() {
+    let model = pendulum();
+    let mut sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
+    assert_eq!(sys.dim, Dimension::Two);
+    assert!(sys.dim_reason.starts_with("2D"), "{}", sys.dim_reason);
+    // REVOLUTE in 2D: X Delta and Y Delta only.
+    assert_eq!(sys.labels().len(), 2);
+    sys.assemble(&AssemblyOptions::default()).unwrap();
+    let p = sys.part(PartHandle(1));
+    assert!((p.r.norm() - 1.0).abs() < 1e-12 && p.id == Some(2));
+    let sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
+    assert_eq!((sys.dim, sys.labels().len()), (Dimension::Three, 5));
+    // Gravity out of the plane makes it 3D, with the reason.
+    let mut tilted = pendulum();
+    tilted.gravity = Vec3::new(0.0, -9.81, 1.0);
+    let sys = System::from_model(&tilted, Dim::Auto, &InterpretOnly).unwrap();
+    assert!(sys.dim_reason.contains("gravity"), "{}", sys.dim_reason);
+}
+
+#[test]
+fn gcon_without_a_derivative_says_what_is_missing() {
+    let scope = Slots::default();
+    let f = check::compile("DM(20, 10) - 1", &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    let mut model = pendulum();
+    model.joints.clear();
+    model.measures = scope.0.into_inner();
+    model.gcons.push(el::Gcon {
+        el: named(5),
+        i: Some(20),
+        function: el::Expr {
+            span: 0..0,
+            function: f,
+        },
+    });
+    let mut sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
+    // The value comes through the interpreter: DM = |(0.05, 0.1, 0)| at the input.
+    let r = sys.residual().unwrap();
+    assert!((r[0] - ((0.05f64.powi(2) + 0.01).sqrt() - 1.0)).abs() < 1e-14);
+    let err = sys
+        .assemble(&AssemblyOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("GCON/5 'el_5'") && err.contains("derivative"),
+        "{err}"
+    );
+}
+
+/// Every expression becomes g(t) = 0.5 + t (stands in for the compiled derivative).
+struct Ramp;
+
+impl crate::mbd::build::ExprCompiler for Ramp {
+    fn compile(&self, _: &el::Expr) -> Box<dyn ExprFn> {
+        time_fn(0.5, 1.0)
+    }
+}
+
+#[test]
+fn motions_of_a_model_drive_joint_and_marker_angles() {
+    let expr = el::Expr {
+        span: 0..0,
+        function: Default::default(),
+    };
+    let motion = |target| el::Motion {
+        el: named(3),
+        target,
+        level: el::MotionLevel::Displacement,
+        function: expr.clone(),
+        icdisp: None,
+        icvel: None,
+    };
+    // JOINT ROTATION and the marker form B3 both drive the pendulum angle to 0.5 rad
+    // (relative to the input angle 0, about z).
+    for target in [
+        el::MotionTarget::Joint {
+            joint: 1,
+            rotation: true,
+        },
+        el::MotionTarget::Markers {
+            i: 20,
+            j: 10,
+            axis: el::MotionAxis::B3,
+        },
+    ] {
+        let mut model = pendulum();
+        model.motions.push(motion(target));
+        let mut sys = System::from_model(&model, Dim::Auto, &Ramp).unwrap();
+        sys.assemble(&AssemblyOptions::default()).unwrap();
+        let p = sys.part(PartHandle(1));
+        let x = p.rot * Vec3::x();
+        assert!((x.y.atan2(x.x) - 0.5).abs() < 1e-10 && (p.w.z - 1.0).abs() < 1e-10);
+        // The link hangs from the pivot: r = −R·(−1, 0, 0).
+        assert!((p.r - x).norm() < 1e-10);
+    }
+}
+
+#[test]
+fn part_velocities_are_given_at_the_cm_in_cm_axes() {
+    // CM marker 21 at (0.5, 0, 0) on part 2, turned 90° about z: WX = 2 about the CM
+    // x axis is ω = (0, 2, 0) globally; VX = 1 is the CM velocity, so the BCS origin
+    // moves with v_cm − ω × (r_cm − r_origin) = (1, 0, 0) − (0, 2, 0) × (0.5, 0, 0).
+    let mut model = pendulum();
+    model.joints.clear();
+    let mut cm = marker(21, 2, Vec3::new(0.5, 0.0, 0.0));
+    cm.orientation = rz(PI / 2.0);
+    model.markers.push(cm);
+    model.parts[1].cm = Some(21);
+    model.parts[1].velocity = [Some(1.0), None, None];
+    model.parts[1].angular_velocity = [Some(2.0), None, None];
+    let sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
+    assert!(
+        sys.dim_reason.contains("velocity out of the XY plane"),
+        "{}",
+        sys.dim_reason
+    );
+    let p = sys.part(PartHandle(1));
+    assert!((p.w - Vec3::new(0.0, 2.0, 0.0)).norm() < 1e-15);
+    assert!((p.v - Vec3::new(1.0, 0.0, 1.0)).norm() < 1e-15, "{}", p.v);
+}
+
+#[test]
+fn unknown_markers_and_unsupported_motions_are_errors() {
+    let mut model = pendulum();
+    model.joints[0].i = 99;
+    let err = System::from_model(&model, Dim::Auto, &InterpretOnly)
+        .err()
+        .unwrap();
+    assert_eq!(err.to_string(), "MARKER/99 does not exist");
+    let mut model = pendulum();
+    model.motions.push(el::Motion {
+        el: named(3),
+        target: el::MotionTarget::Joint {
+            joint: 1,
+            rotation: true,
+        },
+        level: el::MotionLevel::Velocity,
+        function: el::Expr {
+            span: 0..0,
+            function: Default::default(),
+        },
+        icdisp: None,
+        icvel: None,
+    });
+    let err = System::from_model(&model, Dim::Auto, &Ramp).err().unwrap();
+    assert!(
+        err.to_string().contains("only DISPLACEMENT motions"),
+        "{err}"
+    );
+}
+
+#[test]
+fn motion_function_is_evaluated_by_the_interpreter() {
+    // MOTION/3, JOINT=1, ROTATION, FUNCTION = 30D*TIME + 0.5: the row is AZ − g(t), with
+    // AZ = 0 at the input pose.
+    let scope = Slots::default();
+    let f = check::compile("30D*TIME + 0.5", &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    let mut model = pendulum();
+    model.motions.push(el::Motion {
+        el: named(3),
+        target: el::MotionTarget::Joint {
+            joint: 1,
+            rotation: true,
+        },
+        level: el::MotionLevel::Displacement,
+        function: el::Expr {
+            span: 0..0,
+            function: f,
+        },
+        icdisp: None,
+        icvel: None,
+    });
+    let mut sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
+    let last = sys.labels().len() - 1;
+    assert!((sys.residual().unwrap()[last] + 0.5).abs() < 1e-15);
+    sys.time = 2.0;
+    assert!((sys.residual().unwrap()[last] + 0.5 + PI / 3.0).abs() < 1e-15);
+}
