@@ -62,9 +62,13 @@ pub enum Failure {
     /// 2D was asked for and the scene is not planar (the reason, in words).
     NotPlanar(String),
     /// The constraints could not be satisfied, or a dropped equation is violated.
+    /// `conflict` is the redundancy analysis at the configuration assembly stopped at,
+    /// when it finds violated equations that follow from the others: the constraints
+    /// contradict each other (conflicting, not redundant).
     Assembly {
         system: Box<System>,
         error: AssemblyError,
+        conflict: Option<redundancy::AnalysisError>,
     },
     /// The redundancy analysis found conflicting constraints (or a malformed system).
     Redundancy {
@@ -96,6 +100,11 @@ impl fmt::Display for Failure {
             ),
             Failure::Build(e) => write!(f, "the model cannot be built: {e}"),
             Failure::NotPlanar(why) => write!(f, "the model cannot be built in 2D: {why}"),
+            Failure::Assembly {
+                error,
+                conflict: Some(c),
+                ..
+            } => write!(f, "{c}\n{error}"),
             Failure::Assembly { error, .. } => write!(f, "{error}"),
             Failure::Redundancy { error, .. } => write!(f, "{error}"),
         }
@@ -132,10 +141,15 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
     let assembly = match system.assemble(&AssemblyOptions::default()) {
         Ok(a) => a,
         Err(error) => {
+            let conflict = match &error {
+                AssemblyError::NotAssembled { .. } => redundancy_of(&system).err(),
+                _ => None,
+            };
             return Err(Failure::Assembly {
                 system: Box::new(system),
                 error,
-            })
+                conflict,
+            });
         }
     };
     match redundancy_of(&system) {

@@ -141,6 +141,9 @@ fn element_span(model: &Model, e: &ElementRef) -> Span {
     span.cloned().unwrap_or(0..0)
 }
 
+/// Notes shown at most; the rest are counted.
+const MAX_NOTES: usize = 8;
+
 /// A diagnostic whose first line is the message and whose further lines are notes.
 fn multi_line(code: Code, span: Span, text: &str, warning: bool) -> Diagnostic {
     let mut lines = text.lines();
@@ -150,10 +153,24 @@ fn multi_line(code: Code, span: Span, text: &str, warning: bool) -> Diagnostic {
     } else {
         Diagnostic::error(code, span, first)
     };
-    for l in lines {
+    let rest: Vec<&str> = lines.collect();
+    for l in rest.iter().take(MAX_NOTES) {
         d = d.with_note(l.trim());
     }
+    if rest.len() > MAX_NOTES {
+        d = d.with_note(format!("… and {} more", rest.len() - MAX_NOTES));
+    }
     d
+}
+
+/// The span of the first conflicting equation's element.
+fn conflict_span(error: &AnalysisError, model: &Model) -> Option<Span> {
+    match error {
+        AnalysisError::Conflicting { report, conflicts } => conflicts
+            .first()
+            .map(|c| element_span(model, &report.elements[c.label.element])),
+        AnalysisError::Shape(_) => None,
+    }
 }
 
 /// The diagnostics of a failed analysis (the reader's, for a dataset with errors). An
@@ -165,6 +182,12 @@ pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
         Failure::Read(d) => d.clone(),
         Failure::Build(_) => vec![multi_line(Code::NotAnalysed, 0..0, &text, true)],
         Failure::NotPlanar(_) => vec![multi_line(Code::CommandLine, 0..0, &text, false)],
+        Failure::Assembly {
+            conflict: Some(c), ..
+        } => {
+            let span = conflict_span(c, model).unwrap_or(0..0);
+            vec![multi_line(Code::Conflicting, span, &text, false)]
+        }
         Failure::Assembly { error, .. } => {
             let (code, violated) = match error {
                 AssemblyError::NotAssembled { violated, .. } => (Code::Assembly, &violated[..]),
