@@ -366,10 +366,11 @@ impl System {
             (p.v, p.w) = (p.input_v, p.input_w);
         }
         if self.dim == Dimension::Two {
+            let (a, b, n) = self.plane_axes();
             for p in &mut self.parts {
-                p.v.z = 0.0;
-                p.w.x = 0.0;
-                p.w.y = 0.0;
+                p.v[n] = 0.0;
+                p.w[a] = 0.0;
+                p.w[b] = 0.0;
             }
         }
         let rows: Vec<(usize, (usize, usize))> = self.rows().enumerate().collect();

@@ -35,6 +35,51 @@ fn elref(kind: ElementKind, n: &Named) -> ElementRef {
     }
 }
 
+/// The drive of a VELOCITY or ACCELERATION MOTION at time 0 (spec §4.5):
+/// g = ICDISP + ∫f dt, or g = ICDISP + ICVEL·t + ∫∫f dt², so g(0) = ICDISP and
+/// ġ(0) = f(0) or ICVEL; an absent ICDISP or ICVEL counts as 0, as the formula reads
+/// (decision). Later times need the integrals, which the integrator keeps; here they are
+/// an error. Only the value of f is needed, never its derivative.
+struct InitialDrive {
+    f: Box<dyn ExprFn>,
+    level: MotionLevel,
+    icdisp: f64,
+    icvel: f64,
+}
+
+impl InitialDrive {
+    fn at_start(&self, t: f64) -> Result<(), String> {
+        if t == 0.0 {
+            Ok(())
+        } else {
+            Err(format!(
+                "a {:?} MOTION is known at time 0 only until the integrator keeps its integral",
+                self.level
+            ))
+        }
+    }
+}
+
+impl ExprFn for InitialDrive {
+    fn slots(&self) -> &[u32] {
+        self.f.slots()
+    }
+
+    fn value(&self, t: f64, _: &[f64]) -> Result<f64, String> {
+        self.at_start(t)?;
+        Ok(self.icdisp)
+    }
+
+    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String> {
+        self.at_start(t)?;
+        grad.fill(0.0);
+        match self.level {
+            MotionLevel::Velocity => self.f.value(t, measures),
+            _ => Ok(self.icvel),
+        }
+    }
+}
+
 impl System {
     /// Resolves the model's measure slots `slots` (as an expression's
     /// [`ExprFn::slots`] lists them) to measures of the system; only these are ever
@@ -131,12 +176,6 @@ impl System {
         }
         for m in &model.motions {
             let r = elref(ElementKind::Motion, &m.el);
-            if m.level != MotionLevel::Displacement {
-                return Err(MbdError::Unsupported(format!(
-                    "MOTION/{}: only DISPLACEMENT motions are supported yet (VELOCITY and ACCELERATION need the integrator)",
-                    m.el.id
-                )));
-            }
             let measure = match m.target {
                 MotionTarget::Joint { joint, rotation } => {
                     let j = model
@@ -188,7 +227,17 @@ impl System {
                     }
                 }
             };
-            sys.motion(r, measure, exprs.compile(&m.function))?;
+            let f = exprs.compile(&m.function);
+            let drive: Box<dyn ExprFn> = match m.level {
+                MotionLevel::Displacement => f,
+                level => Box::new(InitialDrive {
+                    f,
+                    level,
+                    icdisp: m.icdisp.unwrap_or(0.0),
+                    icvel: m.icvel.unwrap_or(0.0),
+                }),
+            };
+            sys.motion(r, measure, drive)?;
         }
         sys.gravity = model.gravity;
         sys.ucf = model.units.ucf;

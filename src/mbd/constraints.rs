@@ -102,7 +102,8 @@ fn axis(c: usize) -> Vec3 {
 }
 
 impl Equ {
-    fn new(row: Row, label: Equation, translational: bool) -> Equ {
+    /// An active equation (for elements built with [`System::add_element`]).
+    pub fn new(row: Row, label: Equation, translational: bool) -> Equ {
         Equ {
             row,
             label,

@@ -1,11 +1,13 @@
-//! Planar scenes: decides whether a system can run in 2D (x, y, θ per part in the
-//! global XY plane) with the same results as in 3D, and says why in words.
+//! Planar scenes: decides whether a system can run in 2D (two translations and a
+//! rotation per part in the global XY, ZX or YZ plane) with the same results as in 3D,
+//! and says why in words.
 //!
-//! The scene is planar when gravity and every initial velocity lie in the XY plane,
-//! every part's z axis is ±Z, every marker a constraint reads has each axis along or
-//! across Z, and every constraint row at the input configuration is either in-plane (no
-//! derivative along z, θx, θy) or out-of-plane (no derivative along x, y, θz) and then
-//! already satisfied. With the marker-axis condition an out-of-plane row keeps its value
+//! The scene is planar in the plane normal to axis n when gravity and every initial
+//! velocity lie in the plane, every part has a BCS axis along n, every marker a constraint reads
+//! has each axis along or across n, and every constraint row at the input configuration
+//! is either in-plane (no derivative along δr_n or the two in-plane rotations) or
+//! out-of-plane (no derivative along the in-plane translations or δθ_n) and then already
+//! satisfied. With the marker-axis condition an out-of-plane row keeps its value
 //! under any planar motion, so dropping it loses nothing; an in-plane row of the 2D
 //! system is the 3D row restricted to the planar columns. Exudyn's 2D joints are what
 //! remains: a REVOLUTE keeps X Delta and Y Delta, a TRANSLATIONAL with z_J in the plane
@@ -27,6 +29,9 @@ pub enum Dim {
 
 const TOL: f64 = 1e-9;
 
+/// The coordinate plane normal to axis 0, 1, 2.
+const PLANES: [&str; 3] = ["YZ", "ZX", "XY"];
+
 impl System {
     /// Fixes the model length and the dimension once every part, marker and element is
     /// in. Call it at the input configuration, before assembly.
@@ -39,21 +44,64 @@ impl System {
             }
         }
         match self.planar(dim) {
-            Ok(drop) => {
+            Ok((normal, drop)) => {
                 let kept = self.rows().count() - drop.len();
                 for &(e, q) in &drop {
                     self.elements[e].eqs[q].active = false;
                 }
                 self.dim = Dimension::Two;
+                self.normal = normal;
                 for p in &mut self.parts {
                     p.theta = 0.0;
                 }
                 self.dim_reason = format!(
-                    "2D: every part stays in the global XY plane ({kept} in-plane equations; {} out-of-plane equations are satisfied identically and left out)",
+                    "2D: every part stays in the global {} plane ({kept} in-plane equations; {} out-of-plane equations are satisfied identically and left out)",
+                    PLANES[normal],
                     drop.len()
                 );
             }
             Err(why) => self.dim_reason = format!("3D: {why}"),
+        }
+    }
+
+    /// The plane normal and the rows to drop in 2D, or why the scene is not planar. Tries
+    /// the plane normal to most joint axes first, then the others; when none fits, the
+    /// reason given is the one for the plane of the joint axes.
+    fn planar(&self, dim: Dim) -> Result<(usize, Vec<(usize, usize)>), String> {
+        if dim == Dim::Three {
+            return Err("forced by the Dim option".into());
+        }
+        let first = self.joint_axis_normal();
+        let mut why = String::new();
+        for normal in [first, 2, 1, 0] {
+            match self.planar_in(normal) {
+                Ok(drop) => return Ok((normal, drop)),
+                Err(w) if normal == first && why.is_empty() => why = w,
+                Err(_) => {}
+            }
+        }
+        Err(why)
+    }
+
+    /// The global axis most elements' J-marker z axes lie along (Z when none does).
+    fn joint_axis_normal(&self) -> usize {
+        let mut votes = [0usize; 3];
+        for el in &self.elements {
+            if let Some(Row::Along { j, .. } | Row::Dot { j, .. }) = el.eqs.first().map(|q| &q.row)
+            {
+                let z = self.frame(Some(*j)).rot.column(2).into_owned();
+                if let Some(k) = (0..3).find(|&k| (z[k].abs() - 1.0).abs() <= TOL) {
+                    votes[k] += 1;
+                }
+            }
+        }
+        let best = votes.iter().copied().max().unwrap_or(0);
+        if best == 0 || votes[2] == best {
+            2
+        } else if votes[1] == best {
+            1
+        } else {
+            0
         }
     }
 
@@ -64,13 +112,13 @@ impl System {
         }
     }
 
-    /// The rows to drop in 2D, or why the scene is not planar.
-    fn planar(&self, dim: Dim) -> Result<Vec<(usize, usize)>, String> {
-        if dim == Dim::Three {
-            return Err("forced by the Dim option".into());
-        }
-        if self.gravity.z.abs() > TOL * self.gravity.norm().max(1.0) {
-            return Err("gravity has a component along global Z".into());
+    /// The rows to drop for motion in the plane normal to axis `n`, or why not.
+    fn planar_in(&self, n: usize) -> Result<Vec<(usize, usize)>, String> {
+        let (a, b) = ((n + 1) % 3, (n + 2) % 3);
+        let plane = PLANES[n];
+        let axis = ["X", "Y", "Z"][n];
+        if self.gravity[n].abs() > TOL * self.gravity.norm().max(1.0) {
+            return Err(format!("gravity has a component along global {axis}"));
         }
         for (i, p) in self
             .parts
@@ -79,18 +127,22 @@ impl System {
             .filter(|(_, p)| p.index.is_some())
         {
             let h = super::system::PartHandle(i as u32);
-            let rz = p.rot.to_rotation_matrix().into_inner()[(2, 2)];
-            if (rz.abs() - 1.0).abs() > TOL {
-                return Err(format!(
-                    "{} is tilted out of the global XY plane",
+            // Some BCS axis along the normal (kinematics would not need it, but a body
+            // turned obliquely would leave the plane under its own inertia).
+            let r = p.rot.to_rotation_matrix().into_inner();
+            if !(0..3).any(|c| (r[(n, c)].abs() - 1.0).abs() <= TOL) {
+                let why = format!(
+                    "{} has no axis normal to the global {plane} plane",
                     self.part_word(h)
-                ));
+                );
+                return Err(why);
             }
-            if p.input_v.z.abs() > TOL || p.input_w.x.abs() > TOL || p.input_w.y.abs() > TOL {
-                return Err(format!(
-                    "{} has an initial velocity out of the XY plane",
+            if p.input_v[n].abs() > TOL || p.input_w[a].abs() > TOL || p.input_w[b].abs() > TOL {
+                let why = format!(
+                    "{} has an initial velocity out of the {plane} plane",
                     self.part_word(h)
-                ));
+                );
+                return Err(why);
             }
         }
         let mut drop = Vec::new();
@@ -112,17 +164,18 @@ impl System {
             for m in markers {
                 let rot = self.frame(Some(m)).rot;
                 if (0..3).any(|c| {
-                    let z = rot[(2, c)].abs();
+                    let z = rot[(n, c)].abs();
                     z > TOL && (z - 1.0).abs() > TOL
                 }) {
                     let id = self
                         .marker(m)
                         .id
                         .map_or("a marker".into(), |i| format!("MARKER/{i}"));
-                    return Err(format!(
-                        "{id} of {} has an axis oblique to global Z",
+                    let why = format!(
+                        "{id} of {} has an axis oblique to global {axis}",
                         element_name(&el.elref)
-                    ));
+                    );
+                    return Err(why);
                 }
             }
             let ev = self.eval_row(e, q).map_err(|x| x.to_string())?;
@@ -135,7 +188,7 @@ impl System {
             for &(c, x) in entries {
                 let k = c % 6;
                 let scaled = if k < 3 { x * self.length } else { x };
-                if matches!(k, 0 | 1 | 5) {
+                if k == a || k == b || k == 3 + n {
                     inp = inp.max(scaled.abs());
                 } else {
                     outp = outp.max(scaled.abs());
@@ -146,10 +199,11 @@ impl System {
                 continue;
             }
             if inp > TOL {
-                return Err(format!(
-                    "{} ({label}) couples in-plane and out-of-plane motion",
+                let why = format!(
+                    "{} ({label}) couples motion in and out of the {plane} plane",
                     element_name(&el.elref)
-                ));
+                );
+                return Err(why);
             }
             let scale = if el.eqs[q].translational {
                 1.0 / self.length
@@ -157,10 +211,11 @@ impl System {
                 1.0
             };
             if (ev.value * scale).abs() > TOL {
-                return Err(format!(
-                    "{} ({label}) is violated out of the XY plane",
+                let why = format!(
+                    "{} ({label}) is violated out of the {plane} plane",
                     element_name(&el.elref)
-                ));
+                );
+                return Err(why);
             }
             drop.push((e, q));
         }

@@ -11,8 +11,9 @@
 //! holds ṙ and ω in global axes, 6 per moving part.
 //!
 //! **2D.** A planar scene ([`super::planar`]) keeps the same poses but moves each part only
-//! by (x, y, θ) about global Z: R = Rz(θ)·R₀ with R₀ the input orientation. Its columns
-//! are δx, δy, δθz (3 per part); all kinematics are computed in 3D either way, so measures
+//! in a global coordinate plane (XY, YZ or ZX) and by θ about its normal n:
+//! R = R_n(θ)·R₀ with R₀ the input orientation. Its columns are the two in-plane
+//! translations and δθ_n (3 per part); all kinematics are computed in 3D either way, so measures
 //! and equations are one code path and the 2D system gives the 3D results.
 
 use super::constraints::Element;
@@ -46,18 +47,6 @@ impl Dimension {
         match self {
             Dimension::Two => 3,
             Dimension::Three => 6,
-        }
-    }
-
-    /// Column (within a part) of the 3D direction `c` (δr x y z, δθ x y z), if the
-    /// dimension has it.
-    pub fn col(self, c: usize) -> Option<usize> {
-        match (self, c) {
-            (Dimension::Three, c) => Some(c),
-            (Dimension::Two, 0) => Some(0),
-            (Dimension::Two, 1) => Some(1),
-            (Dimension::Two, 5) => Some(2),
-            _ => None,
         }
     }
 }
@@ -122,6 +111,8 @@ pub struct System {
     pub ucf: f64,
     /// The model length that scales translational rows (spec §5.3).
     pub length: f64,
+    /// In 2D, the axis (0 = X, 1 = Y, 2 = Z) normal to the plane of motion.
+    pub normal: usize,
     /// Time at which MOTIONs and GCONs are evaluated.
     pub time: f64,
     moving: usize,
@@ -150,6 +141,7 @@ impl System {
             gravity: Vec3::zeros(),
             ucf: 1.0,
             length: 1.0,
+            normal: 2,
             time: 0.0,
             moving: 0,
             marker_ids: HashMap::new(),
@@ -257,7 +249,10 @@ impl System {
                     let c = p.rot.coords; // (i, j, k, w)
                     out.extend_from_slice(&[p.r.x, p.r.y, p.r.z, c.w, c.x, c.y, c.z]);
                 }
-                Dimension::Two => out.extend_from_slice(&[p.r.x, p.r.y, p.theta]),
+                Dimension::Two => {
+                    let (a, b, _) = self.plane_axes();
+                    out.extend_from_slice(&[p.r[a], p.r[b], p.theta])
+                }
             }
         }
         DVec::from_vec(out)
@@ -270,7 +265,7 @@ impl System {
         for p in self.parts.iter() {
             if let Some(i) = p.index {
                 for c in 0..6 {
-                    if let Some(k) = self.dim.col(c) {
+                    if let Some(k) = self.local_col(c) {
                         out[i * n + k] = if c < 3 { p.v[c] } else { p.w[c - 3] };
                     }
                 }
@@ -282,11 +277,12 @@ impl System {
     /// Sets every part's velocity from a vector laid out like [`System::v`]; in 2D the
     /// out-of-plane components are zero.
     pub fn set_v(&mut self, v: &DVec) {
-        let (n, dim) = (self.dim.cols(), self.dim);
+        let n = self.dim.cols();
+        let map: [Option<usize>; 6] = std::array::from_fn(|c| self.local_col(c));
         for p in self.parts.iter_mut() {
             if let Some(i) = p.index {
-                for c in 0..6 {
-                    let x = dim.col(c).map_or(0.0, |k| v[i * n + k]);
+                for (c, k) in map.iter().enumerate() {
+                    let x = k.map_or(0.0, |k| v[i * n + k]);
                     if c < 3 {
                         p.v[c] = x;
                     } else {
@@ -300,7 +296,7 @@ impl System {
     /// Moves every part by a column-space increment: δr and δθ (global) in 3D, δx, δy,
     /// δθz in 2D.
     pub fn apply_increment(&mut self, dx: &[f64]) {
-        let (n, dim) = (self.dim.cols(), self.dim);
+        let (n, dim, (a, bb, nz)) = (self.dim.cols(), self.dim, self.plane_axes());
         for p in self.parts.iter_mut() {
             let Some(i) = p.index else { continue };
             let b = &dx[i * n..(i + 1) * n];
@@ -311,11 +307,11 @@ impl System {
                     p.rot = Quat::new_normalize((dq * p.rot).into_inner());
                 }
                 Dimension::Two => {
-                    p.r.x += b[0];
-                    p.r.y += b[1];
+                    p.r[a] += b[0];
+                    p.r[bb] += b[1];
                     p.theta += b[2];
-                    let rz = Quat::from_axis_angle(&Vec3::z_axis(), p.theta);
-                    p.rot = rz * p.input_rot;
+                    let axis = nalgebra::Unit::new_unchecked(Vec3::ith(nz, 1.0));
+                    p.rot = Quat::from_axis_angle(&axis, p.theta) * p.input_rot;
                 }
             }
         }
@@ -324,7 +320,26 @@ impl System {
     /// Global column of direction `c` (0..6) of part `h`, if it has one.
     pub fn col(&self, h: PartHandle, c: usize) -> Option<usize> {
         let i = self.part(h).index?;
-        Some(i * self.dim.cols() + self.dim.col(c)?)
+        Some(i * self.dim.cols() + self.local_col(c)?)
+    }
+
+    /// The in-plane axes and the normal (a, b, n), a right-handed cycle of 0, 1, 2.
+    pub fn plane_axes(&self) -> (usize, usize, usize) {
+        let n = self.normal;
+        ((n + 1) % 3, (n + 2) % 3, n)
+    }
+
+    /// Column (within a part) of the 3D direction `c` (δr x y z, δθ x y z), if the
+    /// layout has it: all six in 3D; the two in-plane translations and the rotation
+    /// about the normal in 2D.
+    fn local_col(&self, c: usize) -> Option<usize> {
+        match self.dim {
+            Dimension::Three => Some(c),
+            Dimension::Two => {
+                let (a, b, n) = self.plane_axes();
+                [a, b, 3 + n].iter().position(|&k| k == c)
+            }
+        }
     }
 
     /// Resets poses and velocities to the input ones.

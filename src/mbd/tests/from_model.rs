@@ -49,6 +49,33 @@ fn named(id: u32) -> Named {
     }
 }
 
+/// An expression of time alone, checked and lowered.
+fn time_expr(src: &str) -> el::Expr {
+    let scope = Slots::default();
+    let function = check::compile(src, &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    el::Expr {
+        span: 0..0,
+        function,
+    }
+}
+
+/// MOTION/3 on the ROTATION of JOINT/`joint`.
+fn rotation_motion(joint: u32, level: el::MotionLevel, function: el::Expr) -> el::Motion {
+    el::Motion {
+        el: named(3),
+        target: el::MotionTarget::Joint {
+            joint,
+            rotation: true,
+        },
+        level,
+        function,
+        icdisp: None,
+        icvel: None,
+    }
+}
+
 fn part(id: u32, ground: bool, at: Vec3) -> el::Part {
     el::Part {
         el: named(id),
@@ -230,7 +257,7 @@ fn part_velocities_are_given_at_the_cm_in_cm_axes() {
 }
 
 #[test]
-fn unknown_markers_and_unsupported_motions_are_errors() {
+fn unknown_markers_and_joints_are_errors() {
     let mut model = pendulum();
     model.joints[0].i = 99;
     let err = System::from_model(&model, Dim::Auto, &InterpretOnly)
@@ -238,53 +265,51 @@ fn unknown_markers_and_unsupported_motions_are_errors() {
         .unwrap();
     assert_eq!(err.to_string(), "MARKER/99 does not exist");
     let mut model = pendulum();
-    model.motions.push(el::Motion {
-        el: named(3),
-        target: el::MotionTarget::Joint {
-            joint: 1,
-            rotation: true,
-        },
-        level: el::MotionLevel::Velocity,
-        function: el::Expr {
-            span: 0..0,
-            function: Default::default(),
-        },
-        icdisp: None,
-        icvel: None,
-    });
+    let motion = rotation_motion(8, el::MotionLevel::Displacement, time_expr("0"));
+    model.motions.push(motion);
     let err = System::from_model(&model, Dim::Auto, &Ramp).err().unwrap();
-    assert!(
-        err.to_string().contains("only DISPLACEMENT motions"),
-        "{err}"
-    );
+    assert_eq!(err.to_string(), "MOTION/3: JOINT/8 does not exist");
 }
 
 #[test]
 fn motion_function_is_evaluated_by_the_interpreter() {
     // MOTION/3, JOINT=1, ROTATION, FUNCTION = 30D*TIME + 0.5: the row is AZ − g(t), with
     // AZ = 0 at the input pose.
-    let scope = Slots::default();
-    let f = check::compile("30D*TIME + 0.5", &scope, Expect::Scalar)
-        .unwrap()
-        .function;
     let mut model = pendulum();
-    model.motions.push(el::Motion {
-        el: named(3),
-        target: el::MotionTarget::Joint {
-            joint: 1,
-            rotation: true,
-        },
-        level: el::MotionLevel::Displacement,
-        function: el::Expr {
-            span: 0..0,
-            function: f,
-        },
-        icdisp: None,
-        icvel: None,
-    });
+    let f = time_expr("30D*TIME + 0.5");
+    model
+        .motions
+        .push(rotation_motion(1, el::MotionLevel::Displacement, f));
     let mut sys = System::from_model(&model, Dim::Three, &InterpretOnly).unwrap();
     let last = sys.labels().len() - 1;
     assert!((sys.residual().unwrap()[last] + 0.5).abs() < 1e-15);
     sys.time = 2.0;
     assert!((sys.residual().unwrap()[last] + 0.5 + PI / 3.0).abs() < 1e-15);
+}
+
+#[test]
+fn velocity_and_acceleration_motions_assemble_at_time_zero() {
+    // spec §4.5: g(0) = ICDISP; ġ(0) = f(0) for VELOCITY, ICVEL for ACCELERATION.
+    // The FUNCTION goes through the interpreter: 2 + TIME, so f(0) = 2.
+    let f = time_expr("2 + TIME");
+    for (level, rate) in [
+        (el::MotionLevel::Velocity, 2.0),
+        (el::MotionLevel::Acceleration, -0.7),
+    ] {
+        let mut model = pendulum();
+        model.motions.push(el::Motion {
+            icdisp: Some(0.4),
+            icvel: Some(-0.7),
+            ..rotation_motion(1, level, f.clone())
+        });
+        let mut sys = System::from_model(&model, Dim::Auto, &InterpretOnly).unwrap();
+        sys.assemble(&AssemblyOptions::default()).unwrap();
+        let p = sys.part(PartHandle(1));
+        let x = p.rot * Vec3::x();
+        assert!((x.y.atan2(x.x) - 0.4).abs() < 1e-10, "{level:?}");
+        assert!((p.w.z - rate).abs() < 1e-10, "{level:?}: {}", p.w.z);
+        // Later times need the integrator.
+        sys.time = 0.5;
+        assert!(sys.residual().is_err());
+    }
 }
