@@ -1,7 +1,10 @@
 //! Evaluation speed: the eight expressions of `shared/bench/expressions.md`, side by side in
-//! one run, as `native` (hand-written Rust behind a function pointer), `interp` (mbfx's
-//! interpreter), `fasteval` (compiled `Instruction`, callback namespace) and `evalexpr`
-//! (precompiled `Node`, `HashMapContext`). STEP, IMPACT, BISTOP, POLY, IF and ATAN2 are
+//! one run, as `native` (hand-written Rust behind a function pointer), `jit` (mbfx's
+//! Cranelift JIT, the eight compiled in one module), `interp` (mbfx's interpreter),
+//! `fasteval` (compiled `Instruction`, callback namespace) and `evalexpr` (precompiled
+//! `Node`, `HashMapContext`). evalexpr-jit is left out: it builds on Cranelift 0.121 and
+//! evalexpr 12, a second copy of both next to mbfx's (minutes of build; the project pins
+//! Cranelift 0.135). STEP, IMPACT, BISTOP, POLY, IF and ATAN2 are
 //! custom functions of the peers, all calling the native kernels below.
 //!
 //! Inputs: 65 536 (x, v, t) triples from a fixed seed, x in [0, 2], v in [-2, 2],
@@ -21,6 +24,7 @@ use fasteval::{Compiler, Evaler, Instruction, Slab};
 use mbfx::check::{compile, Expect, Variables};
 use mbfx::context::Context;
 use mbfx::interp::Program;
+use mbfx::jit::{CompiledExpr, Jit};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::f64::consts::PI;
@@ -35,7 +39,7 @@ const REPS: usize = 15;
 /// slowest expressions need 0.7 s a pass): keeps the whole bench near 2.5 minutes.
 const REPS_BUDGET: Duration = Duration::from_millis(1500);
 const MIN_REPS: usize = 5;
-/// Inputs on which the four implementations must agree before timing.
+/// Inputs on which the five implementations must agree before timing.
 const AGREE: usize = 512;
 
 type Native = fn(&[f64; 3]) -> f64;
@@ -333,18 +337,20 @@ fn evalexpr_context() -> HashMapContext<DefaultNumericTypes> {
     c
 }
 
-// ---- The four implementations of one expression.
+// ---- The five implementations of one expression.
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Imp {
     Native,
+    Jit,
     Interp,
     Fasteval,
     Evalexpr,
 }
 
-const IMPS: [(Imp, &str); 4] = [
+const IMPS: [(Imp, &str); 5] = [
     (Imp::Native, "native"),
+    (Imp::Jit, "jit"),
     (Imp::Interp, "interp"),
     (Imp::Fasteval, "fasteval"),
     (Imp::Evalexpr, "evalexpr"),
@@ -353,6 +359,7 @@ const IMPS: [(Imp, &str); 4] = [
 struct Compiled {
     native: Native,
     program: Program,
+    jit: CompiledExpr,
     slab: Slab,
     fasteval: Instruction,
     evalexpr: Node<DefaultNumericTypes>,
@@ -360,13 +367,12 @@ struct Compiled {
 }
 
 impl Compiled {
-    fn new(e: &Expr) -> Self {
+    fn new(e: &Expr, jit: CompiledExpr) -> Self {
         let mut scope = Variables::new();
         for name in ["x", "v", "t"] {
             scope.define(name);
         }
-        let checked = compile(e.mbfx, &scope, Expect::Scalar)
-            .unwrap_or_else(|d| panic!("{}: mbfx rejects {:?}: {d:?}", e.name, e.mbfx));
+        let checked = checked(e);
         let mut slab = Slab::new();
         let fasteval = fasteval::Parser::new()
             .parse(e.fasteval, &mut slab.ps)
@@ -378,6 +384,7 @@ impl Compiled {
         Compiled {
             native: e.native,
             program: Program::new(checked.function),
+            jit,
             slab,
             fasteval,
             evalexpr,
@@ -392,6 +399,12 @@ impl Compiled {
                 let f = black_box(self.native);
                 for (o, p) in out.iter_mut().zip(inputs) {
                     *o = f(p);
+                }
+            }
+            Imp::Jit => {
+                let code = &self.jit;
+                for (o, p) in out.iter_mut().zip(inputs) {
+                    *o = code.eval(&Context::new(p[2], p));
                 }
             }
             Imp::Interp => {
@@ -420,6 +433,16 @@ impl Compiled {
         }
         black_box(out);
     }
+}
+
+/// The expression checked with variables x, v, t (slots 0, 1, 2).
+fn checked(e: &Expr) -> mbfx::check::Checked {
+    let mut scope = Variables::new();
+    for name in ["x", "v", "t"] {
+        scope.define(name);
+    }
+    compile(e.mbfx, &scope, Expect::Scalar)
+        .unwrap_or_else(|d| panic!("{}: mbfx rejects {:?}: {d:?}", e.name, e.mbfx))
 }
 
 /// 65 536 triples from a fixed seed: x in [0, 2], v in [-2, 2], t in [-0.5, 1.5].
@@ -489,41 +512,52 @@ fn geomean(xs: &[f64]) -> f64 {
     (xs.iter().map(|x| x.ln()).sum::<f64>() / xs.len() as f64).exp()
 }
 
-/// Prints one table: ns/eval per implementation, ratio to native, interp's speed-up over
-/// fasteval, geometric means of the ratios.
-fn print_table(title: &str, ns: &[[f64; 4]]) {
+/// Prints one table: ns/eval per implementation with its ratio to native, the JIT's and
+/// the interpreter's speed-up over fasteval, and geometric means.
+fn print_table(title: &str, ns: &[[f64; 5]]) {
     println!("\n{title}");
-    println!("| expr | native ns | interp ns (×native) | fasteval ns (×native) | evalexpr ns (×native) | interp speed-up vs fasteval |");
-    println!("|---|---:|---:|---:|---:|---:|");
-    let mut ratios = vec![Vec::new(); 4];
-    let mut speedups = Vec::new();
+    println!("| expr | native ns | jit ns (×native) | interp ns (×native) | fasteval ns (×native) | evalexpr ns (×native) | jit vs fasteval | interp vs fasteval |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    let mut ratios = vec![Vec::new(); 5];
+    let (mut jit_up, mut interp_up) = (Vec::new(), Vec::new());
     for (e, row) in EXPRS.iter().zip(ns) {
         let mut line = format!("| {} | {:.2} |", e.name, row[0]);
-        for i in 1..4 {
+        for i in 1..5 {
             let r = row[i] / row[0];
             ratios[i].push(r);
-            line += &format!(" {:.2} ({:.1}×) |", row[i], r);
+            line += &format!(" {:.2} ({:.2}×) |", row[i], r);
         }
-        let s = row[2] / row[1];
-        speedups.push(s);
-        println!("{line} {s:.2}× |");
+        jit_up.push(row[3] / row[1]);
+        interp_up.push(row[3] / row[2]);
+        println!("{line} {:.1}× | {:.2}× |", row[3] / row[1], row[3] / row[2]);
     }
     println!(
-        "| geomean | 1 | {:.1}× | {:.1}× | {:.1}× | {:.2}× |",
+        "| geomean | 1 | {:.2}× | {:.1}× | {:.1}× | {:.1}× | {:.1}× | {:.2}× |",
         geomean(&ratios[1]),
         geomean(&ratios[2]),
         geomean(&ratios[3]),
-        geomean(&speedups)
+        geomean(&ratios[4]),
+        geomean(&jit_up),
+        geomean(&interp_up)
     );
 }
 
 fn main() {
     let random = random_inputs();
     let sorted = sorted_inputs(&random);
-    let mut compiled: Vec<Compiled> = EXPRS.iter().map(Compiled::new).collect();
+    let functions: Vec<_> = EXPRS.iter().map(|e| checked(e).function).collect();
+    let refs: Vec<_> = functions.iter().collect();
+    let codes = Jit::new()
+        .and_then(|mut j| j.compile_batch(&refs))
+        .expect("the JIT compiles the eight expressions");
+    let mut compiled: Vec<Compiled> = EXPRS
+        .iter()
+        .zip(codes)
+        .map(|(e, code)| Compiled::new(e, code))
+        .collect();
     assert_agreement(&mut compiled, &random);
     println!(
-        "eval: the four implementations agree to 1e-9 relative on {AGREE} inputs of each expression"
+        "eval: the five implementations agree to 1e-9 relative on {AGREE} inputs of each expression"
     );
 
     let mut criterion = Criterion::default()
@@ -551,7 +585,7 @@ fn main() {
         ("random inputs", &random),
         ("sorted inputs (each column sorted)", &sorted),
     ] {
-        let ns: Vec<[f64; 4]> = compiled
+        let ns: Vec<[f64; 5]> = compiled
             .iter_mut()
             .map(|c| IMPS.map(|(imp, _)| median_ns(c, imp, inputs, &mut out)))
             .collect();

@@ -58,6 +58,17 @@ impl<'a> Context<'a> {
         self
     }
 
+    /// True when the variable, measure and spline arrays hold at least `needs[0..3]`
+    /// entries (what a compiled expression reads, from [`crate::ir::Uses`]).
+    pub fn covers(&self, needs: [usize; 3]) -> bool {
+        self.n_vars >= needs[0] && self.n_measures >= needs[1] && self.n_splines >= needs[2]
+    }
+
+    /// The variable and measure arrays' addresses, which compiled code takes as arguments.
+    pub(crate) fn arrays(&self) -> (*const f64, *const f64) {
+        (self.vars, self.measures)
+    }
+
     pub fn vars(&self) -> &'a [f64] {
         // SAFETY: `vars`/`n_vars` come from a `&'a [f64]` given to `new`.
         unsafe { std::slice::from_raw_parts(self.vars, self.n_vars) }
@@ -73,4 +84,13 @@ impl<'a> Context<'a> {
         // well-aligned pointer with length 0, which `from_raw_parts` permits.
         unsafe { std::slice::from_raw_parts(self.splines, self.n_splines) }
     }
+}
+
+/// Byte offsets of the fields machine code reads (the struct is `#[repr(C)]`).
+pub(crate) mod layout {
+    use super::Context;
+    use std::mem::offset_of;
+
+    pub const MODE: i32 = offset_of!(Context<'static>, mode) as i32;
+    pub const SPLINES: i32 = offset_of!(Context<'static>, splines) as i32;
 }

@@ -12,6 +12,7 @@ pub mod context;
 pub mod diag;
 pub mod interp;
 pub mod ir;
+pub mod jit;
 pub mod mbd;
 pub mod model;
 pub mod session;

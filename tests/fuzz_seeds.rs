@@ -7,6 +7,9 @@
 #[path = "../fuzz/fuzz_targets/parse_check_body.rs"]
 mod parse_check;
 
+#[path = "../fuzz/fuzz_targets/interp_vs_jit_body.rs"]
+mod interp_vs_jit;
+
 use std::path::{Path, PathBuf};
 
 /// Mutations replayed per seed.
@@ -22,6 +25,7 @@ const LARGE_SEED: usize = 512;
 fn target(name: &str) -> Option<fn(&[u8])> {
     match name {
         "parse_check" => Some(parse_check::check_bytes),
+        "interp_vs_jit" => Some(interp_vs_jit::check_bytes),
         _ => None,
     }
 }

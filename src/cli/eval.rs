@@ -9,7 +9,7 @@ use crate::interp::Program;
 #[derive(clap::Args)]
 pub struct EvalArgs {
     /// Back end.
-    #[arg(long, value_enum, default_value = "interp")]
+    #[arg(long, value_enum, default_value = "jit")]
     engine: Engine,
     /// Value of TIME (any constant expression).
     #[arg(long, default_value = "0", allow_hyphen_values = true)]
@@ -101,7 +101,6 @@ pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
 }
 
 pub fn run(a: &EvalArgs, color: bool) -> i32 {
-    let Engine::Interp = a.engine;
     let Ok(time) = constant(&a.time, "--time", color) else {
         return 1;
     };
@@ -119,10 +118,23 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
     if !checked.warnings.is_empty() {
         eprint!("{}", render(&checked.warnings, &source, color));
     }
-    let program = Program::new(checked.function);
     let ctx = Context::new(time, &values);
-    let mut out = vec![0.0; program.function().outputs.len()];
-    program.eval_into(&ctx, &mut out);
+    let mut out = vec![0.0; checked.function.outputs.len()];
+    if a.engine == Engine::Jit {
+        match crate::jit::Jit::new().and_then(|mut j| j.compile(&checked.function)) {
+            Ok(code) => code.eval_into(&ctx, &mut out),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return 1;
+            }
+        }
+    }
+    // The interpreter evaluates (`--engine interp`) and, on a non-finite result, traces
+    // where it came from: both engines give the same bits.
+    let program = Program::new(checked.function);
+    if a.engine == Engine::Interp {
+        program.eval_into(&ctx, &mut out);
+    }
     let fault = out
         .iter()
         .any(|v| !v.is_finite())

@@ -34,7 +34,10 @@ impl Color {
 /// Which back end evaluates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Engine {
+    /// The bytecode interpreter.
     Interp,
+    /// The Cranelift JIT (machine code; the default).
+    Jit,
 }
 
 #[derive(Parser)]

@@ -16,11 +16,16 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 :vars              list variables
 :ast EXPR          show the syntax tree
 :ir EXPR           show the IR the back ends run
+:clif EXPR         show the Cranelift IR the JIT compiles (after branch-free lowering)
+:time EXPR         ns per evaluation, interpreter vs JIT, and the JIT's compile time
+:deriv EXPR NAME   the partial derivative of EXPR with respect to variable NAME (or TIME)
 :help [NAME]       this text, or a function's signature and meaning
 :quit              leave (also Ctrl-D)
 continue a line with a comma in column one of the next line";
 
-const COMMANDS: &[&str] = &[":let", ":set", ":vars", ":ast", ":ir", ":help", ":quit"];
+const COMMANDS: &[&str] = &[
+    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":time", ":deriv", ":help", ":quit",
+];
 
 /// REPL state: variables and their values, TIME and MODE.
 pub struct Repl {
@@ -30,6 +35,8 @@ pub struct Repl {
     mode: f64,
     /// Set by `:quit`.
     pub done: bool,
+    /// The JIT, made on first use.
+    jit: Option<crate::jit::Jit>,
 }
 
 impl Default for Repl {
@@ -46,6 +53,7 @@ impl Repl {
             time: 0.0,
             mode: 4.0,
             done: false,
+            jit: None,
         }
     }
 
@@ -136,6 +144,18 @@ impl Repl {
                 Ok((p, w)) => format!("{w}{}", crate::ir::print::print(p.function()).trim_end()),
                 Err(e) => e,
             },
+            "clif" => match self.compile(rest) {
+                Ok((p, _)) => match self.jit().and_then(|j| j.clif(p.function())) {
+                    Ok(text) => text.trim_end().to_string(),
+                    Err(e) => format!("error: {e}"),
+                },
+                Err(e) => e,
+            },
+            "time" => match self.compile(rest) {
+                Ok((p, _)) => self.time_(&p),
+                Err(e) => e,
+            },
+            "deriv" => self.deriv(rest),
             other => format!("unknown command :{other}; type :help"),
         }
     }
@@ -178,6 +198,103 @@ impl Repl {
             other => return format!("cannot set `{other}`; use :let for variables"),
         }
         format!("{} = {value:?}", name.trim().to_ascii_uppercase())
+    }
+}
+
+impl Repl {
+    fn jit(&mut self) -> Result<&mut crate::jit::Jit, crate::jit::JitError> {
+        if self.jit.is_none() {
+            self.jit = Some(crate::jit::Jit::new()?);
+        }
+        self.jit.as_mut().ok_or(crate::jit::JitError::Malformed(0))
+    }
+
+    /// `:time EXPR`: median ns per evaluation of both back ends, and compile µs.
+    fn time_(&mut self, p: &Program) -> String {
+        use std::hint::black_box;
+        use std::time::Instant;
+        let t0 = Instant::now();
+        let code = match self.jit().and_then(|j| j.compile(p.function())) {
+            Ok(c) => c,
+            Err(e) => return format!("error: {e}"),
+        };
+        let compile_us = t0.elapsed().as_secs_f64() * 1e6;
+        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
+        let n = p.function().outputs.len();
+        let mut out = vec![0.0; n];
+        let mut per_eval = |f: &mut dyn FnMut(&mut [f64])| {
+            let mut samples: Vec<f64> = (0..7)
+                .map(|_| {
+                    let t = Instant::now();
+                    for _ in 0..20_000 {
+                        f(black_box(&mut out));
+                    }
+                    t.elapsed().as_secs_f64() * 1e9 / 20_000.0
+                })
+                .collect();
+            samples.sort_by(f64::total_cmp);
+            samples[3]
+        };
+        let interp = per_eval(&mut |o| p.eval_into(black_box(&ctx), o));
+        let jit = per_eval(&mut |o| code.eval_into(black_box(&ctx), o));
+        format!(
+            "interp {interp:.1} ns/eval, jit {jit:.1} ns/eval ({:.1}× faster); jit compile {compile_us:.0} µs",
+            interp / jit
+        )
+    }
+
+    /// `:deriv EXPR NAME`: ∂EXPR/∂NAME as an expression, and its value here.
+    fn deriv(&mut self, rest: &str) -> String {
+        use crate::ir::deriv::{gradient, Input};
+        let Some((expr, var)) = rest.trim_end().rsplit_once(char::is_whitespace) else {
+            return "usage: :deriv EXPR NAME".into();
+        };
+        let input = if var.eq_ignore_ascii_case("TIME") {
+            Input::Time
+        } else {
+            match self
+                .scope
+                .names()
+                .iter()
+                .position(|n| n.eq_ignore_ascii_case(var))
+            {
+                Some(slot) => Input::Var(slot as u32),
+                None => {
+                    return format!("`{var}` is not a variable; define it with :let {var} = ...")
+                }
+            }
+        };
+        let (p, _) = match self.compile(expr) {
+            Ok(c) => c,
+            Err(e) => return e,
+        };
+        let g = match gradient(p.function(), &[input]) {
+            Ok(g) => g,
+            Err(e) => return format!("error: {e}"),
+        };
+        let names = self.scope.names().to_vec();
+        let name = |s: u32| {
+            names
+                .get(s as usize)
+                .cloned()
+                .unwrap_or_else(|| format!("var[{s}]"))
+        };
+        let n = p.function().outputs.len();
+        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
+        let mut values = vec![0.0; g.outputs.len()];
+        let program = Program::new(g);
+        program.eval_into(&ctx, &mut values);
+        let mut lines = Vec::new();
+        for i in 0..n {
+            let text = crate::ir::print::expression(program.function(), n + i, &name, 4000)
+                .unwrap_or_else(|| "(too long to print; see :ir)".into());
+            lines.push(format!(
+                "{text}
+  = {:?} here",
+                values[n + i]
+            ));
+        }
+        lines.join("\n")
     }
 }
 
@@ -351,6 +468,13 @@ mod tests {
             .eval_line(":help STEP")
             .starts_with("STEP(x, x0, h0, x1, h1)"));
         assert!(r.eval_line(":ir x*x").contains("mul"));
+        assert!(r.eval_line(":clif x*x + 1").contains("fmul"));
+        assert!(r.eval_line(":time x*x").contains("ns/eval"));
+        // d(x³)/dx = 3x² = 12 at x = 2.
+        assert!(r.eval_line(":deriv x**3 x").ends_with("= 12.0 here"));
+        assert!(r
+            .eval_line(":deriv SIN(TIME) TIME")
+            .contains("= 0.8775825618903728 here"));
         assert_eq!(r.eval_line(":ast -2**2").lines().next(), Some("-2.0**2.0"));
         assert!(r.eval_line("SIN (1)").contains("E0103"));
         r.eval_line(":quit");

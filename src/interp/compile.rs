@@ -22,6 +22,8 @@ struct Emitter<'f> {
     /// Register of each IR value, or UNASSIGNED.
     reg_of: Vec<u32>,
     template: Vec<f64>,
+    /// The [`Inst::IfExtra`] values of each multi-result IF, by IF value, in index order.
+    extras_of: rustc_hash::FxHashMap<Value, Vec<Value>>,
 }
 
 pub fn compile(function: Function) -> Program {
@@ -32,6 +34,7 @@ pub fn compile(function: Function) -> Program {
         pool: Vec::new(),
         reg_of: vec![UNASSIGNED; function.insts.len()],
         template: Vec::new(),
+        extras_of: extras_of(&function),
     };
     e.list(&function.body);
     let outputs: Vec<u32> = function.outputs.iter().map(|&v| e.reg(v)).collect();
@@ -62,6 +65,21 @@ pub fn compile(function: Function) -> Program {
         reg_of,
         function,
     }
+}
+
+/// The extra-result values of every multi-result IF, in index order.
+fn extras_of(f: &Function) -> rustc_hash::FxHashMap<Value, Vec<Value>> {
+    let mut map: rustc_hash::FxHashMap<Value, Vec<Value>> = Default::default();
+    for (v, inst) in f.insts.iter().enumerate() {
+        if let Inst::IfExtra { of, index } = *inst {
+            let list = map.entry(of).or_default();
+            if list.len() <= index as usize {
+                list.resize(index as usize + 1, v as Value);
+            }
+            list[index as usize] = v as Value;
+        }
+    }
+    map
 }
 
 impl Emitter<'_> {
@@ -100,11 +118,44 @@ impl Emitter<'_> {
     fn inst(&mut self, v: Value) {
         let inst = self.f.inst(v).clone();
         let op = match inst {
-            Inst::Const(_) => return,
+            Inst::Const(_) | Inst::IfExtra { .. } => return,
             Inst::If { test, arms } => {
                 let (test, d) = (self.reg(test), self.reg(v));
-                self.if_(d, test, &arms);
+                let extras = self.extras_of.get(&v).cloned().unwrap_or_default();
+                self.if_(d, test, &arms, &extras);
                 return;
+            }
+            Inst::Select {
+                cmp,
+                a,
+                b,
+                then,
+                otherwise,
+            } => {
+                let (a, b) = (self.reg(a), self.reg(b));
+                let (then, otherwise) = (self.reg(then), self.reg(otherwise));
+                Op::Select {
+                    d: self.reg(v),
+                    cmp,
+                    a,
+                    b,
+                    then,
+                    otherwise,
+                }
+            }
+            Inst::Partial {
+                func,
+                wrt,
+                ref args,
+            } => {
+                let start = self.arg_list(args);
+                Op::Partial {
+                    d: self.reg(v),
+                    args: start,
+                    n: args.len().min(crate::ir::MAX_CALL_ARGS) as u32,
+                    wrt,
+                    func,
+                }
             }
             Inst::Var(slot) => Op::Var {
                 d: self.reg(v),
@@ -221,9 +272,13 @@ impl Emitter<'_> {
         }
     }
 
-    fn if_(&mut self, d: u32, test: u32, arms: &[Block; 3]) {
+    /// An IF: the arms one after another, each moving its results into the IF's registers
+    /// and jumping to the end; a NaN test jumps to a tail that sets the extra results to
+    /// NaN (the `If` op itself sets `d`).
+    fn if_(&mut self, d: u32, test: u32, arms: &[Block; 3], extras: &[Value]) {
         let at = self.ops.len();
         self.ops.push(Op::Jump { to: 0 });
+        let targets: Vec<u32> = extras.iter().map(|&x| self.reg(x)).collect();
         let mut starts = [0u32; 3];
         let mut jumps = Vec::new();
         for (i, arm) in arms.iter().enumerate() {
@@ -231,9 +286,21 @@ impl Emitter<'_> {
             self.list(&arm.insts);
             let a = self.reg(arm.result);
             self.ops.push(Op::Move { d, a });
-            if i < 2 {
+            for (&t, &x) in targets.iter().zip(&arm.extra) {
+                let a = self.reg(x);
+                self.ops.push(Op::Move { d: t, a });
+            }
+            if i < 2 || !targets.is_empty() {
                 jumps.push(self.ops.len());
                 self.ops.push(Op::Jump { to: 0 });
+            }
+        }
+        let nan_tail = self.here();
+        if !targets.is_empty() {
+            let nan = self.template.len() as u32;
+            self.template.push(f64::NAN);
+            for &t in &targets {
+                self.ops.push(Op::Move { d: t, a: nan });
             }
         }
         let end = self.here();
@@ -244,7 +311,7 @@ impl Emitter<'_> {
             d,
             test,
             arms: starts,
-            end,
+            end: nan_tail,
         };
     }
 }

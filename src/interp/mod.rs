@@ -137,6 +137,23 @@ enum Op {
         d: u32,
         a: u32,
     },
+    /// `d = if cmp(a, b) { then } else { otherwise }`.
+    Select {
+        d: u32,
+        cmp: crate::ir::Cmp,
+        a: u32,
+        b: u32,
+        then: u32,
+        otherwise: u32,
+    },
+    /// ∂func/∂(argument `wrt`); `arg_regs[args..args + n]` hold every argument.
+    Partial {
+        d: u32,
+        args: u32,
+        n: u32,
+        wrt: u32,
+        func: crate::ir::Func,
+    },
     Jump {
         to: u32,
     },
@@ -175,9 +192,7 @@ impl Program {
     }
 
     fn covered_by(&self, ctx: &Context) -> bool {
-        ctx.vars().len() >= self.needs[0]
-            && ctx.measures().len() >= self.needs[1]
-            && ctx.splines().len() >= self.needs[2]
+        ctx.covers(self.needs)
     }
 
     /// Evaluates a scalar expression (the first output of a vector one). Gives NaN when
@@ -254,6 +269,35 @@ impl Program {
             }
             Op::Jump { to } => return to as usize,
             Op::Move { d, a } => r[d as usize] = r[a as usize],
+            Op::Select {
+                d,
+                cmp,
+                a,
+                b,
+                then,
+                otherwise,
+            } => {
+                let pick = if cmp.test(r[a as usize], r[b as usize]) {
+                    then
+                } else {
+                    otherwise
+                };
+                r[d as usize] = r[pick as usize];
+            }
+            Op::Partial {
+                d,
+                args,
+                n,
+                wrt,
+                func,
+            } => {
+                let mut buf = [0.0; crate::ir::MAX_CALL_ARGS];
+                let regs = &self.arg_regs[args as usize..(args + n) as usize];
+                for (slot, &reg) in buf.iter_mut().zip(regs) {
+                    *slot = r[reg as usize];
+                }
+                r[d as usize] = func.partial(wrt as usize, &buf[..regs.len()]);
+            }
             Op::Var { d, slot } => r[d as usize] = ctx.vars()[slot as usize],
             Op::Time { d } => r[d as usize] = ctx.time,
             Op::Mode { d } => r[d as usize] = ctx.mode,

@@ -83,7 +83,9 @@ fn dest(op: &Op) -> Option<u32> {
         | Op::Call7 { d, .. }
         | Op::Call8 { d, .. }
         | Op::Series { d, .. }
-        | Op::Spline { d, .. } => d,
+        | Op::Spline { d, .. }
+        | Op::Select { d, .. }
+        | Op::Partial { d, .. } => d,
         Op::Move { .. } | Op::If { .. } | Op::Jump { .. } => return None,
     })
 }

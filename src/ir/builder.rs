@@ -6,7 +6,7 @@
 //! unfolded code would produce. Sharing is scoped: a value computed inside an IF arm is
 //! visible only there, never hoisted out of the arm (that would evaluate it eagerly).
 
-use super::{Block, Func, Function, Inst, Uses, Value};
+use super::{Block, Cmp, Func, Function, Inst, Uses, Value};
 use crate::check::builtins::SplineKind;
 use crate::diag::Span;
 use rustc_hash::FxHashMap;
@@ -26,6 +26,8 @@ enum Key {
     Sqrt(Value),
     Call(Func, Box<[Value]>),
     Spline(SplineKind, Value, Value, u32, u8),
+    Select(Cmp, Value, Value, Value, Value),
+    Partial(Func, u32, Box<[Value]>),
 }
 
 /// Incrementally builds one function.
@@ -154,6 +156,44 @@ impl Builder {
         self.emit(Key::Call(func, args.clone()), Inst::Call(func, args), span)
     }
 
+    /// `if a <cmp> b { then } else { otherwise }`; chosen at build time when the test is
+    /// constant or both choices are the same value.
+    pub fn select(
+        &mut self,
+        cmp: Cmp,
+        a: Value,
+        b: Value,
+        then: Value,
+        otherwise: Value,
+        span: Span,
+    ) -> Value {
+        if then == otherwise {
+            return then;
+        }
+        if let (Some(x), Some(y)) = (self.get_const(a), self.get_const(b)) {
+            return if cmp.test(x, y) { then } else { otherwise };
+        }
+        let inst = Inst::Select {
+            cmp,
+            a,
+            b,
+            then,
+            otherwise,
+        };
+        self.emit(Key::Select(cmp, a, b, then, otherwise), inst, span)
+    }
+
+    /// ∂func/∂(argument `wrt`) at `args`; folded when every argument is constant.
+    pub fn partial(&mut self, func: Func, wrt: u32, args: &[Value], span: Span) -> Value {
+        let consts: Option<Vec<f64>> = args.iter().map(|&a| self.get_const(a)).collect();
+        if let Some(c) = consts {
+            return self.constant(func.partial(wrt as usize, &c), span);
+        }
+        let args: Box<[Value]> = args.into();
+        let key = Key::Partial(func, wrt, args.clone());
+        self.emit(key, Inst::Partial { func, wrt, args }, span)
+    }
+
     /// A spline interpolation (never folded: the data belong to the host).
     pub fn spline(
         &mut self,
@@ -194,7 +234,39 @@ impl Builder {
         Block {
             insts: self.lists.pop().unwrap_or_default(),
             result,
+            extra: Vec::new(),
         }
+    }
+
+    /// Closes the innermost block yielding several results (the first is its `result`).
+    pub fn end_block_multi(&mut self, results: &[Value]) -> Block {
+        let mut block = self.end_block(results.first().copied().unwrap_or(0));
+        block.extra = results.iter().skip(1).copied().collect();
+        block
+    }
+
+    /// An IF whose arms yield several results (see [`Builder::end_block_multi`]): the IF's
+    /// value, then an [`Inst::IfExtra`] for each further result.
+    pub fn if_multi(&mut self, test: Value, arms: [Block; 3], span: Span) -> Vec<Value> {
+        let n = arms[0].extra.len() as u32;
+        if let Some(i) = self.get_const(test).and_then(super::if_arm) {
+            let [a, b, c] = arms;
+            let arm = [a, b, c].into_iter().nth(i).unwrap_or_default();
+            if let Some(list) = self.lists.last_mut() {
+                list.extend_from_slice(&arm.insts);
+            }
+            return std::iter::once(arm.result).chain(arm.extra).collect();
+        }
+        let first = self.if_(test, arms, span.clone());
+        let mut all = vec![first];
+        for index in 0..n {
+            let v = self.push(Inst::IfExtra { of: first, index }, span.clone());
+            if let Some(list) = self.lists.last_mut() {
+                list.push(v);
+            }
+            all.push(v);
+        }
+        all
     }
 
     /// An arithmetic IF over three finished arms. A constant test selects its arm at

@@ -49,6 +49,16 @@ pub enum Func {
 }
 
 impl Func {
+    /// Every function, in declaration order.
+    pub const ALL: [Func; 34] = {
+        use Func::*;
+        [
+            Abs, Acos, Asin, Atan, Atan2, Cos, Sin, Tan, Cosh, Sinh, Tanh, Exp, Log, Log10, Sqrt,
+            Aint, Anint, Mod, Sign, Dim, Max, Min, Pow, Step, Step5, Havsin, Impact, Bistop, Shf,
+            Sweep, Poly, Cheby, Forcos, Forsin,
+        ]
+    };
+
     /// Fixed arguments (before the coefficient list of a series).
     pub fn fixed_args(self) -> usize {
         use Func::*;
@@ -192,4 +202,100 @@ pub enum Callee {
     F8(Fn8),
     Series2(fn(f64, f64, &[f64]) -> f64),
     Series3(fn(f64, f64, f64, &[f64]) -> f64),
+}
+
+/// Copies the partials of a fixed-arity gradient companion into `out` and returns the value.
+fn spread<const N: usize>((v, g): (f64, [f64; N]), out: &mut [f64]) -> f64 {
+    for (o, p) in out.iter_mut().zip(g) {
+        *o = p;
+    }
+    v
+}
+
+impl Func {
+    /// Evaluates the function and its partials with respect to every argument, in
+    /// argument order, through the runtime's analytic derivative companions (the
+    /// `mbfx_<name>_grad` functions the JIT calls). `out` must hold `a.len()` values;
+    /// a wrong argument count gives NaN everywhere.
+    pub fn grad(self, a: &[f64], out: &mut [f64]) -> f64 {
+        use Func::*;
+        let n = self.fixed_args();
+        if a.len() < n || (!self.is_variadic() && a.len() != n) || out.len() < a.len() {
+            out.fill(f64::NAN);
+            return f64::NAN;
+        }
+        match self {
+            Abs => spread(rt::abs_grad(a[0]), out),
+            Acos => spread(rt::acos_grad(a[0]), out),
+            Asin => spread(rt::asin_grad(a[0]), out),
+            Atan => spread(rt::atan_grad(a[0]), out),
+            Cos => spread(rt::cos_grad(a[0]), out),
+            Sin => spread(rt::sin_grad(a[0]), out),
+            Tan => spread(rt::tan_grad(a[0]), out),
+            Cosh => spread(rt::cosh_grad(a[0]), out),
+            Sinh => spread(rt::sinh_grad(a[0]), out),
+            Tanh => spread(rt::tanh_grad(a[0]), out),
+            Exp => spread(rt::exp_grad(a[0]), out),
+            Log => spread(rt::log_grad(a[0]), out),
+            Log10 => spread(rt::log10_grad(a[0]), out),
+            Sqrt => spread(rt::sqrt_grad(a[0]), out),
+            Aint => spread(rt::aint_grad(a[0]), out),
+            Anint => spread(rt::anint_grad(a[0]), out),
+            Atan2 => spread(rt::atan2_grad(a[0], a[1]), out),
+            Mod => spread(rt::amod_grad(a[0], a[1]), out),
+            Sign => spread(rt::sign_grad(a[0], a[1]), out),
+            Dim => spread(rt::dim_grad(a[0], a[1]), out),
+            Max => spread(rt::max_grad(a[0], a[1]), out),
+            Min => spread(rt::min_grad(a[0], a[1]), out),
+            Pow => spread(rt::pow_grad(a[0], a[1]), out),
+            Step => spread(rt::step_grad(a[0], a[1], a[2], a[3], a[4]), out),
+            Step5 => spread(rt::step5_grad(a[0], a[1], a[2], a[3], a[4]), out),
+            Havsin => spread(rt::havsin_grad(a[0], a[1], a[2], a[3], a[4]), out),
+            Shf => spread(rt::shf_grad(a[0], a[1], a[2], a[3], a[4], a[5]), out),
+            Impact => spread(
+                rt::impact_grad(a[0], a[1], a[2], a[3], a[4], a[5], a[6]),
+                out,
+            ),
+            Sweep => spread(
+                rt::sweep_grad(a[0], a[1], a[2], a[3], a[4], a[5], a[6]),
+                out,
+            ),
+            Bistop => spread(
+                rt::bistop_grad(a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]),
+                out,
+            ),
+            Poly | Cheby => {
+                let g = if self == Poly {
+                    rt::poly_grad
+                } else {
+                    rt::cheby_grad
+                };
+                let (head, tail) = out.split_at_mut(2);
+                let (v, dx, dx0) = g(a[0], a[1], &a[2..], &mut tail[..a.len() - 2]);
+                head.copy_from_slice(&[dx, dx0]);
+                v
+            }
+            Forcos | Forsin => {
+                let g = if self == Forcos {
+                    rt::forcos_grad
+                } else {
+                    rt::forsin_grad
+                };
+                let (head, tail) = out.split_at_mut(3);
+                let (v, dx, dx0, dw) = g(a[0], a[1], a[2], &a[3..], &mut tail[..a.len() - 3]);
+                head.copy_from_slice(&[dx, dx0, dw]);
+                v
+            }
+        }
+    }
+
+    /// The partial derivative with respect to argument `wrt` (see [`Func::grad`]).
+    pub fn partial(self, wrt: usize, a: &[f64]) -> f64 {
+        let mut out = [0.0; 40];
+        let Some(out) = out.get_mut(..a.len()) else {
+            return f64::NAN;
+        };
+        self.grad(a, out);
+        out.get(wrt).copied().unwrap_or(f64::NAN)
+    }
 }

@@ -6,10 +6,15 @@
 //! vector expressions are lowered to three scalars by the checker, and the types were
 //! settled there, so no back end tests a type at run time. Constants live outside blocks.
 //! [`builder::Builder`] folds constants and shares common subexpressions as it builds.
+//! [`lower`] rewrites the cheap library functions into branch-free IR for the JIT;
+//! [`deriv`] generates the IR of partial derivatives.
 
 pub mod builder;
+pub mod deriv;
 pub mod func;
+pub mod lower;
 pub mod print;
+mod rebuild;
 
 use crate::check::builtins::SplineKind;
 use crate::diag::Span;
@@ -47,11 +52,77 @@ pub enum Inst {
     },
     /// Arithmetic IF: runs `arms[0]` when test < 0, `arms[1]` when test = 0 (either
     /// sign), `arms[2]` when test > 0; a NaN test runs no arm and gives NaN (a run-time
-    /// error the caller reports, decision 2).
+    /// error the caller reports, decision 2). Its value is the arm's `result`; an IF built
+    /// by [`deriv`] also yields each arm's `extra` results, read by [`Inst::IfExtra`].
     If {
         test: Value,
         arms: Box<[Block; 3]>,
     },
+    /// Extra result `index` of the IF `of` (NaN when its test was NaN); placed right after
+    /// `of` in the same block.
+    IfExtra {
+        of: Value,
+        index: u32,
+    },
+    /// `if a <cmp> b { then } else { otherwise }` with IEEE comparisons, both choices
+    /// already computed: a branch-free choice ([`lower`] builds the cheap library
+    /// functions from it).
+    Select {
+        cmp: Cmp,
+        a: Value,
+        b: Value,
+        then: Value,
+        otherwise: Value,
+    },
+    /// ∂func/∂(argument `wrt`) at `args`, from the runtime's analytic derivative companion
+    /// (`mbfx_<name>_grad`); emitted by [`deriv`].
+    Partial {
+        func: Func,
+        wrt: u32,
+        args: Box<[Value]>,
+    },
+}
+
+/// Most arguments a library call takes: a series' three fixed arguments and 31
+/// coefficients.
+pub const MAX_CALL_ARGS: usize = 34;
+
+/// A floating-point comparison with IEEE (Rust) meaning: every comparison with a NaN
+/// operand is false, except `Uno`, which is true exactly then.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cmp {
+    Lt,
+    Le,
+    Eq,
+    Gt,
+    Ge,
+    /// Either operand is NaN.
+    Uno,
+}
+
+impl Cmp {
+    #[inline(always)]
+    pub fn test(self, a: f64, b: f64) -> bool {
+        match self {
+            Cmp::Lt => a < b,
+            Cmp::Le => a <= b,
+            Cmp::Eq => a == b,
+            Cmp::Gt => a > b,
+            Cmp::Ge => a >= b,
+            Cmp::Uno => a.is_nan() || b.is_nan(),
+        }
+    }
+
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Cmp::Lt => "<",
+            Cmp::Le => "<=",
+            Cmp::Eq => "==",
+            Cmp::Gt => ">",
+            Cmp::Ge => ">=",
+            Cmp::Uno => "uno",
+        }
+    }
 }
 
 /// Which arm of an arithmetic IF a test value selects: 0 when negative, 1 when zero
@@ -75,6 +146,9 @@ pub fn if_arm(t: f64) -> Option<usize> {
 pub struct Block {
     pub insts: Vec<Value>,
     pub result: Value,
+    /// Further results (derivative code: a value and its partials leave an IF together);
+    /// every arm of one IF has the same number.
+    pub extra: Vec<Value>,
 }
 
 /// A compiled expression: instructions, their source spans, the top-level block and the

@@ -16,10 +16,10 @@
 //! Order matters: assembly comes first because it needs no redundancy information (its
 //! minimum-norm steps treat redundant rows like any other), and the rank of the Jacobian
 //! is only meaningful at a configuration that satisfies the constraints. GCON and MOTION
-//! functions are differentiated by [`CentralDifferences`]; [`report`] words the result
+//! functions are differentiated exactly on the IR ([`IrDerivatives`]); [`report`] words the result
 //! for `mbfx check`.
 
-pub mod differenced;
+pub mod derivative;
 pub mod report;
 
 use crate::diag::Diagnostic;
@@ -29,7 +29,7 @@ use crate::mbd::planar::Dim;
 use crate::mbd::redundancy::{self, Problem, Report};
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
-use differenced::CentralDifferences;
+use derivative::IrDerivatives;
 use std::fmt;
 
 /// Which dimension the caller asks for (`mbfx check --dim`).
@@ -133,7 +133,7 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
         DimRequest::Auto | DimRequest::Two => Dim::Auto,
     };
     let mut system =
-        System::from_model(model, build_dim, &CentralDifferences).map_err(Failure::Build)?;
+        System::from_model(model, build_dim, &IrDerivatives).map_err(Failure::Build)?;
     if dim == DimRequest::Two && system.dim != Dimension::Two {
         let why = system.dim_reason.trim_start_matches("3D: ").to_string();
         return Err(Failure::NotPlanar(why));

@@ -1,0 +1,226 @@
+//! Branch-free lowering of the cheap library functions, for the JIT.
+//!
+//! [`lower`] rebuilds a function with MIN, MAX, DIM, SIGN, STEP, STEP5, HAVSIN and POLY
+//! replaced by IEEE arithmetic and [`Inst::Select`]s (every row of the piecewise
+//! definition is computed, then chosen), so the machine code has no data-dependent jumps
+//! for them. IMPACT and BISTOP stay calls: their `pow` dominates, and a branch-free form
+//! (which must compute it, and both damping steps, on every evaluation) measured slower
+//! than the runtime's branches, even on unpredictable inputs. Each lowering follows the operation order documented in
+//! `mbfx-runtime` exactly, so it gives the runtime's bits (NaN payloads aside); the
+//! interpreter keeps calling the runtime, so the interpreter ≡ JIT tests check every
+//! lowering against the runtime itself. Transcendentals (`pow`, `sin`) stay calls; ABS
+//! stays a call the JIT inlines as one instruction.
+
+use super::builder::{Arith, Builder};
+use super::rebuild::{constants, copy, UNSET};
+use super::{Cmp, Func, Function, Inst, Value};
+use crate::diag::Span;
+use core::f64::consts::{FRAC_PI_2, PI};
+use rustc_hash::FxHashMap;
+
+/// The function with its cheap library calls lowered to branch-free IR.
+pub fn lower(f: &Function) -> Function {
+    let mut b = Builder::new();
+    let mut m = constants(f, &mut b);
+    let mut ifs = FxHashMap::default();
+    list(f, &mut b, &mut m, &mut ifs, &f.body);
+    let outputs = f.outputs.iter().map(|&o| m[o as usize]).collect();
+    b.finish(outputs)
+}
+
+fn list(
+    f: &Function,
+    b: &mut Builder,
+    m: &mut Vec<Value>,
+    ifs: &mut FxHashMap<Value, Vec<Value>>,
+    values: &[Value],
+) {
+    for &v in values {
+        let span = f.spans[v as usize].clone();
+        let new = match f.inst(v) {
+            Inst::Call(func, args) => {
+                let args: Vec<Value> = args.iter().map(|&a| m[a as usize]).collect();
+                inline(b, *func, &args, span)
+            }
+            Inst::If { test, arms } => {
+                let new_arms = arms.clone().map(|arm| {
+                    b.begin_block();
+                    list(f, b, m, ifs, &arm.insts);
+                    let results: Vec<Value> = std::iter::once(arm.result)
+                        .chain(arm.extra.iter().copied())
+                        .map(|r| m[r as usize])
+                        .collect();
+                    b.end_block_multi(&results)
+                });
+                let results = b.if_multi(m[*test as usize], new_arms, span);
+                let first = results[0];
+                ifs.insert(v, results);
+                first
+            }
+            Inst::IfExtra { of, index } => ifs
+                .get(of)
+                .and_then(|r| r.get(*index as usize + 1).copied())
+                .unwrap_or(UNSET),
+            inst => copy(b, inst, span, m),
+        };
+        m[v as usize] = new;
+    }
+}
+
+/// Emits `func(args)`, branch-free when it is one of the cheap functions and not every
+/// argument is constant (constant calls fold through the runtime as usual).
+pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span) -> Value {
+    if args.iter().all(|&a| b.get_const(a).is_some()) {
+        return b.call(func, args.to_vec(), span);
+    }
+    let mut l = Lower { b, span };
+    match (func, args) {
+        (Func::Min, &[a1, a2]) => {
+            let sum = l.add(a1, a2);
+            let r = l.sel(Cmp::Lt, a2, a1, a2, sum);
+            l.sel(Cmp::Le, a1, a2, a1, r)
+        }
+        (Func::Max, &[a1, a2]) => {
+            let sum = l.add(a1, a2);
+            let r = l.sel(Cmp::Gt, a2, a1, a2, sum);
+            l.sel(Cmp::Ge, a1, a2, a1, r)
+        }
+        (Func::Dim, &[a1, a2]) => {
+            let (d, zero) = (l.sub(a1, a2), l.c(0.0));
+            l.sel(Cmp::Le, a1, a2, zero, d)
+        }
+        (Func::Sign, &[a1, a2]) => {
+            let m = l.call(Func::Abs, &[a1]);
+            let (neg, zero, nan) = (l.neg(m), l.c(0.0), l.c(f64::NAN));
+            let r = l.sel(Cmp::Lt, a2, zero, neg, nan);
+            l.sel(Cmp::Ge, a2, zero, m, r)
+        }
+        (Func::Step | Func::Step5 | Func::Havsin, &[x, x0, h0, x1, h1]) => {
+            let interior = |l: &mut Lower, d: Value| match func {
+                Func::Step => l.cubic(h0, h1, d),
+                Func::Step5 => l.quintic(h0, h1, d),
+                _ => l.haversine(h0, h1, d),
+            };
+            let rows = l.rows(x, x0, h0, x1, h1, interior);
+            let nan = l.c(f64::NAN);
+            let r = l.sel(Cmp::Uno, h0, h1, nan, rows);
+            l.sel(Cmp::Lt, x0, x1, r, nan)
+        }
+        (Func::Poly, [x, x0, coeffs @ ..])
+            if (1..=super::MAX_CALL_ARGS - 3).contains(&coeffs.len()) =>
+        {
+            let t = l.sub(*x, *x0);
+            let (&last, rest) = coeffs.split_last().unwrap_or((x, &[]));
+            let mut acc = last;
+            for &a in rest.iter().rev() {
+                let p = l.mul(acc, t);
+                acc = l.add(p, a);
+            }
+            if rest.is_empty() {
+                // A lone coefficient ignores t, but POLY(NaN, ...) is still NaN.
+                let nan = l.c(f64::NAN);
+                acc = l.sel(Cmp::Uno, t, t, nan, acc);
+            }
+            acc
+        }
+        _ => l.b.call(func, args.to_vec(), l.span),
+    }
+}
+
+/// Emits instructions at one span.
+struct Lower<'b> {
+    b: &'b mut Builder,
+    span: Span,
+}
+
+impl Lower<'_> {
+    fn c(&mut self, x: f64) -> Value {
+        self.b.constant(x, self.span.clone())
+    }
+    fn op(&mut self, op: Arith, a: Value, b: Value) -> Value {
+        self.b.arith(op, a, b, self.span.clone())
+    }
+    fn add(&mut self, a: Value, b: Value) -> Value {
+        self.op(Arith::Add, a, b)
+    }
+    fn sub(&mut self, a: Value, b: Value) -> Value {
+        self.op(Arith::Sub, a, b)
+    }
+    fn mul(&mut self, a: Value, b: Value) -> Value {
+        self.op(Arith::Mul, a, b)
+    }
+    fn div(&mut self, a: Value, b: Value) -> Value {
+        self.op(Arith::Div, a, b)
+    }
+    fn neg(&mut self, a: Value) -> Value {
+        self.b.neg(a, self.span.clone())
+    }
+    fn call(&mut self, func: Func, args: &[Value]) -> Value {
+        self.b.call(func, args.to_vec(), self.span.clone())
+    }
+    fn sel(&mut self, cmp: Cmp, a: Value, b: Value, then: Value, otherwise: Value) -> Value {
+        self.b.select(cmp, a, b, then, otherwise, self.span.clone())
+    }
+
+    /// The rows of a step: h0 for x ≤ x0, h1 for x ≥ x1, `interior(Δ)` between, with
+    /// Δ = (x − x0)/(x1 − x0) (`steps::step_rows`).
+    fn rows(
+        &mut self,
+        x: Value,
+        x0: Value,
+        h0: Value,
+        x1: Value,
+        h1: Value,
+        interior: impl FnOnce(&mut Self, Value) -> Value,
+    ) -> Value {
+        let (num, den) = (self.sub(x, x0), self.sub(x1, x0));
+        let d = self.div(num, den);
+        let mid = interior(self, d);
+        let r = self.sel(Cmp::Ge, x, x1, h1, mid);
+        self.sel(Cmp::Le, x, x0, h0, r)
+    }
+
+    /// `h0 + (h1 - h0) * d * d * (3.0 - 2.0 * d)`.
+    fn cubic(&mut self, h0: Value, h1: Value, d: Value) -> Value {
+        let a = self.sub(h1, h0);
+        let ad = self.mul(a, d);
+        let add = self.mul(ad, d);
+        let (three, two) = (self.c(3.0), self.c(2.0));
+        let twod = self.mul(two, d);
+        let s = self.sub(three, twod);
+        let p = self.mul(add, s);
+        self.add(h0, p)
+    }
+
+    /// `h0 + (h1 - h0) * d * d * d * (10.0 - 15.0 * d + 6.0 * d * d)`.
+    fn quintic(&mut self, h0: Value, h1: Value, d: Value) -> Value {
+        let a = self.sub(h1, h0);
+        let mut p = a;
+        for _ in 0..3 {
+            p = self.mul(p, d);
+        }
+        let (ten, fifteen, six) = (self.c(10.0), self.c(15.0), self.c(6.0));
+        let f = self.mul(fifteen, d);
+        let s = self.sub(ten, f);
+        let sd = self.mul(six, d);
+        let sdd = self.mul(sd, d);
+        let bracket = self.add(s, sdd);
+        let q = self.mul(p, bracket);
+        self.add(h0, q)
+    }
+
+    /// `(h0 + h1) / 2.0 + (h1 - h0) / 2.0 * (PI * d - FRAC_PI_2).sin()`.
+    fn haversine(&mut self, h0: Value, h1: Value, d: Value) -> Value {
+        let two = self.c(2.0);
+        let sum = self.add(h0, h1);
+        let mean = self.div(sum, two);
+        let diff = self.sub(h1, h0);
+        let half = self.div(diff, two);
+        let (pi, pi2) = (self.c(PI), self.c(FRAC_PI_2));
+        let pd = self.mul(pi, d);
+        let theta = self.sub(pd, pi2);
+        let s = self.call(Func::Sin, &[theta]);
+        let hs = self.mul(half, s);
+        self.add(mean, hs)
+    }
+}

@@ -1,0 +1,320 @@
+//! The Cranelift JIT: IR functions become machine code the host calls directly.
+//!
+//! [`Jit`] owns what compilation reuses (the target ISA, the codegen context, the
+//! function-builder context). [`Jit::compile_batch`] translates many functions into one
+//! `JITModule` with one finalisation; the module lives as long as any [`CompiledExpr`]
+//! made from it and its memory is freed when the last one drops. Before translation each
+//! function goes through [`crate::ir::lower`], so MIN, MAX, DIM, SIGN, STEP, STEP5,
+//! HAVSIN and POLY run without data-dependent jumps.
+//!
+//! Invariant: a compiled expression gives the interpreter's bits (NaN payloads aside):
+//! both run the same IR, call the same runtime functions, and the lowering follows the
+//! runtime's operation order (checked by the differential tests in `tests/backends/`).
+
+mod symbols;
+mod translate;
+
+pub use symbols::{
+    lookup as runtime_symbol, names as symbol_name, params as symbol_params,
+    spline as spline_symbol,
+};
+
+use crate::context::Context;
+use crate::ir::Function;
+use cranelift_codegen::isa::OwnedTargetIsa;
+use cranelift_codegen::settings::{self, Configurable};
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{default_libcall_names, Module};
+use rustc_hash::FxHashMap;
+use std::mem::ManuallyDrop;
+use std::sync::Arc;
+
+/// Why compilation failed (never a user error: the checker accepted the expression).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum JitError {
+    /// The host CPU is not supported by Cranelift.
+    Host(String),
+    /// Cranelift rejected the code or could not finalise the module.
+    Module(String),
+    /// A runtime symbol is missing or its signature is not what the translator passes.
+    Symbol(String),
+    /// The IR refers to a value before defining it (a bug in an IR pass).
+    Malformed(u32),
+}
+
+impl std::fmt::Display for JitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            JitError::Host(m) => write!(f, "this CPU is not supported by the JIT: {m}"),
+            JitError::Module(m) => write!(f, "code generation failed: {m}"),
+            JitError::Symbol(s) => write!(
+                f,
+                "runtime symbol `{s}` is missing or has another signature"
+            ),
+            JitError::Malformed(v) => write!(f, "malformed IR: value v{v} used before definition"),
+        }
+    }
+}
+
+impl std::error::Error for JitError {}
+
+/// The machine code of one batch. Dropping it frees the code.
+struct Code {
+    module: ManuallyDrop<JITModule>,
+}
+
+impl Drop for Code {
+    fn drop(&mut self) {
+        // SAFETY: `Code` is dropped only when no `CompiledExpr` (the only holders of
+        // pointers into this module) is left, so nothing can call the code afterwards.
+        unsafe { ManuallyDrop::take(&mut self.module).free_memory() };
+    }
+}
+
+// SAFETY: after finalisation the module is never used again except to free it on drop;
+// the code it owns is immutable, so sharing it between threads is sound.
+unsafe impl Send for Code {}
+// SAFETY: as above: no `&Code` method touches the module.
+unsafe impl Sync for Code {}
+
+/// Signature of the generated code.
+type RawFn = unsafe extern "C" fn(*const Context<'_>, *const f64, *const f64, *mut f64, f64) -> f64;
+
+/// A compiled expression. Cloning shares the code.
+#[derive(Clone)]
+pub struct CompiledExpr {
+    code: RawFn,
+    outputs: usize,
+    /// Smallest variable, measure and spline arrays a context must provide.
+    needs: [usize; 3],
+    _owner: Arc<Code>,
+}
+
+impl std::fmt::Debug for CompiledExpr {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CompiledExpr")
+            .field("outputs", &self.outputs)
+            .field("needs", &self.needs)
+            .finish()
+    }
+}
+
+impl CompiledExpr {
+    /// Number of outputs (1 for a scalar, 3 for a vector, more for a gradient).
+    pub fn outputs(&self) -> usize {
+        self.outputs
+    }
+
+    fn covered_by(&self, ctx: &Context) -> bool {
+        ctx.covers(self.needs)
+    }
+
+    /// Evaluates the first output. NaN when the context lacks slots the expression reads
+    /// (as the interpreter).
+    #[inline]
+    pub fn eval(&self, ctx: &Context) -> f64 {
+        if self.outputs > 1 {
+            let mut out = vec![0.0; self.outputs];
+            self.eval_into(ctx, &mut out);
+            return out[0];
+        }
+        if !self.covered_by(ctx) {
+            return f64::NAN;
+        }
+        // SAFETY: the code reads only context slots below `needs`, which `covered_by`
+        // checked, and with one output it never writes `out`; `_owner` keeps the code alive.
+        unsafe { self.call(ctx, std::ptr::null_mut()) }
+    }
+
+    /// Runs the code.
+    ///
+    /// # Safety
+    /// `ctx` must cover the expression's needs, and `out` must have room for every output
+    /// when there are several (it is not written when there is one).
+    #[inline(always)]
+    unsafe fn call(&self, ctx: &Context, out: *mut f64) -> f64 {
+        let (vars, measures) = ctx.arrays();
+        // SAFETY: the caller's guarantees are the code's requirements; `_owner` keeps the
+        // code alive.
+        unsafe { (self.code)(ctx, vars, measures, out, ctx.time) }
+    }
+
+    /// Evaluates every output into `out` (extra slots are left alone; a shorter `out`
+    /// receives the first outputs). NaN everywhere when the context lacks slots.
+    pub fn eval_into(&self, ctx: &Context, out: &mut [f64]) {
+        if !self.covered_by(ctx) {
+            out.fill(f64::NAN);
+            return;
+        }
+        if self.outputs <= 1 {
+            if let Some(o) = out.first_mut() {
+                // SAFETY: as in `eval`.
+                *o = unsafe { self.call(ctx, std::ptr::null_mut()) };
+            }
+            return;
+        }
+        if out.len() >= self.outputs {
+            // SAFETY: the context is covered (see `eval`) and `out` has room for every
+            // output the code writes.
+            unsafe { self.call(ctx, out.as_mut_ptr()) };
+        } else {
+            let mut all = vec![0.0; self.outputs];
+            // SAFETY: as above, with a buffer of exactly `outputs` values.
+            unsafe { self.call(ctx, all.as_mut_ptr()) };
+            out.copy_from_slice(&all[..out.len()]);
+        }
+    }
+}
+
+/// The JIT compiler: target, reusable contexts and options.
+pub struct Jit {
+    isa: OwnedTargetIsa,
+    ctx: cranelift_codegen::Context,
+    fctx: FunctionBuilderContext,
+    /// Lower the cheap library functions to branch-free code (on by default).
+    pub lower: bool,
+    /// Seconds each function of the last batch took (lowering, translation, Cranelift),
+    /// for the compile benchmark.
+    times: Vec<f64>,
+}
+
+impl Jit {
+    /// A compiler for the host CPU, optimising for speed.
+    pub fn new() -> Result<Jit, JitError> {
+        let mut flags = settings::builder();
+        let set = |f: &mut settings::Builder, k, v| {
+            f.set(k, v).map_err(|e| JitError::Host(e.to_string()))
+        };
+        set(&mut flags, "opt_level", "speed")?;
+        set(&mut flags, "use_colocated_libcalls", "false")?;
+        set(&mut flags, "is_pic", "false")?;
+        let verify = if cfg!(debug_assertions) {
+            "true"
+        } else {
+            "false"
+        };
+        set(&mut flags, "enable_verifier", verify)?;
+        let isa = cranelift_native::builder()
+            .map_err(|m| JitError::Host(m.to_string()))?
+            .finish(settings::Flags::new(flags))
+            .map_err(|e| JitError::Host(e.to_string()))?;
+        Ok(Jit {
+            isa,
+            ctx: cranelift_codegen::Context::new(),
+            fctx: FunctionBuilderContext::new(),
+            lower: true,
+            times: Vec::new(),
+        })
+    }
+
+    fn module(&self) -> JITModule {
+        let mut builder = JITBuilder::with_isa(self.isa.clone(), default_libcall_names());
+        builder.symbol_lookup_fn(Box::new(symbols::address));
+        JITModule::new(builder)
+    }
+
+    /// Compiles one function.
+    pub fn compile(&mut self, f: &Function) -> Result<CompiledExpr, JitError> {
+        let mut v = self.compile_batch(&[f])?;
+        v.pop().ok_or(JitError::Malformed(0))
+    }
+
+    /// Compiles many functions into one module with one finalisation.
+    pub fn compile_batch(&mut self, fs: &[&Function]) -> Result<Vec<CompiledExpr>, JitError> {
+        let mut module = self.module();
+        let mut declared = FxHashMap::default();
+        let mut ids = Vec::with_capacity(fs.len());
+        self.times.clear();
+        for f in fs {
+            let t0 = std::time::Instant::now();
+            let lowered;
+            let f = if self.lower {
+                lowered = crate::ir::lower::lower(f);
+                &lowered
+            } else {
+                f
+            };
+            let id = self.define(&mut module, &mut declared, f)?;
+            ids.push((id, f.outputs.len(), needs(f)));
+            self.times.push(t0.elapsed().as_secs_f64());
+        }
+        module
+            .finalize_definitions()
+            .map_err(|e| JitError::Module(e.to_string()))?;
+        let owner = Arc::new(Code {
+            module: ManuallyDrop::new(module),
+        });
+        Ok(ids
+            .into_iter()
+            .map(|(id, outputs, needs)| {
+                let ptr = owner.module.get_finalized_function(id);
+                // SAFETY: `ptr` is the finalised code of a function declared with
+                // `expr_signature`, which is `RawFn`'s C signature.
+                let code = unsafe { std::mem::transmute::<*const u8, RawFn>(ptr) };
+                CompiledExpr {
+                    code,
+                    outputs,
+                    needs,
+                    _owner: owner.clone(),
+                }
+            })
+            .collect())
+    }
+
+    /// Seconds each function of the last [`Jit::compile_batch`] took to lower, translate
+    /// and compile (the module's finalisation, shared by the batch, is not included).
+    pub fn last_batch_times(&self) -> &[f64] {
+        &self.times
+    }
+
+    /// Translates `f` into `module` and defines it; returns its id.
+    fn define(
+        &mut self,
+        module: &mut JITModule,
+        declared: &mut FxHashMap<String, cranelift_module::FuncId>,
+        f: &Function,
+    ) -> Result<cranelift_module::FuncId, JitError> {
+        let sig = translate::expr_signature(module);
+        let id = module
+            .declare_anonymous_function(&sig)
+            .map_err(|e| JitError::Module(e.to_string()))?;
+        self.ctx.clear();
+        self.ctx.func.signature = sig;
+        let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
+        let result = translate::Translator::new(f, fb, module, declared).run();
+        if let Err(e) = result {
+            self.ctx.clear();
+            return Err(e);
+        }
+        let defined = module.define_function(id, &mut self.ctx);
+        self.ctx.clear();
+        defined.map_err(|e| JitError::Module(format!("{e:?}")))?;
+        Ok(id)
+    }
+
+    /// The Cranelift IR of `f` (after lowering, before Cranelift's optimisations), for the
+    /// REPL's `:clif`.
+    pub fn clif(&mut self, f: &Function) -> Result<String, JitError> {
+        let mut module = self.module();
+        let mut declared = FxHashMap::default();
+        let lowered = crate::ir::lower::lower(f);
+        let f = if self.lower { &lowered } else { f };
+        let sig = translate::expr_signature(&module);
+        self.ctx.clear();
+        self.ctx.func.signature = sig;
+        let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
+        translate::Translator::new(f, fb, &mut module, &mut declared).run()?;
+        let text = self.ctx.func.display().to_string();
+        self.ctx.clear();
+        // SAFETY: nothing was finalised, so no pointer into the module exists.
+        unsafe { module.free_memory() };
+        Ok(text)
+    }
+}
+
+/// Smallest variable, measure and spline arrays `f` may be given.
+fn needs(f: &Function) -> [usize; 3] {
+    let u = &f.uses;
+    [u.vars_len(), u.measures_len(), u.splines_len()]
+}

@@ -1,0 +1,413 @@
+//! IR → Cranelift IR, one method per IR instruction.
+//!
+//! The generated function is `extern "C" fn(ctx: *const Context, vars: *const f64,
+//! measures: *const f64, out: *mut f64, time: f64) -> f64`: it returns the first output
+//! and, when there are several (a vector, a gradient), writes all of them to `out`. The
+//! variable and measure arrays and the time come as arguments (the caller has them in
+//! registers) so the code does not load them from the context first. Arithmetic is inlined (`fadd`, `fmul`, `sqrt`, `fabs`, no
+//! fused multiply-add); an arithmetic IF is real branches (only the taken arm runs); a
+//! [`Inst::Select`] is a branch-free SSE compare-and-blend; library functions are calls
+//! to the runtime's `extern "C"` wrappers.
+
+use super::symbols;
+use super::JitError;
+use crate::context::layout;
+use crate::ir::{Block as IrBlock, Cmp, Func, Function, Inst, Value};
+use cranelift_codegen::ir;
+use cranelift_codegen::ir::condcodes::FloatCC;
+use cranelift_codegen::ir::{
+    types, AbiParam, BlockArg, Endianness, FuncRef, InstBuilder, MemFlagsData, Signature,
+    StackSlotData, StackSlotKind, Type,
+};
+use cranelift_frontend::FunctionBuilder;
+use cranelift_jit::JITModule;
+use cranelift_module::{Linkage, Module};
+use mbfx_runtime::ffi::Param;
+use rustc_hash::FxHashMap;
+
+/// Signature of every compiled expression.
+pub fn expr_signature(module: &JITModule) -> Signature {
+    let ptr = module.target_config().pointer_type();
+    let mut sig = module.make_signature();
+    for _ in 0..4 {
+        sig.params.push(AbiParam::new(ptr));
+    }
+    sig.params.push(AbiParam::new(types::F64));
+    sig.returns.push(AbiParam::new(types::F64));
+    sig
+}
+
+/// Translates one IR function into the function `fb` builds.
+pub struct Translator<'a, 'b> {
+    f: &'a Function,
+    fb: FunctionBuilder<'b>,
+    module: &'a mut JITModule,
+    /// Runtime functions declared in this module, by name.
+    declared: &'a mut FxHashMap<String, cranelift_module::FuncId>,
+    /// Runtime functions imported into this function, by name.
+    refs: FxHashMap<String, FuncRef>,
+    ptr: Type,
+    ctx: ir::Value,
+    time: ir::Value,
+    /// Where several outputs are written.
+    out: ir::Value,
+    /// Base pointers of the variable, measure and spline arrays (loaded once, on entry).
+    bases: [Option<ir::Value>; 3],
+    /// Cranelift value of each IR value translated so far.
+    vals: Vec<Option<ir::Value>>,
+    /// Extra results of multi-result IFs, by IF value.
+    extras: FxHashMap<Value, Vec<ir::Value>>,
+}
+
+const TRUSTED: MemFlagsData = MemFlagsData::trusted();
+
+impl<'a, 'b> Translator<'a, 'b> {
+    pub fn new(
+        f: &'a Function,
+        mut fb: FunctionBuilder<'b>,
+        module: &'a mut JITModule,
+        declared: &'a mut FxHashMap<String, cranelift_module::FuncId>,
+    ) -> Self {
+        let ptr = module.target_config().pointer_type();
+        let entry = fb.create_block();
+        fb.append_block_params_for_function_params(entry);
+        fb.switch_to_block(entry);
+        let params = fb.block_params(entry).to_vec();
+        let ctx = params[0];
+        let splines = (!f.uses.splines.is_empty()).then(|| {
+            fb.ins()
+                .load(ptr, TRUSTED.with_readonly(), ctx, layout::SPLINES)
+        });
+        let bases = [Some(params[1]), Some(params[2]), splines];
+        Translator {
+            f,
+            fb,
+            module,
+            declared,
+            refs: FxHashMap::default(),
+            ptr,
+            ctx,
+            time: params[4],
+            out: params[3],
+            bases,
+            vals: vec![None; f.insts.len()],
+            extras: FxHashMap::default(),
+        }
+    }
+
+    /// Translates the body and returns the outputs; consumes the builder.
+    pub fn run(mut self) -> Result<(), JitError> {
+        let body = &self.f.body;
+        self.list(body)?;
+        let outs: Vec<ir::Value> = self
+            .f
+            .outputs
+            .iter()
+            .map(|&o| self.value(o))
+            .collect::<Result<_, _>>()?;
+        if outs.len() > 1 {
+            let out = self.out;
+            for (i, &v) in outs.iter().enumerate() {
+                self.fb.ins().store(TRUSTED, v, out, (i * 8) as i32);
+            }
+        }
+        let first = match outs.first() {
+            Some(&v) => v,
+            None => self.fb.ins().f64const(f64::NAN),
+        };
+        self.fb.ins().return_(&[first]);
+        self.fb.seal_all_blocks();
+        let config = self.module.isa().frontend_config();
+        self.fb.finalize(config);
+        Ok(())
+    }
+
+    /// The Cranelift value of IR value `v` (a constant is materialised where it is used;
+    /// Cranelift shares equal constants).
+    fn value(&mut self, v: Value) -> Result<ir::Value, JitError> {
+        if let Some(c) = self.f.constant(v) {
+            return Ok(self.fb.ins().f64const(c));
+        }
+        self.vals
+            .get(v as usize)
+            .copied()
+            .flatten()
+            .ok_or(JitError::Malformed(v))
+    }
+
+    fn list(&mut self, values: &[Value]) -> Result<(), JitError> {
+        for &v in values {
+            self.inst(v)?;
+        }
+        Ok(())
+    }
+
+    fn inst(&mut self, v: Value) -> Result<(), JitError> {
+        let f = self.f;
+        let r = match f.inst(v) {
+            Inst::Const(_) => return Ok(()),
+            Inst::Var(s) => self.load_slot(0, *s)?,
+            Inst::Measure(s) => self.load_slot(1, *s)?,
+            Inst::Time => self.time,
+            Inst::Mode => self.load_ctx(layout::MODE),
+            Inst::Neg(a) => {
+                let a = self.value(*a)?;
+                self.fb.ins().fneg(a)
+            }
+            Inst::Add(a, b) => self.binary(*a, *b, |i, x, y| i.fadd(x, y))?,
+            Inst::Sub(a, b) => self.binary(*a, *b, |i, x, y| i.fsub(x, y))?,
+            Inst::Mul(a, b) => self.binary(*a, *b, |i, x, y| i.fmul(x, y))?,
+            Inst::Div(a, b) => self.binary(*a, *b, |i, x, y| i.fdiv(x, y))?,
+            Inst::Sqrt(a) => {
+                let a = self.value(*a)?;
+                self.fb.ins().sqrt(a)
+            }
+            Inst::Call(func, args) => self.call(*func, args)?,
+            Inst::Partial { func, wrt, args } => self.partial(*func, *wrt, args)?,
+            Inst::Spline {
+                kind,
+                x,
+                z,
+                spline,
+                iord,
+            } => {
+                let (x, z) = (self.value(*x)?, self.value(*z)?);
+                let base = self.bases[2].ok_or(JitError::Malformed(v))?;
+                let size = std::mem::size_of::<mbfx_runtime::Spline>() as i64;
+                let at = self.fb.ins().iadd_imm_s(base, size * i64::from(*spline));
+                let iord = self.fb.ins().iconst(types::I32, i64::from(*iord));
+                let (name, params) = symbols::spline(*kind);
+                self.call_symbol(name, &params, &[x, z, at, iord])?
+            }
+            Inst::Select {
+                cmp,
+                a,
+                b,
+                then,
+                otherwise,
+            } => {
+                let (a, b) = (self.value(*a)?, self.value(*b)?);
+                let (t, o) = (self.value(*then)?, self.value(*otherwise)?);
+                self.select(*cmp, a, b, t, o)
+            }
+            Inst::If { test, arms } => return self.if_(v, *test, arms),
+            Inst::IfExtra { of, index } => self
+                .extras
+                .get(of)
+                .and_then(|e| e.get(*index as usize).copied())
+                .ok_or(JitError::Malformed(v))?,
+        };
+        self.vals[v as usize] = Some(r);
+        Ok(())
+    }
+
+    fn binary(
+        &mut self,
+        a: Value,
+        b: Value,
+        op: impl FnOnce(cranelift_frontend::FuncInstBuilder<'_, 'b>, ir::Value, ir::Value) -> ir::Value,
+    ) -> Result<ir::Value, JitError> {
+        let (a, b) = (self.value(a)?, self.value(b)?);
+        Ok(op(self.fb.ins(), a, b))
+    }
+
+    fn load_ctx(&mut self, offset: i32) -> ir::Value {
+        self.fb
+            .ins()
+            .load(types::F64, TRUSTED.with_readonly(), self.ctx, offset)
+    }
+
+    /// Slot `s` of the variable (0) or measure (1) array.
+    fn load_slot(&mut self, array: usize, s: u32) -> Result<ir::Value, JitError> {
+        let base = self.bases[array].ok_or(JitError::Malformed(s))?;
+        let offset = i32::try_from(u64::from(s) * 8).map_err(|_| JitError::Malformed(s))?;
+        Ok(self
+            .fb
+            .ins()
+            .load(types::F64, TRUSTED.with_readonly(), base, offset))
+    }
+
+    /// `cmp(a, b) ? then : otherwise` without a jump: the comparison yields an all-ones or
+    /// all-zeros lane mask (`cmpsd`) that blends the two values bitwise.
+    fn select(
+        &mut self,
+        cmp: Cmp,
+        a: ir::Value,
+        b: ir::Value,
+        then: ir::Value,
+        otherwise: ir::Value,
+    ) -> ir::Value {
+        let cc = match cmp {
+            Cmp::Lt => FloatCC::LessThan,
+            Cmp::Le => FloatCC::LessThanOrEqual,
+            Cmp::Eq => FloatCC::Equal,
+            Cmp::Gt => FloatCC::GreaterThan,
+            Cmp::Ge => FloatCC::GreaterThanOrEqual,
+            Cmp::Uno => FloatCC::Unordered,
+        };
+        let ins = |fb: &mut FunctionBuilder<'_>, x| fb.ins().scalar_to_vector(types::F64X2, x);
+        let (va, vb) = (ins(&mut self.fb, a), ins(&mut self.fb, b));
+        let (vt, vo) = (ins(&mut self.fb, then), ins(&mut self.fb, otherwise));
+        let mask = self.fb.ins().fcmp(cc, va, vb);
+        let lanes = MemFlagsData::new().with_endianness(Endianness::Little);
+        let mask = self.fb.ins().bitcast(types::F64X2, lanes, mask);
+        let r = self.fb.ins().bitselect(mask, vt, vo);
+        self.fb.ins().extractlane(r, 0)
+    }
+
+    /// A library call: ABS and SQRT inline (single IEEE instructions), series with their
+    /// coefficients in a stack slot, everything else a call with `f64` arguments.
+    fn call(&mut self, func: Func, args: &[Value]) -> Result<ir::Value, JitError> {
+        let vals: Vec<ir::Value> = args
+            .iter()
+            .map(|&a| self.value(a))
+            .collect::<Result<_, _>>()?;
+        match (func, vals.as_slice()) {
+            (Func::Abs, &[a]) => return Ok(self.fb.ins().fabs(a)),
+            (Func::Sqrt, &[a]) => return Ok(self.fb.ins().sqrt(a)),
+            _ => {}
+        }
+        let call_args = self.marshal(func, &vals, None)?;
+        let name = symbols::names(func, false);
+        self.call_symbol(&name, &symbols::params(func, false), &call_args)
+    }
+
+    /// ∂func/∂(argument `wrt`): the `_grad` companion writes every partial to a stack
+    /// slot, of which one is read.
+    fn partial(&mut self, func: Func, wrt: u32, args: &[Value]) -> Result<ir::Value, JitError> {
+        let vals: Vec<ir::Value> = args
+            .iter()
+            .map(|&a| self.value(a))
+            .collect::<Result<_, _>>()?;
+        let slot = self.slot(vals.len());
+        let out = self.fb.ins().stack_addr(self.ptr, slot, 0);
+        let call_args = self.marshal(func, &vals, Some(out))?;
+        let name = symbols::names(func, true);
+        self.call_symbol(&name, &symbols::params(func, true), &call_args)?;
+        let offset = i32::try_from(wrt * 8).map_err(|_| JitError::Malformed(wrt))?;
+        Ok(self.fb.ins().stack_load(self.ptr, types::F64, slot, offset))
+    }
+
+    /// A stack slot for `n` f64.
+    fn slot(&mut self, n: usize) -> ir::StackSlot {
+        let size = (n.max(1) * 8) as u32;
+        self.fb
+            .create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, size, 3))
+    }
+
+    /// The argument list of a runtime call: the fixed arguments, then for a series its
+    /// coefficients as (pointer to a stack slot, count), then the output pointer if any.
+    fn marshal(
+        &mut self,
+        func: Func,
+        vals: &[ir::Value],
+        out: Option<ir::Value>,
+    ) -> Result<Vec<ir::Value>, JitError> {
+        let mut call_args: Vec<ir::Value>;
+        if func.is_variadic() {
+            let fixed = func.fixed_args().min(vals.len());
+            let (head, coeffs) = vals.split_at(fixed);
+            let slot = self.slot(coeffs.len());
+            for (i, &c) in coeffs.iter().enumerate() {
+                self.fb.ins().stack_store(self.ptr, c, slot, (i * 8) as i32);
+            }
+            call_args = head.to_vec();
+            call_args.push(self.fb.ins().stack_addr(self.ptr, slot, 0));
+            call_args.push(self.fb.ins().iconst(self.ptr, coeffs.len() as i64));
+        } else {
+            call_args = vals.to_vec();
+        }
+        call_args.extend(out);
+        Ok(call_args)
+    }
+
+    /// Calls runtime symbol `name`, after checking that the table's signature is `params`.
+    fn call_symbol(
+        &mut self,
+        name: &str,
+        params: &[Param],
+        args: &[ir::Value],
+    ) -> Result<ir::Value, JitError> {
+        let fref = match self.refs.get(name) {
+            Some(&r) => r,
+            None => {
+                let sym =
+                    symbols::lookup(name).ok_or_else(|| JitError::Symbol(name.to_string()))?;
+                if sym.params != params || params.len() != args.len() {
+                    return Err(JitError::Symbol(name.to_string()));
+                }
+                let id = match self.declared.get(name) {
+                    Some(&id) => id,
+                    None => {
+                        let mut sig = self.module.make_signature();
+                        for p in sym.params {
+                            let ty = match p {
+                                Param::F64 => types::F64,
+                                Param::Ptr | Param::Usize => self.ptr,
+                                Param::I32 => types::I32,
+                            };
+                            sig.params.push(AbiParam::new(ty));
+                        }
+                        sig.returns.push(AbiParam::new(types::F64));
+                        let id = self
+                            .module
+                            .declare_function(name, Linkage::Import, &sig)
+                            .map_err(|e| JitError::Module(e.to_string()))?;
+                        self.declared.insert(name.to_string(), id);
+                        id
+                    }
+                };
+                let r = self.module.declare_func_in_func(id, self.fb.func);
+                self.refs.insert(name.to_string(), r);
+                r
+            }
+        };
+        let call = self.fb.ins().call(fref, args);
+        Ok(self.fb.inst_results(call)[0])
+    }
+
+    /// An arithmetic IF as branches: test < 0, = 0, > 0 each jump to their arm, NaN to a
+    /// block that yields NaN for every result; the arms join in a block whose parameters
+    /// are the results.
+    fn if_(&mut self, v: Value, test: Value, arms: &[IrBlock; 3]) -> Result<(), JitError> {
+        let t = self.value(test)?;
+        let n = 1 + arms[0].extra.len();
+        let join = self.fb.create_block();
+        for _ in 0..n {
+            self.fb.append_block_param(join, types::F64);
+        }
+        let arm_blocks: [ir::Block; 3] = std::array::from_fn(|_| self.fb.create_block());
+        let (not_neg, not_zero, nan) = (
+            self.fb.create_block(),
+            self.fb.create_block(),
+            self.fb.create_block(),
+        );
+        let zero = self.fb.ins().f64const(0.0);
+        let lt = self.fb.ins().fcmp(FloatCC::LessThan, t, zero);
+        self.fb.ins().brif(lt, arm_blocks[0], &[], not_neg, &[]);
+        self.fb.switch_to_block(not_neg);
+        let eq = self.fb.ins().fcmp(FloatCC::Equal, t, zero);
+        self.fb.ins().brif(eq, arm_blocks[1], &[], not_zero, &[]);
+        self.fb.switch_to_block(not_zero);
+        let gt = self.fb.ins().fcmp(FloatCC::GreaterThan, t, zero);
+        self.fb.ins().brif(gt, arm_blocks[2], &[], nan, &[]);
+        self.fb.switch_to_block(nan);
+        let nan_value = self.fb.ins().f64const(f64::NAN);
+        let nans: Vec<BlockArg> = (0..n).map(|_| BlockArg::Value(nan_value)).collect();
+        self.fb.ins().jump(join, &nans);
+        for (arm, &block) in arms.iter().zip(&arm_blocks) {
+            self.fb.switch_to_block(block);
+            self.list(&arm.insts)?;
+            let results: Vec<BlockArg> = std::iter::once(arm.result)
+                .chain(arm.extra.iter().copied())
+                .map(|r| self.value(r).map(BlockArg::Value))
+                .collect::<Result<_, _>>()?;
+            self.fb.ins().jump(join, &results);
+        }
+        self.fb.switch_to_block(join);
+        let params = self.fb.block_params(join).to_vec();
+        self.vals[v as usize] = params.first().copied();
+        self.extras.insert(v, params[1..].to_vec());
+        Ok(())
+    }
+}
