@@ -390,7 +390,30 @@ fn redundancy_counts_reproduce_spec_5_4() {
             lines.matches("deactivating constraint equation").count(),
             e.redundant
         );
+        // Spec §5.2: the dropped set must be valid. Oracle: singular values of the dense
+        // scaled Jacobian; the kept rows alone have full rank and the rank of all rows.
+        let j = dense_jacobian(&a.system);
+        let kept = r.kept_rows();
+        let kept_j = j.select_rows(kept.iter());
+        assert_eq!(svd_rank(&j), r.rank, "{}", e.file);
+        assert_eq!(svd_rank(&kept_j), kept.len(), "{}", e.file);
     }
+}
+
+fn dense_jacobian(sys: &System) -> nalgebra::DMatrix<f64> {
+    let t = sys.jacobian(true).unwrap();
+    let mut m = nalgebra::DMatrix::zeros(t.nrows, t.ncols);
+    for &(r, c, x) in &t.entries {
+        m[(r as usize, c as usize)] += x;
+    }
+    m
+}
+
+/// Numerical rank: singular values above 1e-9 of the largest.
+fn svd_rank(m: &nalgebra::DMatrix<f64>) -> usize {
+    let sv = m.clone().svd(false, false).singular_values;
+    let top = sv.max();
+    sv.iter().filter(|&&s| s > 1e-9 * top).count()
 }
 
 /// Why Only_AGV cannot be assembled yet: its MOTION/1 (VELOCITY, `FUNCTION =
