@@ -92,6 +92,12 @@ pub enum Code {
     Topology,
     /// More errors than are worth showing for one expression.
     TooManyErrors,
+    /// A model whose constraints cannot all be satisfied at assembly.
+    Assembly,
+    /// Constraints that contradict each other (conflicting, not redundant).
+    Conflicting,
+    /// A model the multibody core could not analyse (a construct it does not support yet).
+    NotAnalysed,
 }
 
 impl Code {
@@ -133,6 +139,9 @@ impl Code {
             BadArgument => "E0605",
             Topology => "E0606",
             TooManyErrors => "E0207",
+            Assembly => "E0701",
+            Conflicting => "E0702",
+            NotAnalysed => "W0703",
         }
     }
 }

@@ -3,7 +3,8 @@
 //! Pipeline: [`syntax`] (logos lexer, LALRPOP parser) → [`check`] (names, arity, types,
 //! limits) → [`ir`] (typed IR, constant folding) → [`interp`] (evaluator); library
 //! functions live in the `mbfx-runtime` crate shared by every back end. [`model`] reads
-//! `.adm` datasets; [`diag`] is the one diagnostic type.
+//! `.adm` datasets; [`mbd`] is the multibody core and [`session`] runs a dataset through
+//! it (build, assemble, redundancy); [`diag`] is the one diagnostic type.
 
 pub mod check;
 pub mod cli;
@@ -14,6 +15,7 @@ pub mod ir;
 pub mod jit;
 pub mod mbd;
 pub mod model;
+pub mod session;
 mod stack;
 pub mod syntax;
 

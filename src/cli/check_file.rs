@@ -1,9 +1,12 @@
 //! `mbfx check FILE`: check every expression of an expression file (one per line,
 //! continuation lines honoured), or read an `.adm` dataset into a model (every statement
-//! and expression checked against it) and print the model report; report all diagnostics.
+//! and expression checked against it), analyse it with the multibody core
+//! ([`crate::session`]: 2D or 3D, assembly, degrees of freedom, redundancy) and print the
+//! model report; report all diagnostics.
 
 use crate::check::{self, Expect, Scope};
 use crate::diag::{has_errors, render, Code, Diagnostic, Severity, SourceFile};
+use crate::session::{self, DimRequest};
 use std::ops::Range;
 use std::path::PathBuf;
 
@@ -12,6 +15,10 @@ pub struct CheckArgs {
     /// User variables the expressions may read, NAME=VALUE; repeatable.
     #[arg(long = "var", value_name = "NAME=VALUE")]
     vars: Vec<String>,
+    /// For a dataset: build the multibody system in 2D (an error when the scene is not
+    /// planar) or 3D; by default 2D when the scene is planar.
+    #[arg(long, value_name = "2|3", value_parser = ["2", "3"])]
+    dim: Option<String>,
     /// An expression file or an .adm dataset.
     file: PathBuf,
 }
@@ -122,8 +129,24 @@ pub fn run(a: &CheckArgs, color: bool) -> i32 {
     let source_name = a.file.display().to_string();
     let (summary, report) = if dataset {
         let read = crate::model::read_model(&text);
+        let sections = if read.has_errors() {
+            Vec::new()
+        } else {
+            let asked = match a.dim.as_deref() {
+                Some("2") => DimRequest::Two,
+                Some("3") => DimRequest::Three,
+                _ => DimRequest::Auto,
+            };
+            match session::analyze_model(&read.model, asked) {
+                Ok(analysis) => session::report::sections(&analysis, asked),
+                Err(f) => {
+                    diags.extend(session::report::diagnostics(&f, &read.model));
+                    session::report::failure_sections(&f, asked)
+                }
+            }
+        };
         diags.extend(read.diagnostics);
-        let report = model_report(&source_name, &read.model);
+        let report = model_report(&source_name, &read.model, sections);
         let m = &read.model;
         (format!("{} elements", count_elements(m)), Some(report))
     } else {
@@ -146,9 +169,14 @@ pub fn run(a: &CheckArgs, color: bool) -> i32 {
 }
 
 /// The report of a model: its summary, then the sections the multibody core adds
-/// (degrees of freedom, redundancy, 2D/3D) when it analyses the model.
-pub fn model_report(file: &str, model: &crate::model::elements::Model) -> String {
-    let sections = [crate::model::report::summary(model)];
+/// (2D/3D, degrees of freedom, assembly, redundancy) when it analyses the model.
+pub fn model_report(
+    file: &str,
+    model: &crate::model::elements::Model,
+    multibody: Vec<crate::model::report::ReportSection>,
+) -> String {
+    let mut sections = vec![crate::model::report::summary(model)];
+    sections.extend(multibody);
     crate::model::report::format_report(file, &sections)
 }
 

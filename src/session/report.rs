@@ -1,0 +1,214 @@
+//! The multibody sections of the model report `mbfx check` prints (2D or 3D and why,
+//! degrees of freedom, assembly, redundant constraints), and the diagnostics of a failed
+//! analysis, placed on the statement of the element at fault.
+
+use super::{Analysis, DimRequest, Failure};
+use crate::diag::{Code, Diagnostic, Span};
+use crate::mbd::assembly::AssemblyError;
+use crate::mbd::equations::{ElementKind, ElementRef};
+use crate::mbd::redundancy::AnalysisError;
+use crate::mbd::system::{Dimension, System};
+use crate::model::elements::Model;
+use crate::model::report::ReportSection;
+
+/// `built in 2D: why` (or 3D), from the system's reason.
+fn dimension_line(system: &System, asked: DimRequest) -> String {
+    let d = match system.dim {
+        Dimension::Two => "2D",
+        Dimension::Three => "3D",
+    };
+    let why = system
+        .dim_reason
+        .split_once(": ")
+        .map_or(system.dim_reason.as_str(), |(_, w)| w);
+    let why = if asked == DimRequest::Three {
+        "asked for with --dim 3"
+    } else {
+        why
+    };
+    format!("built in {d}: {why}")
+}
+
+/// The sections of a successful analysis: scene, degrees of freedom, assembly,
+/// redundant constraints.
+pub fn sections(a: &Analysis, asked: DimRequest) -> Vec<ReportSection> {
+    let r = &a.redundancy;
+    let per = r.columns.checked_div(r.moving_parts).unwrap_or(0);
+    let dof = vec![
+        format!(
+            "Gruebler count {} ({per}·{} moving parts − {} equations)",
+            r.grubler(),
+            r.moving_parts,
+            r.equations
+        ),
+        format!(
+            "actual {} (rank {} of {} equations; {} redundant)",
+            r.dof(),
+            r.rank,
+            r.equations,
+            r.redundant.len()
+        ),
+    ];
+    let s = &a.assembly;
+    let biggest = s
+        .moves
+        .iter()
+        .max_by(|x, y| x.translation.total_cmp(&y.translation));
+    let turned = s
+        .moves
+        .iter()
+        .max_by(|x, y| x.rotation.total_cmp(&y.rotation));
+    let part = |id: Option<u32>| id.map_or("a part".to_string(), |i| format!("PART/{i}"));
+    let mut assembly = vec![format!(
+        "assembled at t = 0 in {} iterations; largest residual {:.3e} (positions), {:.3e} (velocities)",
+        s.iterations, s.residual, s.velocity_residual
+    )];
+    match (biggest, turned) {
+        (Some(m), Some(t)) => assembly.push(format!(
+            "largest part move {:.3e} ({}), largest rotation {:.3e} rad ({})",
+            m.translation,
+            part(m.id),
+            t.rotation,
+            part(t.id)
+        )),
+        _ => assembly.push("no moving parts".into()),
+    }
+    let mut redundant: Vec<String> = r
+        .adams_message(Some("model"))
+        .lines()
+        .map(String::from)
+        .collect();
+    redundant.extend(r.advice_message().lines().map(String::from));
+    if redundant.is_empty() {
+        redundant.push("none".into());
+    }
+    vec![
+        ReportSection {
+            title: "multibody".into(),
+            lines: vec![dimension_line(&a.system, asked)],
+        },
+        ReportSection {
+            title: "degrees of freedom".into(),
+            lines: dof,
+        },
+        ReportSection {
+            title: "assembly".into(),
+            lines: assembly,
+        },
+        ReportSection {
+            title: "redundant constraints".into(),
+            lines: redundant,
+        },
+    ]
+}
+
+/// The scene section of a failed analysis, when a system was built.
+pub fn failure_sections(f: &Failure, asked: DimRequest) -> Vec<ReportSection> {
+    f.system()
+        .map(|s| ReportSection {
+            title: "multibody".into(),
+            lines: vec![dimension_line(s, asked)],
+        })
+        .into_iter()
+        .collect()
+}
+
+/// The statement span of element `e` in `model` (0..0 when it is not found).
+fn element_span(model: &Model, e: &ElementRef) -> Span {
+    let span = match e.kind {
+        ElementKind::Joint(_) => model
+            .joints
+            .iter()
+            .find(|j| j.el.id == e.id)
+            .map(|j| &j.el.span),
+        ElementKind::Jprim(_) => model
+            .jprims
+            .iter()
+            .find(|j| j.el.id == e.id)
+            .map(|j| &j.el.span),
+        ElementKind::Gcon => model
+            .gcons
+            .iter()
+            .find(|g| g.el.id == e.id)
+            .map(|g| &g.el.span),
+        ElementKind::Motion => model
+            .motions
+            .iter()
+            .find(|m| m.el.id == e.id)
+            .map(|m| &m.el.span),
+        ElementKind::Prismatic2d => None,
+    };
+    span.cloned().unwrap_or(0..0)
+}
+
+/// Notes shown at most; the rest are counted.
+const MAX_NOTES: usize = 8;
+
+/// A diagnostic whose first line is the message and whose further lines are notes.
+fn multi_line(code: Code, span: Span, text: &str, warning: bool) -> Diagnostic {
+    let mut lines = text.lines();
+    let first = lines.next().unwrap_or_default();
+    let mut d = if warning {
+        Diagnostic::warning(code, span, first)
+    } else {
+        Diagnostic::error(code, span, first)
+    };
+    let rest: Vec<&str> = lines.collect();
+    for l in rest.iter().take(MAX_NOTES) {
+        d = d.with_note(l.trim());
+    }
+    if rest.len() > MAX_NOTES {
+        d = d.with_note(format!("… and {} more", rest.len() - MAX_NOTES));
+    }
+    d
+}
+
+/// The span of the first conflicting equation's element.
+fn conflict_span(error: &AnalysisError, model: &Model) -> Option<Span> {
+    match error {
+        AnalysisError::Conflicting { report, conflicts } => conflicts
+            .first()
+            .map(|c| element_span(model, &report.elements[c.label.element])),
+        AnalysisError::Shape(_) => None,
+    }
+}
+
+/// The diagnostics of a failed analysis (the reader's, for a dataset with errors). An
+/// unsupported construct is a warning: the dataset is valid, the core cannot analyse it
+/// yet.
+pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
+    let text = f.to_string();
+    match f {
+        Failure::Read(d) => d.clone(),
+        Failure::Build(_) => vec![multi_line(Code::NotAnalysed, 0..0, &text, true)],
+        Failure::NotPlanar(_) => vec![multi_line(Code::CommandLine, 0..0, &text, false)],
+        Failure::Assembly {
+            conflict: Some(c), ..
+        } => {
+            let span = conflict_span(c, model).unwrap_or(0..0);
+            vec![multi_line(Code::Conflicting, span, &text, false)]
+        }
+        Failure::Assembly { error, .. } => {
+            let (code, violated) = match error {
+                AssemblyError::NotAssembled { violated, .. } => (Code::Assembly, &violated[..]),
+                AssemblyError::Conflicting { violated } => (Code::Conflicting, &violated[..]),
+                AssemblyError::Model(_) => (Code::NotAnalysed, &[][..]),
+            };
+            let span = violated
+                .first()
+                .map_or(0..0, |v| element_span(model, &v.element));
+            vec![multi_line(code, span, &text, code == Code::NotAnalysed)]
+        }
+        Failure::Redundancy { error, .. } => {
+            let span = match error {
+                AnalysisError::Conflicting { report, conflicts } => {
+                    conflicts.first().map_or(0..0, |c| {
+                        element_span(model, &report.elements[c.label.element])
+                    })
+                }
+                AnalysisError::Shape(_) => 0..0,
+            };
+            vec![multi_line(Code::Conflicting, span, &text, false)]
+        }
+    }
+}
