@@ -169,6 +169,45 @@ fn eval_prints_the_value_and_nothing_else() {
     }
 }
 
+/// `examples/slider.adm`: slider BCS at the origin; marker 21 at QP = (0.3, 0, 0) with
+/// REULER = 90D, 90D, 0D (z along global x, spec §2.4), marker 11 on ground at the origin
+/// with the same orientation; the dataset is already assembled, so the measures are
+/// these numbers.
+#[test]
+fn eval_with_a_model_reads_its_measures_at_the_assembled_configuration() {
+    let model = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    let cases: &[(&[&str], &str)] = &[
+        (&["DX(21, 11)"], "0.3"),
+        (&["DM(21, 11)*2"], "0.6"),
+        (&["--dim", "3", "DZ(21, 11, 11)"], "0.3"),
+        (&["--engine", "interp", "DXYZ(22)"], "[0.3, 0.0, 0.0]"),
+        (&["--var", "k=10", "k*DX(22)"], "3.0"),
+        (&["--time", "2", "TIME + VX(21, 11)"], "2.0"),
+    ];
+    for (args, want) in cases {
+        let mut all = vec!["--model", model];
+        all.extend_from_slice(args);
+        let r = eval(&all);
+        assert_eq!(
+            (r.code, r.stdout.as_str()),
+            (0, format!("{want}\n").as_str()),
+            "eval {all:?}\n{}",
+            r.describe()
+        );
+    }
+    let r = eval(&["--model", model, "DX(99)"]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr.contains("E0311") && r.stderr.contains("<expr>:1:4"),
+        "{}",
+        r.describe()
+    );
+    let bad = scratch_file("no_ground.adm", b"no ground\nPART/2, MASS = 1\nEND\n");
+    let r = eval(&["--model", bad.to_str().unwrap(), "1"]);
+    assert_eq!((r.code, r.stdout.as_str()), (1, ""), "{}", r.describe());
+    assert!(r.stderr.contains("E0606"), "{}", r.describe());
+}
+
 #[test]
 fn eval_of_a_non_finite_value_prints_it_and_warns() {
     for (expr, value, code) in [

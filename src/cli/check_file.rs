@@ -59,7 +59,7 @@ pub fn read_text(path: &std::path::Path) -> Result<String, Box<Unreadable>> {
 
 /// Reads a dataset: bytes that are not UTF-8 are read as Latin-1 with a warning (some
 /// generated `.adm` files carry Latin-1 comments).
-fn read_dataset(path: &std::path::Path) -> Result<(String, Vec<Diagnostic>), Box<Unreadable>> {
+pub fn read_dataset(path: &std::path::Path) -> Result<(String, Vec<Diagnostic>), Box<Unreadable>> {
     let bytes = read_bytes(path)?;
     let (text, warning) = crate::model::decode(&bytes);
     Ok((text.into_owned(), warning.into_iter().collect()))

@@ -3,7 +3,7 @@
 use super::Engine;
 use crate::check::{self, Expect, Variables};
 use crate::context::Context;
-use crate::diag::{render, Code, Diagnostic, SourceFile};
+use crate::diag::{has_errors, render, Code, Diagnostic, SourceFile};
 use crate::interp::Program;
 
 #[derive(clap::Args)]
@@ -17,9 +17,56 @@ pub struct EvalArgs {
     /// A user variable, NAME=VALUE (VALUE is any constant expression); repeatable.
     #[arg(long = "var", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     vars: Vec<String>,
+    /// An .adm dataset: the expression may read its measures (DX, VZ, UVZ, ...), taken
+    /// at the assembled configuration at t = 0.
+    #[arg(long, value_name = "FILE")]
+    model: Option<std::path::PathBuf>,
+    /// With --model: build the system in 2D (an error when the scene is not planar) or 3D;
+    /// by default 2D when the scene is planar.
+    #[arg(long, value_name = "2|3", value_parser = ["2", "3"], requires = "model")]
+    dim: Option<String>,
     /// The expression.
     #[arg(allow_hyphen_values = true)]
     expr: String,
+}
+
+/// `--dim` as the session's request.
+pub fn dim_request(dim: Option<&str>) -> crate::session::DimRequest {
+    use crate::session::DimRequest;
+    match dim {
+        Some("2") => DimRequest::Two,
+        Some("3") => DimRequest::Three,
+        _ => DimRequest::Auto,
+    }
+}
+
+/// Loads `path` as a model for expressions; the error is the rendered diagnostics (or
+/// message) saying what stops it.
+pub fn load_model(
+    path: &std::path::Path,
+    dim: crate::session::DimRequest,
+    color: bool,
+) -> Result<crate::session::loaded::LoadedModel, String> {
+    let (text, mut diags) = match super::check_file::read_dataset(path) {
+        Ok(t) => t,
+        Err(u) => return Err(render(&[u.diagnostic], &u.source, color)),
+    };
+    let source = SourceFile::new(path.display().to_string(), text.as_str());
+    let (read, failure) = match crate::session::loaded::LoadedModel::load(&text, dim) {
+        // The dataset's own warnings belong to `mbfx check`, not to each evaluation.
+        Ok(m) => return Ok(m),
+        Err(failed) => *failed,
+    };
+    match failure {
+        crate::session::Failure::Read(d) => diags.extend(d),
+        f => {
+            diags.extend(crate::session::report::diagnostics(&f, &read.model));
+            if !has_errors(&diags) {
+                return Err(format!("error: {f}\n"));
+            }
+        }
+    }
+    Err(render(&diags, &source, color))
 }
 
 /// Evaluates a constant expression given on the command line (`--time`, `--var` values).
@@ -108,7 +155,21 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
         return 1;
     };
     let source = SourceFile::new("<expr>", a.expr.as_str());
-    let checked = match check::compile(&a.expr, &scope, Expect::Any) {
+    let mut model = match &a.model {
+        Some(path) => match load_model(path, dim_request(a.dim.as_deref()), color) {
+            Ok(m) => Some(m),
+            Err(text) => {
+                eprint!("{text}");
+                return 1;
+            }
+        },
+        None => None,
+    };
+    let compiled = match model.as_mut() {
+        Some(m) => m.compile(&a.expr, &scope),
+        None => check::compile(&a.expr, &scope, Expect::Any),
+    };
+    let checked = match compiled {
         Ok(c) => c,
         Err(diags) => {
             eprint!("{}", render(&diags, &source, color));
@@ -118,7 +179,15 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
     if !checked.warnings.is_empty() {
         eprint!("{}", render(&checked.warnings, &source, color));
     }
-    let ctx = Context::new(time, &values);
+    let measures = match model.as_mut().map(|m| m.measures_for(&checked.function)) {
+        Some(Ok(m)) => m,
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            return 1;
+        }
+        None => Vec::new(),
+    };
+    let ctx = Context::new(time, &values).with_measures(&measures);
     let mut out = vec![0.0; checked.function.outputs.len()];
     if a.engine == Engine::Jit {
         match crate::jit::Jit::new().and_then(|mut j| j.compile(&checked.function)) {

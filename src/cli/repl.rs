@@ -6,6 +6,8 @@ use crate::check::{builtins, Expect, Variables};
 use crate::context::Context;
 use crate::diag::{render, SourceFile};
 use crate::interp::Program;
+use crate::session::loaded::LoadedModel;
+use crate::session::DimRequest;
 use crate::syntax::{parser, print};
 use std::fmt::Write as _;
 
@@ -19,12 +21,16 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 :clif EXPR         show the Cranelift IR the JIT compiles (after branch-free lowering)
 :time EXPR         ns per evaluation, interpreter vs JIT, and the JIT's compile time
 :deriv EXPR NAME   the partial derivative of EXPR with respect to variable NAME (or TIME)
+:load FILE.adm     load a model: expressions may then read its measures (DX, VZ, UVZ, ...)
+                   at the assembled configuration; :load alone unloads it
+:parts, :markers   the loaded model's parts and markers at that configuration
 :help [NAME]       this text, or a function's signature and meaning
 :quit              leave (also Ctrl-D)
 continue a line with a comma in column one of the next line";
 
 const COMMANDS: &[&str] = &[
-    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":time", ":deriv", ":help", ":quit",
+    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":time", ":deriv", ":load", ":parts",
+    ":markers", ":help", ":quit",
 ];
 
 /// REPL state: variables and their values, TIME and MODE.
@@ -37,6 +43,8 @@ pub struct Repl {
     pub done: bool,
     /// The JIT, made on first use.
     jit: Option<crate::jit::Jit>,
+    /// The model of `:load`, whose measures expressions may read.
+    model: Option<LoadedModel>,
 }
 
 impl Default for Repl {
@@ -54,6 +62,7 @@ impl Repl {
             mode: 4.0,
             done: false,
             jit: None,
+            model: None,
         }
     }
 
@@ -66,9 +75,13 @@ impl Repl {
     }
 
     /// Compiles `text`, rendering diagnostics (spans relative to `text`) on failure.
-    fn compile(&self, text: &str) -> Result<(Program, String), String> {
+    fn compile(&mut self, text: &str) -> Result<(Program, String), String> {
         let source = SourceFile::new("<repl>", text);
-        match crate::check::compile(text, &self.scope, Expect::Any) {
+        let compiled = match self.model.as_mut() {
+            Some(m) => m.compile(text, &self.scope),
+            None => crate::check::compile(text, &self.scope, Expect::Any),
+        };
+        match compiled {
             Ok(c) => {
                 let warnings = if c.warnings.is_empty() {
                     String::new()
@@ -81,9 +94,17 @@ impl Repl {
         }
     }
 
-    fn evaluate(&self, text: &str) -> Result<(Vec<f64>, String), String> {
+    fn evaluate(&mut self, text: &str) -> Result<(Vec<f64>, String), String> {
         let (program, mut notes) = self.compile(text)?;
-        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
+        let measures = match self.model.as_mut() {
+            Some(m) => m
+                .measures_for(program.function())
+                .map_err(|e| format!("error: {e}"))?,
+            None => Vec::new(),
+        };
+        let ctx = Context::new(self.time, &self.values)
+            .with_mode(self.mode)
+            .with_measures(&measures);
         let mut out = vec![0.0; program.function().outputs.len()];
         program.eval_into(&ctx, &mut out);
         if out.iter().any(|v| !v.is_finite()) {
@@ -156,6 +177,9 @@ impl Repl {
                 Err(e) => e,
             },
             "deriv" => self.deriv(rest),
+            "load" => self.load(rest),
+            "parts" => self.listing(parts_table),
+            "markers" => self.listing(markers_table),
             other => format!("unknown command :{other}; type :help"),
         }
     }
@@ -202,6 +226,38 @@ impl Repl {
 }
 
 impl Repl {
+    /// `:load FILE`: reads, assembles and analyses a dataset (2D when planar).
+    fn load(&mut self, path: &str) -> String {
+        if path.is_empty() {
+            return match self.model.take() {
+                Some(_) => "model unloaded".into(),
+                None => "usage: :load FILE.adm".into(),
+            };
+        }
+        match super::eval::load_model(std::path::Path::new(path), DimRequest::Auto, false) {
+            Ok(m) => {
+                let s = &m.analysis.system;
+                let line = format!(
+                    "loaded {path}: {} parts, {} markers, {} DOF; {}",
+                    s.parts.len(),
+                    s.markers.len(),
+                    m.analysis.redundancy.dof(),
+                    s.dim_reason
+                );
+                self.model = Some(m);
+                line
+            }
+            Err(text) => text.trim_end().to_string(),
+        }
+    }
+
+    fn listing(&self, table: fn(&LoadedModel) -> String) -> String {
+        match &self.model {
+            Some(m) => table(m),
+            None => "no model loaded; use :load FILE.adm".into(),
+        }
+    }
+
     fn jit(&mut self) -> Result<&mut crate::jit::Jit, crate::jit::JitError> {
         if self.jit.is_none() {
             self.jit = Some(crate::jit::Jit::new()?);
@@ -300,6 +356,59 @@ impl Repl {
         }
         lines.join("\n")
     }
+}
+
+/// `:parts`: each part's id, name and assembled pose (origin, 3-1-3 angles in degrees).
+fn parts_table(m: &LoadedModel) -> String {
+    let mut out = format!(
+        "{:<10} {:<12} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10}",
+        "PART", "name", "x", "y", "z", "psi", "theta", "phi"
+    );
+    for p in &m.analysis.system.parts {
+        let rot = p.rot.to_rotation_matrix().into_inner();
+        let [psi, theta, phi] = crate::model::frames::euler_313(&rot).map(f64::to_degrees);
+        let r = p.r;
+        let _ = write!(
+            out,
+            "\n{:<10} {:<12} {:>12.6} {:>12.6} {:>12.6} {:>10.4} {:>10.4} {:>10.4}",
+            p.id.map_or("-".into(), |id| id.to_string()),
+            p.name.as_deref().unwrap_or(""),
+            r.x,
+            r.y,
+            r.z,
+            psi,
+            theta,
+            phi
+        );
+    }
+    out
+}
+
+/// `:markers`: each marker's id, part and assembled global origin.
+fn markers_table(m: &LoadedModel) -> String {
+    let mut out = format!(
+        "{:<10} {:<10} {:<12} {:>12} {:>12} {:>12}",
+        "MARKER", "PART", "name", "x", "y", "z"
+    );
+    let system = &m.analysis.system;
+    for k in &system.markers {
+        let part = system.part(k.part);
+        let r = part.r + part.rot * k.s;
+        let name =
+            k.id.and_then(|id| m.read.model.marker(id))
+                .and_then(|mk| mk.el.name.as_deref());
+        let _ = write!(
+            out,
+            "\n{:<10} {:<10} {:<12} {:>12.6} {:>12.6} {:>12.6}",
+            k.id.map_or("-".into(), |id| id.to_string()),
+            part.id.map_or("-".into(), |id| id.to_string()),
+            name.unwrap_or(""),
+            r.x,
+            r.y,
+            r.z
+        );
+    }
+    out
 }
 
 fn help(name: &str) -> String {
@@ -483,6 +592,26 @@ mod tests {
         assert!(r.eval_line("SIN (1)").contains("E0103"));
         r.eval_line(":quit");
         assert!(r.done);
+    }
+
+    #[test]
+    fn a_loaded_model_answers_measures_parts_and_markers() {
+        // examples/slider.adm: marker 21 sits at QP = 0.3, 0, 0 on the slider, whose BCS
+        // is at the origin; REULER = 90D, 90D, 0D turns z to the global x axis.
+        let mut r = Repl::new();
+        assert!(r
+            .eval_line(":load examples/slider.adm")
+            .starts_with("loaded"));
+        assert_eq!(r.eval_line("DX(21, 11)"), "0.3");
+        assert!(r.eval_line("UVZ(21)").starts_with("[1.0, "));
+        r.eval_line(":let k = 2");
+        assert_eq!(r.eval_line("k*DX(22, 11)"), "0.6");
+        assert!(r.eval_line(":parts").lines().any(|l| l.starts_with("2 ")));
+        assert!(r.eval_line(":markers").contains("rail_origin"));
+        assert!(r.eval_line("DX(99)").contains("E0311"));
+        assert_eq!(r.eval_line(":load"), "model unloaded");
+        assert!(r.eval_line("DX(21, 11)").contains("E0308"));
+        assert!(r.eval_line(":load no/such.adm").contains("E0501"));
     }
 
     #[test]

@@ -22,6 +22,21 @@ pub fn reuler(psi: f64, theta: f64, phi: f64) -> Mat3 {
     )
 }
 
+/// The 3-1-3 angles (ψ, θ, φ) of a rotation, the inverse of [`reuler`] (spec §2.4):
+/// θ = acos(R33), ψ = atan2(R13, −R23), φ = atan2(R31, R32). At θ = 0 or π only ψ ± φ is
+/// defined; then φ = 0 and ψ carries the whole turn.
+pub fn euler_313(r: &Mat3) -> [f64; 3] {
+    let theta = r[(2, 2)].clamp(-1.0, 1.0).acos();
+    if theta.sin().abs() < 1e-12 {
+        return [r[(1, 0)].atan2(r[(0, 0)]), theta, 0.0];
+    }
+    [
+        r[(0, 2)].atan2(-r[(1, 2)]),
+        theta,
+        r[(2, 0)].atan2(r[(2, 1)]),
+    ]
+}
+
 /// Why a pair of points does not define axes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PointsError {

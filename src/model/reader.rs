@@ -24,12 +24,36 @@ use std::collections::{BTreeMap, HashMap};
 pub struct ModelRead {
     pub model: Model,
     pub diagnostics: Vec<Diagnostic>,
+    /// The scope the dataset's expressions were checked in, kept for more expressions.
+    scope: ModelScope,
 }
 
 impl ModelRead {
     /// True when the dataset has errors: the model is then incomplete.
     pub fn has_errors(&self) -> bool {
         has_errors(&self.diagnostics)
+    }
+
+    /// Checks and lowers one more expression against the model (`mbfx eval --model`, the
+    /// REPL's `:load`): its measures become slots of `model.measures` like the dataset's
+    /// own, and it may read the user `variables` too.
+    pub fn compile(
+        &mut self,
+        text: &str,
+        variables: &crate::check::Variables,
+        expect: Expect,
+    ) -> Result<crate::check::Checked, Vec<Diagnostic>> {
+        let scope = super::scope::WithVariables {
+            model: &self.scope,
+            variables,
+        };
+        let result = crate::check::compile(text, &scope, expect);
+        self.model.measures = self.scope.slots();
+        let warnings = self.scope.take_warnings();
+        result.map(|mut c| {
+            c.warnings.extend(warnings);
+            c
+        })
     }
 }
 
@@ -266,11 +290,12 @@ impl<'a> Reader<'a> {
                 .with_note(note),
             );
         }
-        self.model.measures = self.scope.into_slots();
+        self.model.measures = self.scope.slots();
         self.diags.sort_by_key(|d| d.span.start);
         ModelRead {
             model: self.model,
             diagnostics: self.diags,
+            scope: self.scope,
         }
     }
 }

@@ -87,14 +87,43 @@ impl ModelScope {
         i
     }
 
-    /// The measure slots, in slot order.
-    pub fn into_slots(self) -> Vec<MeasureSlot> {
-        self.slots.into_inner().list
+    /// The measure slots asked for so far, in slot order.
+    pub fn slots(&self) -> Vec<MeasureSlot> {
+        self.slots.borrow().list.clone()
     }
 
     /// Warnings collected since the last call.
     pub fn take_warnings(&self) -> Vec<Diagnostic> {
         std::mem::take(&mut self.warnings.borrow_mut())
+    }
+}
+
+impl std::fmt::Debug for ModelScope {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ModelScope")
+            .field("slots", &self.slots.borrow().list.len())
+            .finish_non_exhaustive()
+    }
+}
+
+/// The model's measures together with user variables: the scope of an expression typed
+/// against a loaded model (`mbfx eval --model`, the REPL after `:load`).
+pub struct WithVariables<'a> {
+    pub model: &'a ModelScope,
+    pub variables: &'a crate::check::Variables,
+}
+
+impl Scope for WithVariables<'_> {
+    fn variable(&self, name: &str) -> Option<u32> {
+        self.variables.variable(name)
+    }
+
+    fn spline(&self, id: i64) -> Option<SplineInfo> {
+        self.model.spline(id)
+    }
+
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        self.model.measure(call)
     }
 }
 

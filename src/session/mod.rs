@@ -20,6 +20,7 @@
 //! for `mbfx check`.
 
 pub mod derivative;
+pub mod loaded;
 pub mod report;
 
 use crate::diag::Diagnostic;
