@@ -78,7 +78,7 @@ pub fn gradient(f: &Function, wrt: &[Input]) -> Result<Function, DerivError> {
             outputs.push(d.materialize(t, f.spans[o as usize].clone()));
         }
     }
-    Ok(d.b.finish(outputs))
+    Ok(d.b.finish(&outputs))
 }
 
 struct Diff<'f> {
