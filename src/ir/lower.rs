@@ -112,7 +112,11 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span) -> Value 
         (Func::Poly, [x, x0, coeffs @ ..])
             if (1..=super::MAX_CALL_ARGS - 3).contains(&coeffs.len()) =>
         {
-            let t = l.sub(*x, *x0);
+            // x − (+0) is x (also for ±0 and ±∞; NaN payloads aside): skip it.
+            let t = match l.b.get_const(*x0) {
+                Some(c) if c.to_bits() == 0 => *x,
+                _ => l.sub(*x, *x0),
+            };
             let (&last, rest) = coeffs.split_last().unwrap_or((x, &[]));
             let mut acc = last;
             for &a in rest.iter().rev() {

@@ -335,7 +335,7 @@ impl Jit {
         &self.times
     }
 
-    /// Translates `f` into `module` and defines it; returns its id.
+    /// Translates `f` into `module` and defines it (and its constants); returns its id.
     fn define(
         &mut self,
         module: &mut JITModule,
@@ -349,7 +349,8 @@ impl Jit {
         self.ctx.clear();
         self.ctx.func.signature = sig;
         let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
-        let result = translate::Translator::new(f, fb, module, declared).run();
+        let consts = translate::Constants::define(f, module)?;
+        let result = translate::Translator::new(f, fb, module, declared, &consts).run();
         if let Err(e) = result {
             self.ctx.clear();
             return Err(e);
@@ -371,7 +372,8 @@ impl Jit {
         self.ctx.clear();
         self.ctx.func.signature = sig;
         let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
-        translate::Translator::new(f, fb, &mut module, &mut declared).run()?;
+        let consts = translate::Constants::define(f, &mut module)?;
+        translate::Translator::new(f, fb, &mut module, &mut declared, &consts).run()?;
         let text = self.ctx.func.display().to_string();
         self.ctx.clear();
         // SAFETY: nothing was finalised, so no pointer into the module exists.

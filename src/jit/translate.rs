@@ -23,7 +23,7 @@ use cranelift_codegen::ir::{
 };
 use cranelift_frontend::FunctionBuilder;
 use cranelift_jit::JITModule;
-use cranelift_module::{Linkage, Module};
+use cranelift_module::{DataDescription, Linkage, Module};
 use mbfx_runtime::ffi::Param;
 use rustc_hash::FxHashMap;
 
@@ -37,6 +37,51 @@ pub fn expr_signature(module: &JITModule) -> Signature {
     sig.params.push(AbiParam::new(types::F64));
     sig.returns.push(AbiParam::new(types::F64));
     sig
+}
+
+/// The constants of one function, as a read-only data object of the module: the code
+/// reads them through one base address, so Cranelift folds each single-use constant into
+/// the instruction that uses it as a memory operand (as compiled Rust does).
+pub struct Constants {
+    data: Option<cranelift_module::DataId>,
+    /// Byte offset of each constant in the data object, by its bits.
+    offsets: FxHashMap<u64, i32>,
+}
+
+impl Constants {
+    /// Defines the non-zero constants of `f` (zero is one register instruction) in
+    /// `module`.
+    pub fn define(f: &Function, module: &mut JITModule) -> Result<Constants, JitError> {
+        let mut bytes = Vec::new();
+        let mut offsets = FxHashMap::default();
+        for inst in &f.insts {
+            if let Inst::Const(c) = inst {
+                let bits = c.to_bits();
+                if bits != 0 && !offsets.contains_key(&bits) {
+                    offsets.insert(bits, bytes.len() as i32);
+                    bytes.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+        }
+        if bytes.is_empty() {
+            return Ok(Constants {
+                data: None,
+                offsets,
+            });
+        }
+        let module_error = |e: cranelift_module::ModuleError| JitError::Module(e.to_string());
+        let id = module
+            .declare_anonymous_data(false, false)
+            .map_err(module_error)?;
+        let mut desc = DataDescription::new();
+        desc.define(bytes.into_boxed_slice());
+        desc.set_align(8);
+        module.define_data(id, &desc).map_err(module_error)?;
+        Ok(Constants {
+            data: Some(id),
+            offsets,
+        })
+    }
 }
 
 /// Translates one IR function into the function `fb` builds.
@@ -61,6 +106,9 @@ pub struct Translator<'a, 'b> {
     extras: FxHashMap<Value, Vec<ir::Value>>,
     /// The `f64x2` each select's result came from, so a select of a select needs no splat.
     vectors: FxHashMap<Value, ir::Value>,
+    /// The function's constants and their address (set on entry when there are any).
+    consts: &'a Constants,
+    consts_base: Option<ir::Value>,
 }
 
 const TRUSTED: MemFlagsData = MemFlagsData::trusted();
@@ -71,6 +119,7 @@ impl<'a, 'b> Translator<'a, 'b> {
         mut fb: FunctionBuilder<'b>,
         module: &'a mut JITModule,
         declared: &'a mut FxHashMap<String, cranelift_module::FuncId>,
+        consts: &'a Constants,
     ) -> Self {
         let ptr = module.target_config().pointer_type();
         let entry = fb.create_block();
@@ -83,6 +132,12 @@ impl<'a, 'b> Translator<'a, 'b> {
                 .load(ptr, TRUSTED.with_readonly(), ctx, layout::SPLINES)
         });
         let bases = [Some(params[1]), Some(params[2]), splines];
+        // The address is a `symbol_value`, computed once (an `iconst` would be
+        // rematerialised at every use).
+        let consts_base = consts.data.map(|id| {
+            let gv = module.declare_data_in_func(id, fb.func);
+            fb.ins().symbol_value(ptr, gv)
+        });
         Translator {
             f,
             fb,
@@ -97,6 +152,8 @@ impl<'a, 'b> Translator<'a, 'b> {
             vals: vec![None; f.insts.len()],
             extras: FxHashMap::default(),
             vectors: FxHashMap::default(),
+            consts,
+            consts_base,
         }
     }
 
@@ -143,6 +200,12 @@ impl<'a, 'b> Translator<'a, 'b> {
     /// A constant read from the function's constant pool (one RIP-relative load) rather
     /// than built in a general register and moved over (`f64const`'s two instructions).
     fn constant(&mut self, c: f64) -> ir::Value {
+        if let (Some(base), Some(&at)) = (self.consts_base, self.consts.offsets.get(&c.to_bits())) {
+            return self
+                .fb
+                .ins()
+                .load(types::F64, TRUSTED.with_readonly(), base, at);
+        }
         if c.to_bits() == 0 {
             return self.fb.ins().f64const(c);
         }
