@@ -39,9 +39,10 @@ pub fn expr_signature(module: &JITModule) -> Signature {
     sig
 }
 
-/// The constants of one function, as a read-only data object of the module: the code
-/// reads them through one base address, so Cranelift folds each single-use constant into
-/// the instruction that uses it as a memory operand (as compiled Rust does).
+/// The constants of a straight-line arithmetic function, as a read-only data object of
+/// the module: the code reads them through one base address, so Cranelift folds
+/// single-use constants into the instructions as memory operands (as compiled Rust
+/// does). Other functions read constants from the constant pool.
 pub struct Constants {
     data: Option<cranelift_module::DataId>,
     /// Byte offset of each constant in the data object, by its bits.
@@ -63,7 +64,16 @@ impl Constants {
                 }
             }
         }
-        if bytes.is_empty() {
+        // Only straight-line arithmetic gains (measured): selects read constants as lane
+        // pairs from the constant pool anyway, and across calls the base address would
+        // hold a callee-saved register.
+        let arithmetic = f.insts.iter().all(|i| {
+            !matches!(
+                i,
+                Inst::Select { .. } | Inst::Call(..) | Inst::Partial { .. } | Inst::Spline { .. }
+            )
+        });
+        if bytes.is_empty() || !arithmetic {
             return Ok(Constants {
                 data: None,
                 offsets,
