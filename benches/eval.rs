@@ -1,6 +1,7 @@
 //! Evaluation speed: the eight expressions of `shared/bench/expressions.md`, side by side in
 //! one run, as `native` (hand-written Rust behind a function pointer), `jit` (mbfx's
-//! Cranelift JIT, the eight compiled in one module), `interp` (mbfx's interpreter),
+//! Cranelift JIT, the eight compiled in one module and bound to the (x, v, t) layout, so
+//! each call is only the call, as native's), `interp` (mbfx's interpreter),
 //! `fasteval` (compiled `Instruction`, callback namespace) and `evalexpr` (precompiled
 //! `Node`, `HashMapContext`). evalexpr-jit is left out: it builds on Cranelift 0.121 and
 //! evalexpr 12, a second copy of both next to mbfx's (minutes of build; the project pins
