@@ -1,6 +1,7 @@
 //! Evaluation speed: the eight expressions of `shared/bench/expressions.md`, side by side in
 //! one run, as `native` (hand-written Rust behind a function pointer), `jit` (mbfx's
-//! Cranelift JIT, the eight compiled in one module), `interp` (mbfx's interpreter),
+//! Cranelift JIT, the eight compiled in one module and bound to the (x, v, t) layout, so
+//! each call is only the call, as native's), `interp` (mbfx's interpreter),
 //! `fasteval` (compiled `Instruction`, callback namespace) and `evalexpr` (precompiled
 //! `Node`, `HashMapContext`). evalexpr-jit is left out: it builds on Cranelift 0.121 and
 //! evalexpr 12, a second copy of both next to mbfx's (minutes of build; the project pins
@@ -13,7 +14,7 @@
 //! (`Throughput::Elements`). After criterion, a median timing loop of its own gives the
 //! ns/eval table with ratios to native and geometric means.
 //!
-//! Run: `cargo bench --bench eval`.
+//! Run: `cargo bench --bench eval` (`-- NAME` for the expressions whose name holds NAME).
 
 use criterion::{Criterion, SamplingMode, Throughput};
 use evalexpr::{
@@ -24,7 +25,7 @@ use fasteval::{Compiler, Evaler, Instruction, Slab};
 use mbfx::check::{compile, Expect, Variables};
 use mbfx::context::Context;
 use mbfx::interp::Program;
-use mbfx::jit::{CompiledExpr, Jit};
+use mbfx::jit::{Bound, Jit};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::f64::consts::PI;
@@ -359,7 +360,7 @@ const IMPS: [(Imp, &str); 5] = [
 struct Compiled {
     native: Native,
     program: Program,
-    jit: CompiledExpr,
+    jit: Bound<3>,
     slab: Slab,
     fasteval: Instruction,
     evalexpr: Node<DefaultNumericTypes>,
@@ -367,7 +368,7 @@ struct Compiled {
 }
 
 impl Compiled {
-    fn new(e: &Expr, jit: CompiledExpr) -> Self {
+    fn new(e: &Expr, jit: Bound<3>) -> Self {
         let mut scope = Variables::new();
         for name in ["x", "v", "t"] {
             scope.define(name);
@@ -404,7 +405,7 @@ impl Compiled {
             Imp::Jit => {
                 let code = &self.jit;
                 for (o, p) in out.iter_mut().zip(inputs) {
-                    *o = code.eval(&Context::new(p[2], p));
+                    *o = code.eval(p, p[2]);
                 }
             }
             Imp::Interp => {
@@ -514,14 +515,14 @@ fn geomean(xs: &[f64]) -> f64 {
 
 /// Prints one table: ns/eval per implementation with its ratio to native, the JIT's and
 /// the interpreter's speed-up over fasteval, and geometric means.
-fn print_table(title: &str, ns: &[[f64; 5]]) {
+fn print_table(title: &str, names: &[&str], ns: &[[f64; 5]]) {
     println!("\n{title}");
     println!("| expr | native ns | jit ns (×native) | interp ns (×native) | fasteval ns (×native) | evalexpr ns (×native) | jit vs fasteval | interp vs fasteval |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     let mut ratios = vec![Vec::new(); 5];
     let (mut jit_up, mut interp_up) = (Vec::new(), Vec::new());
-    for (e, row) in EXPRS.iter().zip(ns) {
-        let mut line = format!("| {} | {:.2} |", e.name, row[0]);
+    for (name, row) in names.iter().zip(ns) {
+        let mut line = format!("| {name} | {:.2} |", row[0]);
         for i in 1..5 {
             let r = row[i] / row[0];
             ratios[i].push(r);
@@ -553,7 +554,10 @@ fn main() {
     let mut compiled: Vec<Compiled> = EXPRS
         .iter()
         .zip(codes)
-        .map(|(e, code)| Compiled::new(e, code))
+        .map(|(e, code)| {
+            let bound = code.bind().expect("the expressions read only x, v and t");
+            Compiled::new(e, bound)
+        })
         .collect();
     assert_agreement(&mut compiled, &random);
     println!(
@@ -581,16 +585,26 @@ fn main() {
     }
     criterion.final_summary();
 
+    // The table takes criterion's filter too (`cargo bench --bench eval -- poly`): the
+    // first argument that is not an option keeps the expressions whose name contains it.
+    let filter = std::env::args().skip(1).find(|a| !a.starts_with('-'));
+
     for (title, inputs) in [
         ("random inputs", &random),
         ("sorted inputs (each column sorted)", &sorted),
     ] {
-        let ns: Vec<[f64; 5]> = compiled
-            .iter_mut()
-            .map(|c| IMPS.map(|(imp, _)| median_ns(c, imp, inputs, &mut out)))
-            .collect();
+        let (names, ns): (Vec<&str>, Vec<[f64; 5]>) = EXPRS
+            .iter()
+            .zip(compiled.iter_mut())
+            .filter(|(e, _)| filter.as_ref().is_none_or(|f| e.name.contains(f.as_str())))
+            .map(|(e, c)| {
+                let row = IMPS.map(|(imp, _)| median_ns(c, imp, inputs, &mut out));
+                (e.name, row)
+            })
+            .unzip();
         print_table(
             &format!("eval, {title}: median of {MIN_REPS} to {REPS} passes over {N} triples, ns per evaluation"),
+            &names,
             &ns,
         );
     }

@@ -3,9 +3,12 @@
 //! [`lower`] rebuilds a function with MIN, MAX, DIM, SIGN, STEP, STEP5, HAVSIN and POLY
 //! replaced by IEEE arithmetic and [`Inst::Select`]s (every row of the piecewise
 //! definition is computed, then chosen), so the machine code has no data-dependent jumps
-//! for them. IMPACT and BISTOP stay calls: their `pow` dominates, and a branch-free form
-//! (which must compute it, and both damping steps, on every evaluation) measured slower
-//! than the runtime's branches, even on unpredictable inputs. Each lowering follows the operation order documented in
+//! for them. IMPACT and BISTOP with constant, valid parameters (the usual case) become an
+//! arithmetic IF on `x - x1` (and `x - x2`): the contact arm calls `pow` and computes the
+//! damping STEP and the clamp with selects; out of contact nothing but a NaN check of ẋ
+//! runs. A fully branch-free form (pow and both damping steps on every evaluation)
+//! measured slower than branching, even on unpredictable inputs; with other parameters
+//! they stay runtime calls. Each lowering follows the operation order documented in
 //! `mbfx-runtime` exactly, so it gives the runtime's bits (NaN payloads aside); the
 //! interpreter keeps calling the runtime, so the interpreter ≡ JIT tests check every
 //! lowering against the runtime itself. Transcendentals (`pow`, `sin`) stay calls; ABS
@@ -24,7 +27,7 @@ pub fn lower(f: &Function) -> Function {
     let mut m = constants(f, &mut b);
     let mut ifs = FxHashMap::default();
     list(f, &mut b, &mut m, &mut ifs, &f.body);
-    let outputs = f.outputs.iter().map(|&o| m[o as usize]).collect::<Vec<_>>();
+    let outputs: Vec<Value> = f.outputs.iter().map(|&o| m[o as usize]).collect();
     b.finish(&outputs)
 }
 
@@ -109,7 +112,11 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span) -> Value 
         (Func::Poly, [x, x0, coeffs @ ..])
             if (1..=super::MAX_CALL_ARGS - 3).contains(&coeffs.len()) =>
         {
-            let t = l.sub(*x, *x0);
+            // x − (+0) is x (also for ±0 and ±∞; NaN payloads aside): skip it.
+            let t = match l.b.get_const(*x0) {
+                Some(c) if c.to_bits() == 0 => *x,
+                _ => l.sub(*x, *x0),
+            };
             let (&last, rest) = coeffs.split_last().unwrap_or((x, &[]));
             let mut acc = last;
             for &a in rest.iter().rev() {
@@ -123,8 +130,53 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span) -> Value 
             }
             acc
         }
+        (Func::Impact, &[x, xd, x1, k, e, cmax, d]) => match l.consts([x1, k, e, cmax, d]) {
+            Some([c1, ck, ce, cc, cd]) if contact_valid(c1, ck, ce, cc, cd) => {
+                let zero = l.resting(xd);
+                let test = l.sub(x, x1);
+                let lower = l.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
+                let rest = l.arm(|_| zero);
+                let rest2 = l.arm(|_| zero);
+                l.b.if_(test, [lower, rest, rest2], l.span.clone())
+            }
+            _ => l.call(func, args),
+        },
+        (Func::Bistop, &[x, xd, x1, x2, k, e, cmax, d]) => {
+            match l.consts([x1, x2, k, e, cmax, d]) {
+                Some([c1, c2, ck, ce, cc, cd])
+                    if c1.is_finite() && c1 < c2 && contact_valid(c2, ck, ce, cc, cd) =>
+                {
+                    let zero = l.resting(xd);
+                    let test = l.sub(x, x1);
+                    let lower = l.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
+                    let rest = l.arm(|_| zero);
+                    let above = l.arm(|l| {
+                        let test = l.sub(x, x2);
+                        let (free, free2) = (l.arm(|_| zero), l.arm(|_| zero));
+                        let upper = l.arm(|l| l.contact(Side::Above, x, xd, x2, k, e, cmax, d));
+                        l.b.if_(test, [free, free2, upper], l.span.clone())
+                    });
+                    l.b.if_(test, [lower, rest, above], l.span.clone())
+                }
+                _ => l.call(func, args),
+            }
+        }
         _ => l.b.call(func, args.to_vec(), l.span),
     }
+}
+
+/// The contact functions' parameter check (`contact::params_valid`) with a finite contact
+/// position, so that `x - x1` has the sign of the comparison `x < x1` for every x (NaN
+/// only when x is NaN).
+fn contact_valid(x1: f64, k: f64, e: f64, cmax: f64, d: f64) -> bool {
+    x1.is_finite() && k >= 0.0 && e > 0.0 && cmax >= 0.0 && d > 0.0
+}
+
+/// Which side of the free range a contact branch is on.
+#[derive(Clone, Copy)]
+enum Side {
+    Below,
+    Above,
 }
 
 /// Emits instructions at one span.
@@ -160,6 +212,73 @@ impl Lower<'_> {
     }
     fn sel(&mut self, cmp: Cmp, a: Value, b: Value, then: Value, otherwise: Value) -> Value {
         self.b.select(cmp, a, b, then, otherwise, self.span.clone())
+    }
+
+    /// The values of `vs` when all are constants.
+    fn consts<const N: usize>(&self, vs: [Value; N]) -> Option<[f64; N]> {
+        let mut out = [0.0; N];
+        for (o, &v) in out.iter_mut().zip(&vs) {
+            *o = self.b.get_const(v)?;
+        }
+        Some(out)
+    }
+
+    /// One arm of an IF: the instructions `body` emits, yielding its value.
+    fn arm(&mut self, body: impl FnOnce(&mut Self) -> Value) -> super::Block {
+        self.b.begin_block();
+        let r = body(self);
+        self.b.end_block(r)
+    }
+
+    /// A contact function out of contact: 0, or NaN when ẋ is (the runtime checks every
+    /// argument for NaN first).
+    fn resting(&mut self, xd: Value) -> Value {
+        let (zero, nan) = (self.c(0.0), self.c(f64::NAN));
+        self.sel(Cmp::Uno, xd, xd, nan, zero)
+    }
+
+    /// A contact branch, clamped: below x1 (`contact::lower_force` and `push_only`, edge
+    /// x1) or above x2 (`upper_force` and `pull_only`, edge x2). The power is a call, the
+    /// damping STEP and the clamp are selects.
+    #[allow(clippy::too_many_arguments)] // the contact parameters
+    fn contact(
+        &mut self,
+        side: Side,
+        x: Value,
+        xd: Value,
+        edge: Value,
+        k: Value,
+        e: Value,
+        cmax: Value,
+        d: Value,
+    ) -> Value {
+        let zero = self.c(0.0);
+        let (spring, c) = match side {
+            Side::Below => {
+                let p = self.sub(edge, x);
+                let pe = self.call(Func::Pow, &[p, e]);
+                let x0 = self.sub(edge, d);
+                let c = self.rows(x, x0, cmax, edge, zero, |l, t| l.cubic(cmax, zero, t));
+                (self.mul(k, pe), c)
+            }
+            Side::Above => {
+                let p = self.sub(x, edge);
+                let pe = self.call(Func::Pow, &[p, e]);
+                let kp = self.mul(k, pe);
+                let x1 = self.add(edge, d);
+                let c = self.rows(x, edge, zero, x1, cmax, |l, t| l.cubic(zero, cmax, t));
+                (self.neg(kp), c)
+            }
+        };
+        let damping = self.mul(c, xd);
+        let f = self.sub(spring, damping);
+        // push_only: f > 0 ? f : f <= 0 ? 0 : f (NaN stays); pull_only mirrored.
+        let (keep, clamp) = match side {
+            Side::Below => (Cmp::Gt, Cmp::Le),
+            Side::Above => (Cmp::Lt, Cmp::Ge),
+        };
+        let r = self.sel(clamp, f, zero, zero, f);
+        self.sel(keep, f, zero, f, r)
     }
 
     /// The rows of a step: h0 for x ≤ x0, h1 for x ≥ x1, `interior(Δ)` between, with

@@ -5,7 +5,10 @@
 //! `JITModule` with one finalisation; the module lives as long as any [`CompiledExpr`]
 //! made from it and its memory is freed when the last one drops. Before translation each
 //! function goes through [`crate::ir::lower`], so MIN, MAX, DIM, SIGN, STEP, STEP5,
-//! HAVSIN and POLY run without data-dependent jumps.
+//! HAVSIN and POLY run without data-dependent jumps, and IMPACT and BISTOP branch only on
+//! contact. [`CompiledExpr::eval`] checks the context on each call;
+//! [`CompiledExpr::bind`] checks a fixed layout once and gives a [`Bound`] whose
+//! evaluation is only the call.
 //!
 //! Invariant: a compiled expression gives the interpreter's bits (NaN payloads aside):
 //! both run the same IR, call the same runtime functions, and the lowering follows the
@@ -140,6 +143,20 @@ impl CompiledExpr {
         unsafe { (self.code)(ctx, vars, measures, out, ctx.time) }
     }
 
+    /// This expression bound to a fixed input layout: user variables in an array of `N`
+    /// slots, time per call, no measures or splines, one output. The checks happen here,
+    /// once, so [`Bound::eval`] is only the call (the way a solver calls a compiled force).
+    /// `None` when the expression reads measures or splines, a slot at or above `N`, or
+    /// has several outputs.
+    pub fn bind<const N: usize>(&self) -> Option<Bound<N>> {
+        let [vars, measures, splines] = self.needs;
+        (self.outputs <= 1 && vars <= N && measures == 0 && splines == 0).then(|| Bound {
+            code: self.code,
+            ctx: Context::new(0.0, &[]),
+            _owner: self._owner.clone(),
+        })
+    }
+
     /// Evaluates every output into `out` (extra slots are left alone; a shorter `out`
     /// receives the first outputs). NaN everywhere when the context lacks slots.
     pub fn eval_into(&self, ctx: &Context, out: &mut [f64]) {
@@ -163,6 +180,56 @@ impl CompiledExpr {
             // SAFETY: as above, with a buffer of exactly `outputs` values.
             unsafe { self.call(ctx, all.as_mut_ptr()) };
             out.copy_from_slice(&all[..out.len()]);
+        }
+    }
+}
+
+/// A scalar expression bound to `N` variable slots by [`CompiledExpr::bind`]: evaluation
+/// needs no check, as the array type carries the layout that was checked.
+#[derive(Clone)]
+pub struct Bound<const N: usize> {
+    code: RawFn,
+    /// What the code may read from a context besides the arguments: the mode (the arrays
+    /// are empty, and the expression reads none of them).
+    ctx: Context<'static>,
+    _owner: Arc<Code>,
+}
+
+// SAFETY: the context holds only the mode and empty arrays (no pointer to shared data),
+// and the code is immutable (see `Code`), so a `Bound` may move to and be shared with other
+// threads as `CompiledExpr` may.
+unsafe impl<const N: usize> Send for Bound<N> {}
+// SAFETY: as above.
+unsafe impl<const N: usize> Sync for Bound<N> {}
+
+impl<const N: usize> std::fmt::Debug for Bound<N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Bound").field("slots", &N).finish()
+    }
+}
+
+impl<const N: usize> Bound<N> {
+    /// The same binding with analysis mode `mode` (4, dynamics, unless set).
+    pub fn with_mode(mut self, mode: f64) -> Self {
+        self.ctx = self.ctx.with_mode(mode);
+        self
+    }
+
+    /// Evaluates the expression at user variables `vars` (slot order) and `time`.
+    #[inline]
+    pub fn eval(&self, vars: &[f64; N], time: f64) -> f64 {
+        let (_, measures) = self.ctx.arrays();
+        // SAFETY: `bind` checked that the code reads variable slots below `N` only, no
+        // measure or spline, and writes no output; `vars` has `N` slots, the context
+        // (read for the mode) lives in `self`, and `_owner` keeps the code alive.
+        unsafe {
+            (self.code)(
+                &self.ctx,
+                vars.as_ptr(),
+                measures,
+                std::ptr::null_mut(),
+                time,
+            )
         }
     }
 }
@@ -268,7 +335,7 @@ impl Jit {
         &self.times
     }
 
-    /// Translates `f` into `module` and defines it; returns its id.
+    /// Translates `f` into `module` and defines it (and its constants); returns its id.
     fn define(
         &mut self,
         module: &mut JITModule,
@@ -282,7 +349,8 @@ impl Jit {
         self.ctx.clear();
         self.ctx.func.signature = sig;
         let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
-        let result = translate::Translator::new(f, fb, module, declared).run();
+        let consts = translate::Constants::define(f, module)?;
+        let result = translate::Translator::new(f, fb, module, declared, &consts).run();
         if let Err(e) = result {
             self.ctx.clear();
             return Err(e);
@@ -304,7 +372,8 @@ impl Jit {
         self.ctx.clear();
         self.ctx.func.signature = sig;
         let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
-        translate::Translator::new(f, fb, &mut module, &mut declared).run()?;
+        let consts = translate::Constants::define(f, &mut module)?;
+        translate::Translator::new(f, fb, &mut module, &mut declared, &consts).run()?;
         let text = self.ctx.func.display().to_string();
         self.ctx.clear();
         // SAFETY: nothing was finalised, so no pointer into the module exists.

@@ -7,7 +7,9 @@
 //! registers) so the code does not load them from the context first. Arithmetic is inlined (`fadd`, `fmul`, `sqrt`, `fabs`, no
 //! fused multiply-add); an arithmetic IF is real branches (only the taken arm runs); a
 //! [`Inst::Select`] is a branch-free SSE compare-and-blend; library functions are calls
-//! to the runtime's `extern "C"` wrappers.
+//! to the runtime's `extern "C"` wrappers. Constants are loaded from the function's
+//! constant pool (one instruction, as compiled Rust does) rather than built in a general
+//! register.
 
 use super::symbols;
 use super::JitError;
@@ -21,7 +23,7 @@ use cranelift_codegen::ir::{
 };
 use cranelift_frontend::FunctionBuilder;
 use cranelift_jit::JITModule;
-use cranelift_module::{Linkage, Module};
+use cranelift_module::{DataDescription, Linkage, Module};
 use mbfx_runtime::ffi::Param;
 use rustc_hash::FxHashMap;
 
@@ -35,6 +37,61 @@ pub fn expr_signature(module: &JITModule) -> Signature {
     sig.params.push(AbiParam::new(types::F64));
     sig.returns.push(AbiParam::new(types::F64));
     sig
+}
+
+/// The constants of a straight-line arithmetic function, as a read-only data object of
+/// the module: the code reads them through one base address, so Cranelift folds
+/// single-use constants into the instructions as memory operands (as compiled Rust
+/// does). Other functions read constants from the constant pool.
+pub struct Constants {
+    data: Option<cranelift_module::DataId>,
+    /// Byte offset of each constant in the data object, by its bits.
+    offsets: FxHashMap<u64, i32>,
+}
+
+impl Constants {
+    /// Defines the non-zero constants of `f` (zero is one register instruction) in
+    /// `module`.
+    pub fn define(f: &Function, module: &mut JITModule) -> Result<Constants, JitError> {
+        let mut bytes = Vec::new();
+        let mut offsets = FxHashMap::default();
+        for inst in &f.insts {
+            if let Inst::Const(c) = inst {
+                let bits = c.to_bits();
+                if bits != 0 && !offsets.contains_key(&bits) {
+                    offsets.insert(bits, bytes.len() as i32);
+                    bytes.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+        }
+        // Only straight-line arithmetic gains (measured): selects read constants as lane
+        // pairs from the constant pool anyway, and across calls the base address would
+        // hold a callee-saved register.
+        let arithmetic = f.insts.iter().all(|i| {
+            !matches!(
+                i,
+                Inst::Select { .. } | Inst::Call(..) | Inst::Partial { .. } | Inst::Spline { .. }
+            )
+        });
+        if bytes.is_empty() || !arithmetic {
+            return Ok(Constants {
+                data: None,
+                offsets,
+            });
+        }
+        let module_error = |e: cranelift_module::ModuleError| JitError::Module(e.to_string());
+        let id = module
+            .declare_anonymous_data(false, false)
+            .map_err(module_error)?;
+        let mut desc = DataDescription::new();
+        desc.define(bytes.into_boxed_slice());
+        desc.set_align(8);
+        module.define_data(id, &desc).map_err(module_error)?;
+        Ok(Constants {
+            data: Some(id),
+            offsets,
+        })
+    }
 }
 
 /// Translates one IR function into the function `fb` builds.
@@ -57,6 +114,11 @@ pub struct Translator<'a, 'b> {
     vals: Vec<Option<ir::Value>>,
     /// Extra results of multi-result IFs, by IF value.
     extras: FxHashMap<Value, Vec<ir::Value>>,
+    /// The `f64x2` each select's result came from, so a select of a select needs no splat.
+    vectors: FxHashMap<Value, ir::Value>,
+    /// The function's constants and their address (set on entry when there are any).
+    consts: &'a Constants,
+    consts_base: Option<ir::Value>,
 }
 
 const TRUSTED: MemFlagsData = MemFlagsData::trusted();
@@ -67,6 +129,7 @@ impl<'a, 'b> Translator<'a, 'b> {
         mut fb: FunctionBuilder<'b>,
         module: &'a mut JITModule,
         declared: &'a mut FxHashMap<String, cranelift_module::FuncId>,
+        consts: &'a Constants,
     ) -> Self {
         let ptr = module.target_config().pointer_type();
         let entry = fb.create_block();
@@ -79,6 +142,12 @@ impl<'a, 'b> Translator<'a, 'b> {
                 .load(ptr, TRUSTED.with_readonly(), ctx, layout::SPLINES)
         });
         let bases = [Some(params[1]), Some(params[2]), splines];
+        // The address is a `symbol_value`, computed once (an `iconst` would be
+        // rematerialised at every use).
+        let consts_base = consts.data.map(|id| {
+            let gv = module.declare_data_in_func(id, fb.func);
+            fb.ins().symbol_value(ptr, gv)
+        });
         Translator {
             f,
             fb,
@@ -92,6 +161,9 @@ impl<'a, 'b> Translator<'a, 'b> {
             bases,
             vals: vec![None; f.insts.len()],
             extras: FxHashMap::default(),
+            vectors: FxHashMap::default(),
+            consts,
+            consts_base,
         }
     }
 
@@ -126,13 +198,29 @@ impl<'a, 'b> Translator<'a, 'b> {
     /// Cranelift shares equal constants).
     fn value(&mut self, v: Value) -> Result<ir::Value, JitError> {
         if let Some(c) = self.f.constant(v) {
-            return Ok(self.fb.ins().f64const(c));
+            return Ok(self.constant(c));
         }
         self.vals
             .get(v as usize)
             .copied()
             .flatten()
             .ok_or(JitError::Malformed(v))
+    }
+
+    /// A constant read from the function's constant pool (one RIP-relative load) rather
+    /// than built in a general register and moved over (`f64const`'s two instructions).
+    fn constant(&mut self, c: f64) -> ir::Value {
+        if let (Some(base), Some(&at)) = (self.consts_base, self.consts.offsets.get(&c.to_bits())) {
+            return self
+                .fb
+                .ins()
+                .load(types::F64, TRUSTED.with_readonly(), base, at);
+        }
+        if c.to_bits() == 0 {
+            return self.fb.ins().f64const(c);
+        }
+        let pair = self.pool(c, c);
+        self.fb.ins().extractlane(pair, 0)
     }
 
     fn list(&mut self, values: &[Value]) -> Result<(), JitError> {
@@ -186,9 +274,11 @@ impl<'a, 'b> Translator<'a, 'b> {
                 then,
                 otherwise,
             } => {
-                let (a, b) = (self.value(*a)?, self.value(*b)?);
-                let (t, o) = (self.value(*then)?, self.value(*otherwise)?);
-                self.select(*cmp, a, b, t, o)
+                let (a, b) = (self.lanes(*a)?, self.lanes(*b)?);
+                let (t, o) = (self.lanes(*then)?, self.lanes(*otherwise)?);
+                let r = self.select(*cmp, a, b, t, o);
+                self.vectors.insert(v, r);
+                self.fb.ins().extractlane(r, 0)
             }
             Inst::If { test, arms } => return self.if_(v, *test, arms),
             Inst::IfExtra { of, index } => self
@@ -227,8 +317,31 @@ impl<'a, 'b> Translator<'a, 'b> {
             .load(types::F64, TRUSTED.with_readonly(), base, offset))
     }
 
-    /// `cmp(a, b) ? then : otherwise` without a jump: the comparison yields an all-ones or
-    /// all-zeros lane mask (`cmpsd`) that blends the two values bitwise.
+    /// IR value `v` in both lanes of an `f64x2`, for a select: a constant is loaded from
+    /// the constant pool as a pair, another value is splat (one `pshufd`; `scalar_to_vector`
+    /// would take three instructions to zero the upper lane, which is never read).
+    fn lanes(&mut self, v: Value) -> Result<ir::Value, JitError> {
+        if let Some(c) = self.f.constant(v) {
+            return Ok(self.pool(c, c));
+        }
+        if let Some(&r) = self.vectors.get(&v) {
+            return Ok(r);
+        }
+        let x = self.value(v)?;
+        Ok(self.fb.ins().splat(types::F64X2, x))
+    }
+
+    /// The pair `[lo, hi]` from the function's constant pool.
+    fn pool(&mut self, lo: f64, hi: f64) -> ir::Value {
+        let mut bytes = lo.to_le_bytes().to_vec();
+        bytes.extend_from_slice(&hi.to_le_bytes());
+        let handle = self.fb.func.dfg.constants.insert(bytes.into());
+        self.fb.ins().vconst(types::F64X2, handle)
+    }
+
+    /// `cmp(a, b) ? then : otherwise` without a jump, on lane 0 of `f64x2` operands: the
+    /// comparison yields an all-ones or all-zeros lane mask (`cmppd`) that blends the two
+    /// values bitwise. The result is lane 0 (lane 1 holds whatever the inputs' did).
     fn select(
         &mut self,
         cmp: Cmp,
@@ -245,14 +358,10 @@ impl<'a, 'b> Translator<'a, 'b> {
             Cmp::Ge => FloatCC::GreaterThanOrEqual,
             Cmp::Uno => FloatCC::Unordered,
         };
-        let ins = |fb: &mut FunctionBuilder<'_>, x| fb.ins().scalar_to_vector(types::F64X2, x);
-        let (va, vb) = (ins(&mut self.fb, a), ins(&mut self.fb, b));
-        let (vt, vo) = (ins(&mut self.fb, then), ins(&mut self.fb, otherwise));
-        let mask = self.fb.ins().fcmp(cc, va, vb);
+        let mask = self.fb.ins().fcmp(cc, a, b);
         let lanes = MemFlagsData::new().with_endianness(Endianness::Little);
         let mask = self.fb.ins().bitcast(types::F64X2, lanes, mask);
-        let r = self.fb.ins().bitselect(mask, vt, vo);
-        self.fb.ins().extractlane(r, 0)
+        self.fb.ins().bitselect(mask, then, otherwise)
     }
 
     /// A library call: ABS and SQRT inline (single IEEE instructions), series with their

@@ -339,6 +339,15 @@ fn lowering_equals_runtime_on_edge_grids() {
         "BISTOP(x, y, z, 1, 1E5, 1.5, 50, 0.1)",
         "BISTOP(x, y, -1, z, 1000, 2, 10, 0.1)",
         "BISTOP(x, 1, y, z, x, 1.5, 10, 0.5)",
+        // Constant parameters: the JIT's lowering (a branch on contact, selects inside).
+        "IMPACT(x, y, 1, 1E5, 1.5, 50, 0.1) + z",
+        "IMPACT(x, y, 0, 1000, 2, 0, 2) + IMPACT(z, y, -1, 0, 0.5, 10, 1E-300)",
+        "BISTOP(x, y, 0.5, 1.5, 1E5, 1.5, 50, 0.1) - z",
+        "BISTOP(x, y, -1, 0, 1000, 2, 0, 2) + BISTOP(z, x, -1E300, 1E300, 1, 3, 1, 1)",
+        // POLY about +0 skips the subtraction x − 0.
+        "POLY(x, 0, y, z) + POLY(z, 0, 1.5) * POLY(y, -0, 2, x)",
+        // Infinite contact positions stay runtime calls.
+        "IMPACT(x, y, 1E999, 1, 1.5, 1, 0.1) + BISTOP(x, y, -1E999, z, 1, 1, 1, 1)",
     ] {
         let f = ir(src).unwrap();
         let c = jit.compile(&f).unwrap();

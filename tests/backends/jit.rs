@@ -62,6 +62,50 @@ fn if_arms_are_branches() {
     assert!(call > brif, "{clif}");
 }
 
+/// IMPACT and BISTOP with constant parameters: one branch on contact (x - x1 < 0), the
+/// power call only in the contact arm, the damping STEP and the clamp as selects.
+#[test]
+fn contact_functions_branch_on_contact() {
+    let mut jit = Jit::new().unwrap();
+    for (src, calls) in [
+        ("IMPACT(x, y, 1, 1E5, 1.5, 50, 0.1)", 1),
+        ("BISTOP(x, y, 0.5, 1.5, 1E5, 1.5, 50, 0.1)", 2),
+    ] {
+        let clif = jit.clif(&ir(src).unwrap()).unwrap();
+        let brif = clif.find("brif").expect("a conditional branch");
+        assert_eq!(clif.matches("call ").count(), calls, "{src}:\n{clif}");
+        assert!(clif.find("call ").unwrap() > brif, "{src}:\n{clif}");
+        assert!(clif.contains("bitselect"), "{src}:\n{clif}");
+        // Spec §5.4 (IMPACT) at x = 0.95, ẋ = -2: 1e5·0.05^1.5 + STEP(0.95, 0.9, 50, 1, 0)·2.
+        let f = ir(src).unwrap();
+        let c = jit.compile(&f).unwrap().bind::<3>().unwrap();
+        let want = 1e5 * 0.05f64.powf(1.5) + 25.0 * 2.0;
+        let got = c.eval(&[if calls == 1 { 0.95 } else { 0.45 }, -2.0, 0.0], 0.0);
+        assert!((got - want).abs() < 1e-9 * want, "{src}: {got} != {want}");
+    }
+}
+
+/// A bound expression gives what `eval` gives through a context, and binding refuses
+/// layouts the expression does not fit.
+#[test]
+fn bound_expressions() {
+    let mut jit = Jit::new().unwrap();
+    let c = jit.compile(&ir("x*y - z + TIME").unwrap()).unwrap();
+    let b = c.bind::<3>().expect("three slots cover x, y, z");
+    let vars = [2.0, 3.0, 1.0];
+    assert_eq!(b.eval(&vars, 0.5), 5.5);
+    assert_eq!(b.eval(&vars, 0.5), c.eval(&Context::new(0.5, &vars)));
+    assert!(c.bind::<2>().is_none(), "z is slot 2");
+    let v = jit.compile(&ir("[x, y, z]").unwrap()).unwrap();
+    assert!(v.bind::<3>().is_none(), "three outputs");
+    let m = jit.compile(&ir("MODE").unwrap()).unwrap();
+    assert_eq!(m.bind::<0>().unwrap().with_mode(1.0).eval(&[], 0.0), 1.0);
+    // The code outlives the compiled expression it was bound from.
+    drop(c);
+    drop(jit);
+    assert_eq!(b.eval(&[1.0, 1.0, 1.0], 0.0), 0.0);
+}
+
 #[test]
 fn batch_of_many_in_one_module() {
     let srcs: Vec<String> = (0..300)
