@@ -84,10 +84,21 @@ unsafe impl Sync for Code {}
 /// Signature of the generated code.
 type RawFn = unsafe extern "C" fn(*const Context<'_>, *const f64, *const f64, *mut f64, f64) -> f64;
 
+/// The minimal signature `(vars, time)` of expressions that need nothing else (see
+/// `translate::is_minimal`).
+type MinFn = unsafe extern "C" fn(*const f64, f64) -> f64;
+
+/// A compiled function's entry, by signature.
+#[derive(Clone, Copy)]
+enum Entry {
+    General(RawFn),
+    Minimal(MinFn),
+}
+
 /// A compiled expression. Cloning shares the code.
 #[derive(Clone)]
 pub struct CompiledExpr {
-    code: RawFn,
+    code: Entry,
     outputs: usize,
     /// Smallest variable, measure and spline arrays a context must provide.
     needs: [usize; 3],
@@ -140,7 +151,12 @@ impl CompiledExpr {
         let (vars, measures) = ctx.arrays();
         // SAFETY: the caller's guarantees are the code's requirements; `_owner` keeps the
         // code alive.
-        unsafe { (self.code)(ctx, vars, measures, out, ctx.time) }
+        unsafe {
+            match self.code {
+                Entry::General(code) => code(ctx, vars, measures, out, ctx.time),
+                Entry::Minimal(code) => code(vars, ctx.time),
+            }
+        }
     }
 
     /// This expression bound to a fixed input layout: user variables in an array of `N`
@@ -188,7 +204,7 @@ impl CompiledExpr {
 /// needs no check, as the array type carries the layout that was checked.
 #[derive(Clone)]
 pub struct Bound<const N: usize> {
-    code: RawFn,
+    code: Entry,
     /// What the code may read from a context besides the arguments: the mode (the arrays
     /// are empty, and the expression reads none of them).
     ctx: Context<'static>,
@@ -223,13 +239,16 @@ impl<const N: usize> Bound<N> {
         // measure or spline, and writes no output; `vars` has `N` slots, the context
         // (read for the mode) lives in `self`, and `_owner` keeps the code alive.
         unsafe {
-            (self.code)(
-                &self.ctx,
-                vars.as_ptr(),
-                measures,
-                std::ptr::null_mut(),
-                time,
-            )
+            match self.code {
+                Entry::Minimal(code) => code(vars.as_ptr(), time),
+                Entry::General(code) => code(
+                    &self.ctx,
+                    vars.as_ptr(),
+                    measures,
+                    std::ptr::null_mut(),
+                    time,
+                ),
+            }
         }
     }
 }
@@ -303,7 +322,7 @@ impl Jit {
                 f
             };
             let id = self.define(&mut module, &mut declared, f)?;
-            ids.push((id, f.outputs.len(), needs(f)));
+            ids.push((id, translate::is_minimal(f), f.outputs.len(), needs(f)));
             self.times.push(t0.elapsed().as_secs_f64());
         }
         module
@@ -314,11 +333,18 @@ impl Jit {
         });
         Ok(ids
             .into_iter()
-            .map(|(id, outputs, needs)| {
+            .map(|(id, minimal, outputs, needs)| {
                 let ptr = owner.module.get_finalized_function(id);
                 // SAFETY: `ptr` is the finalised code of a function declared with
-                // `expr_signature`, which is `RawFn`'s C signature.
-                let code = unsafe { std::mem::transmute::<*const u8, RawFn>(ptr) };
+                // `expr_signature(_, minimal)`, which is `MinFn`'s C signature when
+                // `minimal` and `RawFn`'s otherwise.
+                let code = unsafe {
+                    if minimal {
+                        Entry::Minimal(std::mem::transmute::<*const u8, MinFn>(ptr))
+                    } else {
+                        Entry::General(std::mem::transmute::<*const u8, RawFn>(ptr))
+                    }
+                };
                 CompiledExpr {
                     code,
                     outputs,
@@ -342,7 +368,7 @@ impl Jit {
         declared: &mut FxHashMap<String, cranelift_module::FuncId>,
         f: &Function,
     ) -> Result<cranelift_module::FuncId, JitError> {
-        let sig = translate::expr_signature(module);
+        let sig = translate::expr_signature(module, translate::is_minimal(f));
         let id = module
             .declare_anonymous_function(&sig)
             .map_err(|e| JitError::Module(e.to_string()))?;
@@ -368,7 +394,7 @@ impl Jit {
         let mut declared = FxHashMap::default();
         let lowered = crate::ir::lower::lower(f);
         let f = if self.lower { &lowered } else { f };
-        let sig = translate::expr_signature(&module);
+        let sig = translate::expr_signature(&module, translate::is_minimal(f));
         self.ctx.clear();
         self.ctx.func.signature = sig;
         let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);

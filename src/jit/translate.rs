@@ -28,15 +28,27 @@ use mbfx_runtime::ffi::Param;
 use rustc_hash::FxHashMap;
 
 /// Signature of every compiled expression.
-pub fn expr_signature(module: &JITModule) -> Signature {
+pub fn expr_signature(module: &JITModule, minimal: bool) -> Signature {
     let ptr = module.target_config().pointer_type();
     let mut sig = module.make_signature();
-    for _ in 0..4 {
+    if minimal {
         sig.params.push(AbiParam::new(ptr));
+    } else {
+        for _ in 0..4 {
+            sig.params.push(AbiParam::new(ptr));
+        }
     }
     sig.params.push(AbiParam::new(types::F64));
     sig.returns.push(AbiParam::new(types::F64));
     sig
+}
+
+/// Whether `f` fits the minimal signature `(vars, time) -> f64`: at most one output and
+/// no read of the context (MODE), measures or splines. Fewer arguments make each call
+/// cheaper (the caller sets two registers instead of five).
+pub fn is_minimal(f: &Function) -> bool {
+    let u = &f.uses;
+    f.outputs.len() <= 1 && !u.mode && u.measures.is_empty() && u.splines.is_empty()
 }
 
 /// The constants of a straight-line arithmetic function, as a read-only data object of
@@ -104,10 +116,11 @@ pub struct Translator<'a, 'b> {
     /// Runtime functions imported into this function, by name.
     refs: FxHashMap<String, FuncRef>,
     ptr: Type,
-    ctx: ir::Value,
+    /// The context (absent in the minimal signature, see [`is_minimal`]).
+    ctx: Option<ir::Value>,
     time: ir::Value,
-    /// Where several outputs are written.
-    out: ir::Value,
+    /// Where several outputs are written (absent in the minimal signature).
+    out: Option<ir::Value>,
     /// Base pointers of the variable, measure and spline arrays (loaded once, on entry).
     bases: [Option<ir::Value>; 3],
     /// Cranelift value of each IR value translated so far.
@@ -136,12 +149,22 @@ impl<'a, 'b> Translator<'a, 'b> {
         fb.append_block_params_for_function_params(entry);
         fb.switch_to_block(entry);
         let params = fb.block_params(entry).to_vec();
-        let ctx = params[0];
-        let splines = (!f.uses.splines.is_empty()).then(|| {
-            fb.ins()
-                .load(ptr, TRUSTED.with_readonly(), ctx, layout::SPLINES)
-        });
-        let bases = [Some(params[1]), Some(params[2]), splines];
+        // General: (ctx, vars, measures, out, time); minimal: (vars, time).
+        let (ctx, vars, measures, out, time) = match params[..] {
+            [vars, time] => (None, vars, None, None, time),
+            [ctx, vars, measures, out, time] => (Some(ctx), vars, Some(measures), Some(out), time),
+            _ => unreachable!("expr_signature has two or five parameters"),
+        };
+        let splines = match ctx {
+            Some(ctx) if !f.uses.splines.is_empty() => {
+                Some(
+                    fb.ins()
+                        .load(ptr, TRUSTED.with_readonly(), ctx, layout::SPLINES),
+                )
+            }
+            _ => None,
+        };
+        let bases = [Some(vars), measures, splines];
         // The address is a `symbol_value`, computed once (an `iconst` would be
         // rematerialised at every use).
         let consts_base = consts.data.map(|id| {
@@ -156,8 +179,8 @@ impl<'a, 'b> Translator<'a, 'b> {
             refs: FxHashMap::default(),
             ptr,
             ctx,
-            time: params[4],
-            out: params[3],
+            time,
+            out,
             bases,
             vals: vec![None; f.insts.len()],
             extras: FxHashMap::default(),
@@ -178,7 +201,7 @@ impl<'a, 'b> Translator<'a, 'b> {
             .map(|&o| self.value(o))
             .collect::<Result<_, _>>()?;
         if outs.len() > 1 {
-            let out = self.out;
+            let out = self.out.ok_or(JitError::Malformed(0))?;
             for (i, &v) in outs.iter().enumerate() {
                 self.fb.ins().store(TRUSTED, v, out, (i * 8) as i32);
             }
@@ -237,7 +260,7 @@ impl<'a, 'b> Translator<'a, 'b> {
             Inst::Var(s) => self.load_slot(0, *s)?,
             Inst::Measure(s) => self.load_slot(1, *s)?,
             Inst::Time => self.time,
-            Inst::Mode => self.load_ctx(layout::MODE),
+            Inst::Mode => self.load_ctx(layout::MODE, v)?,
             Inst::Neg(a) => {
                 let a = self.value(*a)?;
                 self.fb.ins().fneg(a)
@@ -301,10 +324,12 @@ impl<'a, 'b> Translator<'a, 'b> {
         Ok(op(self.fb.ins(), a, b))
     }
 
-    fn load_ctx(&mut self, offset: i32) -> ir::Value {
-        self.fb
+    fn load_ctx(&mut self, offset: i32, v: Value) -> Result<ir::Value, JitError> {
+        let ctx = self.ctx.ok_or(JitError::Malformed(v))?;
+        Ok(self
+            .fb
             .ins()
-            .load(types::F64, TRUSTED.with_readonly(), self.ctx, offset)
+            .load(types::F64, TRUSTED.with_readonly(), ctx, offset))
     }
 
     /// Slot `s` of the variable (0) or measure (1) array.
