@@ -106,6 +106,41 @@ fn bound_expressions() {
     assert_eq!(b.eval(&[1.0, 1.0, 1.0], 0.0), 0.0);
 }
 
+/// Expressions that read only variables and time take the minimal `(vars, time)` entry,
+/// the others (MODE, several outputs) the general one; both kinds share a batch, and
+/// `eval`, `eval_into` and `bind` give the same values through either.
+#[test]
+fn both_entry_signatures_in_one_batch() {
+    let fs: Vec<_> = [
+        "x*y - z + TIME",
+        "MODE*x + TIME",
+        "[x + TIME, y*z, 1]",
+        "TIME",
+    ]
+    .iter()
+    .map(|s| ir(s).unwrap())
+    .collect();
+    let refs: Vec<_> = fs.iter().collect();
+    let c = Jit::new().unwrap().compile_batch(&refs).unwrap();
+    let vars = [2.0, 3.0, 1.0];
+    let ctx = Context::new(0.5, &vars).with_mode(4.0);
+    // 2*3 - 1 + 0.5, 4*2 + 0.5, [2 + 0.5, 3*1, 1], 0.5.
+    assert_eq!(c[0].eval(&ctx), 5.5);
+    assert_eq!(c[1].eval(&ctx), 8.5);
+    let mut out = [0.0; 3];
+    c[2].eval_into(&ctx, &mut out);
+    assert_eq!(out, [2.5, 3.0, 1.0]);
+    assert_eq!(c[3].eval(&Context::new(0.5, &[])), 0.5);
+    assert_eq!(c[0].bind::<3>().unwrap().eval(&vars, 0.5), 5.5);
+    assert_eq!(
+        c[1].bind::<3>().unwrap().with_mode(4.0).eval(&vars, 0.5),
+        8.5
+    );
+    assert_eq!(c[3].bind::<0>().unwrap().eval(&[], -1.25), -1.25);
+    // The minimal entry still gets the per-call check: a short context gives NaN.
+    assert!(c[0].eval(&Context::new(0.5, &[2.0])).is_nan());
+}
+
 #[test]
 fn batch_of_many_in_one_module() {
     let srcs: Vec<String> = (0..300)
