@@ -224,9 +224,12 @@ fn chrono_joint_models_assemble_onto_adams_first_rows() {
     assert_eq!(files.len(), CHRONO_REFERENCES.len(), "{files:?}");
     let mut failures = Vec::new();
     let mut compared = 0;
-    for (stem, reference) in CHRONO_REFERENCES {
+    for ((stem, reference), dim) in CHRONO_REFERENCES
+        .iter()
+        .flat_map(|c| [(*c, DimRequest::Auto), (*c, DimRequest::Three)])
+    {
         let path = dir.join("adams_models").join(format!("{stem}.adm"));
-        let a = analyze(&path, DimRequest::Auto);
+        let a = analyze(&path, dim);
         assert!(a.assembly.residual <= 1e-10, "{stem}");
         let Some(reference) = reference else {
             if stem == "test_RackPinion_Case01" {
@@ -266,13 +269,13 @@ fn chrono_joint_models_assemble_onto_adams_first_rows() {
             close(stem, "Euler parameters", &ours_q, &quat[1..]),
         ] {
             if let Err(e) = r {
-                failures.push(format!("{stem}: {e}"));
+                failures.push(format!("{stem} ({dim:?}): {e}"));
             }
         }
         compared += 1;
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    assert_eq!(compared, 17);
+    assert_eq!(compared, 2 * 17);
 }
 
 /// Every data row of an Adams reference file (time first).
@@ -688,9 +691,17 @@ fn every_corpus_dataset_is_analysed_or_listed_with_its_reason() {
     for path in &files {
         let bytes = std::fs::read(path).unwrap();
         let (text, _) = mbfx::model::decode(&bytes);
-        let outcome = mbfx::session::analyze_dataset(&text, DimRequest::Auto);
         let listed = NOT_ANALYSED.iter().find(|(f, _)| ends_with(path, f));
-        match (outcome, listed) {
+        let auto = mbfx::session::analyze_dataset(&text, DimRequest::Auto);
+        // The 3D build of a scene built in 2D must assemble as well.
+        if let Ok(a) = &auto {
+            if a.system.dim == Dimension::Two {
+                if let Err(f) = mbfx::session::analyze_dataset(&text, DimRequest::Three) {
+                    wrong.push(format!("{} in 3D: {f}", path.display()));
+                }
+            }
+        }
+        match (auto, listed) {
             (Ok(a), None) => {
                 analysed += 1;
                 if a.assembly.residual > 1e-10 {
