@@ -213,8 +213,12 @@ impl Repl {
     fn time_(&mut self, p: &Program) -> String {
         use std::hint::black_box;
         use std::time::Instant;
+        let jit = match self.jit() {
+            Ok(j) => j,
+            Err(e) => return format!("error: {e}"),
+        };
         let t0 = Instant::now();
-        let code = match self.jit().and_then(|j| j.compile(p.function())) {
+        let code = match jit.compile(p.function()) {
             Ok(c) => c,
             Err(e) => return format!("error: {e}"),
         };

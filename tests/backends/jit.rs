@@ -93,3 +93,33 @@ fn vector_outputs_and_missing_slots() {
     c.eval_into(&Context::new(0.0, &[1.0]), &mut out);
     assert!(out.iter().all(|v| v.is_nan()));
 }
+
+/// The cheap library functions compile to straight-line code: no call, no conditional
+/// branch (the comparisons become lane masks that blend the values).
+#[test]
+fn cheap_functions_are_branch_free() {
+    let mut jit = Jit::new().unwrap();
+    for src in [
+        "STEP(x, 0, 0, 1, 5)",
+        "STEP5(x, y, 0, z, 1)",
+        "MIN(x, y) + MAX(y, z) + DIM(x, z) + SIGN(x, y) + ABS(z)",
+        "POLY(x, 0, 1, 2, 3, 4)",
+        "POLY(x, y, z)",
+    ] {
+        let clif = jit.clif(&ir(src).unwrap()).unwrap();
+        assert!(
+            !clif.contains("brif") && !clif.contains("call "),
+            "{src}:\n{clif}"
+        );
+        assert!(
+            clif.contains("bitselect") || src.starts_with("POLY(x, 0"),
+            "{src}:\n{clif}"
+        );
+    }
+    // HAVSIN keeps its sine call, but no branch.
+    let clif = jit.clif(&ir("HAVSIN(x, 0, 0, 1, 5)").unwrap()).unwrap();
+    assert!(
+        !clif.contains("brif") && clif.matches("call ").count() == 1,
+        "{clif}"
+    );
+}
