@@ -1,6 +1,7 @@
-//! A modelling session: the whole job for a dataset in one call: read it, build the system (2D when the scene
-//! is planar, unless 3D is asked for), assemble positions and velocities at t = 0, and run
-//! the redundancy analysis on the Jacobian at the assembled configuration.
+//! A modelling session: the whole job for a dataset in one call. Read it, build the
+//! system (2D when the scene is planar and its out-of-plane freedoms are held by
+//! constraints, unless 3D is asked for), assemble positions and velocities at t = 0, and
+//! run the redundancy analysis on the Jacobian at the assembled configuration.
 //!
 //! ```
 //! use mbfx::session::{analyze_dataset, DimRequest};
@@ -16,8 +17,8 @@
 //! Order matters: assembly comes first because it needs no redundancy information (its
 //! minimum-norm steps treat redundant rows like any other), and the rank of the Jacobian
 //! is only meaningful at a configuration that satisfies the constraints. GCON and MOTION
-//! functions are differentiated exactly on the IR ([`IrDerivatives`]); [`report`] words the result
-//! for `mbfx check`.
+//! functions are differentiated exactly on the IR ([`IrDerivatives`]); [`report`] words
+//! the result for `mbfx check`.
 
 pub mod derivative;
 pub mod report;
@@ -136,9 +137,10 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
     let build = |d: Dim| System::from_model(model, d, &IrDerivatives).map_err(Failure::Build);
     let mut system = build(build_dim)?;
     if system.dim == Dimension::Two {
-        if let Some(why) = unlocked_out_of_plane(&build(Dim::Three)?, system.normal) {
-            system = build(Dim::Three)?;
-            system.dim_reason = format!("3D: {why}");
+        let mut three = build(Dim::Three)?;
+        if let Some(why) = unlocked_out_of_plane(&three, system.normal) {
+            three.dim_reason = format!("3D: {why}");
+            system = three;
         }
     }
     if dim == DimRequest::Two && system.dim != Dimension::Two {
