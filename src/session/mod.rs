@@ -104,9 +104,20 @@ impl fmt::Display for Failure {
             Failure::NotPlanar(why) => write!(f, "the model cannot be built in 2D: {why}"),
             Failure::Assembly {
                 error,
-                conflict: Some(c),
+                conflict: Some(redundancy::AnalysisError::Conflicting { report, conflicts }),
                 ..
-            } => write!(f, "{c}\n{error}"),
+            } => {
+                for c in conflicts {
+                    writeln!(
+                        f,
+                        "conflicting, not redundant: {} of {} follows from the other constraints but is off by {:.3e} where assembly stopped",
+                        c.label.equation.label(),
+                        redundancy::element_title(&report.elements[c.label.element]),
+                        c.residual.abs()
+                    )?;
+                }
+                write!(f, "{error}")
+            }
             Failure::Assembly { error, .. } => write!(f, "{error}"),
             Failure::Redundancy { error, .. } => write!(f, "{error}"),
         }
