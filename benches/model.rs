@@ -2,13 +2,14 @@
 //! expression checked and lowered: "load + compile"), then build the system and assemble
 //! positions and velocities at t = 0, then the redundancy analysis. Two files: the largest
 //! by size (adamspy `existing_drillsim/test_analysis_1.adm`, 299 kB) and the largest
-//! system (FAST `Test14_ADAMS.adm`, 72 moving parts, 432 equations). After criterion, a
+//! system (FAST `Test14_ADAMS.adm`, 72 moving parts, 432 equations). Each is built in
+//! the dimension the session chooses. After criterion, a
 //! median of 21 runs of each stage is printed in ms.
 //!
 //! Run: `cargo bench --bench model`.
 
 use criterion::Criterion;
-use mbfx::mbd::{AssemblyOptions, Dim, System};
+use mbfx::mbd::{AssemblyOptions, Dim, Dimension, System};
 use mbfx::session::derivative::IrDerivatives;
 use mbfx::session::{analyze_model, redundancy_of, DimRequest};
 use std::hint::black_box;
@@ -34,8 +35,9 @@ fn read(text: &str) -> mbfx::model::Model {
     read.model
 }
 
-fn assemble(model: &mbfx::model::Model) -> System {
-    let mut sys = System::from_model(model, Dim::Auto, &IrDerivatives).expect("builds");
+/// Build in `dim` (the one the session chose) and assemble.
+fn assemble(model: &mbfx::model::Model, dim: Dim) -> System {
+    let mut sys = System::from_model(model, dim, &IrDerivatives).expect("builds");
     sys.assemble(&AssemblyOptions::default())
         .expect("assembles");
     sys
@@ -64,11 +66,16 @@ fn main() {
         let name = rel.rsplit('/').next().unwrap();
         let src = text(rel);
         let model = read(&src);
-        let assembled = assemble(&model);
+        let session = analyze_model(&model, DimRequest::Auto).expect("analysed");
+        let assembled = session.system;
+        let dim = match assembled.dim {
+            Dimension::Two => Dim::Auto,
+            Dimension::Three => Dim::Three,
+        };
         let mut g = c.benchmark_group(name);
         g.bench_function("read", |b| b.iter(|| read(black_box(&src))));
         g.bench_function("read+build+assemble", |b| {
-            b.iter(|| assemble(&read(black_box(&src))))
+            b.iter(|| assemble(&read(black_box(&src)), dim))
         });
         g.bench_function("whole session", |b| {
             b.iter(|| analyze_model(&read(black_box(&src)), DimRequest::Auto).is_ok())
@@ -76,13 +83,14 @@ fn main() {
         g.finish();
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         let r = median(|| drop(black_box(read(&src))));
-        let a = median(|| drop(black_box(assemble(&read(&src)))));
+        let a = median(|| drop(black_box(assemble(&read(&src), dim))));
         let w = median(|| drop(black_box(analyze_model(&read(&src), DimRequest::Auto))));
         let red = median(|| drop(black_box(redundancy_of(&assembled))));
         figures.push(format!(
-            "{name}: {} kB, {} moving parts, {} equations: read {:.2} ms, read+build+assemble {:.2} ms, redundancy {:.2} ms, whole session {:.2} ms",
+            "{name}: {} kB, {} moving parts in {:?}, {} equations: read {:.2} ms, read+build+assemble {:.2} ms, redundancy {:.2} ms, whole session {:.2} ms",
             src.len() / 1000,
             assembled.moving_parts(),
+            assembled.dim,
             assembled.rows().count(),
             ms(r),
             ms(a),
