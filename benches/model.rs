@@ -9,8 +9,8 @@
 //! Run: `cargo bench --bench model`.
 
 use criterion::Criterion;
+use mbfx::mbd::compiled::CompiledExprs;
 use mbfx::mbd::{AssemblyOptions, Dim, Dimension, System};
-use mbfx::session::derivative::IrDerivatives;
 use mbfx::session::{analyze_model, redundancy_of, DimRequest};
 use std::hint::black_box;
 use std::path::Path;
@@ -37,7 +37,7 @@ fn read(text: &str) -> mbfx::model::Model {
 
 /// Build in `dim` (the one the session chose) and assemble.
 fn assemble(model: &mbfx::model::Model, dim: Dim) -> System {
-    let mut sys = System::from_model(model, dim, &IrDerivatives).expect("builds");
+    let mut sys = System::from_model(model, dim, &CompiledExprs::new()).expect("builds");
     sys.assemble(&AssemblyOptions::default())
         .expect("assembles");
     sys

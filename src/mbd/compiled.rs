@@ -192,4 +192,36 @@ mod tests {
         assert!(f.value(0.0, &[1.0]).is_err());
         assert!(f.gradient(0.0, &[1.0], &mut [0.0]).is_err());
     }
+
+    const DATASET: &str = "gcon\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        PART/2, MASS = 1, CM = 20\nMARKER/20, PART = 2, QP = 1, 2, 0\n\
+        GCON/1, I = 20, FUNCTION = DM(20, 10)**2 - 2*SIN(DX(20, 10)*TIME) + STEP(TIME, 0, 0, 1, 3)\n\
+        END\n";
+
+    #[test]
+    fn partials_agree_with_central_differences() {
+        let read = crate::model::read_model(DATASET);
+        assert!(!read.has_errors(), "{:?}", read.diagnostics);
+        let f = CompiledExprs::new().compile(&read.model.gcons[0].function);
+        let slots = f.slots().to_vec();
+        assert_eq!(slots.len(), 2);
+        let mut m = vec![0.0; read.model.measures.len()];
+        for (x, &s) in [2.3, 0.7].iter().zip(&slots) {
+            m[s as usize] = *x;
+        }
+        let t = 0.4;
+        let mut grad = vec![0.0; slots.len()];
+        let dt = f.gradient(t, &m, &mut grad).unwrap();
+        // Oracle: central differences of the value.
+        let h = 1e-6;
+        for (g, &s) in grad.iter().zip(&slots) {
+            let (mut up, mut down) = (m.clone(), m.clone());
+            up[s as usize] += h;
+            down[s as usize] -= h;
+            let fd = (f.value(t, &up).unwrap() - f.value(t, &down).unwrap()) / (2.0 * h);
+            assert!((g - fd).abs() < 1e-7, "slot {s}: {g} vs {fd}");
+        }
+        let fd = (f.value(t + h, &m).unwrap() - f.value(t - h, &m).unwrap()) / (2.0 * h);
+        assert!((dt - fd).abs() < 1e-7, "time: {dt} vs {fd}");
+    }
 }

@@ -17,22 +17,22 @@
 //! Order matters: assembly comes first because it needs no redundancy information (its
 //! minimum-norm steps treat redundant rows like any other), and the rank of the Jacobian
 //! is only meaningful at a configuration that satisfies the constraints. GCON and MOTION
-//! functions are differentiated exactly on the IR ([`IrDerivatives`]); [`report`] words
+//! functions are compiled with their exact IR derivative
+//! ([`crate::mbd::compiled::CompiledExprs`]); [`report`] words
 //! the result for `mbfx check`.
 
-pub mod derivative;
 pub mod loaded;
 pub mod report;
 
 use crate::diag::Diagnostic;
 use crate::mbd::assembly::{AssemblyError, AssemblyOptions, AssemblyReport};
+use crate::mbd::compiled::CompiledExprs;
 use crate::mbd::error::MbdError;
 use crate::mbd::planar::Dim;
 use crate::mbd::redundancy::{self, Problem, Report};
 use crate::mbd::sparse::Triplets;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
-use derivative::IrDerivatives;
 use std::fmt;
 
 /// Which dimension the caller asks for (`mbfx check --dim`).
@@ -146,7 +146,8 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
         DimRequest::Three => Dim::Three,
         DimRequest::Auto | DimRequest::Two => Dim::Auto,
     };
-    let build = |d: Dim| System::from_model(model, d, &IrDerivatives).map_err(Failure::Build);
+    let exprs = CompiledExprs::new();
+    let build = |d: Dim| System::from_model(model, d, &exprs).map_err(Failure::Build);
     let mut system = build(build_dim)?;
     if system.dim == Dimension::Two {
         let mut three = build(Dim::Three)?;
