@@ -11,6 +11,7 @@
 
 use mbfx::check::{compile, EveryIdExists, Expect};
 use mbfx::context::Context;
+use mbfx::ir::Function;
 use mbfx::jit::Jit;
 use std::hint::black_box;
 use std::time::Instant;
@@ -43,6 +44,13 @@ fn rss_kib() -> u64 {
     pages * 4
 }
 
+/// Text to IR: lex, parse, check and lower one corpus expression.
+fn check(e: &str) -> Function {
+    compile(e, &EveryIdExists, Expect::Any)
+        .expect("checks")
+        .function
+}
+
 fn median(mut xs: Vec<f64>) -> f64 {
     xs.sort_by(f64::total_cmp);
     xs[xs.len() / 2]
@@ -59,9 +67,7 @@ fn main() {
     let mut each = Vec::with_capacity(exprs.len());
     for e in &exprs {
         let t0 = Instant::now();
-        let f = compile(e, &EveryIdExists, Expect::Any)
-            .expect("checks")
-            .function;
+        let f = check(e);
         let c = jit.compile(&f).expect("compiles");
         each.push(t0.elapsed().as_secs_f64() * 1e6);
         black_box(c.eval(&ctx));
@@ -78,14 +84,7 @@ fn main() {
     let mut in_batch = Vec::new();
     for _ in 0..7 {
         let t0 = Instant::now();
-        let fs: Vec<_> = exprs
-            .iter()
-            .map(|e| {
-                compile(e, &EveryIdExists, Expect::Any)
-                    .expect("checks")
-                    .function
-            })
-            .collect();
+        let fs: Vec<_> = exprs.iter().map(|e| check(e)).collect();
         let t1 = Instant::now();
         let refs: Vec<_> = fs.iter().collect();
         let compiled = jit.compile_batch(&refs).expect("compiles");
@@ -110,14 +109,7 @@ fn main() {
     if quick {
         return;
     }
-    let fs: Vec<_> = exprs
-        .iter()
-        .map(|e| {
-            compile(e, &EveryIdExists, Expect::Any)
-                .expect("checks")
-                .function
-        })
-        .collect();
+    let fs: Vec<_> = exprs.iter().map(|e| check(e)).collect();
     let mut after_1000 = 0;
     let t0 = Instant::now();
     for i in 0..100_000 {

@@ -4,6 +4,8 @@
 //!
 //! Every run has a time limit and must not panic (a Rust panic exits with code 101).
 
+mod common;
+
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -541,27 +543,10 @@ const INVALID_DATASETS: &[(&str, &str)] = &[
     ),
 ];
 
-fn adm_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-    for entry in entries {
-        let path = entry.expect("directory entry").path();
-        if path.is_dir() {
-            adm_files(&path, out);
-        } else if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("adm"))
-        {
-            out.push(path);
-        }
-    }
-}
-
 #[test]
 fn check_of_every_corpus_dataset() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/adams");
-    let mut files = Vec::new();
-    adm_files(&root, &mut files);
-    files.sort();
+    let files = common::adm_files(&root);
     assert!(files.len() >= 70, "only {} .adm files", files.len());
     assert!(
         files.iter().any(|f| f.to_string_lossy().contains(' ')),

@@ -7,6 +7,9 @@
 //! prototype), and the dataset's own positions for an assembled mechanism. Every corpus
 //! file either passes or is listed here with the exact reason it cannot yet.
 
+mod common;
+
+use common::adm_files;
 use mbfx::mbd::math::{Mat3, Quat, Vec3};
 use mbfx::mbd::{Dimension, System};
 use mbfx::model::Model;
@@ -27,24 +30,6 @@ fn read(path: &Path) -> Model {
 
 fn analyze(path: &Path, dim: DimRequest) -> Analysis {
     analyze_model(&read(path), dim).unwrap_or_else(|f| panic!("{}: {f}", path.display()))
-}
-
-/// Every `.adm` under `dir`, sorted.
-fn adm_files(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if p.extension().is_some_and(|x| x.eq_ignore_ascii_case("adm")) {
-                out.push(p);
-            }
-        }
-    }
-    out.sort();
-    out
 }
 
 /// `path` ends with `tail` (as text: `adamspy/…` matches `bthornton191__adamspy/…`).

@@ -6,7 +6,7 @@
 
 use crate::check::{self, Expect, Scope};
 use crate::diag::{has_errors, render, Code, Diagnostic, Severity, SourceFile};
-use crate::session::{self, DimRequest};
+use crate::session;
 use std::ops::Range;
 use std::path::PathBuf;
 
@@ -132,11 +132,7 @@ pub fn run(a: &CheckArgs, color: bool) -> i32 {
         let sections = if read.has_errors() {
             Vec::new()
         } else {
-            let asked = match a.dim.as_deref() {
-                Some("2") => DimRequest::Two,
-                Some("3") => DimRequest::Three,
-                _ => DimRequest::Auto,
-            };
+            let asked = super::eval::dim_request(a.dim.as_deref());
             match session::analyze_model(&read.model, asked) {
                 Ok(analysis) => session::report::sections(&analysis, asked),
                 Err(f) => {

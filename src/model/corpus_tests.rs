@@ -83,20 +83,25 @@ fn reference_rows() -> BTreeMap<String, Vec<Row>> {
     rows
 }
 
-fn adm_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{dir:?}: {e}"))
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .collect();
-    entries.sort();
-    for path in entries {
-        if path.is_dir() {
-            adm_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "adm") {
-            out.push(path);
+/// Every `.adm` file below `dir`, sorted (the model-layer corpus tests share it).
+pub(super) fn adm_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{d:?}: {e}")) {
+            let path = e.expect("directory entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path
+                .extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("adm"))
+            {
+                out.push(path);
+            }
         }
     }
+    out.sort();
+    out
 }
 
 fn our_rows(path: &Path) -> Vec<Row> {
@@ -131,8 +136,7 @@ fn counted(rows: Vec<Row>) -> BTreeMap<Row, i64> {
 fn expressions_match_the_reference_extraction() {
     let root = corpus_dir();
     let mut reference = reference_rows();
-    let mut files = Vec::new();
-    adm_files(&root.join("adams"), &mut files);
+    let files = adm_files(&root.join("adams"));
     assert_eq!(files.len(), 75, "corpus changed: update this test");
     let mut problems = Vec::new();
     let mut known_rows: BTreeMap<&str, usize> = BTreeMap::new();
@@ -180,8 +184,7 @@ fn expressions_match_the_reference_extraction() {
 #[test]
 fn corpus_reads_without_errors_except_the_synthetic_files() {
     let root = corpus_dir();
-    let mut files = Vec::new();
-    adm_files(&root.join("adams"), &mut files);
+    let files = adm_files(&root.join("adams"));
     let mut with_errors = Vec::new();
     for path in &files {
         let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));

@@ -3,6 +3,7 @@
 //! why. Element counts of a set of files are compared with an independent scan of the
 //! raw text (statement heads at the start of a line, up to `END`).
 
+use super::corpus_tests::adm_files;
 use super::{decode, read_model};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -69,20 +70,6 @@ fn corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/adams")
 }
 
-fn adm_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("{dir:?}: {e}")) {
-        let path = entry.expect("directory entry").path();
-        if path.is_dir() {
-            adm_files(&path, out);
-        } else if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("adm"))
-        {
-            out.push(path);
-        }
-    }
-}
-
 fn load(path: &Path) -> String {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
     decode(&bytes).0.into_owned()
@@ -97,9 +84,7 @@ fn rel(path: &Path) -> String {
 
 #[test]
 fn every_corpus_dataset_loads_or_fails_as_listed() {
-    let mut files = Vec::new();
-    adm_files(&corpus(), &mut files);
-    files.sort();
+    let files = adm_files(&corpus());
     assert!(files.len() >= 70, "only {} files", files.len());
     let mut problems = Vec::new();
     for path in &files {
@@ -156,8 +141,7 @@ fn count_heads(text: &str, kind: &str) -> usize {
 
 #[test]
 fn element_counts_match_a_scan_of_the_file() {
-    let mut files = Vec::new();
-    adm_files(&corpus().join("projectchrono__chrono"), &mut files);
+    let mut files = adm_files(&corpus().join("projectchrono__chrono"));
     for f in [
         "bthornton191__adamspy/test/files/generic_model/generic_model.adm",
         "ssernap__T_MSC_ADAMS/RD3.adm",
@@ -193,8 +177,7 @@ fn element_counts_match_a_scan_of_the_file() {
 #[test]
 fn chrono_joint_models_load_without_errors() {
     let dir = corpus().join("projectchrono__chrono/data/testing/joints/adams_models");
-    let mut files = Vec::new();
-    adm_files(&dir, &mut files);
+    let files = adm_files(&dir);
     assert!(files.len() >= 19, "{} files", files.len());
     for path in &files {
         let r = read_model(&load(path));
@@ -238,8 +221,7 @@ fn damaged_datasets_never_panic() {
 /// Every orientation the corpus gives (REULER, ZP/XP, ZG/XG) becomes a rotation matrix.
 #[test]
 fn every_corpus_orientation_is_a_rotation() {
-    let mut files = Vec::new();
-    adm_files(&corpus(), &mut files);
+    let files = adm_files(&corpus());
     let mut checked = 0;
     for path in &files {
         let m = read_model(&load(path)).model;

@@ -1,0 +1,25 @@
+//! What the integration-test binaries share: the `.adm` files of the shared corpus.
+
+use std::path::{Path, PathBuf};
+
+/// Every `.adm` file below `dir`, sorted.
+pub fn adm_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let entries = std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
+        for e in entries {
+            let path = e.expect("directory entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path
+                .extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("adm"))
+            {
+                out.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
