@@ -4,6 +4,7 @@
 //! id, argument name, expression text with continuation joins normalised). Where the two
 //! disagree on purpose, [`KNOWN_DIFFERENCES`] lists each row with its reason.
 
+use super::corpus_files::adm_files;
 use super::{decode, expression_arguments, read_statements};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -81,27 +82,6 @@ fn reference_rows() -> BTreeMap<String, Vec<Row>> {
         rows.entry(f[0].to_string()).or_default().push(row);
     }
     rows
-}
-
-/// Every `.adm` file below `dir`, sorted (the model-layer corpus tests share it).
-pub(super) fn adm_files(dir: &Path) -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{d:?}: {e}")) {
-            let path = e.expect("directory entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path
-                .extension()
-                .is_some_and(|x| x.eq_ignore_ascii_case("adm"))
-            {
-                out.push(path);
-            }
-        }
-    }
-    out.sort();
-    out
 }
 
 fn our_rows(path: &Path) -> Vec<Row> {

@@ -28,6 +28,10 @@ pub mod statement;
 mod stmt_args;
 pub mod units;
 
+/// The corpus lister the integration tests use too (one walk of `../shared/corpus`).
+#[cfg(test)]
+#[path = "../../tests/common/mod.rs"]
+mod corpus_files;
 #[cfg(test)]
 mod corpus_tests;
 #[cfg(test)]

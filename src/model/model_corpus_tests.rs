@@ -3,7 +3,7 @@
 //! why. Element counts of a set of files are compared with an independent scan of the
 //! raw text (statement heads at the start of a line, up to `END`).
 
-use super::corpus_tests::adm_files;
+use super::corpus_files::adm_files;
 use super::{decode, read_model};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -1,4 +1,5 @@
-//! What the integration-test binaries share: the `.adm` files of the shared corpus.
+//! What the integration-test binaries (and, through `#[path]`, the model's unit tests)
+//! share: the `.adm` files of the shared corpus.
 
 use std::path::{Path, PathBuf};
 
