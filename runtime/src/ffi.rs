@@ -180,6 +180,7 @@ scalar_wrappers! {
     mbfx_max, mbfx_max_grad(a1, a2) => crate::math::max, crate::math::max_grad;
     mbfx_min, mbfx_min_grad(a1, a2) => crate::math::min, crate::math::min_grad;
     mbfx_pow, mbfx_pow_grad(a, b) => crate::math::pow, crate::math::pow_grad;
+    mbfx_pow_libm, mbfx_pow_libm_grad(a, b) => crate::math::pow_libm, crate::math::pow_grad;
     mbfx_step, mbfx_step_grad(x, x0, h0, x1, h1) => crate::steps::step, crate::steps::step_grad;
     mbfx_step5, mbfx_step5_grad(x, x0, h0, x1, h1) => crate::steps::step5, crate::steps::step5_grad;
     mbfx_havsin, mbfx_havsin_grad(x, x0, h0, x1, h1) =>
@@ -321,6 +322,7 @@ pub fn symbols() -> Vec<Symbol> {
     let mut table = Vec::with_capacity(80);
     scalar_symbols(&mut table);
     plain_symbols(&mut table);
+    libm::call_directly(&mut table);
     let mut push = |name, addr: *const u8, params: &'static [Param]| {
         table.push(Symbol {
             name,
@@ -390,3 +392,70 @@ pub fn symbols() -> Vec<Symbol> {
 
 #[cfg(test)]
 mod tests;
+
+/// The C library functions some wrappers are exactly: their symbols point at libm itself.
+///
+/// `f64::sin`, `f64::ln`, `f64::powf`, … compile to calls of libm's `sin`, `log`, `pow`, …
+/// on Linux with glibc, so a wrapper such as [`mbfx_sin`] only adds a jump (and the PLT's
+/// indirect jump) in front of libm. Pointing the symbol at libm gives the same bits with
+/// one call instead of three jumps; the interpreter ≡ JIT differential tests check the
+/// bits. Elsewhere the wrappers stay.
+mod libm {
+    use super::Symbol;
+
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    mod c {
+        // The C library's declarations (math.h); std links libm on this target.
+        extern "C" {
+            pub fn acos(a: f64) -> f64;
+            pub fn asin(a: f64) -> f64;
+            pub fn atan(a: f64) -> f64;
+            pub fn atan2(a: f64, b: f64) -> f64;
+            pub fn cos(a: f64) -> f64;
+            pub fn sin(a: f64) -> f64;
+            pub fn tan(a: f64) -> f64;
+            pub fn cosh(a: f64) -> f64;
+            pub fn sinh(a: f64) -> f64;
+            pub fn tanh(a: f64) -> f64;
+            pub fn exp(a: f64) -> f64;
+            pub fn log(a: f64) -> f64;
+            pub fn log10(a: f64) -> f64;
+            pub fn pow(a: f64, b: f64) -> f64;
+        }
+    }
+
+    /// Each wrapper that is exactly a libm function, with that function's address.
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    fn direct() -> [(&'static str, *const u8); 14] {
+        [
+            ("mbfx_acos", c::acos as *const u8),
+            ("mbfx_asin", c::asin as *const u8),
+            ("mbfx_atan", c::atan as *const u8),
+            ("mbfx_atan2", c::atan2 as *const u8),
+            ("mbfx_cos", c::cos as *const u8),
+            ("mbfx_sin", c::sin as *const u8),
+            ("mbfx_tan", c::tan as *const u8),
+            ("mbfx_cosh", c::cosh as *const u8),
+            ("mbfx_sinh", c::sinh as *const u8),
+            ("mbfx_tanh", c::tanh as *const u8),
+            ("mbfx_exp", c::exp as *const u8),
+            ("mbfx_log", c::log as *const u8),
+            ("mbfx_log10", c::log10 as *const u8),
+            ("mbfx_pow_libm", c::pow as *const u8),
+        ]
+    }
+
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    fn direct() -> [(&'static str, *const u8); 0] {
+        []
+    }
+
+    /// Points the symbols of [`direct`] at libm.
+    pub(super) fn call_directly(table: &mut [Symbol]) {
+        for (name, addr) in direct() {
+            if let Some(s) = table.iter_mut().find(|s| s.name == name) {
+                s.addr = addr;
+            }
+        }
+    }
+}

@@ -19,6 +19,7 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 :ast EXPR          show the syntax tree
 :ir EXPR           show the IR the back ends run
 :clif EXPR         show the Cranelift IR the JIT compiles (after branch-free lowering)
+:asm EXPR          show the machine instructions the JIT emits for EXPR
 :time EXPR         ns per evaluation, interpreter vs JIT, and the JIT's compile time
 :deriv EXPR NAME   the partial derivative of EXPR with respect to variable NAME (or TIME)
 :load FILE.adm     load a model: expressions may then read its measures (DX, VZ, UVZ, ...)
@@ -29,7 +30,7 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 continue a line with a comma in column one of the next line";
 
 const COMMANDS: &[&str] = &[
-    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":time", ":deriv", ":load", ":parts",
+    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":asm", ":time", ":deriv", ":load", ":parts",
     ":markers", ":help", ":quit",
 ];
 
@@ -135,7 +136,8 @@ impl Repl {
             .split_once(char::is_whitespace)
             .unwrap_or((command, ""));
         let rest = rest.trim();
-        match word.to_ascii_lowercase().as_str() {
+        let word = word.to_ascii_lowercase();
+        match word.as_str() {
             "quit" | "q" | "exit" => {
                 self.done = true;
                 String::new()
@@ -165,11 +167,17 @@ impl Repl {
                 Ok((p, w)) => format!("{w}{}", crate::ir::print::print(p.function()).trim_end()),
                 Err(e) => e,
             },
-            "clif" => match self.compile(rest) {
-                Ok((p, _)) => match self.jit().and_then(|j| j.clif(p.function())) {
-                    Ok(text) => text.trim_end().to_string(),
-                    Err(e) => format!("error: {e}"),
-                },
+            "clif" | "asm" => match self.compile(rest) {
+                Ok((p, _)) => {
+                    let listing = |j: &mut crate::jit::Jit| match word.as_str() {
+                        "clif" => j.clif(p.function()),
+                        _ => j.asm(p.function()),
+                    };
+                    match self.jit().and_then(listing) {
+                        Ok(text) => text.trim_end().to_string(),
+                        Err(e) => format!("error: {e}"),
+                    }
+                }
                 Err(e) => e,
             },
             "time" => match self.compile(rest) {
@@ -582,6 +590,7 @@ mod tests {
             .starts_with("STEP(x, x0, h0, x1, h1)"));
         assert!(r.eval_line(":ir x*x").contains("mul"));
         assert!(r.eval_line(":clif x*x + 1").contains("fmul"));
+        assert!(r.eval_line(":asm x*x + 1").contains("mulsd"));
         assert!(r.eval_line(":time x*x").contains("ns/eval"));
         // d(x³)/dx = 3x² = 12 at x = 2.
         assert!(r.eval_line(":deriv x**3 x").ends_with("= 12.0 here"));

@@ -31,6 +31,9 @@ pub enum Func {
     Min,
     /// `a ** b` with a non-integer or non-literal exponent.
     Pow,
+    /// libm `pow` without `**`'s NaN-first test, for arguments known not to be NaN: only
+    /// the lowering of IMPACT and BISTOP emits it, in the contact arm.
+    PowLibm,
     Step,
     Step5,
     Havsin,
@@ -50,12 +53,12 @@ pub enum Func {
 
 impl Func {
     /// Every function, in declaration order.
-    pub const ALL: [Func; 34] = {
+    pub const ALL: [Func; 35] = {
         use Func::*;
         [
             Abs, Acos, Asin, Atan, Atan2, Cos, Sin, Tan, Cosh, Sinh, Tanh, Exp, Log, Log10, Sqrt,
-            Aint, Anint, Mod, Sign, Dim, Max, Min, Pow, Step, Step5, Havsin, Impact, Bistop, Shf,
-            Sweep, Poly, Cheby, Forcos, Forsin,
+            Aint, Anint, Mod, Sign, Dim, Max, Min, Pow, PowLibm, Step, Step5, Havsin, Impact,
+            Bistop, Shf, Sweep, Poly, Cheby, Forcos, Forsin,
         ]
     };
 
@@ -65,7 +68,7 @@ impl Func {
         match self {
             Abs | Acos | Asin | Atan | Cos | Sin | Tan | Cosh | Sinh | Tanh | Exp | Log | Log10
             | Sqrt | Aint | Anint => 1,
-            Atan2 | Mod | Sign | Dim | Max | Min | Pow => 2,
+            Atan2 | Mod | Sign | Dim | Max | Min | Pow | PowLibm => 2,
             Step | Step5 | Havsin => 5,
             Impact => 7,
             Bistop => 8,
@@ -108,6 +111,7 @@ impl Func {
             Max => "mbfx_max",
             Min => "mbfx_min",
             Pow => "mbfx_pow",
+            PowLibm => "mbfx_pow_libm",
             Step => "mbfx_step",
             Step5 => "mbfx_step5",
             Havsin => "mbfx_havsin",
@@ -150,6 +154,7 @@ impl Func {
             Max => Callee::F2(rt::max),
             Min => Callee::F2(rt::min),
             Pow => Callee::F2(rt::pow),
+            PowLibm => Callee::F2(rt::pow_libm),
             Step => Callee::F5(rt::step),
             Step5 => Callee::F5(rt::step5),
             Havsin => Callee::F5(rt::havsin),
@@ -247,7 +252,7 @@ impl Func {
             Dim => spread(rt::dim_grad(a[0], a[1]), out),
             Max => spread(rt::max_grad(a[0], a[1]), out),
             Min => spread(rt::min_grad(a[0], a[1]), out),
-            Pow => spread(rt::pow_grad(a[0], a[1]), out),
+            Pow | PowLibm => spread(rt::pow_grad(a[0], a[1]), out),
             Step => spread(rt::step_grad(a[0], a[1], a[2], a[3], a[4]), out),
             Step5 => spread(rt::step5_grad(a[0], a[1], a[2], a[3], a[4]), out),
             Havsin => spread(rt::havsin_grad(a[0], a[1], a[2], a[3], a[4]), out),

@@ -13,6 +13,14 @@
 //! interpreter keeps calling the runtime, so the interpreter ≡ JIT tests check every
 //! lowering against the runtime itself. Transcendentals (`pow`, `sin`) stay calls; ABS
 //! stays a call the JIT inlines as one instruction.
+//!
+//! An arithmetic IF whose arms are all cheap call-free arithmetic (at most
+//! [`SPECULATE_LIMIT`] instructions together) is if-converted: every arm runs and selects
+//! pick the result, as an optimising compiler speculates a cheap branch. Nothing can tell:
+//! IEEE arithmetic has no side effects or traps, and the selects give exactly the picked
+//! arm's bits (NaN for a NaN test). Random tests mispredict a branch about half the time
+//! (measured: if3 of `shared/bench/expressions.md` 10.7 ns as branches); an arm with a
+//! call, such as `IF(x: LOG(x), 0, 5)`, keeps its branches and stays lazy.
 
 use super::builder::{Arith, Builder};
 use super::rebuild::{constants, copy, UNSET};
@@ -45,6 +53,31 @@ fn list(
                 let args: Vec<Value> = args.iter().map(|&a| m[a as usize]).collect();
                 inline(b, *func, &args, span)
             }
+            Inst::If { test, arms } if speculates(f, arms) => {
+                // Every arm runs, then two selects choose: test < 0, > 0, else the zero
+                // arm minus (t − t). That is +0 for a zero test, so the arm keeps its bits
+                // (also −0), and NaN for a NaN test, the IF's value then.
+                let mut results: Vec<Vec<Value>> = Vec::with_capacity(3);
+                for arm in arms.iter() {
+                    list(f, b, m, ifs, &arm.insts);
+                    let arm_results = std::iter::once(arm.result).chain(arm.extra.iter().copied());
+                    results.push(arm_results.map(|r| m[r as usize]).collect());
+                }
+                let t = m[*test as usize];
+                let zero = b.constant(0.0, span.clone());
+                let nan_if_nan = b.arith(Arith::Sub, t, t, span.clone());
+                let chosen: Vec<Value> = (0..results[0].len())
+                    .map(|i| {
+                        let at_zero = b.arith(Arith::Sub, results[1][i], nan_if_nan, span.clone());
+                        let not_neg =
+                            b.select(Cmp::Gt, t, zero, results[2][i], at_zero, span.clone());
+                        b.select(Cmp::Lt, t, zero, results[0][i], not_neg, span.clone())
+                    })
+                    .collect();
+                let first = chosen[0];
+                ifs.insert(v, chosen);
+                first
+            }
             Inst::If { test, arms } => {
                 let new_arms = arms.clone().map(|arm| {
                     b.begin_block();
@@ -68,6 +101,53 @@ fn list(
         };
         m[v as usize] = new;
     }
+}
+
+/// The most work (in instructions; see [`cost`]) the three arms of an IF may hold together
+/// for the IF to be if-converted.
+const SPECULATE_LIMIT: usize = 24;
+
+/// Whether an IF is if-converted: every arm is cheap arithmetic without calls (so running
+/// an arm the test does not pick is unobservable: IEEE arithmetic has no traps) and all
+/// of them together cost at most [`SPECULATE_LIMIT`].
+fn speculates(f: &Function, arms: &[super::Block; 3]) -> bool {
+    let total: Option<usize> = arms.iter().map(|a| cost(f, &a.insts)).sum();
+    total.is_some_and(|c| c <= SPECULATE_LIMIT)
+}
+
+/// Instructions `values` cost when run unconditionally, or `None` when one of them may
+/// not be run speculatively (a call to anything but the branch-free MIN, MAX, DIM, SIGN
+/// and ABS; a spline; a runtime partial).
+fn cost(f: &Function, values: &[Value]) -> Option<usize> {
+    let mut total = 0;
+    for &v in values {
+        total += match f.inst(v) {
+            Inst::Const(_)
+            | Inst::Var(_)
+            | Inst::Time
+            | Inst::Mode
+            | Inst::Measure(_)
+            | Inst::IfExtra { .. } => 0,
+            Inst::Neg(_)
+            | Inst::Add(..)
+            | Inst::Sub(..)
+            | Inst::Mul(..)
+            | Inst::Div(..)
+            | Inst::Sqrt(_)
+            | Inst::Call(Func::Abs, _) => 1,
+            Inst::Select { .. } => 2,
+            Inst::Call(Func::Min | Func::Max | Func::Dim | Func::Sign, _) => 4,
+            // Two subtractions, two selects of two instructions each, and the arms.
+            Inst::If { arms, .. } => {
+                6 + arms
+                    .iter()
+                    .map(|a| cost(f, &a.insts))
+                    .sum::<Option<usize>>()?
+            }
+            Inst::Call(..) | Inst::Spline { .. } | Inst::Partial { .. } => return None,
+        };
+    }
+    Some(total)
 }
 
 /// Emits `func(args)`, branch-free when it is one of the cheap functions and not every
@@ -253,17 +333,20 @@ impl Lower<'_> {
         d: Value,
     ) -> Value {
         let zero = self.c(0.0);
+        // In contact the base is positive (x beyond a finite edge; a NaN x fails the
+        // contact test) and e a checked constant, so `**`'s NaN test cannot fire: call
+        // libm's pow directly.
         let (spring, c) = match side {
             Side::Below => {
                 let p = self.sub(edge, x);
-                let pe = self.call(Func::Pow, &[p, e]);
+                let pe = self.call(Func::PowLibm, &[p, e]);
                 let x0 = self.sub(edge, d);
                 let c = self.rows(x, x0, cmax, edge, zero, |l, t| l.cubic(cmax, zero, t));
                 (self.mul(k, pe), c)
             }
             Side::Above => {
                 let p = self.sub(x, edge);
-                let pe = self.call(Func::Pow, &[p, e]);
+                let pe = self.call(Func::PowLibm, &[p, e]);
                 let kp = self.mul(k, pe);
                 let x1 = self.add(edge, d);
                 let c = self.rows(x, edge, zero, x1, cmax, |l, t| l.cubic(zero, cmax, t));

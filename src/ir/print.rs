@@ -238,7 +238,7 @@ fn expr(
 /// The language's name of a runtime function (`mbfx_step` → `STEP`).
 fn adams_name(func: super::Func) -> String {
     match func {
-        super::Func::Pow => "POW".into(),
+        super::Func::Pow | super::Func::PowLibm => "POW".into(),
         _ => func
             .symbol()
             .trim_start_matches("mbfx_")

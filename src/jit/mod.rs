@@ -14,6 +14,7 @@
 //! both run the same IR, call the same runtime functions, and the lowering follows the
 //! runtime's operation order (checked by the differential tests in `tests/backends/`).
 
+mod frame;
 mod symbols;
 mod translate;
 
@@ -28,7 +29,7 @@ use cranelift_codegen::isa::OwnedTargetIsa;
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
-use cranelift_module::{default_libcall_names, Module};
+use cranelift_module::{default_libcall_names, FuncId, Module, ModuleReloc};
 use rustc_hash::FxHashMap;
 use std::mem::ManuallyDrop;
 use std::sync::Arc;
@@ -99,6 +100,8 @@ enum Entry {
 #[derive(Clone)]
 pub struct CompiledExpr {
     code: Entry,
+    /// The frame of this leaf function was elided ([`frame`]).
+    frameless: bool,
     outputs: usize,
     /// Smallest variable, measure and spline arrays a context must provide.
     needs: [usize; 3],
@@ -110,6 +113,7 @@ impl std::fmt::Debug for CompiledExpr {
         f.debug_struct("CompiledExpr")
             .field("outputs", &self.outputs)
             .field("needs", &self.needs)
+            .field("frameless", &self.frameless)
             .finish()
     }
 }
@@ -118,6 +122,11 @@ impl CompiledExpr {
     /// Number of outputs (1 for a scalar, 3 for a vector, more for a gradient).
     pub fn outputs(&self) -> usize {
         self.outputs
+    }
+
+    /// Whether this is a leaf function whose frame was elided (see `jit/frame.rs`).
+    pub fn is_frameless(&self) -> bool {
+        self.frameless
     }
 
     fn covered_by(&self, ctx: &Context) -> bool {
@@ -275,6 +284,8 @@ impl Jit {
         set(&mut flags, "opt_level", "speed")?;
         set(&mut flags, "use_colocated_libcalls", "false")?;
         set(&mut flags, "is_pic", "false")?;
+        // The JIT module registers no unwind tables, and leaves lose their frame anyway.
+        set(&mut flags, "unwind_info", "false")?;
         let verify = if cfg!(debug_assertions) {
             "true"
         } else {
@@ -321,8 +332,14 @@ impl Jit {
             } else {
                 f
             };
-            let id = self.define(&mut module, &mut declared, f)?;
-            ids.push((id, translate::is_minimal(f), f.outputs.len(), needs(f)));
+            let (id, frameless) = self.define(&mut module, &mut declared, f)?;
+            ids.push((
+                id,
+                translate::is_minimal(f),
+                frameless,
+                f.outputs.len(),
+                needs(f),
+            ));
             self.times.push(t0.elapsed().as_secs_f64());
         }
         module
@@ -333,7 +350,7 @@ impl Jit {
         });
         Ok(ids
             .into_iter()
-            .map(|(id, minimal, outputs, needs)| {
+            .map(|(id, minimal, frameless, outputs, needs)| {
                 let ptr = owner.module.get_finalized_function(id);
                 // SAFETY: `ptr` is the finalised code of a function declared with
                 // `expr_signature(_, minimal)`, which is `MinFn`'s C signature when
@@ -347,6 +364,7 @@ impl Jit {
                 };
                 CompiledExpr {
                     code,
+                    frameless,
                     outputs,
                     needs,
                     _owner: owner.clone(),
@@ -361,13 +379,14 @@ impl Jit {
         &self.times
     }
 
-    /// Translates `f` into `module` and defines it (and its constants); returns its id.
+    /// Translates `f` into `module` and defines it (and its constants); returns its id and
+    /// whether its frame was elided.
     fn define(
         &mut self,
         module: &mut JITModule,
-        declared: &mut FxHashMap<String, cranelift_module::FuncId>,
+        declared: &mut FxHashMap<String, FuncId>,
         f: &Function,
-    ) -> Result<cranelift_module::FuncId, JitError> {
+    ) -> Result<(FuncId, bool), JitError> {
         let sig = translate::expr_signature(module, translate::is_minimal(f));
         let id = module
             .declare_anonymous_function(&sig)
@@ -381,15 +400,72 @@ impl Jit {
             self.ctx.clear();
             return Err(e);
         }
-        let defined = module.define_function(id, &mut self.ctx);
+        let leaf = frame::is_leaf(&self.ctx.func);
+        let defined = self.emit(module, id, leaf);
         self.ctx.clear();
-        defined.map_err(|e| JitError::Module(format!("{e:?}")))?;
-        Ok(id)
+        Ok((id, defined?))
+    }
+
+    /// Compiles the function in `self.ctx`, elides a leaf's frame ([`frame`]) and defines
+    /// the code as `id`'s. Returns whether the frame was elided.
+    fn emit(&mut self, module: &mut JITModule, id: FuncId, leaf: bool) -> Result<bool, JitError> {
+        self.ctx
+            .compile(&*self.isa, &mut Default::default())
+            .map_err(|e| JitError::Module(format!("{:?}", e.inner)))?;
+        let (func, code) = (&self.ctx.func, self.ctx.compiled_code());
+        let code = code.ok_or_else(|| JitError::Module("no compiled code".into()))?;
+        let mut bytes = code.code_buffer().to_vec();
+        let relocs: Vec<ModuleReloc> = code
+            .buffer
+            .relocs()
+            .iter()
+            .map(|r| ModuleReloc::from_mach_reloc(r, func, id))
+            .collect();
+        let alignment = u64::from(code.buffer.alignment);
+        let elided = frame::elide(&mut bytes, leaf);
+        module
+            .define_function_bytes(id, alignment, &bytes, &relocs)
+            .map_err(|e| JitError::Module(format!("{e:?}")))?;
+        Ok(elided)
     }
 
     /// The Cranelift IR of `f` (after lowering, before Cranelift's optimisations), for the
     /// REPL's `:clif`.
     pub fn clif(&mut self, f: &Function) -> Result<String, JitError> {
+        self.listing(f, |jit| Ok(jit.ctx.func.display().to_string()))
+    }
+
+    /// The machine instructions Cranelift emits for `f` (its VCode listing, after
+    /// register allocation), for the REPL's `:asm`, with a last line saying whether the
+    /// loaded code drops the listed frame ([`frame`]).
+    pub fn asm(&mut self, f: &Function) -> Result<String, JitError> {
+        self.listing(f, |jit| {
+            let leaf = frame::is_leaf(&jit.ctx.func);
+            jit.ctx.set_disasm(true);
+            let compiled = jit.ctx.compile(&*jit.isa, &mut Default::default());
+            let (mut text, mut bytes) = match compiled {
+                Ok(code) => (
+                    code.vcode.clone().unwrap_or_default(),
+                    code.code_buffer().to_vec(),
+                ),
+                Err(e) => return Err(JitError::Module(format!("{:?}", e.inner))),
+            };
+            jit.ctx.set_disasm(false);
+            if frame::elide(&mut bytes, leaf) {
+                text += "; leaf: the loaded code replaces the frame setup with a NOP and \
+                         returns without restoring a frame\n";
+            }
+            Ok(text)
+        })
+    }
+
+    /// Translates `f` (lowered when [`Jit::lower`] is on) into `self.ctx` within a
+    /// throw-away module, and returns what `show` makes of it.
+    fn listing(
+        &mut self,
+        f: &Function,
+        show: impl FnOnce(&mut Self) -> Result<String, JitError>,
+    ) -> Result<String, JitError> {
         let mut module = self.module();
         let mut declared = FxHashMap::default();
         let lowered = crate::ir::lower::lower(f);
@@ -399,12 +475,14 @@ impl Jit {
         self.ctx.func.signature = sig;
         let fb = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
         let consts = translate::Constants::define(f, &mut module)?;
-        translate::Translator::new(f, fb, &mut module, &mut declared, &consts).run()?;
-        let text = self.ctx.func.display().to_string();
+        let text = translate::Translator::new(f, fb, &mut module, &mut declared, &consts)
+            .run()
+            .and_then(|()| show(self));
+        self.ctx.set_disasm(false);
         self.ctx.clear();
         // SAFETY: nothing was finalised, so no pointer into the module exists.
         unsafe { module.free_memory() };
-        Ok(text)
+        text
     }
 }
 

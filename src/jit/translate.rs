@@ -23,7 +23,7 @@ use cranelift_codegen::ir::{
 };
 use cranelift_frontend::FunctionBuilder;
 use cranelift_jit::JITModule;
-use cranelift_module::{DataDescription, Linkage, Module};
+use cranelift_module::{DataDescription, FuncId, Linkage, Module};
 use mbfx_runtime::ffi::Param;
 use rustc_hash::FxHashMap;
 
@@ -112,7 +112,7 @@ pub struct Translator<'a, 'b> {
     fb: FunctionBuilder<'b>,
     module: &'a mut JITModule,
     /// Runtime functions declared in this module, by name.
-    declared: &'a mut FxHashMap<String, cranelift_module::FuncId>,
+    declared: &'a mut FxHashMap<String, FuncId>,
     /// Runtime functions imported into this function, by name.
     refs: FxHashMap<String, FuncRef>,
     ptr: Type,
@@ -141,7 +141,7 @@ impl<'a, 'b> Translator<'a, 'b> {
         f: &'a Function,
         mut fb: FunctionBuilder<'b>,
         module: &'a mut JITModule,
-        declared: &'a mut FxHashMap<String, cranelift_module::FuncId>,
+        declared: &'a mut FxHashMap<String, FuncId>,
         consts: &'a Constants,
     ) -> Self {
         let ptr = module.target_config().pointer_type();

@@ -62,6 +62,44 @@ fn if_arms_are_branches() {
     assert!(call > brif, "{clif}");
 }
 
+/// IFs whose arms are cheap call-free arithmetic are if-converted: no branch, and the
+/// picked arm's exact bits, also for a zero test of either sign, a −0 zero arm and a NaN
+/// test.
+#[test]
+fn cheap_if_arms_become_selects() {
+    let mut jit = Jit::new().unwrap();
+    let src = "IF(x - 1: -x*y, -0.0*y, IF(y: x + z, x, IF(z - 0.5: x*z, z, y*x - z)))";
+    let f = ir(src).unwrap();
+    let clif = jit.clif(&f).unwrap();
+    assert!(!clif.contains("brif") && clif.contains("bitselect"), "{clif}");
+    let code = jit.compile(&f).unwrap();
+    let program = Program::new(f);
+    for p in [
+        [0.5, 2.0, 0.0],
+        [1.0, 2.0, 0.0],
+        [1.0, -0.0, 0.0],
+        [2.0, -1.0, 0.25],
+        [2.0, 0.0, 0.25],
+        [2.0, -0.0, 0.0],
+        [2.0, 1.0, 0.5],
+        [2.0, 1.0, 1.5],
+        [2.0, 1.0, f64::NAN],
+        [f64::NAN, 1.0, 1.0],
+        [1.5, f64::INFINITY, 0.0],
+    ] {
+        let ctx = Context::new(0.0, &p);
+        let (want, got) = (program.eval(&ctx), code.eval(&ctx));
+        assert!(same(want, got), "{src} at {p:?}: {got} vs {want}");
+    }
+    // The zero arm keeps its sign: x = 1 picks −0·y = −0 for y > 0.
+    let ctx = Context::new(0.0, &[1.0, 2.0, 0.0]);
+    assert_eq!(code.eval(&ctx).to_bits(), (-0.0f64).to_bits());
+    // Too much work in the arms keeps the branches.
+    let heavy = (0..30).map(|i| format!("x*{i}")).collect::<Vec<_>>().join(" + ");
+    let clif = jit.clif(&ir(&format!("IF(x: {heavy}, 0, 1)")).unwrap()).unwrap();
+    assert!(clif.contains("brif"), "{clif}");
+}
+
 /// IMPACT and BISTOP with constant parameters: one branch on contact (x - x1 < 0), the
 /// power call only in the contact arm, the damping STEP and the clamp as selects.
 #[test]
@@ -201,4 +239,47 @@ fn cheap_functions_are_branch_free() {
         !clif.contains("brif") && clif.matches("call ").count() == 1,
         "{clif}"
     );
+}
+
+/// Leaf functions (no call, one return) run without a stack frame and give the
+/// interpreter's bits, alone and in one batch with framed functions; anything that calls
+/// keeps its frame (the callee needs the aligned stack).
+#[test]
+fn leaf_functions_run_without_a_frame() {
+    let cases = [
+        ("POLY(x, 0, 1, 2, 3, 4)", true),
+        ("3*x**3 - 2*x*y + y**2/(1 + z*z) - 4.5*x + 7", true),
+        ("STEP(z, 0, 0, 1, 5) + MIN(x, y)", true),
+        ("IF(x - 1: -x*y, 0, IF(y: x + z, x, z))", true),
+        ("SIN(x) + y", false),
+        ("IMPACT(x, y, 1, 1e5, 1.5, 50, 0.1)", false),
+        ("[x, y*2, z + 1]", true),
+    ];
+    let fs: Vec<_> = cases.iter().map(|(src, _)| ir(src).unwrap()).collect();
+    let refs: Vec<_> = fs.iter().collect();
+    let codes = Jit::new().unwrap().compile_batch(&refs).unwrap();
+    let points = [
+        [0.3, -1.5, 0.7],
+        [1.0, 0.0, 0.5],
+        [2.0, 1.5, -0.25],
+        [f64::NAN, 1.0, 2.0],
+    ];
+    for (((src, leaf), f), code) in cases.iter().zip(&fs).zip(&codes) {
+        assert_eq!(
+            code.is_frameless(),
+            *leaf && cfg!(target_arch = "x86_64"),
+            "{src}"
+        );
+        let program = Program::new(f.clone());
+        for p in &points {
+            let ctx = Context::new(0.0, p);
+            let (mut want, mut got) = ([0.0; 3], [0.0; 3]);
+            program.eval_into(&ctx, &mut want);
+            code.eval_into(&ctx, &mut got);
+            assert!(
+                want.iter().zip(&got).all(|(w, g)| same(*w, *g)),
+                "{src} at {p:?}"
+            );
+        }
+    }
 }

@@ -85,6 +85,7 @@ fn scalar_cases() -> Vec<Case> {
         max / max_grad, mbfx_max; [0.0, -3.0], [f64::NAN, 1.0];
         min / min_grad, mbfx_min; [0.0, -3.0], [1.0, f64::NAN];
         pow / pow_grad, mbfx_pow; [-2.0, 3.0], [2.0, 0.5];
+        pow_libm / pow_grad, mbfx_pow_libm; [2.0, 0.5], [0.25, 1.5];
         step / step_grad, mbfx_step; [0.25, 0.0, 0.0, 1.0, 1.0], [0.3, 1.0, 0.0, 1.0, 2.0];
         step5 / step5_grad, mbfx_step5; [0.25, 0.0, 0.0, 1.0, 1.0];
         havsin / havsin_grad, mbfx_havsin; [0.25, 0.0, 0.0, 1.0, 1.0];
@@ -358,9 +359,9 @@ fn table_lists_every_function_once_with_its_companions() {
     // Spec §4 and §5: every Adams function has a value symbol and a gradient symbol.
     let adams = [
         "abs", "acos", "asin", "atan", "atan2", "cos", "sin", "tan", "cosh", "sinh", "tanh", "exp",
-        "log", "log10", "sqrt", "aint", "anint", "mod", "sign", "dim", "max", "min", "pow", "step",
-        "step5", "havsin", "impact", "bistop", "poly", "cheby", "forcos", "forsin", "shf", "sweep",
-        "akispl", "cubspl",
+        "log", "log10", "sqrt", "aint", "anint", "mod", "sign", "dim", "max", "min", "pow",
+        "pow_libm", "step", "step5", "havsin", "impact", "bistop", "poly", "cheby", "forcos",
+        "forsin", "shf", "sweep", "akispl", "cubspl",
     ];
     let mut expected = BTreeSet::new();
     for f in adams {
@@ -432,5 +433,64 @@ fn pointer_symbols_work_through_their_table_signatures() {
             cubspl(2.5, 0.0, &spline, 1)
         };
         assert_eq!(got, want, "{name}");
+    }
+}
+
+/// The symbols that point at libm directly give the bits of the Rust functions they
+/// stand for, on edge values and a spread of ordinary ones.
+#[test]
+fn table_addresses_give_the_rust_functions_bits() {
+    type F1 = extern "C" fn(f64) -> f64;
+    type F2 = extern "C" fn(f64, f64) -> f64;
+    let table = symbols();
+    let addr = |name: &str| table.iter().find(|s| s.name == name).expect("listed").addr;
+    let mut xs = vec![0.0, -0.0, 5e-324, -1e-310, 1e300, -1e300, f64::INFINITY];
+    xs.extend([
+        f64::NEG_INFINITY,
+        f64::NAN,
+        0.5,
+        -0.5,
+        1.0,
+        -1.0,
+        0.9999,
+        710.0,
+    ]);
+    xs.extend((0..200).map(|i| (f64::from(i) - 100.0) * 0.173));
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    let unary: [(&str, fn(f64) -> f64); 13] = [
+        ("mbfx_acos", acos),
+        ("mbfx_asin", asin),
+        ("mbfx_atan", atan),
+        ("mbfx_cos", cos),
+        ("mbfx_sin", sin),
+        ("mbfx_tan", tan),
+        ("mbfx_cosh", cosh),
+        ("mbfx_sinh", sinh),
+        ("mbfx_tanh", tanh),
+        ("mbfx_exp", exp),
+        ("mbfx_log", log),
+        ("mbfx_log10", log10),
+        ("mbfx_sqrt", sqrt),
+    ];
+    for (name, rust) in unary {
+        // SAFETY: the table lists these symbols with one f64 parameter and an f64 result.
+        let f = unsafe { core::mem::transmute::<*const u8, F1>(addr(name)) };
+        for &x in &xs {
+            assert!(same(f(x), rust(x)), "{name}({x:e})");
+        }
+    }
+    let binary: [(&str, fn(f64, f64) -> f64); 3] = [
+        ("mbfx_atan2", atan2),
+        ("mbfx_pow", pow),
+        ("mbfx_pow_libm", pow_libm),
+    ];
+    for (name, rust) in binary {
+        // SAFETY: the table lists these symbols with two f64 parameters and an f64 result.
+        let f = unsafe { core::mem::transmute::<*const u8, F2>(addr(name)) };
+        for &a in &xs {
+            for &b in xs.iter().step_by(7) {
+                assert!(same(f(a, b), rust(a, b)), "{name}({a:e}, {b:e})");
+            }
+        }
     }
 }

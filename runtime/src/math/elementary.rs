@@ -207,6 +207,14 @@ pub fn pow(a: f64, b: f64) -> f64 {
     a.powf(b)
 }
 
+/// libm `pow` itself, without [`pow`]'s NaN-first test: the two agree whenever neither
+/// argument is NaN. Not a language function: the JIT's lowering of IMPACT and BISTOP uses
+/// it in the contact arm, where the base is positive and the exponent a checked constant.
+#[inline]
+pub fn pow_libm(a: f64, b: f64) -> f64 {
+    a.powf(b)
+}
+
 /// [`pow`] and its partials.
 ///
 /// * ∂/∂a = `b * a.powf(b - 1.0)`, and exactly 0 when b = 0 (`a**0` is constant, also at
