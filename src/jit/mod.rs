@@ -15,6 +15,8 @@
 //! runtime's operation order (checked by the differential tests in `tests/backends/`).
 
 mod frame;
+#[cfg(all(target_os = "linux", target_arch = "x86_64"))]
+mod memory;
 mod symbols;
 mod translate;
 
@@ -269,6 +271,8 @@ pub struct Jit {
     fctx: FunctionBuilderContext,
     /// Lower the cheap library functions to branch-free code (on by default).
     pub lower: bool,
+    /// Run leaf functions without a stack frame ([`frame`]; on by default).
+    pub elide_frames: bool,
     /// Seconds each function of the last batch took (lowering, translation, Cranelift),
     /// for the compile benchmark.
     times: Vec<f64>,
@@ -301,6 +305,7 @@ impl Jit {
             ctx: cranelift_codegen::Context::new(),
             fctx: FunctionBuilderContext::new(),
             lower: true,
+            elide_frames: true,
             times: Vec::new(),
         })
     }
@@ -308,6 +313,8 @@ impl Jit {
     fn module(&self) -> JITModule {
         let mut builder = JITBuilder::with_isa(self.isa.clone(), default_libcall_names());
         builder.symbol_lookup_fn(Box::new(symbols::address));
+        #[cfg(all(target_os = "linux", target_arch = "x86_64"))]
+        builder.memory_provider(Box::new(memory::NearMemory::new()));
         JITModule::new(builder)
     }
 
@@ -422,7 +429,7 @@ impl Jit {
             .map(|r| ModuleReloc::from_mach_reloc(r, func, id))
             .collect();
         let alignment = u64::from(code.buffer.alignment);
-        let elided = frame::elide(&mut bytes, leaf);
+        let elided = self.elide_frames && frame::elide(&mut bytes, leaf);
         module
             .define_function_bytes(id, alignment, &bytes, &relocs)
             .map_err(|e| JitError::Module(format!("{e:?}")))?;

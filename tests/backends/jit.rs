@@ -71,7 +71,10 @@ fn cheap_if_arms_become_selects() {
     let src = "IF(x - 1: -x*y, -0.0*y, IF(y: x + z, x, IF(z - 0.5: x*z, z, y*x - z)))";
     let f = ir(src).unwrap();
     let clif = jit.clif(&f).unwrap();
-    assert!(!clif.contains("brif") && clif.contains("bitselect"), "{clif}");
+    assert!(
+        !clif.contains("brif") && clif.contains("bitselect"),
+        "{clif}"
+    );
     let code = jit.compile(&f).unwrap();
     let program = Program::new(f);
     for p in [
@@ -95,8 +98,13 @@ fn cheap_if_arms_become_selects() {
     let ctx = Context::new(0.0, &[1.0, 2.0, 0.0]);
     assert_eq!(code.eval(&ctx).to_bits(), (-0.0f64).to_bits());
     // Too much work in the arms keeps the branches.
-    let heavy = (0..30).map(|i| format!("x*{i}")).collect::<Vec<_>>().join(" + ");
-    let clif = jit.clif(&ir(&format!("IF(x: {heavy}, 0, 1)")).unwrap()).unwrap();
+    let heavy = (0..30)
+        .map(|i| format!("x*{i}"))
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let clif = jit
+        .clif(&ir(&format!("IF(x: {heavy}, 0, 1)")).unwrap())
+        .unwrap();
     assert!(clif.contains("brif"), "{clif}");
 }
 

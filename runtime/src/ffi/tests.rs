@@ -457,7 +457,9 @@ fn table_addresses_give_the_rust_functions_bits() {
     ]);
     xs.extend((0..200).map(|i| (f64::from(i) - 100.0) * 0.173));
     let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
-    let unary: [(&str, fn(f64) -> f64); 13] = [
+    type Named1 = (&'static str, fn(f64) -> f64);
+    type Named2 = (&'static str, fn(f64, f64) -> f64);
+    let unary: [Named1; 13] = [
         ("mbfx_acos", acos),
         ("mbfx_asin", asin),
         ("mbfx_atan", atan),
@@ -479,7 +481,7 @@ fn table_addresses_give_the_rust_functions_bits() {
             assert!(same(f(x), rust(x)), "{name}({x:e})");
         }
     }
-    let binary: [(&str, fn(f64, f64) -> f64); 3] = [
+    let binary: [Named2; 3] = [
         ("mbfx_atan2", atan2),
         ("mbfx_pow", pow),
         ("mbfx_pow_libm", pow_libm),
