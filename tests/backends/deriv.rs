@@ -152,16 +152,28 @@ proptest! {
         let at = |x: f64, y: f64| p.eval(&Context::new(0.0, &[x, y]));
         prop_assert!(same(out[0], at(x, y)));
         for (i, &d) in out[1..].iter().enumerate() {
+            let at_step = |h: f64| {
+                let (dx, dy) = if i == 0 { (h, 0.0) } else { (0.0, h) };
+                at(x + dx, y + dy)
+            };
             let h = 1e-5;
-            let (e0, e1) = if i == 0 { ((h, 0.0), (-h, 0.0)) } else { ((0.0, h), (0.0, -h)) };
-            let (fp, fm, f0) = (at(x + e0.0, y + e0.1), at(x + e1.0, y + e1.1), at(x, y));
-            let (fwd, bwd) = ((fp - f0) / h, (f0 - fm) / h);
-            let central = (fp - fm) / (2.0 * h);
-            // Near a kink (an IF switching, STEP's ends) the one-sided slopes differ; the
-            // oracle only holds where the function is smooth around the point.
-            let smooth_here = (fwd - bwd).abs() <= 1e-3 * (1.0 + central.abs()) && central.is_finite();
+            let f = [at_step(h), at_step(-h), at_step(2.0 * h), at_step(-2.0 * h)];
+            let central = (f[0] - f[1]) / (2.0 * h);
+            let wide = (f[2] - f[3]) / (4.0 * h);
+            // Rounding in f(x ± h) alone moves a difference quotient by about ε·|f|/h: a
+            // large value with a small partial (x³ of a big inner sum) needs that margin.
+            let scale = f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let noise = 8.0 * f64::EPSILON * scale / h;
+            // The oracle holds only where the function is smooth at the scale of h: there
+            // the central differences over h and 2h agree to O(h²). A kink or jump within
+            // 2h (an IF switching, STEP's ends) moves them apart by about as much as it
+            // moves the narrow one off the derivative, ten times the filter's tolerance
+            // below the assertion's, so such cases are set aside rather than compared.
+            let smooth_here = central.is_finite()
+                && wide.is_finite()
+                && (central - wide).abs() <= 1e-6 * (1.0 + central.abs()) + noise;
             prop_assume!(smooth_here);
-            prop_assert!((d - central).abs() <= 1e-5 * (1.0 + central.abs()), "{src} ∂{i} at ({x}, {y}): {d} vs {central}");
+            prop_assert!((d - central).abs() <= 1e-5 * (1.0 + central.abs()) + noise, "{src} ∂{i} at ({x}, {y}): {d} vs {central}");
         }
     }
 }
