@@ -351,7 +351,7 @@ struct Expected {
 
 /// Spec §5.4: the table (Adams .msg counts) and the prototype's figures below it. Counted
 /// in 3D (6 columns per moving part).
-const SPEC_5_4: [Expected; 6] = [
+const SPEC_5_4: [Expected; 7] = [
     Expected {
         file: "adamspy/test/files/generic_model/generic_model.adm",
         moving_parts: 2,
@@ -391,6 +391,15 @@ const SPEC_5_4: [Expected; 6] = [
         rank: None,
         redundant: 0,
         dof: 7,
+    },
+    // Its MOTION/1 reads VARVAL(192), a VARIABLE whose FUNCTION is 0.
+    Expected {
+        file: "bachelor-diploma/Only_AGV.adm",
+        moving_parts: 15,
+        equations: None,
+        rank: None,
+        redundant: 2,
+        dof: 10,
     },
     Expected {
         file: "RL_with_Continuous_Action_Space/pendulum.adm",
@@ -503,23 +512,35 @@ fn svd_rank(m: &nalgebra::DMatrix<f64>) -> usize {
     sv.iter().filter(|&&s| s > 1e-9 * top).count()
 }
 
-/// Why Only_AGV cannot be assembled yet: its MOTION/1 (VELOCITY, `FUNCTION =
-/// VARVAL(192)`) reads a VARIABLE, and the core does not compute VARIABLE values, so the
-/// function is NaN at t = 0.
-const VARVAL_MOTION: &str = "MOTION/1 'MVelLift': the FUNCTION evaluates to NaN at time 0";
+/// A pendulum of length 1 whose bob starts at (0.6, 0.8): GCON/1 holds
+/// `VARVAL(2) - 1.4·DM = 0` with VARIABLE/2 = 2·VARVAL(1) − 0.2 and VARIABLE/1 = DX, so
+/// the assembled bob has DX = (1.4 + 0.2)/2 = 0.8.
+const VARIABLE_PENDULUM: &str = "pendulum with variables\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+    PART/2, MASS = 1, CM = 20\nMARKER/20, PART = 2, QP = 0.6, 0.8, 0\nMARKER/21, PART = 2\n\
+    JOINT/1, REVOLUTE, I = 21, J = 10\nVARIABLE/1, FUNCTION = DX(20, 10)\n\
+    VARIABLE/2, FUNCTION = 2*VARVAL(1) - 0.2\nGCON/1, FUNCTION = VARVAL(2) - 1.4*DM(20, 10)\nEND\n";
 
 #[test]
-fn only_agv_is_not_analysed_yet_because_its_motion_reads_a_variable() {
-    // Spec §5.4 expects 2 redundant equations and 10 DOF once it is.
-    for f in [
-        "bachelor-diploma/Only_AGV.adm",
-        "bachelor-diploma/Only_AGV_3.adm",
-    ] {
-        match analyze_model(&read(&find(f)), DimRequest::Three) {
-            Err(e) => assert!(e.to_string().contains(VARVAL_MOTION), "{f}: {e}"),
-            Ok(_) => panic!("{f} is analysed now: check 2 redundant, DOF 10 (spec §5.4)"),
-        }
+fn gcons_read_variables_through_their_expressions() {
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let a = mbfx::session::analyze_dataset(VARIABLE_PENDULUM, dim).unwrap();
+        assert_eq!((a.redundancy.redundant.len(), a.redundancy.dof()), (0, 0));
+        let p = a.system.frame(a.system.marker_by_id(20)).r;
+        assert!(
+            (p[0] - 0.8).abs() < 1e-9 && (p[1] - 0.6).abs() < 1e-9,
+            "{p:?}"
+        );
     }
+    // VARIABLE/1 reading VARIABLE/2 closes a loop: named, not solved.
+    let cyclic = VARIABLE_PENDULUM.replace("DX(20, 10)\n", "DX(20, 10) + VARVAL(2)\n");
+    let err = mbfx::session::analyze_dataset(&cyclic, DimRequest::Auto)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("VARIABLE/2 → VARIABLE/1 → VARIABLE/2: an implicit VARIABLE"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -650,7 +671,7 @@ fn generic_model_reassembles_onto_its_dataset_in_2d_and_3d() {
 // The whole corpus.
 
 /// Files that do not get through the pipeline, with the reason.
-const NOT_ANALYSED: [(&str, &str); 12] = [
+const NOT_ANALYSED: [(&str, &str); 10] = [
     // Synthetic MBDyn translator samples: the reader reports errors (the codes are listed
     // in src/model/model_corpus_tests.rs).
     ("mbdyn/contrib/a2m/samples/bipendolo.adm", "read"),
@@ -663,8 +684,6 @@ const NOT_ANALYSED: [(&str, &str); 12] = [
     ("mbdyn/contrib/a2m/samples/prova_beam00.adm", "read"),
     ("mbdyn/contrib/a2m/samples/prova_beam01.adm", "read"),
     ("mbdyn/contrib/a2m/samples/prova_marker01.adm", "read"),
-    ("bachelor-diploma/Only_AGV.adm", VARVAL_MOTION),
-    ("bachelor-diploma/Only_AGV_3.adm", VARVAL_MOTION),
 ];
 
 #[test]
@@ -801,11 +820,10 @@ fn check_fails_on_conflicting_constraints_and_on_a_2d_request_it_cannot_meet() {
 
 #[test]
 fn check_warns_when_the_core_cannot_analyse_a_valid_dataset() {
-    let f = find("bachelor-diploma/Only_AGV.adm");
-    let (code, _, err) = check(&[f.to_str().unwrap()]);
+    let (code, _, err) = check(&["tests/data/models/implicit_variable.adm"]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("[W0703]") && err.contains(VARVAL_MOTION),
+        err.contains("[W0703]") && err.contains("VARIABLE/1 → VARIABLE/1: an implicit VARIABLE"),
         "{err}"
     );
 }

@@ -12,6 +12,7 @@
 pub mod builder;
 pub mod deriv;
 pub mod func;
+pub mod inline;
 pub mod lower;
 pub mod print;
 mod rebuild;

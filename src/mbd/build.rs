@@ -170,7 +170,10 @@ impl System {
             )?;
         }
         for g in &model.gcons {
-            let f = exprs.compile(&g.function);
+            let e = model
+                .inline_variables(&g.function)
+                .map_err(|s| MbdError::Expression(elref(ElementKind::Gcon, &g.el), s))?;
+            let f = exprs.compile(&e);
             let map = sys.resolve_slots(model, f.slots())?;
             sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
         }
@@ -227,7 +230,10 @@ impl System {
                     }
                 }
             };
-            let f = exprs.compile(&m.function);
+            let e = model
+                .inline_variables(&m.function)
+                .map_err(|s| MbdError::Expression(r.clone(), s))?;
+            let f = exprs.compile(&e);
             let drive: Box<dyn ExprFn> = match m.level {
                 MotionLevel::Displacement => f,
                 level => Box::new(InitialDrive {

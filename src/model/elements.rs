@@ -386,6 +386,47 @@ impl Model {
         self.variables.iter().find(|v| v.el.id == id)
     }
 
+    /// `e` with every `VARVAL(id)` replaced by the expression of VARIABLE/id, recursively
+    /// ([`crate::ir::inline`]): VARIABLEs are algebraic, so their value at a state is their
+    /// expression's there, and derivatives then come through them. A VARIABLE reading
+    /// itself (Adams' implicit VARIABLE, solved iteratively there) is an error naming the
+    /// chain; a VARVAL whose VARIABLE mbfx does not hold (a USER subroutine) is left as is.
+    pub fn inline_variables(&self, e: &Expr) -> Result<Expr, String> {
+        let with = |slot: u32| {
+            let m = self.measures.get(slot as usize)?;
+            if m.name != "VARVAL" {
+                return None;
+            }
+            let id = Id::try_from(*m.ids.first()?).ok()?;
+            Some(&self.variable(id)?.function.function)
+        };
+        let function = crate::ir::inline::inline_measures(&e.function, &with).map_err(|err| {
+            use crate::ir::inline::InlineError;
+            match err {
+                InlineError::Cycle(slots) => {
+                    let mut chain: Vec<String> = slots
+                        .iter()
+                        .filter_map(|&s| self.measures.get(s as usize)?.ids.first().copied())
+                        .map(|id| format!("VARIABLE/{id}"))
+                        .collect();
+                    chain.extend(chain.first().cloned());
+                    format!(
+                        "{}: an implicit VARIABLE (it reads itself), which mbfx does not solve",
+                        chain.join(" → ")
+                    )
+                }
+                InlineError::TooDeep => format!(
+                    "VARIABLEs read VARIABLEs more than {} deep",
+                    crate::ir::inline::MAX_INLINE_DEPTH
+                ),
+            }
+        })?;
+        Ok(Expr {
+            span: e.span.clone(),
+            function,
+        })
+    }
+
     pub fn spline(&self, id: Id) -> Option<&SplineData> {
         self.splines.iter().find(|s| s.el.id == id)
     }

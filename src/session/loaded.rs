@@ -5,7 +5,7 @@
 
 use super::{analyze_model, Analysis, DimRequest, Failure};
 use crate::check::{Checked, Expect, Variables};
-use crate::diag::Diagnostic;
+use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
 use crate::mbd::MbdError;
 use crate::model::{read_model, ModelRead};
@@ -31,13 +31,25 @@ impl LoadedModel {
         }
     }
 
-    /// Checks and lowers an expression against the model and `variables`.
+    /// Checks and lowers an expression against the model and `variables`, with the
+    /// dataset's VARIABLEs inlined where it reads them (`VARVAL`).
     pub fn compile(
         &mut self,
         text: &str,
         variables: &Variables,
     ) -> Result<Checked, Vec<Diagnostic>> {
-        self.read.compile(text, variables, Expect::Any)
+        let mut checked = self.read.compile(text, variables, Expect::Any)?;
+        let e = crate::model::elements::Expr {
+            span: 0..text.len(),
+            function: std::mem::take(&mut checked.function),
+        };
+        checked.function = self
+            .read
+            .model
+            .inline_variables(&e)
+            .map_err(|why| vec![Diagnostic::error(Code::Unsupported, 0..text.len(), why)])?
+            .function;
+        Ok(checked)
     }
 
     /// The measure array for `f` at the assembled configuration: every slot `f` reads is
@@ -78,6 +90,29 @@ mod tests {
         let measures = m.measures_for(&c.function).unwrap();
         let v = Program::new(c.function).eval(&Context::new(0.0, &[2.0]).with_measures(&measures));
         assert!((v - (2.0 * 1.0 + 0.6 - 0.8)).abs() < 1e-12, "{v}");
+    }
+
+    #[test]
+    fn variables_are_read_through_their_expressions() {
+        let text = PENDULUM.replace(
+            "END\n",
+            "VARIABLE/1, FUNCTION = DX(20, 10)\nVARIABLE/2, FUNCTION = 3*VARVAL(1)\n\
+             VARIABLE/3, FUNCTION = VARVAL(3)\nEND\n",
+        );
+        let Ok(mut m) = LoadedModel::load(&text, DimRequest::Auto) else {
+            panic!("the pendulum with variables loads");
+        };
+        let c = m
+            .compile("VARVAL(2) + DY(20, 10)", &Variables::new())
+            .unwrap();
+        let measures = m.measures_for(&c.function).unwrap();
+        let v = Program::new(c.function).eval(&Context::new(0.0, &[]).with_measures(&measures));
+        assert!((v - (3.0 * 0.6 + 0.8)).abs() < 1e-12, "{v}");
+        let errors = m.compile("VARVAL(3)", &Variables::new()).err().unwrap();
+        assert!(
+            errors[0].message.contains("VARIABLE/3 → VARIABLE/3"),
+            "{errors:?}"
+        );
     }
 
     #[test]
