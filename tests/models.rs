@@ -543,6 +543,35 @@ fn gcons_read_variables_through_their_expressions() {
     );
 }
 
+/// The pendulum of [`VARIABLE_PENDULUM`] held by a GCON on spline values: SPLINE/1 holds
+/// y = x at five knots, which Akima's and the natural cubic fit both reproduce exactly,
+/// so `AKISPL(DX, 0, 1) + CUBSPL(DX, 0, 1) = 1.6` puts the bob at DX = 0.8.
+#[test]
+fn gcons_read_splines() {
+    let text = "pendulum on a spline\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        PART/2, MASS = 1, CM = 20\nMARKER/20, PART = 2, QP = 0.6, 0.8, 0\nMARKER/21, PART = 2\n\
+        JOINT/1, REVOLUTE, I = 21, J = 10\n\
+        SPLINE/1, X = 0, 0.25, 0.5, 0.75, 1, Y = 0, 0.25, 0.5, 0.75, 1\n\
+        GCON/1, FUNCTION = AKISPL(DX(20, 10), 0, 1) + CUBSPL(DX(20, 10), 0, 1) - 1.6\nEND\n";
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let a = mbfx::session::analyze_dataset(text, dim).unwrap();
+        let p = a.system.frame(a.system.marker_by_id(20)).r;
+        assert!(
+            (p[0] - 0.8).abs() < 1e-9 && (p[1] - 0.6).abs() < 1e-9,
+            "{p:?}"
+        );
+    }
+    // Three knots are too few for either fit (spec: at least 4): a reader error.
+    let short = text.replace("0, 0.25, 0.5, 0.75, 1", "0, 0.5, 1");
+    let read = mbfx::model::read_model(&short);
+    let e = read
+        .diagnostics
+        .iter()
+        .find(|d| d.is_error())
+        .expect("an error");
+    assert_eq!(e.message, "X takes at least 4 numbers, found 3");
+}
+
 #[test]
 fn chrono_joint_models_have_no_redundant_equations() {
     // Spec §5.4: "All 19 chrono joint cases: 0 redundant".

@@ -187,7 +187,10 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
         }
         None => Vec::new(),
     };
-    let ctx = Context::new(time, &values).with_measures(&measures);
+    let splines = model.as_ref().map_or(&[][..], |m| m.splines());
+    let ctx = Context::new(time, &values)
+        .with_measures(&measures)
+        .with_splines(splines);
     let mut out = vec![0.0; checked.function.outputs.len()];
     if a.engine == Engine::Jit {
         match crate::jit::Jit::new().and_then(|mut j| j.compile(&checked.function)) {

@@ -103,9 +103,11 @@ impl Repl {
                 .map_err(|e| format!("error: {e}"))?,
             None => Vec::new(),
         };
+        let splines = self.model.as_ref().map_or(&[][..], |m| m.splines());
         let ctx = Context::new(self.time, &self.values)
             .with_mode(self.mode)
-            .with_measures(&measures);
+            .with_measures(&measures)
+            .with_splines(splines);
         let mut out = vec![0.0; program.function().outputs.len()];
         program.eval_into(&ctx, &mut out);
         if out.iter().any(|v| !v.is_finite()) {

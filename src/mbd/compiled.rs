@@ -11,11 +11,15 @@ use crate::interp::Program;
 use crate::ir::deriv::{gradient, Input};
 use crate::jit::{CompiledExpr, Jit};
 use crate::model::elements::Expr;
+use mbfx_runtime::Spline;
 use std::cell::RefCell;
+use std::sync::Arc;
 
 /// Compiles expressions with their derivatives; one JIT serves them all.
 pub struct CompiledExprs {
     jit: RefCell<Option<Jit>>,
+    /// The model's SPLINE data, which AKISPL and CUBSPL calls read by slot.
+    splines: Arc<[Spline]>,
 }
 
 impl CompiledExprs {
@@ -23,6 +27,7 @@ impl CompiledExprs {
     pub fn new() -> Self {
         CompiledExprs {
             jit: RefCell::new(Jit::new().ok()),
+            splines: Arc::new([]),
         }
     }
 
@@ -30,7 +35,15 @@ impl CompiledExprs {
     pub fn interpreted() -> Self {
         CompiledExprs {
             jit: RefCell::new(None),
+            splines: Arc::new([]),
         }
+    }
+
+    /// The same compiler with the model's splines (`Model::runtime_splines`) for the
+    /// expressions to read.
+    pub fn with_splines(mut self, splines: Vec<Spline>) -> Self {
+        self.splines = splines.into();
+        self
     }
 }
 
@@ -49,12 +62,14 @@ enum Code {
 struct WithGradient {
     code: Code,
     slots: Vec<u32>,
+    splines: Arc<[Spline]>,
 }
 
 /// An expression whose derivative cannot be generated: values only, and the reason.
 struct ValueOnly {
     program: Program,
     slots: Vec<u32>,
+    splines: Arc<[Spline]>,
     why: String,
 }
 
@@ -72,6 +87,7 @@ impl ExprCompiler for CompiledExprs {
                 return Box::new(ValueOnly {
                     program: Program::new(e.function.clone()),
                     slots,
+                    splines: self.splines.clone(),
                     why: format!("the derivative of its FUNCTION is not available: {err}"),
                 })
             }
@@ -85,7 +101,11 @@ impl ExprCompiler for CompiledExprs {
             Some(c) => Code::Jit(c),
             None => Code::Interp(Box::new(Program::new(g))),
         };
-        Box::new(WithGradient { code, slots })
+        Box::new(WithGradient {
+            code,
+            slots,
+            splines: self.splines.clone(),
+        })
     }
 }
 
@@ -100,7 +120,9 @@ fn finite(x: f64, t: f64) -> Result<f64, String> {
 impl WithGradient {
     /// Every output at (t, measures): f, the slot partials, ∂f/∂t.
     fn run(&self, t: f64, measures: &[f64]) -> Vec<f64> {
-        let ctx = Context::new(t, &[]).with_measures(measures);
+        let ctx = Context::new(t, &[])
+            .with_measures(measures)
+            .with_splines(&self.splines);
         let mut out = vec![f64::NAN; self.slots.len() + 2];
         match &self.code {
             Code::Jit(c) => c.eval_into(&ctx, &mut out),
@@ -136,8 +158,11 @@ impl ExprFn for ValueOnly {
 
     fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {
         finite(
-            self.program
-                .eval(&Context::new(t, &[]).with_measures(measures)),
+            self.program.eval(
+                &Context::new(t, &[])
+                    .with_measures(measures)
+                    .with_splines(&self.splines),
+            ),
             t,
         )
     }

@@ -431,6 +431,24 @@ impl Model {
         self.splines.iter().find(|s| s.el.id == id)
     }
 
+    /// The SPLINE data fitted for evaluation, in the order of [`Model::splines`], which is
+    /// the order of the spline slots expressions read (AKISPL, CUBSPL). Fails on data the
+    /// fits cannot take (fewer than 4 X values), naming the SPLINE.
+    pub fn runtime_splines(&self) -> Result<Vec<mbfx_runtime::Spline>, String> {
+        self.splines
+            .iter()
+            .map(|s| {
+                let zs = if s.z.is_empty() {
+                    vec![0.0]
+                } else {
+                    s.z.clone()
+                };
+                mbfx_runtime::Spline::new(s.x.clone(), zs, s.y.concat())
+                    .map_err(|e| format!("{}: {e}", s.el.display("SPLINE")))
+            })
+            .collect()
+    }
+
     /// The GROUND part (the reader has checked there is exactly one when it reports no
     /// errors).
     pub fn ground(&self) -> Option<&Part> {

@@ -336,12 +336,12 @@ const BAD: &[Bad] = &[
         at: "22",
     },
     Bad {
-        extra: "SPLINE/1, X = 0, 1, 2, Y = 0, 1",
+        extra: "SPLINE/1, X = 0, 1, 2, 3, Y = 0, 1",
         code: Code::BadArgument,
         at: "SPLINE",
     },
     Bad {
-        extra: "SPLINE/1, X = 0, 2, 1, Y = 0, 1, 2",
+        extra: "SPLINE/1, X = 0, 2, 1, 3, Y = 0, 1, 2, 3",
         code: Code::BadArgument,
         at: "SPLINE",
     },

@@ -35,7 +35,8 @@ pub fn spline(r: &mut Reader, a: &mut Args) {
         ));
         return;
     }
-    let x = a.numbers("X", 1, 2..=usize::MAX);
+    // Both fits need at least 4 knots (spec AKISPL: ≥ 4 x values).
+    let x = a.numbers("X", 1, 4..=usize::MAX);
     let y = a.numbers("Y", 1, 1..=usize::MAX);
     let z = a.numbers("Z", 1, 1..=usize::MAX).unwrap_or_default();
     let present = |a: &Args, k: &str| a.stmt.arg(k, 1).is_some();

@@ -146,6 +146,8 @@ impl<'s> Args<'s> {
         if !count.contains(&values.len()) {
             let want = if count.start() == count.end() {
                 count.start().to_string()
+            } else if *count.end() == usize::MAX {
+                format!("at least {}", count.start())
             } else {
                 format!("{} to {}", count.start(), count.end())
             };

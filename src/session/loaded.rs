@@ -9,11 +9,14 @@ use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
 use crate::mbd::MbdError;
 use crate::model::{read_model, ModelRead};
+use mbfx_runtime::Spline;
 
 /// A model and its assembled system.
 pub struct LoadedModel {
     pub read: ModelRead,
     pub analysis: Analysis,
+    /// The dataset's SPLINE data, fitted, for AKISPL and CUBSPL calls.
+    splines: Vec<Spline>,
 }
 
 impl LoadedModel {
@@ -26,9 +29,22 @@ impl LoadedModel {
             return Err(Box::new((read, Failure::Read(diags))));
         }
         match analyze_model(&read.model, dim) {
-            Ok(analysis) => Ok(LoadedModel { read, analysis }),
+            Ok(analysis) => {
+                // The analysis fitted them already, so this cannot fail.
+                let splines = read.model.runtime_splines().unwrap_or_default();
+                Ok(LoadedModel {
+                    read,
+                    analysis,
+                    splines,
+                })
+            }
             Err(f) => Err(Box::new((read, f))),
         }
+    }
+
+    /// The dataset's splines, for the evaluation context of its expressions.
+    pub fn splines(&self) -> &[Spline] {
+        &self.splines
     }
 
     /// Checks and lowers an expression against the model and `variables`, with the
@@ -113,6 +129,28 @@ mod tests {
             errors[0].message.contains("VARIABLE/3 → VARIABLE/3"),
             "{errors:?}"
         );
+    }
+
+    #[test]
+    fn splines_are_in_the_evaluation_context() {
+        // y = x² at five knots; the natural cubic fit of x² is not x², but it passes
+        // through the knots, and DX of the bob is the knot 0.6.
+        let text = PENDULUM.replace(
+            "END\n",
+            "SPLINE/7, X = 0, 0.3, 0.6, 0.9, 1.2, Y = 0, 0.09, 0.36, 0.81, 1.44\nEND\n",
+        );
+        let Ok(mut m) = LoadedModel::load(&text, DimRequest::Auto) else {
+            panic!("the pendulum with a spline loads");
+        };
+        let c = m
+            .compile("CUBSPL(DX(20, 10), 0, 7)", &Variables::new())
+            .unwrap();
+        let measures = m.measures_for(&c.function).unwrap();
+        let ctx = Context::new(0.0, &[])
+            .with_measures(&measures)
+            .with_splines(m.splines());
+        let v = Program::new(c.function).eval(&ctx);
+        assert!((v - 0.36).abs() < 1e-12, "{v}");
     }
 
     #[test]

@@ -146,7 +146,10 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
         DimRequest::Three => Dim::Three,
         DimRequest::Auto | DimRequest::Two => Dim::Auto,
     };
-    let exprs = CompiledExprs::new();
+    let splines = model
+        .runtime_splines()
+        .map_err(|why| Failure::Build(crate::mbd::MbdError::Unsupported(why)))?;
+    let exprs = CompiledExprs::new().with_splines(splines);
     let build = |d: Dim| System::from_model(model, d, &exprs).map_err(Failure::Build);
     let mut system = build(build_dim)?;
     if system.dim == Dimension::Two {
