@@ -13,9 +13,13 @@
 //! remains: a REVOLUTE keeps X Delta and Y Delta, a TRANSLATIONAL with z_J in the plane
 //! keeps one transverse Delta and Xi.Yj or Zi.Xj, the equations of the 2D prismatic joint.
 
+use super::build::ExprCompiler;
 use super::constraints::Row;
-use super::error::element_name;
+use super::error::{element_name, MbdError};
+use super::redundancy::{self, Problem};
+use super::sparse::Triplets;
 use super::system::{Dimension, MarkerHandle, System};
+use crate::model::elements::Model;
 
 /// Which dimension to build.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -28,6 +32,57 @@ pub enum Dim {
 }
 
 const TOL: f64 = 1e-9;
+
+/// Builds the system of `model` in the dimension `dim` allows, keeping a 2D build only
+/// when its constraints also hold every out-of-plane freedom ([`unlocked_out_of_plane`],
+/// checked on the 3D build); otherwise the 3D system, whose `dim_reason` says why.
+pub fn build(model: &Model, dim: Dim, exprs: &dyn ExprCompiler) -> Result<System, MbdError> {
+    let mut system = System::from_model(model, dim, exprs)?;
+    if system.dim == Dimension::Two {
+        let mut three = System::from_model(model, Dim::Three, exprs)?;
+        if let Some(why) = unlocked_out_of_plane(&three, system.normal) {
+            three.dim_reason = format!("3D: {why}");
+            system = three;
+        }
+    }
+    Ok(system)
+}
+
+/// Why a scene the core found planar must still be built in 3D, if it must: a 2D build
+/// leaves out every out-of-plane force, which is only right when the constraints lock
+/// each moving part's out-of-plane freedoms (translation along the normal, rotations
+/// about the two in-plane axes). Otherwise the out-of-plane forces move the parts out of
+/// the plane: chrono's Distance cases (a GCON on DM) and Universal cases (a HOOKE
+/// pendulum swinging in the plane the detector did not choose) do so in Adams. The test:
+/// the rank of the 3D constraint Jacobian (`three`) restricted to the out-of-plane
+/// columns of the plane with normal axis `normal` equals their number.
+pub fn unlocked_out_of_plane(three: &System, normal: usize) -> Option<String> {
+    let parts = three.moving_parts();
+    let out = [normal, 3 + (normal + 1) % 3, 3 + (normal + 2) % 3];
+    let full = three.jacobian(true).ok()?;
+    let mut j = Triplets::new(full.nrows, 3 * parts);
+    // Entries of rounding size (1e-16 where an axis is exactly across the plane) are
+    // zeros: the analysis equilibrates columns and would read them as full entries.
+    for &(r, c, x) in full.entries.iter().filter(|e| e.2.abs() > 1e-10) {
+        let (part, k) = (c as usize / 6, c as usize % 6);
+        if let Some(p) = out.iter().position(|&o| o == k) {
+            j.push(r as usize, 3 * part + p, x);
+        }
+    }
+    let (labels, elements) = (three.labels(), three.element_refs());
+    let problem = Problem::new(&j, &labels, &elements, parts, 2);
+    let rank = redundancy::analyze(&problem, &redundancy::Options::default())
+        .ok()?
+        .rank;
+    let plane = ["YZ", "ZX", "XY"][normal];
+    (rank < 3 * parts).then(|| {
+        format!(
+            "the scene lies in the global {plane} plane, but {} of its {} out-of-plane freedoms are not held by constraints (out-of-plane forces would move the parts out of the plane)",
+            3 * parts - rank,
+            3 * parts
+        )
+    })
+}
 
 /// The coordinate plane normal to axis 0, 1, 2.
 const PLANES: [&str; 3] = ["YZ", "ZX", "XY"];

@@ -28,9 +28,8 @@ use crate::diag::Diagnostic;
 use crate::mbd::assembly::{AssemblyError, AssemblyOptions, AssemblyReport};
 use crate::mbd::compiled::CompiledExprs;
 use crate::mbd::error::MbdError;
-use crate::mbd::planar::Dim;
+use crate::mbd::planar::{self, Dim};
 use crate::mbd::redundancy::{self, Problem, Report};
-use crate::mbd::sparse::Triplets;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
 use std::fmt;
@@ -150,15 +149,7 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
         .runtime_splines()
         .map_err(|why| Failure::Build(crate::mbd::MbdError::Unsupported(why)))?;
     let exprs = CompiledExprs::new().with_splines(splines);
-    let build = |d: Dim| System::from_model(model, d, &exprs).map_err(Failure::Build);
-    let mut system = build(build_dim)?;
-    if system.dim == Dimension::Two {
-        let mut three = build(Dim::Three)?;
-        if let Some(why) = unlocked_out_of_plane(&three, system.normal) {
-            three.dim_reason = format!("3D: {why}");
-            system = three;
-        }
-    }
+    let mut system = planar::build(model, build_dim, &exprs).map_err(Failure::Build)?;
     if dim == DimRequest::Two && system.dim != Dimension::Two {
         let why = system.dim_reason.trim_start_matches("3D: ").to_string();
         return Err(Failure::NotPlanar(why));
@@ -189,42 +180,6 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
             error,
         }),
     }
-}
-
-/// Why a scene the core found planar must still be built in 3D, if it must: a 2D build
-/// leaves out every out-of-plane force, which is only right when the constraints lock
-/// each moving part's out-of-plane freedoms (translation along the normal, rotations
-/// about the two in-plane axes). Otherwise the out-of-plane forces move the parts out of
-/// the plane: chrono's Distance cases (a GCON on DM) and Universal cases (a HOOKE
-/// pendulum swinging in the plane the detector did not choose) do so in Adams. The test:
-/// the rank of the 3D constraint Jacobian (`three`) restricted to the out-of-plane
-/// columns of the plane with normal axis `normal` equals their number.
-fn unlocked_out_of_plane(three: &System, normal: usize) -> Option<String> {
-    let parts = three.moving_parts();
-    let out = [normal, 3 + (normal + 1) % 3, 3 + (normal + 2) % 3];
-    let full = three.jacobian(true).ok()?;
-    let mut j = Triplets::new(full.nrows, 3 * parts);
-    // Entries of rounding size (1e-16 where an axis is exactly across the plane) are
-    // zeros: the analysis equilibrates columns and would read them as full entries.
-    for &(r, c, x) in full.entries.iter().filter(|e| e.2.abs() > 1e-10) {
-        let (part, k) = (c as usize / 6, c as usize % 6);
-        if let Some(p) = out.iter().position(|&o| o == k) {
-            j.push(r as usize, 3 * part + p, x);
-        }
-    }
-    let (labels, elements) = (three.labels(), three.element_refs());
-    let problem = Problem::new(&j, &labels, &elements, parts, 2);
-    let rank = redundancy::analyze(&problem, &redundancy::Options::default())
-        .ok()?
-        .rank;
-    let plane = ["YZ", "ZX", "XY"][normal];
-    (rank < 3 * parts).then(|| {
-        format!(
-            "the scene lies in the global {plane} plane, but {} of its {} out-of-plane freedoms are not held by constraints (out-of-plane forces would move the parts out of the plane)",
-            3 * parts - rank,
-            3 * parts
-        )
-    })
 }
 
 /// The redundancy analysis of `system` at its current configuration: the scaled
