@@ -24,7 +24,7 @@ const LEVELS_PER_CHECK: u32 = 8;
 /// every [`LEVELS_PER_CHECK`]th level.
 #[inline]
 pub fn every_few_levels<R>(level: u32, f: impl FnOnce() -> R) -> R {
-    if level % LEVELS_PER_CHECK == 0 {
+    if level.is_multiple_of(LEVELS_PER_CHECK) {
         guard(f)
     } else {
         f()
