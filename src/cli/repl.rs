@@ -34,6 +34,10 @@ const COMMANDS: &[&str] = &[
     ":markers", ":help", ":quit",
 ];
 
+/// A listing the JIT makes of a compiled expression (`Jit::clif`, `Jit::asm`).
+type JitListing =
+    fn(&mut crate::jit::Jit, &crate::ir::Function) -> Result<String, crate::jit::JitError>;
+
 /// REPL state: variables and their values, TIME and MODE.
 pub struct Repl {
     scope: Variables,
@@ -138,8 +142,7 @@ impl Repl {
             .split_once(char::is_whitespace)
             .unwrap_or((command, ""));
         let rest = rest.trim();
-        let word = word.to_ascii_lowercase();
-        match word.as_str() {
+        match word.to_ascii_lowercase().as_str() {
             "quit" | "q" | "exit" => {
                 self.done = true;
                 String::new()
@@ -169,19 +172,8 @@ impl Repl {
                 Ok((p, w)) => format!("{w}{}", crate::ir::print::print(p.function()).trim_end()),
                 Err(e) => e,
             },
-            "clif" | "asm" => match self.compile(rest) {
-                Ok((p, _)) => {
-                    let listing = |j: &mut crate::jit::Jit| match word.as_str() {
-                        "clif" => j.clif(p.function()),
-                        _ => j.asm(p.function()),
-                    };
-                    match self.jit().and_then(listing) {
-                        Ok(text) => text.trim_end().to_string(),
-                        Err(e) => format!("error: {e}"),
-                    }
-                }
-                Err(e) => e,
-            },
+            "clif" => self.jit_listing(rest, crate::jit::Jit::clif),
+            "asm" => self.jit_listing(rest, crate::jit::Jit::asm),
             "time" => match self.compile(rest) {
                 Ok((p, _)) => self.time_(&p),
                 Err(e) => e,
@@ -191,6 +183,17 @@ impl Repl {
             "parts" => self.listing(parts_table),
             "markers" => self.listing(markers_table),
             other => format!("unknown command :{other}; type :help"),
+        }
+    }
+
+    /// What the JIT's `show` (`Jit::clif`, `Jit::asm`) lists for expression `rest`.
+    fn jit_listing(&mut self, rest: &str, show: JitListing) -> String {
+        match self.compile(rest) {
+            Ok((p, _)) => match self.jit().and_then(|j| show(j, p.function())) {
+                Ok(text) => text.trim_end().to_string(),
+                Err(e) => format!("error: {e}"),
+            },
+            Err(e) => e,
         }
     }
 

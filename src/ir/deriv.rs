@@ -59,7 +59,7 @@ const ZERO: Value = Value::MAX - 1;
 /// output in order its partials in `wrt` order (`n + n·k` outputs).
 pub fn gradient(f: &Function, wrt: &[Input]) -> Result<Function, DerivError> {
     let mut b = Builder::new();
-    let m = constants(f, &mut b);
+    let m = constants(f, &mut b, None);
     let k = wrt.len();
     let mut d = Diff {
         f,

@@ -10,7 +10,7 @@
 //! `VARVAL` the user wrote.
 
 use super::builder::Builder;
-use super::rebuild::{copy, UNSET};
+use super::rebuild::{constants, copy, copy_if, if_extra, UNSET};
 use super::{Function, Inst, Value};
 use crate::diag::Span;
 use rustc_hash::FxHashMap;
@@ -48,15 +48,7 @@ fn body<'a>(
     active: &mut Vec<u32>,
     span: Option<&Span>,
 ) -> Result<Vec<Value>, InlineError> {
-    let mut m: Vec<Value> = f
-        .insts
-        .iter()
-        .enumerate()
-        .map(|(i, inst)| match inst {
-            Inst::Const(c) => b.constant(*c, span.unwrap_or(&f.spans[i]).clone()),
-            _ => UNSET,
-        })
-        .collect();
+    let mut m = constants(f, b, span);
     let mut ifs = FxHashMap::default();
     let mut walk = Walk {
         f,
@@ -92,27 +84,14 @@ impl Walk<'_, '_> {
                     None => b.measure(*slot, span),
                 },
                 Inst::If { test, arms } => {
-                    let mut new_arms = Vec::with_capacity(3);
-                    for arm in arms.iter() {
-                        b.begin_block();
-                        self.list(b, m, &arm.insts)?;
-                        let results: Vec<Value> = std::iter::once(arm.result)
-                            .chain(arm.extra.iter().copied())
-                            .map(|r| m[r as usize])
-                            .collect();
-                        new_arms.push(b.end_block_multi(&results));
-                    }
-                    let arms: [_; 3] = new_arms.try_into().unwrap_or_default();
-                    let results = b.if_multi(m[*test as usize], arms, span);
+                    let walk =
+                        |b: &mut Builder, m: &mut [Value], insts: &[Value]| self.list(b, m, insts);
+                    let results = copy_if(b, m, *test, arms, span, walk)?;
                     let first = results[0];
                     self.ifs.insert(v, results);
                     first
                 }
-                Inst::IfExtra { of, index } => self
-                    .ifs
-                    .get(of)
-                    .and_then(|r| r.get(*index as usize + 1).copied())
-                    .unwrap_or(UNSET),
+                Inst::IfExtra { of, index } => if_extra(self.ifs, *of, *index),
                 inst => copy(b, inst, span, m),
             };
             m[v as usize] = new;

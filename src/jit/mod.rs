@@ -444,7 +444,8 @@ impl Jit {
 
     /// The machine instructions Cranelift emits for `f` (its VCode listing, after
     /// register allocation), for the REPL's `:asm`, with a last line saying whether the
-    /// loaded code drops the listed frame ([`frame`]).
+    /// loaded code drops the listed frame ([`frame`]). `listing` turns the listing flag
+    /// off again.
     pub fn asm(&mut self, f: &Function) -> Result<String, JitError> {
         self.listing(f, |jit| {
             let leaf = frame::is_leaf(&jit.ctx.func);
@@ -457,8 +458,7 @@ impl Jit {
                 ),
                 Err(e) => return Err(JitError::Module(format!("{:?}", e.inner))),
             };
-            jit.ctx.set_disasm(false);
-            if frame::elide(&mut bytes, leaf) {
+            if jit.elide_frames && frame::elide(&mut bytes, leaf) {
                 text += "; leaf: the loaded code replaces the frame setup with a NOP and \
                          returns without restoring a frame\n";
             }
@@ -475,8 +475,13 @@ impl Jit {
     ) -> Result<String, JitError> {
         let mut module = self.module();
         let mut declared = FxHashMap::default();
-        let lowered = crate::ir::lower::lower(f);
-        let f = if self.lower { &lowered } else { f };
+        let lowered;
+        let f = if self.lower {
+            lowered = crate::ir::lower::lower(f);
+            &lowered
+        } else {
+            f
+        };
         let sig = translate::expr_signature(&module, translate::is_minimal(f));
         self.ctx.clear();
         self.ctx.func.signature = sig;

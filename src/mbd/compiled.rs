@@ -41,8 +41,8 @@ impl CompiledExprs {
 
     /// The same compiler with the model's splines (`Model::runtime_splines`) for the
     /// expressions to read.
-    pub fn with_splines(mut self, splines: Vec<Spline>) -> Self {
-        self.splines = splines.into();
+    pub fn with_splines(mut self, splines: Arc<[Spline]>) -> Self {
+        self.splines = splines;
         self
     }
 }

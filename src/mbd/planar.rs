@@ -74,7 +74,7 @@ pub fn unlocked_out_of_plane(three: &System, normal: usize) -> Option<String> {
     let rank = redundancy::analyze(&problem, &redundancy::Options::default())
         .ok()?
         .rank;
-    let plane = ["YZ", "ZX", "XY"][normal];
+    let plane = PLANES[normal];
     (rank < 3 * parts).then(|| {
         format!(
             "the scene lies in the global {plane} plane, but {} of its {} out-of-plane freedoms are not held by constraints (out-of-plane forces would move the parts out of the plane)",

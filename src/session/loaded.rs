@@ -15,8 +15,6 @@ use mbfx_runtime::Spline;
 pub struct LoadedModel {
     pub read: ModelRead,
     pub analysis: Analysis,
-    /// The dataset's SPLINE data, fitted, for AKISPL and CUBSPL calls.
-    splines: Vec<Spline>,
 }
 
 impl LoadedModel {
@@ -29,22 +27,14 @@ impl LoadedModel {
             return Err(Box::new((read, Failure::Read(diags))));
         }
         match analyze_model(&read.model, dim) {
-            Ok(analysis) => {
-                // The analysis fitted them already, so this cannot fail.
-                let splines = read.model.runtime_splines().unwrap_or_default();
-                Ok(LoadedModel {
-                    read,
-                    analysis,
-                    splines,
-                })
-            }
+            Ok(analysis) => Ok(LoadedModel { read, analysis }),
             Err(f) => Err(Box::new((read, f))),
         }
     }
 
     /// The dataset's splines, for the evaluation context of its expressions.
     pub fn splines(&self) -> &[Spline] {
-        &self.splines
+        &self.analysis.splines
     }
 
     /// Checks and lowers an expression against the model and `variables`, with the

@@ -32,7 +32,9 @@ use crate::mbd::planar::{self, Dim};
 use crate::mbd::redundancy::{self, Problem, Report};
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
+use mbfx_runtime::Spline;
 use std::fmt;
+use std::sync::Arc;
 
 /// Which dimension the caller asks for (`mbfx check --dim`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -53,6 +55,9 @@ pub struct Analysis {
     pub system: System,
     pub assembly: AssemblyReport,
     pub redundancy: Report,
+    /// The dataset's SPLINE data, fitted once (`Model::runtime_splines`): what AKISPL and
+    /// CUBSPL read, in the GCON/MOTION functions and in expressions typed later.
+    pub splines: Arc<[Spline]>,
 }
 
 /// Where the pipeline stopped, with what it had built so far.
@@ -145,10 +150,11 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
         DimRequest::Three => Dim::Three,
         DimRequest::Auto | DimRequest::Two => Dim::Auto,
     };
-    let splines = model
+    let splines: Arc<[Spline]> = model
         .runtime_splines()
-        .map_err(|why| Failure::Build(crate::mbd::MbdError::Unsupported(why)))?;
-    let exprs = CompiledExprs::new().with_splines(splines);
+        .map_err(|why| Failure::Build(crate::mbd::MbdError::Unsupported(why)))?
+        .into();
+    let exprs = CompiledExprs::new().with_splines(splines.clone());
     let mut system = planar::build(model, build_dim, &exprs).map_err(Failure::Build)?;
     if dim == DimRequest::Two && system.dim != Dimension::Two {
         let why = system.dim_reason.trim_start_matches("3D: ").to_string();
@@ -173,6 +179,7 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
             system,
             assembly,
             redundancy,
+            splines,
         }),
         Err(error) => Err(Failure::Redundancy {
             system: Box::new(system),
