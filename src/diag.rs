@@ -98,6 +98,14 @@ pub enum Code {
     Conflicting,
     /// A model the multibody core could not analyse (a construct it does not support yet).
     NotAnalysed,
+    /// A model that cannot be simulated as built (a massless part free to move, a force
+    /// element the dynamics cannot evaluate, inconsistent initial conditions).
+    CannotSimulate,
+    /// The integration failed: the corrector diverged, the step fell below HMIN, or the
+    /// equations of motion became singular.
+    Integration,
+    /// A force or state became NaN or infinite during a run.
+    NonFiniteForce,
 }
 
 impl Code {
@@ -142,6 +150,9 @@ impl Code {
             Assembly => "E0701",
             Conflicting => "E0702",
             NotAnalysed => "W0703",
+            CannotSimulate => "E0801",
+            Integration => "E0802",
+            NonFiniteForce => "E0803",
         }
     }
 }

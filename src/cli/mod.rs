@@ -1,11 +1,14 @@
-//! Command-line interface (clap): `mbfx eval`, `mbfx check`, `mbfx repl`.
+//! Command-line interface (clap): `mbfx eval`, `mbfx check`, `mbfx run`, `mbfx repl`.
 //!
 //! Each command is a thin shell over library calls; all of them print diagnostics to
 //! stderr and return exit code 1 on any error, 0 otherwise (DESIGN.md, CLI contract).
 
 mod check_file;
 mod eval;
+mod plot;
+mod progress;
 pub mod repl;
+mod run;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -60,6 +63,8 @@ enum Command {
     Eval(eval::EvalArgs),
     /// Check a file of expressions (one per line) or an .adm dataset.
     Check(check_file::CheckArgs),
+    /// Simulate a dataset: CSV of probes and requests over time, a summary, a plot.
+    Run(Box<run::RunArgs>),
     /// Interactive evaluation.
     Repl,
 }
@@ -86,6 +91,7 @@ where
     match cli.command {
         Command::Eval(a) => eval::run(&a, color),
         Command::Check(a) => check_file::run(&a, color),
+        Command::Run(a) => run::run(&a, color),
         Command::Repl => repl::run_terminal(),
     }
 }

@@ -380,7 +380,7 @@ fn parts_table(m: &LoadedModel) -> String {
     for p in &m.analysis.system.parts {
         let rot = p.rot.to_rotation_matrix().into_inner();
         let [psi, theta, phi] = crate::model::frames::euler_313(&rot).map(f64::to_degrees);
-        let r = p.r;
+        let r = p.bcs_origin();
         let _ = write!(
             out,
             "\n{:<10} {:<12} {:>12.6} {:>12.6} {:>12.6} {:>10.4} {:>10.4} {:>10.4}",

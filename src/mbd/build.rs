@@ -3,9 +3,11 @@
 //! [`ExprFn`]s through an [`ExprCompiler`]: the integration plugs in the compiled IR
 //! derivative; [`InterpretOnly`] evaluates values alone.
 
-use super::equations::{ElementKind, ElementRef};
+use super::equations::{ElementKind, ElementRef, ForceKind};
 use super::error::MbdError;
 use super::expr::{ExprFn, Interpreted};
+use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar};
+use super::inertia::mass_properties;
 use super::math::Vec3;
 use super::measures::{Measure, M};
 use super::planar::Dim;
@@ -118,7 +120,16 @@ impl System {
             let h = if p.ground {
                 System::GROUND
             } else {
-                sys.add_part(Some(p.el.id), p.position, p.orientation)
+                // The CM is the part's reference point (inertia.rs).
+                let props = mass_properties(model, p);
+                let h = sys.add_part(
+                    Some(p.el.id),
+                    p.position + p.orientation * props.cm,
+                    p.orientation,
+                );
+                let part = sys.part_mut(h);
+                (part.mass, part.inertia, part.cm_offset) = (props.mass, props.inertia, props.cm);
+                h
             };
             sys.part_mut(h).id = Some(p.el.id);
             sys.part_mut(h).name = p.el.name.clone();
@@ -127,7 +138,8 @@ impl System {
         let mut markers: HashMap<Id, MarkerHandle> = HashMap::new();
         for m in &model.markers {
             let part = *parts.get(&m.part).ok_or(MbdError::UnknownPart(m.part))?;
-            let h = sys.add_marker(Some(m.el.id), part, m.position, m.orientation);
+            let s = m.position - sys.part(part).cm_offset;
+            let h = sys.add_marker(Some(m.el.id), part, s, m.orientation);
             sys.markers[h.0 as usize].floating = m.floating;
             markers.insert(m.el.id, h);
         }
@@ -148,8 +160,9 @@ impl System {
             let wl = Vec3::from(p.angular_velocity.map(|x| x.unwrap_or(0.0)));
             let w = wframe.map_or(sys.part(h).rot * wl, |f| f.rot * wl);
             let vcm = Vec3::from(p.velocity.map(|x| x.unwrap_or(0.0)));
-            let arm = frame_of(p.cm).map_or(Vec3::zeros(), |f| f.a);
-            sys.set_part_velocity(h, vcm - w.cross(&arm), w);
+            // The reference point is the CM when there is one, else the BCS origin
+            // (where VX.. then apply).
+            sys.set_part_velocity(h, vcm, w);
         }
         for j in &model.joints {
             let param = j.pd.or(j.pitch).unwrap_or(0.0);
@@ -249,5 +262,126 @@ impl System {
         sys.ucf = model.units.ucf;
         sys.prepare(dim);
         Ok(sys)
+    }
+}
+
+impl System {
+    /// The force elements of `model` (SFORCE, VFORCE, VTORQUE, GFORCE, SPRINGDAMPER,
+    /// BUSHING) with their expressions compiled by `exprs` (VARIABLEs inlined). Gravity
+    /// is the system's own ([`System::gravity`]).
+    pub fn forces_from_model(
+        &mut self,
+        model: &Model,
+        exprs: &dyn ExprCompiler,
+    ) -> Result<ForceSet, MbdError> {
+        use crate::model::elements::VectorForceKind;
+        let marker = |sys: &System, id: Id| {
+            sys.marker_by_id(id)
+                .ok_or(MbdError::UnknownMarker(id as i64))
+        };
+        let mut set = ForceSet::default();
+        let force_ref = |kind: ForceKind, n: &Named| ElementRef {
+            kind: ElementKind::Force(kind),
+            id: n.id,
+            name: n.name.clone(),
+        };
+        for f in &model.sforces {
+            let r = force_ref(ForceKind::Sforce, &f.el);
+            let s = self.scalar(model, exprs, &r, &f.function)?;
+            let law = if f.rotation {
+                ForceLaw::Torque {
+                    f: s,
+                    action_only: f.action_only,
+                }
+            } else {
+                ForceLaw::Line {
+                    f: s,
+                    action_only: f.action_only,
+                }
+            };
+            let (i, j) = (marker(self, f.i)?, marker(self, f.j)?);
+            set.elements.push(ForceElement::new(r, i, Some(j), law));
+        }
+        for f in &model.vector_forces {
+            let kind = match f.kind {
+                VectorForceKind::Vforce => ForceKind::Vforce,
+                VectorForceKind::Vtorque => ForceKind::Vtorque,
+                VectorForceKind::Gforce => ForceKind::Gforce,
+            };
+            let r = force_ref(kind, &f.el);
+            let mut three = |xs: &Option<[Expr; 3]>| -> Result<Option<[Scalar; 3]>, MbdError> {
+                let Some(xs) = xs else { return Ok(None) };
+                let [a, b, c] = xs;
+                Ok(Some([
+                    self.scalar(model, exprs, &r, a)?,
+                    self.scalar(model, exprs, &r, b)?,
+                    self.scalar(model, exprs, &r, c)?,
+                ]))
+            };
+            let (force, torque) = (three(&f.force)?, three(&f.torque)?);
+            let rm = if f.rm == 0 {
+                None
+            } else {
+                Some(marker(self, f.rm)?)
+            };
+            let (i, j) = (marker(self, f.i)?, marker(self, f.jfloat)?);
+            let law = ForceLaw::Vector { force, torque, rm };
+            set.elements.push(ForceElement::new(r, i, Some(j), law));
+        }
+        for f in &model.spring_dampers {
+            let r = force_ref(ForceKind::Springdamper, &f.el);
+            let (i, j) = (marker(self, f.i)?, marker(self, f.j)?);
+            let law = if f.rotation {
+                ForceLaw::RotSpring {
+                    k: f.stiffness,
+                    c: f.damping,
+                    angle: f.free_length,
+                    preload: f.preload,
+                    angle_measure: self.measures.add(angle_of(i, Some(j), 2)),
+                }
+            } else {
+                ForceLaw::Spring {
+                    k: f.stiffness,
+                    c: f.damping,
+                    length: f.free_length,
+                    preload: f.preload,
+                }
+            };
+            set.elements.push(ForceElement::new(r, i, Some(j), law));
+        }
+        for b in &model.bushings {
+            let r = force_ref(ForceKind::Bushing, &b.el);
+            let (i, j) = (marker(self, b.i)?, marker(self, b.j)?);
+            let angles = [0, 1, 2].map(|a| self.measures.add(angle_of(i, Some(j), a)));
+            let law = ForceLaw::Bushing {
+                k: b.k,
+                c: b.c,
+                kt: b.kt,
+                ct: b.ct,
+                force: b.force,
+                torque: b.torque,
+                angles,
+            };
+            set.elements.push(ForceElement::new(r, i, Some(j), law));
+        }
+        Ok(set)
+    }
+
+    /// A force expression compiled with its derivative, its measures resolved.
+    fn scalar(
+        &mut self,
+        model: &Model,
+        exprs: &dyn ExprCompiler,
+        r: &ElementRef,
+        e: &Expr,
+    ) -> Result<Scalar, MbdError> {
+        let e = model
+            .inline_variables(e)
+            .map_err(|s| MbdError::Expression(r.clone(), s))?;
+        let f = exprs.compile(&e);
+        let map = self
+            .resolve_slots(model, f.slots())
+            .map_err(|err| MbdError::Expression(r.clone(), err.to_string()))?;
+        Ok(Scalar { f, map })
     }
 }

@@ -92,6 +92,7 @@ pub fn primitive_set(kind: ElementKind) -> &'static [Equation] {
         ElementKind::Prismatic2d => &[YDelta, XiYj],
         ElementKind::Gcon => &[Gcon],
         ElementKind::Motion => &[Motion],
+        ElementKind::Force(_) => &[],
     }
 }
 

@@ -39,6 +39,33 @@ pub enum ElementKind {
     Motion,
     /// Exudyn's 2D prismatic joint (multibody spec §6.4), library API only.
     Prismatic2d,
+    /// An applied force element (no constraint equations; named in dynamics messages).
+    Force(ForceKind),
+}
+
+/// The force statements of multibody spec §7.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ForceKind {
+    Sforce,
+    Vforce,
+    Vtorque,
+    Gforce,
+    Springdamper,
+    Bushing,
+}
+
+impl ForceKind {
+    /// The statement keyword.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            ForceKind::Sforce => "SFORCE",
+            ForceKind::Vforce => "VFORCE",
+            ForceKind::Vtorque => "VTORQUE",
+            ForceKind::Gforce => "GFORCE",
+            ForceKind::Springdamper => "SPRINGDAMPER",
+            ForceKind::Bushing => "BUSHING",
+        }
+    }
 }
 
 /// One element as the user named it.

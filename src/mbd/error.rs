@@ -34,6 +34,7 @@ pub fn element_name(e: &ElementRef) -> String {
         ElementKind::Gcon => format!("GCON/{}", e.id),
         ElementKind::Motion => format!("MOTION/{}", e.id),
         ElementKind::Prismatic2d => format!("PRISMATIC_2D/{}", e.id),
+        ElementKind::Force(k) => format!("{}/{}", k.keyword(), e.id),
     };
     match &e.name {
         Some(n) => format!("{kind} '{n}'"),

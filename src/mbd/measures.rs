@@ -204,11 +204,56 @@ impl Evaluated {
         pos: &mut dyn FnMut(usize, f64),
         vel: &mut dyn FnMut(usize, f64),
     ) {
+        PartSlots { parts: self.parts }.scatter(sys, &self.d.g, pos, vel);
+    }
+}
+
+/// A marker frame as duals: origin, axes, velocity of the origin, angular velocity.
+#[derive(Clone, Copy)]
+pub(crate) struct DFrame {
+    pub r: V,
+    pub axes: [V; 3],
+    pub vel: V,
+    pub w: V,
+}
+
+/// Which part each block of a dual's local directions belongs to: several duals that
+/// share one table can be combined (a force element's frames and the measures its
+/// expressions read).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PartSlots {
+    pub parts: [Option<PartHandle>; PARTS],
+}
+
+impl PartSlots {
+    /// The slot of `part` (None for ground, which has no directions), taking a free one
+    /// the first time; Err when all are taken by other parts.
+    fn slot(&mut self, sys: &System, part: PartHandle) -> Result<Option<usize>, ()> {
+        if sys.part(part).index.is_none() {
+            return Ok(None);
+        }
+        if let Some(s) = self.parts.iter().position(|x| *x == Some(part)) {
+            return Ok(Some(s));
+        }
+        let s = self.parts.iter().position(|x| x.is_none()).ok_or(())?;
+        self.parts[s] = Some(part);
+        Ok(Some(s))
+    }
+
+    /// Calls `pos(col, g)` and `vel(col, g)` for every system column a dual's gradient
+    /// `g` reaches (velocity-level columns, 2D or 3D layout).
+    pub fn scatter(
+        &self,
+        sys: &System,
+        g: &[f64; N],
+        pos: &mut dyn FnMut(usize, f64),
+        vel: &mut dyn FnMut(usize, f64),
+    ) {
         for (s, p) in self.parts.iter().enumerate() {
             let Some(p) = *p else { continue };
             for c in 0..6 {
                 if let Some(col) = sys.col(p, c) {
-                    let (gp, gv) = (self.d.g[PER_PART * s + c], self.d.g[PER_PART * s + 6 + c]);
+                    let (gp, gv) = (g[PER_PART * s + c], g[PER_PART * s + 6 + c]);
                     if gp != 0.0 {
                         pos(col, gp);
                     }
@@ -221,12 +266,39 @@ impl Evaluated {
     }
 }
 
-/// A marker frame as duals: origin, axes, velocity of the origin, angular velocity.
-struct DFrame {
-    r: V,
-    axes: [V; 3],
-    vel: V,
-    w: V,
+/// The frame of marker `mk` (ground when None) as duals over the directions of its
+/// part's slot in `slots`; None when no slot is free.
+pub(crate) fn dual_frame(sys: &System, mk: M, slots: &mut PartSlots) -> Option<DFrame> {
+    let f = sys.frame(mk);
+    let p = sys.part(f.part);
+    let slot = slots.slot(sys, f.part).ok()?;
+    let axes = [0, 1, 2].map(|c| Vec3::from(f.rot.column(c)));
+    let vel = p.v + p.w.cross(&f.a);
+    let mut fr = DFrame {
+        r: V::c(f.r),
+        axes: axes.map(V::c),
+        vel: V::c(vel),
+        w: V::c(p.w),
+    };
+    if let Some(s) = slot {
+        let b = PER_PART * s;
+        for c in 0..3 {
+            let ec = e(c);
+            let rot_a = ec.cross(&f.a);
+            for x in 0..3 {
+                fr.r.0[x].g[b + c] = ec[x];
+                fr.r.0[x].g[b + 3 + c] = rot_a[x];
+                for (ax, u) in axes.iter().enumerate() {
+                    fr.axes[ax].0[x].g[b + 3 + c] = ec.cross(u)[x];
+                }
+                fr.vel.0[x].g[b + 3 + c] = p.w.cross(&rot_a)[x];
+                fr.vel.0[x].g[b + 6 + c] = ec[x];
+                fr.vel.0[x].g[b + 9 + c] = rot_a[x];
+                fr.w.0[x].g[b + 9 + c] = ec[x];
+            }
+        }
+    }
+    Some(fr)
 }
 
 /// The measures of a system and their unwrapping state.
@@ -290,52 +362,28 @@ impl MeasureSet {
 
     /// Value and derivatives of measure `n` at the current state.
     pub fn eval(&self, sys: &System, n: usize) -> Evaluated {
-        let m = self.list[n];
-        let markers = m.markers();
-        let mut parts: [Option<PartHandle>; PARTS] = [None; PARTS];
-        let mut frames: Vec<DFrame> = Vec::with_capacity(4);
-        for mk in markers {
-            let f = sys.frame(mk);
-            let p = sys.part(f.part);
-            let slot = if p.index.is_none() {
-                None
-            } else if let Some(s) = parts.iter().position(|x| *x == Some(f.part)) {
-                Some(s)
-            } else {
-                let s = parts.iter().position(|x| x.is_none()).unwrap_or(PARTS - 1);
-                parts[s] = Some(f.part);
-                Some(s)
-            };
-            let axes = [0, 1, 2].map(|c| Vec3::from(f.rot.column(c)));
-            let vel = p.v + p.w.cross(&f.a);
-            let mut fr = DFrame {
-                r: V::c(f.r),
-                axes: axes.map(V::c),
-                vel: V::c(vel),
-                w: V::c(p.w),
-            };
-            if let Some(s) = slot {
-                let b = PER_PART * s;
-                for c in 0..3 {
-                    let ec = e(c);
-                    let rot_a = ec.cross(&f.a);
-                    for x in 0..3 {
-                        fr.r.0[x].g[b + c] = ec[x];
-                        fr.r.0[x].g[b + 3 + c] = rot_a[x];
-                        for (ax, u) in axes.iter().enumerate() {
-                            fr.axes[ax].0[x].g[b + 3 + c] = ec.cross(u)[x];
-                        }
-                        fr.vel.0[x].g[b + 3 + c] = p.w.cross(&rot_a)[x];
-                        fr.vel.0[x].g[b + 6 + c] = ec[x];
-                        fr.vel.0[x].g[b + 9 + c] = rot_a[x];
-                        fr.w.0[x].g[b + 9 + c] = ec[x];
-                    }
-                }
-            }
-            frames.push(fr);
+        let mut slots = PartSlots::default();
+        // A measure reads at most four markers, so four part slots always suffice.
+        let d = self
+            .eval_in(sys, n, &mut slots)
+            .expect("a measure touches at most PARTS parts");
+        Evaluated {
+            d,
+            parts: slots.parts,
         }
-        let d = self.compute(n, &m, &frames);
-        Evaluated { d, parts }
+    }
+
+    /// Measure `n` as a dual over the local directions of `slots`, which it extends with
+    /// the parts it reads (shared with other duals of one force element). None when the
+    /// parts do not fit in the slots.
+    pub(crate) fn eval_in(&self, sys: &System, n: usize, slots: &mut PartSlots) -> Option<D> {
+        let m = self.list[n];
+        let mut frames: [Option<DFrame>; 4] = [None; 4];
+        for (f, mk) in frames.iter_mut().zip(m.markers()) {
+            *f = Some(dual_frame(sys, mk, slots)?);
+        }
+        let frames = frames.map(|f| f.expect("every marker framed"));
+        Some(self.compute(n, &m, &frames))
     }
 
     fn compute(&self, n: usize, m: &Measure, f: &[DFrame]) -> D {

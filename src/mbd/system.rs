@@ -56,7 +56,9 @@ impl Dimension {
 pub struct Part {
     pub id: Option<Id>,
     pub name: Option<String>,
-    /// BCS origin, global.
+    /// The part's reference point, global: its centre of mass when the dataset names a
+    /// CM marker (Newton–Euler equations then need no coupling terms), else the BCS
+    /// origin. [`Part::bcs_origin`] gives the BCS origin either way.
     pub r: Vec3,
     pub rot: Quat,
     /// Linear velocity of the BCS origin and angular velocity, global axes.
@@ -72,6 +74,16 @@ pub struct Part {
     pub theta: f64,
     /// Index among the moving parts (its column block); None for ground.
     pub index: Option<usize>,
+    /// Mass (model units; 0 for a massless part and for ground).
+    pub mass: f64,
+    /// Inertia tensor about the reference point (the CM), in BCS axes.
+    pub inertia: Mat3,
+    /// The reference point in BCS coordinates (the CM marker's QP; zero without one).
+    pub cm_offset: Vec3,
+    /// Acceleration of the reference point and angular acceleration, global axes (set
+    /// by the dynamics; zero before).
+    pub acc: Vec3,
+    pub alpha: Vec3,
 }
 
 /// A marker: a frame fixed on a part.
@@ -388,6 +400,22 @@ impl Part {
             input_w: Vec3::zeros(),
             theta: 0.0,
             index: None,
+            mass: 0.0,
+            inertia: Mat3::zeros(),
+            cm_offset: Vec3::zeros(),
+            acc: Vec3::zeros(),
+            alpha: Vec3::zeros(),
         }
+    }
+
+    /// The BCS origin, global.
+    pub fn bcs_origin(&self) -> Vec3 {
+        self.r - self.rot * self.cm_offset
+    }
+
+    /// The inertia tensor about the CM in global axes: R·J·Rᵀ.
+    pub fn inertia_global(&self) -> Mat3 {
+        let r = self.rot.to_rotation_matrix().into_inner();
+        r * self.inertia * r.transpose()
     }
 }

@@ -23,6 +23,7 @@
 
 pub mod loaded;
 pub mod report;
+pub mod run;
 
 use crate::diag::Diagnostic;
 use crate::mbd::assembly::{AssemblyError, AssemblyOptions, AssemblyReport};
@@ -146,6 +147,16 @@ pub fn analyze_dataset(text: &str, dim: DimRequest) -> Result<Analysis, Failure>
 
 /// Builds, assembles and analyses a model read without errors.
 pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure> {
+    analyze_model_with(model, dim, false)
+}
+
+/// [`analyze_model`] with the model's expressions run by the interpreter when
+/// `interpret` (else by the JIT where the CPU has one).
+pub fn analyze_model_with(
+    model: &Model,
+    dim: DimRequest,
+    interpret: bool,
+) -> Result<Analysis, Failure> {
     let build_dim = match dim {
         DimRequest::Three => Dim::Three,
         DimRequest::Auto | DimRequest::Two => Dim::Auto,
@@ -154,7 +165,12 @@ pub fn analyze_model(model: &Model, dim: DimRequest) -> Result<Analysis, Failure
         .runtime_splines()
         .map_err(|why| Failure::Build(crate::mbd::MbdError::Unsupported(why)))?
         .into();
-    let exprs = CompiledExprs::new().with_splines(splines.clone());
+    let exprs = if interpret {
+        CompiledExprs::interpreted()
+    } else {
+        CompiledExprs::new()
+    }
+    .with_splines(splines.clone());
     let mut system = planar::build(model, build_dim, &exprs).map_err(Failure::Build)?;
     if dim == DimRequest::Two && system.dim != Dimension::Two {
         let why = system.dim_reason.trim_start_matches("3D: ").to_string();

@@ -114,7 +114,7 @@ pub fn failure_sections(f: &Failure, asked: DimRequest) -> Vec<ReportSection> {
 }
 
 /// The statement span of element `e` in `model` (0..0 when it is not found).
-fn element_span(model: &Model, e: &ElementRef) -> Span {
+pub(crate) fn element_span(model: &Model, e: &ElementRef) -> Span {
     let span = match e.kind {
         ElementKind::Joint(_) => model
             .joints
@@ -137,6 +137,24 @@ fn element_span(model: &Model, e: &ElementRef) -> Span {
             .find(|m| m.el.id == e.id)
             .map(|m| &m.el.span),
         ElementKind::Prismatic2d => None,
+        ElementKind::Force(k) => {
+            use crate::mbd::equations::ForceKind;
+            fn find<'a>(
+                mut list: impl Iterator<Item = &'a crate::model::elements::Named>,
+                id: u32,
+            ) -> Option<Span> {
+                list.find(|n| n.id == id).map(|n| n.span.clone())
+            }
+            return match k {
+                ForceKind::Sforce => find(model.sforces.iter().map(|f| &f.el), e.id),
+                ForceKind::Vforce | ForceKind::Vtorque | ForceKind::Gforce => {
+                    find(model.vector_forces.iter().map(|f| &f.el), e.id)
+                }
+                ForceKind::Springdamper => find(model.spring_dampers.iter().map(|f| &f.el), e.id),
+                ForceKind::Bushing => find(model.bushings.iter().map(|f| &f.el), e.id),
+            }
+            .unwrap_or(0..0);
+        }
     };
     span.cloned().unwrap_or(0..0)
 }

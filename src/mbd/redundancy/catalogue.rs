@@ -143,6 +143,7 @@ pub fn keyword(kind: ElementKind) -> &'static str {
         ElementKind::Gcon => "GCON",
         ElementKind::Motion => "MOTION",
         ElementKind::Prismatic2d => "PRISMATIC2D",
+        ElementKind::Force(k) => k.keyword(),
     }
 }
 

@@ -235,8 +235,9 @@ fn motions_of_a_model_drive_joint_and_marker_angles() {
 #[test]
 fn part_velocities_are_given_at_the_cm_in_cm_axes() {
     // CM marker 21 at (0.5, 0, 0) on part 2, turned 90° about z: WX = 2 about the CM
-    // x axis is ω = (0, 2, 0) globally; VX = 1 is the CM velocity, so the BCS origin
-    // moves with v_cm − ω × (r_cm − r_origin) = (1, 0, 0) − (0, 2, 0) × (0.5, 0, 0).
+    // x axis is ω = (0, 2, 0) globally; VX = 1 is the CM velocity, which is the part's
+    // reference point, and the BCS origin moves with
+    // v_cm − ω × (r_cm − r_origin) = (1, 0, 0) − (0, 2, 0) × (0.5, 0, 0) = (1, 0, 1).
     let mut model = pendulum();
     model.joints.clear();
     let mut cm = marker(21, 2, Vec3::new(0.5, 0.0, 0.0));
@@ -253,7 +254,9 @@ fn part_velocities_are_given_at_the_cm_in_cm_axes() {
     );
     let p = sys.part(PartHandle(1));
     assert!((p.w - Vec3::new(0.0, 2.0, 0.0)).norm() < 1e-15);
-    assert!((p.v - Vec3::new(1.0, 0.0, 1.0)).norm() < 1e-15, "{}", p.v);
+    assert!((p.v - Vec3::new(1.0, 0.0, 0.0)).norm() < 1e-15, "{}", p.v);
+    let origin = p.v + p.w.cross(&(p.bcs_origin() - p.r));
+    assert!((origin - Vec3::new(1.0, 0.0, 1.0)).norm() < 1e-15, "{origin}");
 }
 
 #[test]

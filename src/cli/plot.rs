@@ -1,0 +1,115 @@
+//! `mbfx run --plot FILE.svg|FILE.png`: the output columns against time, one line each,
+//! drawn with plotters. The probes are drawn when there are any, else the request
+//! columns. Text uses the DejaVu Sans font of the system (Debian's fonts-dejavu-core).
+
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Where the font is looked for.
+const FONTS: &[&str] = &[
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+];
+
+/// Registers the font once for the process.
+fn font() -> Result<(), String> {
+    static REGISTERED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            let bytes = FONTS
+                .iter()
+                .find_map(|p| std::fs::read(p).ok())
+                .ok_or_else(|| {
+                    format!(
+                        "no DejaVu Sans font found (looked in {}); install fonts-dejavu-core",
+                        FONTS.join(", ")
+                    )
+                })?;
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
+                .map_err(|_| "the DejaVu Sans font could not be read".to_string())
+        })
+        .clone()
+}
+
+/// Draws columns 1.. of `rows` (column 0 is time) to `path`: the first `probes` columns
+/// when there are probes, else all.
+pub fn draw(
+    path: &Path,
+    header: &[String],
+    rows: &[Vec<f64>],
+    probes: usize,
+) -> Result<(), String> {
+    font()?;
+    let cols: Vec<usize> = if probes > 0 {
+        (1..=probes).collect()
+    } else {
+        (1..header.len()).collect()
+    };
+    let svg = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let size = (960, 600);
+    if svg {
+        let root = SVGBackend::new(path, size).into_drawing_area();
+        chart(root, header, rows, &cols)
+    } else {
+        let root = BitMapBackend::new(path, size).into_drawing_area();
+        chart(root, header, rows, &cols)
+    }
+}
+
+fn chart<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    header: &[String],
+    rows: &[Vec<f64>],
+    cols: &[usize],
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    root.fill(&WHITE).map_err(err)?;
+    let t0 = rows.first().map_or(0.0, |r| r[0]);
+    let t1 = rows.last().map_or(1.0, |r| r[0]).max(t0 + f64::EPSILON);
+    let finite = |x: &f64| x.is_finite();
+    let values = || {
+        rows.iter()
+            .flat_map(|r| cols.iter().map(move |&c| r[c]))
+            .filter(finite)
+    };
+    let lo = values().fold(f64::INFINITY, f64::min);
+    let hi = values().fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = if lo.is_finite() {
+        (lo, hi)
+    } else {
+        (-1.0, 1.0)
+    };
+    let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
+    let mut chart = ChartBuilder::on(&root)
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
+        .map_err(err)?;
+    chart.configure_mesh().x_desc("time").draw().map_err(err)?;
+    for (k, &c) in cols.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        chart
+            .draw_series(LineSeries::new(
+                rows.iter()
+                    .filter(|r| r[c].is_finite())
+                    .map(|r| (r[0], r[c])),
+                color.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(header[c].clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    root.present().map_err(err)
+}

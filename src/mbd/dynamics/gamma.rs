@@ -1,0 +1,73 @@
+//! The acceleration-level right-hand side γ of the kept constraint rows: Φ_q·a = γ with
+//! γ = −(Φ̈ at zero accelerations). The consistent accelerations and multipliers of
+//! spec §6.1 phase 3 need it, at t = 0 and wherever an integrator reconciles.
+//!
+//! The primitive rows are differentiated twice by hand. For a marker point r = r_P + a
+//! on a part moving with (v, ω) and no acceleration, r̈ = ω × (ω × a); a unit axis u
+//! fixed on it has u̇ = ω × u, ü = ω × (ω × u). So
+//! - `Along`, d·e with d = r_I − r_J, e an axis of J: Φ̈ = d̈·e + 2ḋ·ė + d·ë;
+//! - `Dot`, u·w with u on I and w on J: Φ̈ = ü·w + 2u̇·ẇ + u·ẅ.
+//!
+//! A non-holonomic GCON f(q, v, t) = 0 is differentiated once: γ = −(f_q·v + f_t).
+//! Rows built on measures (GCON, MOTION, RACKPIN, SCREW, CONVEL) need second derivatives
+//! of their measures and expressions, which the core does not generate yet: they are an
+//! error naming the element, never a silently wrong γ.
+
+use super::Dynamics;
+use crate::mbd::constraints::Row;
+use crate::mbd::error::{element_name, MbdError};
+use crate::mbd::math::{DVec, Vec3};
+use crate::mbd::system::{MarkerHandle, System};
+
+/// Position, velocity and zero-acceleration second derivative of a marker's origin, and
+/// its part's angular velocity.
+fn point(sys: &System, m: MarkerHandle) -> (Vec3, Vec3, Vec3, Vec3) {
+    let f = sys.frame(Some(m));
+    let p = sys.part(f.part);
+    let w = p.w;
+    (f.r, p.v + w.cross(&f.a), w.cross(&w.cross(&f.a)), w)
+}
+
+/// An axis `dir` (marker coordinates) of marker `m`: value, first and zero-acceleration
+/// second derivative.
+fn axis(sys: &System, m: MarkerHandle, dir: &Vec3) -> (Vec3, Vec3, Vec3) {
+    let f = sys.frame(Some(m));
+    let w = sys.part(f.part).w;
+    let u = f.rot * dir;
+    (u, w.cross(&u), w.cross(&w.cross(&u)))
+}
+
+/// γ for every kept row of `d` at the current state.
+pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
+    let sys = &d.sys;
+    let mut out = DVec::zeros(d.m);
+    for (r, &(e, q)) in d.rows.iter().enumerate() {
+        out[r] = match &sys.elements[e].eqs[q].row {
+            Row::Along { i, j, dir, sign } => {
+                let (ri, vi, ai, _) = point(sys, *i);
+                let (rj, vj, aj, _) = point(sys, *j);
+                let (ev, ed, edd) = axis(sys, *j, dir);
+                let (dd, dv, da) = (ri - rj, vi - vj, ai - aj);
+                -sign * (da.dot(&ev) + 2.0 * dv.dot(&ed) + dd.dot(&edd))
+            }
+            Row::Dot { i, j, a, b } => {
+                let (u, ud, udd) = axis(sys, *i, a);
+                let (w, wd, wdd) = axis(sys, *j, b);
+                -(udd.dot(&w) + 2.0 * ud.dot(&wd) + u.dot(&wdd))
+            }
+            Row::Gcon { .. } if sys.row_reads_velocity(e, q) => {
+                let ev = sys.eval_row(e, q)?;
+                let v = sys.v();
+                -(ev.dq.iter().map(|&(c, x)| x * v[c]).sum::<f64>() + ev.dt)
+            }
+            Row::Measured { .. } | Row::Gcon { .. } => {
+                return Err(MbdError::Unsupported(format!(
+                    "{}: consistent accelerations need the second derivative of its {} equation, which mbfx does not generate yet",
+                    element_name(&sys.elements[e].elref),
+                    sys.elements[e].eqs[q].label.label()
+                )))
+            }
+        };
+    }
+    Ok(out)
+}

@@ -1,0 +1,150 @@
+//! What every integrator implements ([`Integrator`]) and the driver that runs one over a
+//! time span ([`simulate`]): step-size selection from the local error estimate (ERROR,
+//! HMAX, HINIT, HMIN), rejection and retry, landing exactly on output times, the check
+//! that dropped redundant rows stay satisfied, and the output callback. Fixed-step runs
+//! divide each output interval into equal steps no longer than the step asked for.
+
+use super::{DynError, Dynamics};
+
+/// Integrator settings (spec §6.2 names).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// ERROR: local error tolerance per step (model lengths scaled by the model size for
+    /// translations, radians for rotations).
+    pub error: f64,
+    /// HMAX, HINIT, HMIN.
+    pub hmax: f64,
+    pub hinit: f64,
+    pub hmin: f64,
+    /// MAXIT: corrector iterations per attempt.
+    pub maxit: usize,
+    /// A fixed step instead of error control.
+    pub fixed_step: Option<f64>,
+}
+
+impl Settings {
+    /// Adams' defaults for an output step `dt`: ERROR 1e-3, HMAX = dt, HINIT = dt/20,
+    /// HMIN = 1e-6·HMAX, MAXIT 10.
+    pub fn for_output_step(dt: f64) -> Settings {
+        Settings {
+            error: 1e-3,
+            hmax: dt,
+            hinit: dt / 20.0,
+            hmin: 1e-6 * dt,
+            maxit: 10,
+            fixed_step: None,
+        }
+    }
+}
+
+/// The outcome of one attempted step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Attempt {
+    /// The corrector converged; `err` is the local error estimate divided by the
+    /// tolerance (≤ 1 to accept; 0 in fixed-step mode).
+    Converged { err: f64 },
+    /// The corrector did not converge.
+    Diverged,
+}
+
+/// A time-stepping method on [`Dynamics`].
+pub trait Integrator {
+    /// The name `--integrator` takes.
+    fn name(&self) -> &'static str;
+    /// The power of h in the local error estimate (3 for a second-order method).
+    fn error_order(&self) -> f64;
+    /// Starts from the consistent state of `d` (accelerations and multipliers solved).
+    fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError>;
+    /// Tries a step of `h` from the last accepted state, leaving `d` at the candidate.
+    fn attempt(&mut self, d: &mut Dynamics, h: f64, s: &Settings) -> Result<Attempt, DynError>;
+    /// Makes the candidate the accepted state.
+    fn accept(&mut self, d: &mut Dynamics);
+    /// Puts `d` back to the last accepted state.
+    fn reject(&mut self, d: &mut Dynamics);
+}
+
+/// Runs `integrator` on `d` from its current time through every time of `outputs`
+/// (increasing, the first at or after the current time), calling `output` at each with
+/// `d` at exactly that time. Stops at the first failure, after the outputs before it.
+pub fn simulate(
+    d: &mut Dynamics,
+    integrator: &mut dyn Integrator,
+    s: &Settings,
+    outputs: &[f64],
+    output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
+) -> Result<(), DynError> {
+    integrator.start(d)?;
+    let drift_tol = (s.error * 10.0).max(1e-6);
+    // The step error control wants; the step taken may be shorter to land on an output.
+    let mut want = s.fixed_step.unwrap_or(s.hinit).min(s.hmax);
+    for &t_out in outputs {
+        while d.sys.time < t_out {
+            let t = d.sys.time;
+            let left = t_out - t;
+            let mut h = want;
+            if let Some(fixed) = s.fixed_step {
+                let n = (left / fixed - 1e-9).ceil().max(1.0);
+                h = left / n;
+            } else if h >= left {
+                h = left;
+            } else if 2.0 * h > left {
+                // Two even steps rather than a long one and a sliver.
+                h = left / 2.0;
+            }
+            let clipped = h < want;
+            let end = if h == left { t_out } else { t + h };
+            let attempt = integrator.attempt(d, end - t, s)?;
+            match attempt {
+                Attempt::Diverged => {
+                    integrator.reject(d);
+                    d.stats.rejected += 1;
+                    if s.fixed_step.is_some() {
+                        return Err(DynError::Newton { time: t, step: h });
+                    }
+                    want = h * 0.25;
+                    if want < s.hmin {
+                        return Err(DynError::Newton { time: t, step: h });
+                    }
+                }
+                Attempt::Converged { err } if err > 1.0 && s.fixed_step.is_none() => {
+                    integrator.reject(d);
+                    d.stats.rejected += 1;
+                    want = h * (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.1, 0.9);
+                    if want < s.hmin {
+                        return Err(DynError::StepTooSmall {
+                            time: t,
+                            step: want,
+                            hmin: s.hmin,
+                        });
+                    }
+                }
+                Attempt::Converged { err } => {
+                    d.sys.time = end;
+                    integrator.accept(d);
+                    d.stats.steps += 1;
+                    d.check_dropped(drift_tol)?;
+                    let mut measures = std::mem::take(&mut d.sys.measures);
+                    measures.commit(&d.sys);
+                    d.sys.measures = measures;
+                    if s.fixed_step.is_none() {
+                        let grow = if err > 0.0 {
+                            (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.2, 2.0)
+                        } else {
+                            2.0
+                        };
+                        let next = (h * grow).min(s.hmax);
+                        // A step cut short to land on an output says little about a longer one
+                        // unless its error was large.
+                        want = if clipped && err < 0.5 {
+                            want.max(next)
+                        } else {
+                            next
+                        };
+                    }
+                }
+            }
+        }
+        output(d)?;
+    }
+    Ok(())
+}

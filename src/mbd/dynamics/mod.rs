@@ -1,0 +1,623 @@
+//! Equations of motion of the constrained system, the index-3 DAE (multibody spec §6.1)
+//!
+//! ```text
+//! (1/UCF)·M(q)·a + Φ_qᵀ·λ = Q(q, v, t),     Φ(q, t) = 0,
+//! ```
+//!
+//! over the core's velocity-level columns: per moving part the CM velocity and the
+//! angular velocity, global axes (6 columns in 3D, 3 in 2D), so M is block diagonal,
+//! diag(m·I, R·J·Rᵀ), and Q holds gravity, the force elements and the gyroscopic moment
+//! −ω × (J·ω). [`Dynamics`] owns the system and its forces, the kept constraint rows
+//! (rows the redundancy analysis dropped stay out, as in Adams, and are watched for
+//! drift), the Newton matrix on one sparse pattern with a sparse LU, and the state's
+//! accelerations and multipliers. Integrators ([`integrator`]) drive it.
+
+pub mod gamma;
+pub mod integrator;
+pub mod newmark;
+pub mod outputs;
+
+use super::constraints::Row;
+use super::equations::ElementRef;
+use super::error::{element_name, MbdError};
+use super::forces::{ForceSet, Generalized};
+use super::math::{DVec, Mat3, Quat, Vec3};
+use super::sparse::{FactorError, Pattern, SparseLu};
+use super::system::{Dimension, PartHandle, System};
+use std::fmt;
+
+/// Counters of a run: what the work-precision charts plot against accuracy.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    pub steps: usize,
+    pub rejected: usize,
+    pub newton_iterations: usize,
+    pub jacobian_evaluations: usize,
+    pub factorizations: usize,
+    /// Evaluations of compiled expressions (force magnitudes, GCON and MOTION
+    /// functions), values and gradients alike.
+    pub expression_evaluations: usize,
+}
+
+/// Why the dynamics stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DynError {
+    /// An element or expression could not be evaluated.
+    Model(MbdError),
+    /// The Newton matrix is singular: `what` names the likely cause.
+    Singular { time: f64, what: String },
+    /// A force or state became NaN or infinite; `element` is the force element when one
+    /// is to blame.
+    NotFinite {
+        time: f64,
+        what: String,
+        element: Option<ElementRef>,
+    },
+    /// The corrector did not converge even at the smallest step.
+    Newton { time: f64, step: f64 },
+    /// Error control asked for a step below HMIN.
+    StepTooSmall { time: f64, step: f64, hmin: f64 },
+    /// A constraint the redundancy analysis dropped is violated: the constraints are
+    /// conflicting, not redundant.
+    DroppedViolated {
+        time: f64,
+        element: ElementRef,
+        equation: &'static str,
+        residual: f64,
+    },
+    /// The model cannot be simulated as built (a massless part free to move, …).
+    Setup(String),
+}
+
+impl DynError {
+    /// The simulation time of the failure, when it has one.
+    pub fn time(&self) -> Option<f64> {
+        match self {
+            DynError::Singular { time, .. }
+            | DynError::NotFinite { time, .. }
+            | DynError::Newton { time, .. }
+            | DynError::StepTooSmall { time, .. }
+            | DynError::DroppedViolated { time, .. } => Some(*time),
+            DynError::Model(_) | DynError::Setup(_) => None,
+        }
+    }
+
+    /// The element the failure is about, when there is one.
+    pub fn element(&self) -> Option<&ElementRef> {
+        match self {
+            DynError::DroppedViolated { element, .. } => Some(element),
+            DynError::NotFinite { element, .. } => element.as_ref(),
+            DynError::Model(MbdError::Expression(e, _))
+            | DynError::Model(MbdError::SamePart(e))
+            | DynError::Model(MbdError::Floating(e, _)) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<MbdError> for DynError {
+    fn from(e: MbdError) -> Self {
+        DynError::Model(e)
+    }
+}
+
+impl fmt::Display for DynError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DynError::Model(e) => write!(f, "{e}"),
+            DynError::Singular { time, what } => {
+                write!(f, "at time {time}: the equations of motion are singular: {what}")
+            }
+            DynError::NotFinite { time, what, .. } => write!(f, "at time {time}: {what}"),
+            DynError::Newton { time, step } => write!(
+                f,
+                "at time {time}: the corrector does not converge (Newton diverges even at step {step:e})"
+            ),
+            DynError::StepTooSmall { time, step, hmin } => write!(
+                f,
+                "at time {time}: error control needs a step of {step:e}, below HMIN = {hmin:e}"
+            ),
+            DynError::DroppedViolated {
+                time,
+                element,
+                equation,
+                residual,
+            } => write!(
+                f,
+                "at time {time}: conflicting, not redundant: {equation} of {}, dropped as redundant at assembly, is off by {residual:.3e}",
+                element_name(element)
+            ),
+            DynError::Setup(s) => write!(f, "{s}"),
+        }
+    }
+}
+
+impl std::error::Error for DynError {}
+
+/// A saved configuration: each part's pose, and the velocities.
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    poses: Vec<(Vec3, Quat, f64)>,
+    v: DVec,
+    time: f64,
+}
+
+/// Weights of the Newton matrix [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·Φ_qᵀ], [Φ_q, 0]].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Weights {
+    pub w_m: f64,
+    pub w_k: f64,
+    pub w_c: f64,
+    pub w_l: f64,
+}
+
+/// The system in motion.
+pub struct Dynamics {
+    pub sys: System,
+    pub forces: ForceSet,
+    /// Kept constraint rows (element, equation), in multiplier order.
+    pub rows: Vec<(usize, usize)>,
+    /// Rows the redundancy analysis dropped: checked, not solved.
+    pub dropped: Vec<(usize, usize)>,
+    /// Velocity-level columns and kept rows.
+    pub n: usize,
+    pub m: usize,
+    /// Accelerations (v̇, ω̇ per part, the velocity layout) and multipliers.
+    pub a: DVec,
+    pub lambda: DVec,
+    pub stats: Stats,
+    lu: SparseLu,
+    values: Vec<f64>,
+    /// Scratch: generalized forces and their Jacobians.
+    pub(crate) gen: Generalized,
+    /// Φ and Φ_q (row, col, value) of the kept rows at the last evaluation.
+    pub(crate) phi: DVec,
+    pub(crate) phi_q: Vec<(usize, usize, f64)>,
+}
+
+impl Dynamics {
+    /// Sets up the dynamics of an assembled `sys` (velocities consistent) with its
+    /// forces; `dropped` lists the rows (in [`System::rows`] order) the redundancy
+    /// analysis removed.
+    pub fn new(sys: System, mut forces: ForceSet, dropped: &[usize]) -> Result<Dynamics, DynError> {
+        forces.prepare(&sys)?;
+        let all: Vec<(usize, usize)> = sys.rows().collect();
+        let (mut rows, mut drop) = (Vec::new(), Vec::new());
+        for (k, r) in all.into_iter().enumerate() {
+            if dropped.contains(&k) {
+                drop.push(r);
+            } else {
+                rows.push(r);
+            }
+        }
+        let (n, m) = (sys.ncols(), rows.len());
+        let pattern = Self::pattern(&sys, &forces, &rows);
+        let values = vec![0.0; pattern.nnz()];
+        let lu = SparseLu::new(pattern)
+            .map_err(|_| DynError::Setup("the Newton matrix has no valid structure".into()))?;
+        let mut d = Dynamics {
+            sys,
+            forces,
+            rows,
+            dropped: drop,
+            n,
+            m,
+            a: DVec::zeros(n),
+            lambda: DVec::zeros(m),
+            stats: Stats::default(),
+            lu,
+            values,
+            gen: Generalized::new(n),
+            phi: DVec::zeros(m),
+            phi_q: Vec::new(),
+        };
+        d.check_massless()?;
+        Ok(d)
+    }
+
+    /// The Newton matrix's pattern: each part's mass block, the blocks force elements
+    /// couple, and the constraint rows over the columns of every part they read.
+    fn pattern(sys: &System, forces: &ForceSet, rows: &[(usize, usize)]) -> Pattern {
+        let n = sys.ncols();
+        let bs = sys.dim.cols();
+        let block = |p: PartHandle| sys.part(p).index.map(|i| i * bs);
+        let mut pos = Vec::new();
+        let dense = |pos: &mut Vec<(usize, usize)>, r0: usize, nr: usize, c0: usize| {
+            for r in r0..r0 + nr {
+                for c in c0..c0 + bs {
+                    pos.push((r, c));
+                }
+            }
+        };
+        for i in 0..sys.moving_parts() {
+            dense(&mut pos, i * bs, bs, i * bs);
+        }
+        for el in &forces.elements {
+            let applied = [Some(sys.marker(el.i).part), Some(sys.frame(el.j).part)];
+            for p in applied.into_iter().flatten().filter_map(block) {
+                for q in el.slots.parts.into_iter().flatten().filter_map(block) {
+                    dense(&mut pos, p, bs, q);
+                }
+            }
+        }
+        for (r, &(e, q)) in rows.iter().enumerate() {
+            for p in row_parts(sys, e, q).into_iter().filter_map(block) {
+                for c in p..p + bs {
+                    pos.push((n + r, c));
+                    pos.push((c, n + r));
+                }
+            }
+        }
+        Pattern::new(n + rows.len(), pos)
+    }
+
+    /// A part without mass must have all its freedoms held by constraints: its rows
+    /// must give its columns full rank, or the mass matrix leaves it undetermined.
+    fn check_massless(&mut self) -> Result<(), DynError> {
+        self.eval_constraints(true)?;
+        let bs = self.sys.dim.cols();
+        for (h, p) in self.sys.parts.iter().enumerate() {
+            let Some(i) = p.index else { continue };
+            if p.mass > 0.0 && p.inertia.diagonal().iter().all(|&x| x > 0.0) {
+                continue;
+            }
+            let cols = i * bs..(i + 1) * bs;
+            let mut block = super::math::DMat::zeros(self.m.max(1), bs);
+            for &(r, c, x) in &self.phi_q {
+                if cols.contains(&c) {
+                    block[(r, c - cols.start)] += x;
+                }
+            }
+            let sv = block.singular_values();
+            let top: f64 = sv.max();
+            let rank = sv.iter().filter(|&&s| s > 1e-9 * top.max(1e-300)).count();
+            let free = bs - rank;
+            if rank < bs {
+                let name = p.id.map_or(format!("part {h}"), |id| format!("PART/{id}"));
+                return Err(DynError::Setup(format!(
+                    "{name} has no mass or no inertia{} and {free} of its freedoms are not held by constraints: give it MASS and IP, or constrain it",
+                    if p.mass > 0.0 { " about some axis" } else { "" }
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Φ over the kept rows (into `self.phi`) and, with `jacobian`, Φ_q (into
+    /// `self.phi_q`; a non-holonomic row holds ∂f/∂v).
+    pub fn eval_constraints(&mut self, jacobian: bool) -> Result<(), MbdError> {
+        self.phi_q.clear();
+        for (r, &(e, q)) in self.rows.iter().enumerate() {
+            if matches!(
+                self.sys.elements[e].eqs[q].row,
+                Row::Gcon { .. } | Row::Measured { drive: Some(_), .. }
+            ) {
+                self.stats.expression_evaluations += 1;
+            }
+            if jacobian {
+                let ev = self.sys.eval_row(e, q)?;
+                self.phi[r] = ev.value;
+                let entries = if self.sys.row_reads_velocity(e, q) {
+                    &ev.dv
+                } else {
+                    &ev.dq
+                };
+                self.phi_q.extend(entries.iter().map(|&(c, x)| (r, c, x)));
+            } else {
+                self.phi[r] = self.sys.row_value(e, q)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Q (gravity, force elements, gyroscopic moments) into `self.gen`, with ∂Q/∂q and
+    /// ∂Q/∂v when `jacobians`.
+    pub fn eval_forces(&mut self, jacobians: bool) -> Result<(), MbdError> {
+        self.gen.clear();
+        let bs = self.sys.dim.cols();
+        let g = self.sys.gravity / self.sys.ucf;
+        for p in &self.sys.parts {
+            let Some(i) = p.index else { continue };
+            let b = i * bs;
+            match self.sys.dim {
+                Dimension::Three => {
+                    for c in 0..3 {
+                        self.gen.q[b + c] += p.mass * g[c];
+                    }
+                    // −ω × (J ω), with ∂/∂ω = −([ω]× J − [J ω]×) (∂/∂θ through J = R J Rᵀ
+                    // is left to the Newton iteration).
+                    let j = p.inertia_global() / self.sys.ucf;
+                    let jw = j * p.w;
+                    let gyro = -p.w.cross(&jw);
+                    for c in 0..3 {
+                        self.gen.q[b + 3 + c] += gyro[c];
+                    }
+                    if jacobians && p.w.norm() > 0.0 {
+                        let d = -(p.w.cross_matrix() * j - jw.cross_matrix());
+                        for r in 0..3 {
+                            for c in 0..3 {
+                                self.gen.dv.push((b + 3 + r, b + 3 + c, d[(r, c)]));
+                            }
+                        }
+                    }
+                }
+                Dimension::Two => {
+                    let (x, y, _) = self.sys.plane_axes();
+                    self.gen.q[b] += p.mass * g[x];
+                    self.gen.q[b + 1] += p.mass * g[y];
+                }
+            }
+        }
+        self.stats.expression_evaluations += self.forces.expression_count();
+        self.forces.eval(&self.sys, &mut self.gen, jacobians)
+    }
+
+    /// The mass matrix block of moving part `i` over its columns, divided by UCF.
+    pub fn mass_block(&self, p: &super::system::Part) -> Mat3Block {
+        let u = self.sys.ucf;
+        match self.sys.dim {
+            Dimension::Three => Mat3Block::Three(p.mass / u, p.inertia_global() / u),
+            Dimension::Two => {
+                let n = Vec3::ith(self.sys.normal, 1.0);
+                Mat3Block::Two(p.mass / u, n.dot(&(p.inertia_global() * n)) / u)
+            }
+        }
+    }
+
+    /// M·x / UCF added to `out` (x in the velocity layout).
+    pub fn add_mass_times(&self, x: &DVec, out: &mut DVec) {
+        let bs = self.sys.dim.cols();
+        for p in &self.sys.parts {
+            let Some(i) = p.index else { continue };
+            let b = i * bs;
+            match self.mass_block(p) {
+                Mat3Block::Three(m, j) => {
+                    for c in 0..3 {
+                        out[b + c] += m * x[b + c];
+                    }
+                    let w = j * Vec3::new(x[b + 3], x[b + 4], x[b + 5]);
+                    for c in 0..3 {
+                        out[b + 3 + c] += w[c];
+                    }
+                }
+                Mat3Block::Two(m, j) => {
+                    out[b] += m * x[b];
+                    out[b + 1] += m * x[b + 1];
+                    out[b + 2] += j * x[b + 2];
+                }
+            }
+        }
+    }
+
+    /// Φ_qᵀ·λ added to `out`, with the Φ_q of the last [`Dynamics::eval_constraints`].
+    pub fn add_constraint_forces(&self, lambda: &DVec, out: &mut DVec) {
+        for &(r, c, x) in &self.phi_q {
+            out[c] += x * lambda[r];
+        }
+    }
+
+    /// Fills and factors the Newton matrix with weights `w` from the last evaluations of
+    /// constraints (with Jacobian) and forces (with Jacobians).
+    pub fn factor(&mut self, w: Weights) -> Result<(), DynError> {
+        self.values.fill(0.0);
+        let n = self.n;
+        let bs = self.sys.dim.cols();
+        let pat = self.lu.pattern();
+        let add = |vals: &mut Vec<f64>, r: usize, c: usize, x: f64| {
+            if let Some(s) = pat.slot(r, c) {
+                vals[s] += x;
+            }
+        };
+        for p in &self.sys.parts {
+            let Some(i) = p.index else { continue };
+            let b = i * bs;
+            match self.mass_block(p) {
+                Mat3Block::Three(m, j) => {
+                    for c in 0..3 {
+                        add(&mut self.values, b + c, b + c, w.w_m * m);
+                        for r in 0..3 {
+                            add(&mut self.values, b + 3 + r, b + 3 + c, w.w_m * j[(r, c)]);
+                        }
+                    }
+                }
+                Mat3Block::Two(m, j) => {
+                    add(&mut self.values, b, b, w.w_m * m);
+                    add(&mut self.values, b + 1, b + 1, w.w_m * m);
+                    add(&mut self.values, b + 2, b + 2, w.w_m * j);
+                }
+            }
+        }
+        if w.w_k != 0.0 {
+            for &(r, c, x) in &self.gen.dq {
+                add(&mut self.values, r, c, -w.w_k * x);
+            }
+        }
+        if w.w_c != 0.0 {
+            for &(r, c, x) in &self.gen.dv {
+                add(&mut self.values, r, c, -w.w_c * x);
+            }
+        }
+        for &(r, c, x) in &self.phi_q {
+            add(&mut self.values, n + r, c, x);
+            add(&mut self.values, c, n + r, w.w_l * x);
+        }
+        self.stats.factorizations += 1;
+        let time = self.sys.time;
+        self.lu.factor(&self.values).map_err(|e| match e {
+            FactorError::NotFinite => DynError::NotFinite {
+                time,
+                what: "the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)".into(),
+                element: None,
+            },
+            FactorError::Singular => DynError::Singular {
+                time,
+                what: "the constraints are dependent here, or a part has no mass along a free direction".into(),
+            },
+        })
+    }
+
+    /// Solves the factored Newton matrix in place.
+    pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), DynError> {
+        let time = self.sys.time;
+        self.lu.solve(rhs).map_err(|_| DynError::Singular {
+            time,
+            what: "the Newton matrix is numerically singular (dependent constraints or a lock-up position)".into(),
+        })
+    }
+
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            poses: self.sys.snapshot(),
+            v: self.sys.v(),
+            time: self.sys.time,
+        }
+    }
+
+    pub fn restore(&mut self, s: &Snapshot) {
+        self.sys.restore(&s.poses);
+        self.sys.set_v(&s.v);
+        self.sys.time = s.time;
+    }
+
+    /// Sets the configuration to `base` moved by the increment `dx` (velocity layout:
+    /// δr and a rotation vector, global), and the velocities to `v`.
+    pub fn set_state(&mut self, base: &Snapshot, dx: &[f64], v: &DVec, time: f64) {
+        self.sys.restore(&base.poses);
+        self.sys.apply_increment(dx);
+        self.sys.set_v(v);
+        self.sys.time = time;
+    }
+
+    /// Consistent accelerations and multipliers at the current state (spec §6.1 phase
+    /// 3): M·a/UCF + Φ_qᵀλ = Q, Φ_q·a = γ.
+    pub fn solve_accelerations(&mut self) -> Result<(), DynError> {
+        self.eval_constraints(true)?;
+        self.eval_forces(false)?;
+        self.check_forces()?;
+        let gamma = gamma::gamma(self)?;
+        self.stats.jacobian_evaluations += 1;
+        self.factor(Weights {
+            w_m: 1.0,
+            w_k: 0.0,
+            w_c: 0.0,
+            w_l: 1.0,
+        })?;
+        let mut rhs: Vec<f64> = self
+            .gen
+            .q
+            .iter()
+            .copied()
+            .chain(gamma.iter().copied())
+            .collect();
+        self.solve(&mut rhs)?;
+        self.a = DVec::from_column_slice(&rhs[..self.n]);
+        self.lambda = DVec::from_column_slice(&rhs[self.n..]);
+        self.store_accelerations();
+        Ok(())
+    }
+
+    /// NaN or infinity in the generalized forces: names the element.
+    pub fn check_forces(&self) -> Result<(), DynError> {
+        if self.gen.q.iter().all(|x| x.is_finite()) {
+            return Ok(());
+        }
+        let element = self
+            .forces
+            .loads
+            .iter()
+            .zip(&self.forces.elements)
+            .find(|(l, _)| {
+                ![l.on_i.0, l.on_i.1, l.on_j.0, l.on_j.1]
+                    .iter()
+                    .all(|v| v.iter().all(|x| x.is_finite()))
+            })
+            .map(|(_, e)| e.elref.clone());
+        let what = element
+            .as_ref()
+            .map_or("a gyroscopic or gravity term".into(), element_name);
+        Err(DynError::NotFinite {
+            time: self.sys.time,
+            what: format!("the force of {what} is not finite"),
+            element,
+        })
+    }
+
+    /// Copies the accelerations into the parts (for acceleration measures and outputs).
+    pub fn store_accelerations(&mut self) {
+        for h in 1..self.sys.parts.len() {
+            let ph = PartHandle(h as u32);
+            let mut acc = [0.0; 6];
+            for (c, x) in acc.iter_mut().enumerate() {
+                if let Some(col) = self.sys.col(ph, c) {
+                    *x = self.a[col];
+                }
+            }
+            let p = self.sys.part_mut(ph);
+            p.acc = Vec3::new(acc[0], acc[1], acc[2]);
+            p.alpha = Vec3::new(acc[3], acc[4], acc[5]);
+        }
+    }
+
+    /// The largest residual of the kept rows (model units) and of the dropped rows, the
+    /// latter checked against `tol`: a violated dropped row is a conflict.
+    pub fn check_dropped(&self, tol: f64) -> Result<f64, DynError> {
+        let mut worst: f64 = 0.0;
+        for &(e, q) in &self.dropped {
+            let x = self.sys.row_value(e, q)?;
+            let scaled = if self.sys.elements[e].eqs[q].translational {
+                x / self.sys.length
+            } else {
+                x
+            };
+            if !(scaled.abs() <= tol) {
+                return Err(DynError::DroppedViolated {
+                    time: self.sys.time,
+                    element: self.sys.elements[e].elref.clone(),
+                    equation: self.sys.elements[e].eqs[q].label.label(),
+                    residual: scaled.abs(),
+                });
+            }
+            worst = worst.max(scaled.abs());
+        }
+        Ok(worst)
+    }
+}
+
+/// One part's mass block divided by UCF: 3D (m, R·J·Rᵀ) or 2D (m, J about the normal).
+#[derive(Clone, Copy, Debug)]
+pub enum Mat3Block {
+    Three(f64, Mat3),
+    Two(f64, f64),
+}
+
+/// The parts a constraint row reads (its markers', or its measures' markers').
+pub fn row_parts(sys: &System, e: usize, q: usize) -> Vec<PartHandle> {
+    let mut out = Vec::new();
+    let mut add = |m: Option<super::system::MarkerHandle>| {
+        let p = sys.frame(m).part;
+        if !out.contains(&p) {
+            out.push(p);
+        }
+    };
+    match &sys.elements[e].eqs[q].row {
+        Row::Along { i, j, .. } | Row::Dot { i, j, .. } => {
+            add(Some(*i));
+            add(Some(*j));
+        }
+        Row::Measured { terms, .. } => {
+            for &(_, m) in terms {
+                for mk in sys.measures.list[m].markers() {
+                    add(mk);
+                }
+            }
+        }
+        Row::Gcon { map, .. } => {
+            for &m in map {
+                for mk in sys.measures.list[m].markers() {
+                    add(mk);
+                }
+            }
+        }
+    }
+    out
+}

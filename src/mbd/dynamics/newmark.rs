@@ -1,0 +1,321 @@
+//! The Newmark family on the index-3 DAE: Adams' HHT (Hilber–Hughes–Taylor, as Negrut et
+//! al. 2007 and Chrono's `ChTimestepperHHT` state it for index-3 constraints) and
+//! generalized-α with algorithmic accelerations (Arnold & Brüls 2007, as Exudyn runs it,
+//! spec §6.3). Both update positions and velocities from an acceleration-like ã:
+//!
+//! ```text
+//! q₁ = q₀ ⊕ (h·v₀ + h²·((½ − β)·ã₀ + β·ã₁)),   v₁ = v₀ + h·((1 − γ)·ã₀ + γ·ã₁)
+//! ```
+//!
+//! (⊕: rotations compose as R₁ = exp([Δθ]×)·R₀), and solve for the accelerations a₁
+//! and multipliers λ₁ by Newton on
+//!
+//! ```text
+//! M·a₁/UCF + s·(Φ_qᵀλ − Q)₁ − r·(Φ_qᵀλ − Q)₀ = 0,     Φ(q₁, t₁)/(β·h²·c) = 0.
+//! ```
+//!
+//! HHT: ã = a, s = 1 + α, r = α, γ = ½ − α, β = (1 − α)²/4, α ∈ [−⅓, 0].
+//! Generalized-α: (1 − α_m)·ã₁ + α_m·ã₀ = (1 − α_f)·a₁ + α_f·a₀, s = 1, r = 0,
+//! c = (1 − α_f)/(1 − α_m), all four from ρ∞.
+//!
+//! Newton reuses its factorization across iterations and steps while it contracts, and
+//! refactors when the step size moved or the contraction is poor. The local error
+//! estimate is the Newmark position truncation error, (β − ⅙)·h²·(ã₁ − ã₀).
+
+use super::integrator::{Attempt, Integrator, Settings};
+use super::{DynError, Dynamics, Snapshot, Weights};
+use crate::mbd::math::DVec;
+use crate::mbd::system::Dimension;
+
+/// Relative size of the last Newton correction of accelerations and multipliers at
+/// which the corrector has converged.
+const NEWTON_TOL: f64 = 1e-8;
+
+/// Which member of the family.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// HHT with ALPHA ∈ [−1/3, 0].
+    Hht { alpha: f64 },
+    /// Generalized-α with spectral radius ρ∞ ∈ [0, 1].
+    GeneralizedAlpha { rho_inf: f64 },
+}
+
+/// An HHT or generalized-α integrator.
+pub struct Newmark {
+    method: Method,
+    beta: f64,
+    gamma: f64,
+    alpha_m: f64,
+    alpha_f: f64,
+    /// Residual weights s and r.
+    s: f64,
+    r: f64,
+    // The last accepted state.
+    base: Option<Snapshot>,
+    v0: DVec,
+    a0: DVec,
+    at0: DVec,
+    lambda0: DVec,
+    /// (Φ_qᵀλ − Q) at the last accepted state.
+    f0: DVec,
+    // The candidate.
+    at1: DVec,
+    /// Step size of the current factorization (None: none valid).
+    factored_h: Option<f64>,
+}
+
+impl Newmark {
+    pub fn new(method: Method) -> Newmark {
+        let (alpha_m, alpha_f, gamma, beta, s, r) = match method {
+            Method::Hht { alpha } => {
+                let g = 0.5 - alpha;
+                (0.0, 0.0, g, (1.0 - alpha).powi(2) / 4.0, 1.0 + alpha, alpha)
+            }
+            Method::GeneralizedAlpha { rho_inf } => {
+                let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+                let af = rho_inf / (rho_inf + 1.0);
+                let g = 0.5 - am + af;
+                (am, af, g, 0.25 * (1.0 - am + af).powi(2), 1.0, 0.0)
+            }
+        };
+        Newmark {
+            method,
+            beta,
+            gamma,
+            alpha_m,
+            alpha_f,
+            s,
+            r,
+            base: None,
+            v0: DVec::zeros(0),
+            a0: DVec::zeros(0),
+            at0: DVec::zeros(0),
+            lambda0: DVec::zeros(0),
+            f0: DVec::zeros(0),
+            at1: DVec::zeros(0),
+            factored_h: None,
+        }
+    }
+
+    /// Adams HHT with its default ALPHA = −0.3.
+    pub fn hht(alpha: f64) -> Newmark {
+        Newmark::new(Method::Hht { alpha })
+    }
+
+    /// Generalized-α with Exudyn's default ρ∞ = 0.9 unless given.
+    pub fn generalized_alpha(rho_inf: f64) -> Newmark {
+        Newmark::new(Method::GeneralizedAlpha { rho_inf })
+    }
+
+    /// ∂ã₁/∂a₁.
+    fn c(&self) -> f64 {
+        (1.0 - self.alpha_f) / (1.0 - self.alpha_m)
+    }
+
+    /// ã₁ from a₁.
+    fn algorithmic(&self, a1: &DVec) -> DVec {
+        match self.method {
+            Method::Hht { .. } => a1.clone(),
+            Method::GeneralizedAlpha { .. } => {
+                (a1 * (1.0 - self.alpha_f) + &self.a0 * self.alpha_f - &self.at0 * self.alpha_m)
+                    / (1.0 - self.alpha_m)
+            }
+        }
+    }
+
+    /// Moves `d` to the state the accelerations `a1` give after a step `h` from the
+    /// accepted state.
+    fn place(&mut self, d: &mut Dynamics, a1: &DVec, h: f64, t1: f64) {
+        self.at1 = self.algorithmic(a1);
+        let dx = (&self.v0 * h)
+            + (&self.at0 * ((0.5 - self.beta) * h * h))
+            + (&self.at1 * (self.beta * h * h));
+        let v1 = &self.v0 + (&self.at0 * ((1.0 - self.gamma) * h)) + (&self.at1 * (self.gamma * h));
+        let base = self.base.as_ref().expect("started");
+        d.set_state(base, dx.as_slice(), &v1, t1);
+    }
+
+    /// Per-column tolerance scale: ERROR × the model length for translations, ERROR for
+    /// rotations.
+    fn tolerances(d: &Dynamics, error: f64) -> Vec<f64> {
+        let bs = d.sys.dim.cols();
+        let trans = match d.sys.dim {
+            Dimension::Three => 3,
+            Dimension::Two => 2,
+        };
+        (0..d.n)
+            .map(|c| {
+                if c % bs < trans {
+                    error * d.sys.length
+                } else {
+                    error
+                }
+            })
+            .collect()
+    }
+
+    fn weights(&self, h: f64) -> Weights {
+        let c = self.c();
+        Weights {
+            w_m: 1.0,
+            w_k: self.s * self.beta * h * h * c,
+            w_c: self.s * self.gamma * h * c,
+            w_l: self.s,
+        }
+    }
+}
+
+impl Integrator for Newmark {
+    fn name(&self) -> &'static str {
+        match self.method {
+            Method::Hht { .. } => "hht",
+            Method::GeneralizedAlpha { .. } => "galpha",
+        }
+    }
+
+    fn error_order(&self) -> f64 {
+        3.0
+    }
+
+    fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        self.base = Some(d.snapshot());
+        self.v0 = d.sys.v();
+        self.a0 = d.a.clone();
+        self.at0 = d.a.clone();
+        self.lambda0 = d.lambda.clone();
+        // (Φ_qᵀλ − Q)₀ = −M·a₀/UCF for consistent initial accelerations.
+        let mut f0 = DVec::zeros(d.n);
+        d.add_mass_times(&self.a0, &mut f0);
+        self.f0 = -f0;
+        self.factored_h = None;
+        Ok(())
+    }
+
+    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        let (n, m) = (d.n, d.m);
+        let t1 = self.base.as_ref().expect("started").time + h;
+        let tol = Self::tolerances(d, st.error);
+        let scale = self.beta * h * h * self.c();
+        let mut a1 = self.a0.clone();
+        let mut lambda = self.lambda0.clone();
+        if let Some(fh) = self.factored_h {
+            if !(0.8..=1.25).contains(&(h / fh)) {
+                self.factored_h = None;
+            }
+        }
+        let mass = d
+            .sys
+            .parts
+            .iter()
+            .map(|p| p.mass / d.sys.ucf)
+            .fold(1e-300, f64::max);
+        let mut prev_norm = f64::INFINITY;
+        let mut rhs = vec![0.0; n + m];
+        let mut fresh_tries = 0;
+        let mut iter = 0;
+        while iter < st.maxit {
+            iter += 1;
+            self.place(d, &a1, h, t1);
+            let refactor = self.factored_h.is_none();
+            d.eval_constraints(true)?;
+            d.eval_forces(refactor)?;
+            d.check_forces()?;
+            d.stats.newton_iterations += 1;
+            if refactor {
+                d.stats.jacobian_evaluations += 1;
+                d.factor(self.weights(h))?;
+                self.factored_h = Some(h);
+            }
+            // −R₁ = −(M a/UCF + s(Φ_qᵀλ − Q) − r f₀), −R₂ = −Φ/scale.
+            let mut r1 = DVec::zeros(n);
+            d.add_mass_times(&a1, &mut r1);
+            let mut cf = -d.gen.q.clone();
+            d.add_constraint_forces(&lambda, &mut cf);
+            r1 += cf * self.s - &self.f0 * self.r;
+            for k in 0..n {
+                rhs[k] = -r1[k];
+            }
+            for k in 0..m {
+                rhs[n + k] = -d.phi[k] / scale;
+            }
+            d.solve(&mut rhs)?;
+            // The index-3 Newton matrix has condition O(h⁻²): positions converged to a
+            // tolerance still leave accelerations and multipliers (reactions) off by
+            // that over β·h². So the test is on the accelerations and multipliers
+            // themselves, relative to their size (with a floor where they vanish).
+            let a_scale =
+                a1.amax() + 1e-3 * tol.iter().fold(f64::INFINITY, |x, &y| x.min(y)) / (h * h);
+            // Multipliers are forces: their floor is the accelerations' times the mass.
+            let l_scale = lambda.amax() + a_scale * mass;
+            let norm = (0..n)
+                .map(|k| rhs[k].abs() / a_scale)
+                .chain((0..m).map(|k| rhs[n + k].abs() / l_scale))
+                .fold(0.0, f64::max);
+            if !norm.is_finite() {
+                return Ok(Attempt::Diverged);
+            }
+            for k in 0..n {
+                a1[k] += rhs[k];
+            }
+            for k in 0..m {
+                lambda[k] += rhs[n + k];
+            }
+            let rate = norm / prev_norm;
+            if std::env::var_os("MBFX_DEBUG_NEWTON").is_some() {
+                eprintln!("t1 {t1} iter {iter} norm {norm:e} rate {rate} refactor {refactor}");
+            }
+            // Linear convergence: the error left is about rate/(1 − rate) of this step.
+            let left = if rate < 1.0 {
+                norm * rate / (1.0 - rate)
+            } else {
+                norm
+            };
+            if iter > 1 && norm.min(left) <= NEWTON_TOL || norm <= NEWTON_TOL * 1e-3 {
+                self.place(d, &a1, h, t1);
+                d.a = a1;
+                d.lambda = lambda;
+                let diff = &self.at1 - &self.at0;
+                let coef = ((self.beta - 1.0 / 6.0) * h * h).abs();
+                let err = if st.fixed_step.is_some() {
+                    0.0
+                } else {
+                    (0..n)
+                        .map(|k| coef * diff[k].abs() / tol[k])
+                        .fold(0.0, f64::max)
+                };
+                return Ok(Attempt::Converged { err });
+            }
+            // Slow or diverging with an old factorization: refactor here and go on.
+            prev_norm = norm;
+            // A contraction worse than this leaves too many iterations to the tolerance.
+            if rate > 0.15 && iter > 1 && !refactor && fresh_tries < 2 {
+                self.factored_h = None;
+                fresh_tries += 1;
+            } else if rate > 2.0 && iter > 2 {
+                break;
+            }
+        }
+        self.factored_h = None;
+        Ok(Attempt::Diverged)
+    }
+
+    fn accept(&mut self, d: &mut Dynamics) {
+        // (Φ_qᵀλ − Q)₁ from the converged residual: s·f₁ = r·f₀ − M·a₁/UCF.
+        let mut ma = DVec::zeros(d.n);
+        d.add_mass_times(&d.a, &mut ma);
+        self.f0 = (&self.f0 * self.r - ma) / self.s;
+        self.base = Some(d.snapshot());
+        self.v0 = d.sys.v();
+        self.a0 = d.a.clone();
+        self.at0 = self.at1.clone();
+        self.lambda0 = d.lambda.clone();
+        d.store_accelerations();
+    }
+
+    fn reject(&mut self, d: &mut Dynamics) {
+        let base = self.base.as_ref().expect("started");
+        d.restore(base);
+        d.a = self.a0.clone();
+        d.lambda = self.lambda0.clone();
+    }
+}

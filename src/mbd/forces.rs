@@ -1,0 +1,452 @@
+//! Applied forces (multibody spec §7): SFORCE (translational, rotational, ACTIONONLY),
+//! VFORCE, VTORQUE, GFORCE, SPRINGDAMPER, BUSHING, and ACCGRAV with the units-consistency
+//! factor. Each element is evaluated as duals ([`super::dual`]) over the local directions
+//! of the parts it reads (its markers and the markers of the measures its expressions
+//! read, one shared [`PartSlots`] table), so the generalized force Q and its exact
+//! Jacobians ∂Q/∂q and ∂Q/∂v come out of one evaluation. Expression magnitudes enter with
+//! their compiled gradient ∂f/∂measure chained with the measures' duals: no finite
+//! differences.
+//!
+//! Generalized forces are per moving part at its reference point (the CM): the force F
+//! and the moment about the CM, global axes; a force applied at a marker adds the moment
+//! of its arm.
+
+use super::dual::{D, N, PER_PART, V};
+use super::equations::ElementRef;
+use super::error::{element_name, MbdError};
+use super::expr::ExprFn;
+use super::math::{DVec, Vec3};
+use super::measures::{dual_frame, DFrame, Measure, PartSlots, M};
+use super::system::{MarkerHandle, PartHandle, System};
+
+/// An expression of the model: `map[k]` is the measure index of its k-th slot.
+pub struct Scalar {
+    pub f: Box<dyn ExprFn>,
+    pub map: Vec<usize>,
+}
+
+/// How an element turns its inputs into loads.
+pub enum ForceLaw {
+    /// SFORCE TRANSLATION: f along the line from J to I at I (f > 0 pushes apart); the
+    /// reaction at J unless action-only, where f acts along z_J at I alone.
+    Line { f: Scalar, action_only: bool },
+    /// SFORCE ROTATION: torque f·z_J on I's part, −f·z_J on J's unless action-only.
+    Torque { f: Scalar, action_only: bool },
+    /// VFORCE, VTORQUE, GFORCE: components in RM axes at I; the reaction at the
+    /// floating marker, which sits on I (no moment arm between them).
+    Vector {
+        force: Option<[Scalar; 3]>,
+        torque: Option<[Scalar; 3]>,
+        rm: M,
+    },
+    /// SPRINGDAMPER TRANSLATION: f = −c·ḋ − k·(d − length) + preload along the line.
+    Spring {
+        k: f64,
+        c: f64,
+        length: f64,
+        preload: f64,
+    },
+    /// SPRINGDAMPER ROTATION: t = −c·θ̇ − k·(θ − angle) + preload about z_J, θ = AZ(I, J)
+    /// (the measure `angle_measure`, unwrapped).
+    RotSpring {
+        k: f64,
+        c: f64,
+        angle: f64,
+        preload: f64,
+        angle_measure: usize,
+    },
+    /// BUSHING: per component in J axes, F = −K·d − C·ḋ + F₀ and T = −KT·θ − CT·ω + T₀
+    /// with θ the AX, AY, AZ measures (`angles`), applied at I; the reaction on J.
+    Bushing {
+        k: Vec3,
+        c: Vec3,
+        kt: Vec3,
+        ct: Vec3,
+        force: Vec3,
+        torque: Vec3,
+        angles: [usize; 3],
+    },
+}
+
+/// One force element.
+pub struct ForceElement {
+    pub elref: ElementRef,
+    pub i: MarkerHandle,
+    /// J, or JFLOAT for the vector forces.
+    pub j: Option<MarkerHandle>,
+    pub law: ForceLaw,
+    /// The parts the element's duals read (set by [`ForceSet::prepare`]).
+    pub slots: PartSlots,
+}
+
+impl ForceElement {
+    pub fn new(elref: ElementRef, i: MarkerHandle, j: Option<MarkerHandle>, law: ForceLaw) -> Self {
+        ForceElement {
+            elref,
+            i,
+            j,
+            law,
+            slots: PartSlots::default(),
+        }
+    }
+}
+
+/// The loads one element applies at a state, global axes: force and moment about the I
+/// marker's origin on I's part; force and moment about the point `j_at` on J's part.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Loads {
+    pub on_i: (Vec3, Vec3),
+    pub on_j: (Vec3, Vec3),
+    pub j_at: Vec3,
+}
+
+/// The model's applied forces and gravity.
+#[derive(Default)]
+pub struct ForceSet {
+    pub elements: Vec<ForceElement>,
+    /// The loads of each element at the last evaluation.
+    pub loads: Vec<Loads>,
+}
+
+/// Q and its Jacobians over velocity-level columns: `dq` holds ∂Q/∂q, `dv` ∂Q/∂v as
+/// (row, column, value) entries (repeats add up).
+#[derive(Clone, Debug, Default)]
+pub struct Generalized {
+    pub q: DVec,
+    pub dq: Vec<(usize, usize, f64)>,
+    pub dv: Vec<(usize, usize, f64)>,
+}
+
+impl Generalized {
+    pub fn new(n: usize) -> Self {
+        Generalized {
+            q: DVec::zeros(n),
+            dq: Vec::new(),
+            dv: Vec::new(),
+        }
+    }
+
+    pub fn clear(&mut self) {
+        self.q.fill(0.0);
+        self.dq.clear();
+        self.dv.clear();
+    }
+}
+
+/// A dual from a value and its gradient.
+fn dual(v: f64, g: [f64; N]) -> D {
+    D { v, g }
+}
+
+/// The part's reference point as a dual (moves with the part's δr).
+fn ref_point(sys: &System, part: PartHandle, slots: &PartSlots) -> V {
+    let mut p = V::c(sys.part(part).r);
+    if let Some(s) = slots.parts.iter().position(|x| *x == Some(part)) {
+        for c in 0..3 {
+            p.0[c].g[PER_PART * s + c] = 1.0;
+        }
+    }
+    p
+}
+
+fn scale_v(v: &V, s: D) -> V {
+    V([v.0[0] * s, v.0[1] * s, v.0[2] * s])
+}
+
+fn add_v(a: &V, b: &V) -> V {
+    V([a.0[0] + b.0[0], a.0[1] + b.0[1], a.0[2] + b.0[2]])
+}
+
+fn neg_v(a: &V) -> V {
+    V([-a.0[0], -a.0[1], -a.0[2]])
+}
+
+/// Σ xₖ·axisₖ: components in a frame's axes to global.
+fn in_axes(axes: &[V; 3], x: [D; 3]) -> V {
+    let mut out = scale_v(&axes[0], x[0]);
+    for k in 1..3 {
+        out = add_v(&out, &scale_v(&axes[k], x[k]));
+    }
+    out
+}
+
+impl ForceSet {
+    /// How many compiled expressions one evaluation of every element runs.
+    pub fn expression_count(&self) -> usize {
+        self.elements
+            .iter()
+            .map(|e| match &e.law {
+                ForceLaw::Line { .. } | ForceLaw::Torque { .. } => 1,
+                ForceLaw::Vector { force, torque, .. } => {
+                    3 * (force.is_some() as usize + torque.is_some() as usize)
+                }
+                _ => 0,
+            })
+            .sum()
+    }
+
+    /// Records the parts each element reads: its markers and its measures' markers.
+    pub fn prepare(&mut self, sys: &System) -> Result<(), MbdError> {
+        for el in &mut self.elements {
+            let mut slots = PartSlots::default();
+            let fits = dual_frame(sys, Some(el.i), &mut slots).is_some()
+                && dual_frame(sys, el.j, &mut slots).is_some()
+                && el
+                    .measures()
+                    .iter()
+                    .all(|&m| sys.measures.eval_in(sys, m, &mut slots).is_some())
+                && match &el.law {
+                    ForceLaw::Vector { rm, .. } => dual_frame(sys, *rm, &mut slots).is_some(),
+                    _ => true,
+                };
+            if !fits {
+                return Err(MbdError::Unsupported(format!(
+                    "{}: it reads more than four moving parts, which the force Jacobian does not hold",
+                    element_name(&el.elref)
+                )));
+            }
+            el.slots = slots;
+        }
+        self.loads = vec![Loads::default(); self.elements.len()];
+        Ok(())
+    }
+
+    /// Adds every element's generalized forces (and, with `jacobians`, their ∂/∂q and
+    /// ∂/∂v) to `out`; gravity is added by the caller (it has no Jacobian).
+    pub fn eval(
+        &mut self,
+        sys: &System,
+        out: &mut Generalized,
+        jacobians: bool,
+    ) -> Result<(), MbdError> {
+        for (k, el) in self.elements.iter().enumerate() {
+            self.loads[k] = el.eval(sys, out, jacobians)?;
+        }
+        Ok(())
+    }
+}
+
+impl ForceElement {
+    /// The measures the element's expressions and laws read.
+    fn measures(&self) -> Vec<usize> {
+        let mut out = Vec::new();
+        let mut add = |s: &Scalar| out.extend_from_slice(&s.map);
+        match &self.law {
+            ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => add(f),
+            ForceLaw::Vector { force, torque, .. } => {
+                for s in force.iter().chain(torque.iter()).flatten() {
+                    add(s);
+                }
+            }
+            ForceLaw::Spring { .. } => {}
+            ForceLaw::RotSpring { angle_measure, .. } => out.push(*angle_measure),
+            ForceLaw::Bushing { angles, .. } => out.extend_from_slice(angles),
+        }
+        out
+    }
+
+    /// An expression's value as a dual: f with ∂f/∂measure chained through the
+    /// measures' duals.
+    fn scalar(&self, sys: &System, s: &Scalar, slots: &mut PartSlots) -> Result<D, MbdError> {
+        let slot_ids = s.f.slots();
+        let len = slot_ids.last().map_or(0, |&x| x as usize + 1);
+        let mut vals = vec![0.0; len];
+        let mut duals = Vec::with_capacity(s.map.len());
+        for (&m, &slot) in s.map.iter().zip(slot_ids) {
+            let d = sys.measures.eval_in(sys, m, slots).ok_or_else(|| {
+                MbdError::Unsupported(format!(
+                    "{}: too many parts for the force Jacobian",
+                    element_name(&self.elref)
+                ))
+            })?;
+            vals[slot as usize] = d.v;
+            duals.push(d);
+        }
+        let mut grad = vec![0.0; slot_ids.len()];
+        let err = |why: String| MbdError::Expression(self.elref.clone(), why);
+        s.f.gradient(sys.time, &vals, &mut grad).map_err(err)?;
+        let v = s.f.value(sys.time, &vals).map_err(err)?;
+        let mut g = [0.0; N];
+        for (d, &c) in duals.iter().zip(&grad) {
+            if c != 0.0 {
+                for (x, y) in g.iter_mut().zip(d.g.iter()) {
+                    *x += c * y;
+                }
+            }
+        }
+        Ok(dual(v, g))
+    }
+
+    fn eval(
+        &self,
+        sys: &System,
+        out: &mut Generalized,
+        jacobians: bool,
+    ) -> Result<Loads, MbdError> {
+        let mut slots = self.slots;
+        let fi = dual_frame(sys, Some(self.i), &mut slots).expect("prepared");
+        let fj = dual_frame(sys, self.j, &mut slots).expect("prepared");
+        let zero = V::c(Vec3::zeros());
+        // (force at I, moment on I's part, force on J's part, moment on J's part), all
+        // applied at I's origin except the line forces' reaction at J's.
+        let (f_i, t_i, f_j, t_j, j_at_i) = match &self.law {
+            ForceLaw::Line { f, action_only } => {
+                let f = self.scalar(sys, f, &mut slots)?;
+                if *action_only {
+                    (scale_v(&fj.axes[2], f), zero, zero, zero, true)
+                } else {
+                    let d = fi.r.sub(&fj.r);
+                    let u = scale_v(&d, recip(d.norm()));
+                    let fv = scale_v(&u, f);
+                    (fv, zero, neg_v(&fv), zero, false)
+                }
+            }
+            ForceLaw::Torque { f, action_only } => {
+                let f = self.scalar(sys, f, &mut slots)?;
+                let t = scale_v(&fj.axes[2], f);
+                let tj = if *action_only { zero } else { neg_v(&t) };
+                (zero, t, zero, tj, true)
+            }
+            ForceLaw::Vector { force, torque, rm } => {
+                let frm = dual_frame(sys, *rm, &mut slots).expect("prepared");
+                let comps = |xs: &Option<[Scalar; 3]>, slots: &mut PartSlots| match xs {
+                    None => Ok(zero),
+                    Some(xs) => {
+                        let mut c = [D::c(0.0); 3];
+                        for (k, x) in xs.iter().enumerate() {
+                            c[k] = self.scalar(sys, x, slots)?;
+                        }
+                        Ok::<V, MbdError>(in_axes(&frm.axes, c))
+                    }
+                };
+                let fv = comps(force, &mut slots)?;
+                let tv = comps(torque, &mut slots)?;
+                (fv, tv, neg_v(&fv), neg_v(&tv), true)
+            }
+            ForceLaw::Spring {
+                k,
+                c,
+                length,
+                preload,
+            } => {
+                let d = fi.r.sub(&fj.r);
+                let len = d.norm();
+                let u = scale_v(&d, recip(len));
+                let rate = fi.vel.sub(&fj.vel).dot(&u);
+                let f = rate.scale(-c) + (len - D::c(*length)).scale(-k) + D::c(*preload);
+                let fv = scale_v(&u, f);
+                (fv, zero, neg_v(&fv), zero, false)
+            }
+            ForceLaw::RotSpring {
+                k,
+                c,
+                angle,
+                preload,
+                angle_measure,
+            } => {
+                let th = sys
+                    .measures
+                    .eval_in(sys, *angle_measure, &mut slots)
+                    .expect("prepared");
+                let z = fj.axes[2];
+                let rate = fi.w.sub(&fj.w).dot(&z);
+                let t = rate.scale(-c) + (th - D::c(*angle)).scale(-k) + D::c(*preload);
+                let tv = scale_v(&z, t);
+                (zero, tv, zero, neg_v(&tv), true)
+            }
+            ForceLaw::Bushing {
+                k,
+                c,
+                kt,
+                ct,
+                force,
+                torque,
+                angles,
+            } => {
+                let d = fi.r.sub(&fj.r);
+                // Velocity of I relative to J as seen in J's frame.
+                let vel = fi.vel.sub(&fj.vel).sub(&fj.w.cross(&d));
+                let w = fi.w.sub(&fj.w);
+                let mut fc = [D::c(0.0); 3];
+                let mut tc = [D::c(0.0); 3];
+                for a in 0..3 {
+                    let ax = &fj.axes[a];
+                    let th = sys
+                        .measures
+                        .eval_in(sys, angles[a], &mut slots)
+                        .expect("prepared");
+                    fc[a] = d.dot(ax).scale(-k[a]) + vel.dot(ax).scale(-c[a]) + D::c(force[a]);
+                    tc[a] = th.scale(-kt[a]) + w.dot(ax).scale(-ct[a]) + D::c(torque[a]);
+                }
+                let fv = in_axes(&fj.axes, fc);
+                let tv = in_axes(&fj.axes, tc);
+                (fv, tv, neg_v(&fv), neg_v(&tv), true)
+            }
+        };
+        let pi = sys.marker(self.i).part;
+        let pj = sys.frame(self.j).part;
+        let at_j = if j_at_i { &fi } else { &fj };
+        self.apply(sys, &slots, pi, &fi, &f_i, &t_i, out, jacobians);
+        self.apply(sys, &slots, pj, at_j, &f_j, &t_j, out, jacobians);
+        Ok(Loads {
+            on_i: (f_i.value(), t_i.value()),
+            on_j: (f_j.value(), t_j.value()),
+            j_at: at_j.r.value(),
+        })
+    }
+
+    /// Adds force `f` applied at frame `at`'s origin and moment `t` to part `part`'s
+    /// generalized force (moment about its reference point), with Jacobians.
+    #[allow(clippy::too_many_arguments)]
+    fn apply(
+        &self,
+        sys: &System,
+        slots: &PartSlots,
+        part: PartHandle,
+        at: &DFrame,
+        f: &V,
+        t: &V,
+        out: &mut Generalized,
+        jacobians: bool,
+    ) {
+        if sys.part(part).index.is_none() {
+            return;
+        }
+        let arm = at.r.sub(&ref_point(sys, part, slots));
+        let m = add_v(t, &arm.cross(f));
+        for c in 0..6 {
+            let Some(row) = sys.col(part, c) else {
+                continue;
+            };
+            let q = if c < 3 { f.0[c] } else { m.0[c - 3] };
+            out.q[row] += q.v;
+            if jacobians {
+                slots.scatter(
+                    sys,
+                    &q.g,
+                    &mut |col, g| out.dq.push((row, col, g)),
+                    &mut |col, g| out.dv.push((row, col, g)),
+                );
+            }
+        }
+    }
+}
+
+/// 1/x as a dual.
+fn recip(x: D) -> D {
+    let s = -1.0 / (x.v * x.v);
+    let mut g = x.g;
+    for v in &mut g {
+        *v *= s;
+    }
+    dual(1.0 / x.v, g)
+}
+
+/// The angle measure a rotational element reads: AX, AY or AZ of I relative to J.
+pub fn angle_of(i: MarkerHandle, j: Option<MarkerHandle>, axis: u8) -> Measure {
+    Measure::Angle {
+        i: Some(i),
+        j,
+        axis,
+    }
+}

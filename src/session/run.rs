@@ -1,0 +1,485 @@
+//! A dynamic simulation of a dataset, the library side of `mbfx run`: read and assemble
+//! the model ([`super::analyze_model`]), build its forces and the equations of motion,
+//! solve consistent accelerations at t = 0, then integrate to the end time, producing one
+//! row of output columns at every output time. The columns are the `--probe`
+//! expressions, then each REQUEST's components (`REQ<id>.F<k>`, k = 1..8), all compiled
+//! in one batch by the chosen engine; interpreter and JIT give the same bits.
+
+use super::{analyze_model_with, DimRequest, Failure};
+use crate::check::{Expect, Variables};
+use crate::context::Context;
+use crate::diag::{Code, Diagnostic};
+use crate::interp::Program;
+use crate::ir::Function;
+use crate::jit::{CompiledExpr, Jit};
+use crate::mbd::compiled::CompiledExprs;
+use crate::mbd::dynamics::integrator::{simulate, Integrator, Settings};
+use crate::mbd::dynamics::newmark::Newmark;
+use crate::mbd::dynamics::outputs::OutputSlot;
+use crate::mbd::dynamics::{DynError, Dynamics, Stats};
+use crate::mbd::error::MbdError;
+use crate::model::elements::{Expr, RequestKind};
+use crate::model::{read_model, ModelRead};
+use mbfx_runtime::Spline;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Which back end evaluates the model's expressions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Engine {
+    #[default]
+    Jit,
+    Interp,
+}
+
+/// The integrators `mbfx run --integrator` names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Adams HHT (ALPHA, default −0.3).
+    Hht,
+    /// Generalized-α with ρ∞ (default 0.9, as Exudyn).
+    Galpha,
+}
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct RunSpec {
+    pub end: f64,
+    pub output_step: f64,
+    /// None: the dataset's INTEGRATOR statement, else HHT.
+    pub method: Option<Method>,
+    pub error: Option<f64>,
+    pub hmax: Option<f64>,
+    pub hinit: Option<f64>,
+    pub hmin: Option<f64>,
+    pub fixed_step: Option<f64>,
+    pub alpha: Option<f64>,
+    pub rho_inf: Option<f64>,
+    pub dim: DimRequest,
+    pub engine: Engine,
+}
+
+impl RunSpec {
+    pub fn new(end: f64, output_step: f64) -> RunSpec {
+        RunSpec {
+            end,
+            output_step,
+            method: None,
+            error: None,
+            hmax: None,
+            hinit: None,
+            hmin: None,
+            fixed_step: None,
+            alpha: None,
+            rho_inf: None,
+            dim: DimRequest::Auto,
+            engine: Engine::Jit,
+        }
+    }
+}
+
+/// Where a run stopped before integrating.
+pub enum RunFailure {
+    /// The dataset (or a probe) has errors; the diagnostics say where. `probe` names the
+    /// probe whose text the spans point into.
+    Diagnostics {
+        probe: Option<String>,
+        diagnostics: Vec<Diagnostic>,
+    },
+    /// Reading went well; building, assembly or the redundancy analysis did not.
+    Analysis(Failure),
+    /// The model cannot be simulated (a force element, a massless part, t = 0 state).
+    Dynamics(DynError),
+}
+
+impl From<DynError> for RunFailure {
+    fn from(e: DynError) -> Self {
+        RunFailure::Dynamics(e)
+    }
+}
+
+impl From<MbdError> for RunFailure {
+    fn from(e: MbdError) -> Self {
+        RunFailure::Dynamics(DynError::Model(e))
+    }
+}
+
+/// One output column: its header and its expression.
+struct Column {
+    name: String,
+    function: Function,
+}
+
+enum Code_ {
+    Jit(Vec<CompiledExpr>),
+    Interp(Vec<Program>),
+}
+
+/// The summary `mbfx run` prints.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    pub integrator: &'static str,
+    pub stats: Stats,
+    pub cpu_seconds: f64,
+    /// Largest scaled residual of the kept constraint rows at the output times.
+    pub max_residual: f64,
+    /// Kinetic plus gravitational energy at the start and the end, when the model has
+    /// no other forces and no drives (None otherwise).
+    pub energy: Option<(f64, f64)>,
+    /// Notes for the user (settings not honoured, substitutions).
+    pub notes: Vec<String>,
+    pub dim: String,
+}
+
+/// The output columns compiled, and the measure slots they read.
+struct Outputs {
+    columns: Vec<Column>,
+    slots: Vec<(u32, OutputSlot)>,
+    code: Code_,
+    splines: Arc<[Spline]>,
+    measures: Vec<f64>,
+}
+
+/// A model ready to run.
+pub struct Simulation {
+    pub read: ModelRead,
+    pub dynamics: Dynamics,
+    outputs: Outputs,
+    pub spec: RunSpec,
+    notes: Vec<String>,
+    conservative: bool,
+}
+
+/// The expression text of component k (1..8) of a standard REQUEST, if it has one.
+fn standard_component(kind: RequestKind, i: u32, j: u32, rm: u32, k: usize) -> Option<String> {
+    let (mag, vec, amag, avec) = match kind {
+        RequestKind::Displacement => ("DM", "D", None, None),
+        RequestKind::Velocity => ("VM", "V", Some("WM"), Some("W")),
+        RequestKind::Acceleration => ("ACCM", "ACC", Some("WDTM"), Some("WDT")),
+        RequestKind::Force => ("FM", "F", Some("TM"), Some("T")),
+    };
+    let xyz = ["X", "Y", "Z"];
+    Some(match k {
+        1 => format!("{mag}({i},{j})"),
+        2..=4 => format!("{vec}{}({i},{j},{rm})", xyz[k - 2]),
+        5 => format!("{}({i},{j})", amag?),
+        6..=8 => match avec {
+            Some(w) => format!("{w}{}({i},{j},{rm})", xyz[k - 6]),
+            None => format!("{}({i},{j})", ["PSI", "THETA", "PHI"][k - 6]),
+        },
+        _ => return None,
+    })
+}
+
+impl Simulation {
+    /// Reads, assembles and prepares `text` for `spec`, with `probes` as (name,
+    /// expression) columns.
+    pub fn new(
+        text: &str,
+        spec: RunSpec,
+        probes: &[(String, String)],
+    ) -> Result<Simulation, RunFailure> {
+        let mut read = read_model(text);
+        if read.has_errors() {
+            return Err(RunFailure::Diagnostics {
+                probe: None,
+                diagnostics: read.diagnostics,
+            });
+        }
+        let interpret = spec.engine == Engine::Interp;
+        let analysis =
+            analyze_model_with(&read.model, spec.dim, interpret).map_err(RunFailure::Analysis)?;
+        let mut columns = Vec::new();
+        for (name, text) in probes {
+            let fail = |diagnostics| RunFailure::Diagnostics {
+                probe: Some(name.clone()),
+                diagnostics,
+            };
+            let checked = read
+                .compile(text, &Variables::new(), Expect::Scalar)
+                .map_err(fail)?;
+            let e = Expr {
+                span: 0..text.len(),
+                function: checked.function,
+            };
+            let function = read.model.inline_variables(&e).map_err(|why| {
+                fail(vec![Diagnostic::error(
+                    Code::Unsupported,
+                    0..text.len(),
+                    why,
+                )])
+            })?;
+            columns.push(Column {
+                name: name.clone(),
+                function: function.function,
+            });
+        }
+        let mut notes = Vec::new();
+        for r in read.model.requests.clone() {
+            for k in 1..=8 {
+                let name = format!("REQ{}.F{k}", r.el.id);
+                let expr = if let Some((kind, i, j, rm)) = r.standard {
+                    let Some(text) =
+                        standard_component(kind, i, j.unwrap_or(0), rm.unwrap_or(0), k)
+                    else {
+                        continue;
+                    };
+                    match read.compile(&text, &Variables::new(), Expect::Scalar) {
+                        Ok(c) => Expr {
+                            span: r.el.span.clone(),
+                            function: c.function,
+                        },
+                        Err(_) => {
+                            notes.push(format!("{name} ({text}) left out: it does not check"));
+                            continue;
+                        }
+                    }
+                } else {
+                    match r.functions.iter().find(|(n, _)| *n + 1 == k) {
+                        Some((_, e)) => e.clone(),
+                        None => continue,
+                    }
+                };
+                match read.model.inline_variables(&expr) {
+                    Ok(e) => columns.push(Column {
+                        name,
+                        function: e.function,
+                    }),
+                    Err(why) => notes.push(format!("{name} left out: {why}")),
+                }
+            }
+        }
+        let exprs = engine_compiler(interpret, analysis.splines.clone());
+        let mut system = analysis.system;
+        let forces = system.forces_from_model(&read.model, &exprs)?;
+        let conservative = forces.elements.is_empty() && read.model.motions.is_empty();
+        // Every slot the columns read, resolved for the dynamics. A probe that reads what
+        // the dynamics cannot give is an error; a REQUEST column, a note.
+        let mut slots: Vec<(u32, OutputSlot)> = Vec::new();
+        let mut kept = Vec::with_capacity(columns.len());
+        for (k, c) in columns.into_iter().enumerate() {
+            let mut ok = Ok(());
+            for &s in &c.function.uses.measures {
+                if slots.iter().any(|(x, _)| *x == s) {
+                    continue;
+                }
+                match OutputSlot::resolve(&mut system, &read.model, s) {
+                    Ok(o) => slots.push((s, o)),
+                    Err(e) => {
+                        ok = Err(e);
+                        break;
+                    }
+                }
+            }
+            match ok {
+                Ok(()) => kept.push(c),
+                Err(e) if k < probes.len() => {
+                    let text = &probes[k].1;
+                    return Err(RunFailure::Diagnostics {
+                        probe: Some(c.name),
+                        diagnostics: vec![Diagnostic::error(
+                            Code::Unsupported,
+                            0..text.len(),
+                            e.to_string(),
+                        )],
+                    });
+                }
+                Err(e) => notes.push(format!("{} left out: {e}", c.name)),
+            }
+        }
+        let columns = kept;
+        let dropped: Vec<usize> = analysis
+            .redundancy
+            .redundant
+            .iter()
+            .map(|r| r.row)
+            .collect();
+        let dynamics = Dynamics::new(system, forces, &dropped)?;
+        let fs: Vec<&Function> = columns.iter().map(|c| &c.function).collect();
+        let code = if interpret {
+            Code_::Interp(fs.iter().map(|f| Program::new((*f).clone())).collect())
+        } else {
+            let compiled = Jit::new().and_then(|mut j| j.compile_batch(&fs));
+            match compiled {
+                Ok(c) => Code_::Jit(c),
+                Err(e) => {
+                    notes.push(format!(
+                        "the JIT is not available ({e}); the interpreter runs the outputs"
+                    ));
+                    Code_::Interp(fs.iter().map(|f| Program::new((*f).clone())).collect())
+                }
+            }
+        };
+        let measures = vec![0.0; read.model.measures.len()];
+        Ok(Simulation {
+            read,
+            dynamics,
+            outputs: Outputs {
+                columns,
+                slots,
+                code,
+                splines: analysis.splines,
+                measures,
+            },
+            spec,
+            notes,
+            conservative,
+        })
+    }
+
+    /// The column headers: `time`, then the probes, then the request components.
+    pub fn header(&self) -> Vec<String> {
+        std::iter::once("time".to_string())
+            .chain(self.outputs.columns.iter().map(|c| c.name.clone()))
+            .collect()
+    }
+}
+
+impl Outputs {
+    /// The output row at the state of `d`.
+    fn row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
+        d.refresh_outputs()?;
+        for &(s, slot) in &self.slots {
+            self.measures[s as usize] = slot.value(d);
+        }
+        let t = d.sys.time;
+        let ctx = Context::new(t, &[])
+            .with_measures(&self.measures)
+            .with_splines(&self.splines);
+        let mut row = Vec::with_capacity(self.columns.len() + 1);
+        row.push(t);
+        match &self.code {
+            Code_::Jit(cs) => row.extend(cs.iter().map(|c| c.eval(&ctx))),
+            Code_::Interp(ps) => row.extend(ps.iter().map(|p| p.eval(&ctx))),
+        }
+        Ok(row)
+    }
+}
+
+impl Simulation {
+    /// The integrator and settings: the command line's, else the dataset's INTEGRATOR
+    /// statement, else Adams' defaults (with HHT standing in for GSTIFF).
+    fn integrator(&mut self) -> (Box<dyn Integrator>, Settings) {
+        let mut s = Settings::for_output_step(self.spec.output_step);
+        let mut method = None;
+        let mut alpha = -0.3;
+        for set in self
+            .read
+            .model
+            .settings
+            .iter()
+            .filter(|s| s.statement == "INTEGRATOR")
+        {
+            for (k, v) in &set.args {
+                let num = v.trim().parse::<f64>().ok();
+                match (k.as_str(), num) {
+                    ("HHT", _) => method = Some(Method::Hht),
+                    ("GSTIFF" | "WSTIFF" | "SI2" | "I3", _) => self.notes.push(format!(
+                        "INTEGRATOR/{k}: GSTIFF and its formulations arrive with dynamics part 2; HHT runs instead"
+                    )),
+                    ("ERROR", Some(x)) => s.error = x,
+                    ("HMAX", Some(x)) => s.hmax = x,
+                    ("HINIT", Some(x)) => s.hinit = x,
+                    ("HMIN", Some(x)) => s.hmin = x,
+                    ("MAXIT", Some(x)) if x >= 1.0 => s.maxit = x as usize,
+                    ("ALPHA", Some(x)) => alpha = x,
+                    (k, _) => self.notes.push(format!("INTEGRATOR: {k} is not honoured")),
+                }
+            }
+        }
+        let sp = &self.spec;
+        s.error = sp.error.unwrap_or(s.error);
+        s.hmax = sp.hmax.unwrap_or(s.hmax).min(sp.output_step);
+        s.hinit = sp.hinit.unwrap_or(s.hinit).min(s.hmax);
+        s.hmin = sp.hmin.unwrap_or(s.hmin);
+        s.fixed_step = sp.fixed_step;
+        alpha = sp.alpha.unwrap_or(alpha).clamp(-1.0 / 3.0, 0.0);
+        let integrator: Box<dyn Integrator> = match sp.method.or(method).unwrap_or(Method::Hht) {
+            Method::Hht => Box::new(Newmark::hht(alpha)),
+            Method::Galpha => Box::new(Newmark::generalized_alpha(sp.rho_inf.unwrap_or(0.9))),
+        };
+        (integrator, s)
+    }
+
+    /// Kinetic plus gravitational potential energy (model units, /UCF).
+    fn energy(&self) -> f64 {
+        let sys = &self.dynamics.sys;
+        let g = sys.gravity;
+        sys.parts
+            .iter()
+            .filter(|p| p.index.is_some())
+            .map(|p| {
+                let w = p.w;
+                0.5 * p.mass * p.v.norm_squared() + 0.5 * w.dot(&(p.inertia_global() * w))
+                    - p.mass * g.dot(&p.r)
+            })
+            .sum::<f64>()
+            / sys.ucf
+    }
+
+    /// Runs to the end time, handing each output row to `out` (the first at t = 0). On a
+    /// failure, the rows before it have been handed out.
+    pub fn run(
+        &mut self,
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+    ) -> Result<Summary, (DynError, Summary)> {
+        let clock = Instant::now();
+        let (mut integrator, settings) = self.integrator();
+        let dt = self.spec.output_step;
+        let end = self.spec.end;
+        let count = (end / dt - 1e-9).ceil().max(0.0) as usize;
+        let times: Vec<f64> = (1..=count).map(|k| (k as f64 * dt).min(end)).collect();
+        let e0 = self.conservative.then(|| self.energy());
+        let mut max_residual: f64 = 0.0;
+        let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
+        let mut emit = |d: &mut Dynamics| -> Result<(), DynError> {
+            let row = outputs.row(d)?;
+            max_residual = max_residual.max(residual(d));
+            out(&row).map_err(|e| DynError::Setup(format!("the output could not be written: {e}")))
+        };
+        let result = dynamics
+            .solve_accelerations()
+            .and_then(|()| emit(dynamics))
+            .and_then(|()| simulate(dynamics, integrator.as_mut(), &settings, &times, &mut emit));
+        let summary = Summary {
+            integrator: integrator.name(),
+            stats: self.dynamics.stats,
+            cpu_seconds: clock.elapsed().as_secs_f64(),
+            max_residual,
+            energy: e0.map(|e| (e, self.energy())),
+            notes: self.notes.clone(),
+            dim: self.dynamics.sys.dim_reason.clone(),
+        };
+        match result {
+            Ok(()) => Ok(summary),
+            Err(e) => Err((e, summary)),
+        }
+    }
+}
+
+/// The largest scaled residual of the kept rows of `d` (translational rows over the
+/// model length), from its last constraint evaluation.
+fn residual(d: &Dynamics) -> f64 {
+    d.rows
+        .iter()
+        .enumerate()
+        .map(|(r, &(e, q))| {
+            let x = d.phi[r].abs();
+            if d.sys.elements[e].eqs[q].translational {
+                x / d.sys.length
+            } else {
+                x
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The expression compiler of `engine`.
+fn engine_compiler(interpret: bool, splines: Arc<[Spline]>) -> CompiledExprs {
+    let c = if interpret {
+        CompiledExprs::interpreted()
+    } else {
+        CompiledExprs::new()
+    };
+    c.with_splines(splines)
+}
