@@ -63,6 +63,9 @@ struct WithGradient {
     code: Code,
     slots: Vec<u32>,
     splines: Arc<[Spline]>,
+    /// The gradient of the gradient (interpreted: it runs only where consistent
+    /// accelerations are solved), or why there is none.
+    hessian: Result<Box<Program>, String>,
 }
 
 /// An expression whose derivative cannot be generated: values only, and the reason.
@@ -92,6 +95,11 @@ impl ExprCompiler for CompiledExprs {
                 })
             }
         };
+        let hessian = gradient(&g, &wrt)
+            .map(|h| Box::new(Program::new(h)))
+            .map_err(|err| {
+                format!("the second derivative of its FUNCTION is not available: {err}")
+            });
         let jitted = self
             .jit
             .borrow_mut()
@@ -105,6 +113,7 @@ impl ExprCompiler for CompiledExprs {
             code,
             slots,
             splines: self.splines.clone(),
+            hessian,
         })
     }
 }
@@ -148,6 +157,26 @@ impl ExprFn for WithGradient {
             *g = finite(d, t)?;
         }
         finite(out[n + 1], t)
+    }
+
+    fn second(&self, t: f64, measures: &[f64], dir: &[f64]) -> Result<f64, String> {
+        let h = self.hessian.as_ref().map_err(Clone::clone)?;
+        // Inputs x = (slots…, t), k of them; the gradient function has 1 + k outputs and
+        // its gradient appends k partials of each: ∂²f/∂xᵢ∂xⱼ at (1 + k) + (1 + i)·k + j.
+        let k = self.slots.len() + 1;
+        let ctx = Context::new(t, &[])
+            .with_measures(measures)
+            .with_splines(&self.splines);
+        let mut out = vec![f64::NAN; (1 + k) * (1 + k)];
+        h.eval_into(&ctx, &mut out);
+        let d = |i: usize| if i + 1 == k { 1.0 } else { dir[i] };
+        let mut sum = 0.0;
+        for i in 0..k {
+            for j in 0..k {
+                sum += d(i) * out[(1 + k) + (1 + i) * k + j] * d(j);
+            }
+        }
+        finite(sum, t)
     }
 }
 

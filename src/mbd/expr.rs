@@ -16,6 +16,12 @@ pub trait ExprFn {
     /// Writes ∂f/∂m for each slot of [`ExprFn::slots`] (same order) into `grad` and
     /// returns ∂f/∂t.
     fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String>;
+    /// The second derivative along the direction `dir` (one entry per slot, in the
+    /// order of [`ExprFn::slots`]) with time advancing at rate 1: dᵀ·H·d with
+    /// d = (dir, 1) and H the Hessian in (slots, t).
+    fn second(&self, _t: f64, _measures: &[f64], _dir: &[f64]) -> Result<f64, String> {
+        Err("the second derivative of its FUNCTION is not available".into())
+    }
 }
 
 /// Values through the interpreter; derivatives are not available until the IR

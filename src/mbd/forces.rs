@@ -140,7 +140,7 @@ fn dual(v: f64, g: [f64; N]) -> D {
 
 /// The part's reference point as a dual (moves with the part's δr).
 fn ref_point(sys: &System, part: PartHandle, slots: &PartSlots) -> V {
-    let mut p = V::c(sys.part(part).r);
+    let mut p: V = V::c(sys.part(part).r);
     if let Some(s) = slots.parts.iter().position(|x| *x == Some(part)) {
         for c in 0..3 {
             p.0[c].g[PER_PART * s + c] = 1.0;
@@ -286,7 +286,7 @@ impl ForceElement {
         let mut slots = self.slots;
         let fi = dual_frame(sys, Some(self.i), &mut slots).expect("prepared");
         let fj = dual_frame(sys, self.j, &mut slots).expect("prepared");
-        let zero = V::c(Vec3::zeros());
+        let zero: V = V::c(Vec3::zeros());
         // (force at I, moment on I's part, force on J's part, moment on J's part), all
         // applied at I's origin except the line forces' reaction at J's.
         let (f_i, t_i, f_j, t_j, j_at_i) = match &self.law {

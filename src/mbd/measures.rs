@@ -10,7 +10,7 @@
 //! moves to the current value after every accepted state, so angles accumulate turns.
 //! Acceleration and force measures need dynamics and are refused with a clear error.
 
-use super::dual::{D, N, PARTS, PER_PART, V};
+use super::dual::{Scalar, D, J2, N, PARTS, PER_PART, V};
 use super::error::MbdError;
 use super::math::Vec3;
 use super::system::{MarkerHandle, PartHandle, System};
@@ -210,12 +210,15 @@ impl Evaluated {
 
 /// A marker frame as duals: origin, axes, velocity of the origin, angular velocity.
 #[derive(Clone, Copy)]
-pub(crate) struct DFrame {
-    pub r: V,
-    pub axes: [V; 3],
-    pub vel: V,
-    pub w: V,
+pub(crate) struct Frame<T> {
+    pub r: V<T>,
+    pub axes: [V<T>; 3],
+    pub vel: V<T>,
+    pub w: V<T>,
 }
+
+/// A marker frame as duals over local directions.
+pub(crate) type DFrame = Frame<D>;
 
 /// Which part each block of a dual's local directions belongs to: several duals that
 /// share one table can be combined (a force element's frames and the measures its
@@ -373,6 +376,37 @@ impl MeasureSet {
         }
     }
 
+    /// Measure `n` with its first and second time derivatives along the current motion
+    /// with every part's acceleration zero (its value is not unwrapped): what the
+    /// acceleration-level constraint right-hand side needs.
+    pub fn jet(&self, sys: &System, n: usize) -> J2 {
+        let m = self.list[n];
+        let frames = m.markers().map(|mk| {
+            let f = sys.frame(mk);
+            let p = sys.part(f.part);
+            let w = p.w;
+            let jet = |x: Vec3, d: Vec3, dd: Vec3| {
+                V([0, 1, 2].map(|c| J2 {
+                    v: x[c],
+                    d: d[c],
+                    dd: dd[c],
+                }))
+            };
+            let wa = w.cross(&f.a);
+            let axes = [0, 1, 2].map(|c| {
+                let u = Vec3::from(f.rot.column(c));
+                jet(u, w.cross(&u), w.cross(&w.cross(&u)))
+            });
+            Frame {
+                r: jet(f.r, p.v + wa, w.cross(&wa)),
+                axes,
+                vel: jet(p.v + wa, w.cross(&wa), w.cross(&w.cross(&wa))),
+                w: jet(w, Vec3::zeros(), Vec3::zeros()),
+            }
+        });
+        self.raw(n, &m, &frames)
+    }
+
     /// Measure `n` as a dual over the local directions of `slots`, which it extends with
     /// the parts it reads (shared with other duals of one force element). None when the
     /// parts do not fit in the slots.
@@ -386,11 +420,12 @@ impl MeasureSet {
         Some(self.compute(n, &m, &frames))
     }
 
-    fn compute(&self, n: usize, m: &Measure, f: &[DFrame]) -> D {
+    /// The raw (not unwrapped) value of measure `n` from its frames, in duals or jets.
+    fn raw<T: Scalar>(&self, n: usize, m: &Measure, f: &[Frame<T>]) -> T {
         use Measure::*;
         // Rotation of i relative to j: R[a][b] = axis_j[a] · axis_i[b].
-        let rel = |fi: &DFrame, fj: &DFrame, a: usize, b: usize| fj.axes[a].dot(&fi.axes[b]);
-        let raw = match *m {
+        let rel = |fi: &Frame<T>, fj: &Frame<T>, a: usize, b: usize| fj.axes[a].dot(&fi.axes[b]);
+        match *m {
             Disp { comp, .. } => f[0].r.sub(&f[1].r).dot(&f[2].axes[comp as usize]),
             Dist { .. } => f[0].r.sub(&f[1].r).norm(),
             Angle { axis, .. } => {
@@ -446,7 +481,7 @@ impl MeasureSet {
                 let dn = d.norm();
                 let w = rel_vel_l(f, 2);
                 let s = w.dot(&d);
-                s * recip(dn)
+                s * dn.recip()
             }
             AngVel { comp, .. } => f[0].w.sub(&f[1].w).dot(&f[2].axes[comp as usize]),
             AngVelMag { .. } => f[0].w.sub(&f[1].w).norm(),
@@ -455,7 +490,11 @@ impl MeasureSet {
                 let s = i.axes[0].dot(&i.axes[2].cross(&j.axes[2]));
                 s.atan2(i.axes[0].dot(&j.axes[2]))
             }
-        };
+        }
+    }
+
+    fn compute(&self, n: usize, m: &Measure, f: &[DFrame]) -> D {
+        let raw = self.raw(n, m, f);
         let r = self.refs[n];
         if m.unwrapped() && r.is_finite() {
             let k = ((r - raw.v) / (2.0 * PI)).round();
@@ -482,23 +521,13 @@ impl System {
     }
 }
 
-/// 1/x as a dual.
-fn recip(x: D) -> D {
-    let mut g = x.g;
-    let s = -1.0 / (x.v * x.v);
-    for v in &mut g[..N] {
-        *v *= s;
-    }
-    D { v: 1.0 / x.v, g }
-}
-
 /// d/dt|_l (r_i − r_j) with frames [i, j, k, l].
-fn rel_vel(f: &[DFrame]) -> V {
+fn rel_vel<T: Scalar>(f: &[Frame<T>]) -> V<T> {
     rel_vel_l(f, 3)
 }
 
 /// d/dt|_l (r_i − r_j) = ṙ_i − ṙ_j − ω_l × (r_i − r_j), with l = f[li].
-fn rel_vel_l(f: &[DFrame], li: usize) -> V {
+fn rel_vel_l<T: Scalar>(f: &[Frame<T>], li: usize) -> V<T> {
     let d = f[0].r.sub(&f[1].r);
     f[0].vel.sub(&f[1].vel).sub(&f[li].w.cross(&d))
 }

@@ -9,9 +9,11 @@
 //! - `Dot`, u·w with u on I and w on J: Φ̈ = ü·w + 2u̇·ẇ + u·ẅ.
 //!
 //! A non-holonomic GCON f(q, v, t) = 0 is differentiated once: γ = −(f_q·v + f_t).
-//! Rows built on measures (GCON, MOTION, RACKPIN, SCREW, CONVEL) need second derivatives
-//! of their measures and expressions, which the core does not generate yet: they are an
-//! error naming the element, never a silently wrong γ.
+//! Rows built on measures (GCON, MOTION, RACKPIN, SCREW, CONVEL) take the measures'
+//! second time derivatives from jets ([`crate::mbd::measures::MeasureSet::jet`]) and the
+//! expression's Hessian from the IR derivative applied twice; where the IR has no second
+//! derivative (library functions other than the arithmetic ones), that is an error naming
+//! the element, never a silently wrong γ.
 
 use super::Dynamics;
 use crate::mbd::constraints::Row;
@@ -42,6 +44,13 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
     let sys = &d.sys;
     let mut out = DVec::zeros(d.m);
     for (r, &(e, q)) in d.rows.iter().enumerate() {
+        let name = |why: String| {
+            MbdError::Unsupported(format!(
+                "{}: consistent accelerations need the second derivative of its {} equation: {why}",
+                element_name(&sys.elements[e].elref),
+                sys.elements[e].eqs[q].label.label()
+            ))
+        };
         out[r] = match &sys.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {
                 let (ri, vi, ai, _) = point(sys, *i);
@@ -60,12 +69,33 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
                 let v = sys.v();
                 -(ev.dq.iter().map(|&(c, x)| x * v[c]).sum::<f64>() + ev.dt)
             }
-            Row::Measured { .. } | Row::Gcon { .. } => {
-                return Err(MbdError::Unsupported(format!(
-                    "{}: consistent accelerations need the second derivative of its {} equation, which mbfx does not generate yet",
-                    element_name(&sys.elements[e].elref),
-                    sys.elements[e].eqs[q].label.label()
-                )))
+            Row::Measured { terms, drive } => {
+                let mut phi = 0.0;
+                for &(c, m) in terms {
+                    phi += c * sys.measures.jet(sys, m).dd;
+                }
+                if let Some(g) = drive {
+                    phi -= g.second(sys.time, &[], &[]).map_err(|why| name(why))?;
+                }
+                -phi
+            }
+            Row::Gcon { f, map } => {
+                // f(m(q), t): f̈ = Σ fᵢ·m̈ᵢ + dᵀ·H·d, d = (ṁ, 1).
+                let slots = f.slots();
+                let len = slots.last().map_or(0, |&s| s as usize + 1);
+                let mut vals = vec![0.0; len];
+                let mut dir = Vec::with_capacity(map.len());
+                let mut acc = Vec::with_capacity(map.len());
+                for (&m, &s) in map.iter().zip(slots) {
+                    let j = sys.measures.jet(sys, m);
+                    vals[s as usize] = j.v;
+                    dir.push(j.d);
+                    acc.push(j.dd);
+                }
+                let mut grad = vec![0.0; slots.len()];
+                f.gradient(sys.time, &vals, &mut grad).map_err(&name)?;
+                let curvature = f.second(sys.time, &vals, &dir).map_err(&name)?;
+                -(grad.iter().zip(&acc).map(|(g, a)| g * a).sum::<f64>() + curvature)
             }
         };
     }

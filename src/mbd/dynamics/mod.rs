@@ -168,6 +168,9 @@ pub struct Dynamics {
     pub stats: Stats,
     lu: SparseLu,
     values: Vec<f64>,
+    /// Counts factorizations, so an integrator can tell whether the factors it reuses
+    /// are still its own.
+    pub factor_generation: u64,
     /// Scratch: generalized forces and their Jacobians.
     pub(crate) gen: Generalized,
     /// Φ and Φ_q (row, col, value) of the kept rows at the last evaluation.
@@ -207,6 +210,7 @@ impl Dynamics {
             stats: Stats::default(),
             lu,
             values,
+            factor_generation: 0,
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
             phi_q: Vec::new(),
@@ -442,6 +446,7 @@ impl Dynamics {
             add(&mut self.values, c, n + r, w.w_l * x);
         }
         self.stats.factorizations += 1;
+        self.factor_generation += 1;
         let time = self.sys.time;
         self.lu.factor(&self.values).map_err(|e| match e {
             FactorError::NotFinite => DynError::NotFinite {

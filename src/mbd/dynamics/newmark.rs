@@ -60,8 +60,10 @@ pub struct Newmark {
     f0: DVec,
     // The candidate.
     at1: DVec,
-    /// Step size of the current factorization (None: none valid).
+    /// Step size and generation ([`Dynamics::factor_generation`]) of the factorization
+    /// this integrator made (None: none valid).
     factored_h: Option<f64>,
+    generation: u64,
 }
 
 impl Newmark {
@@ -94,6 +96,7 @@ impl Newmark {
             f0: DVec::zeros(0),
             at1: DVec::zeros(0),
             factored_h: None,
+            generation: 0,
         }
     }
 
@@ -199,7 +202,8 @@ impl Integrator for Newmark {
         let mut a1 = self.a0.clone();
         let mut lambda = self.lambda0.clone();
         if let Some(fh) = self.factored_h {
-            if !(0.8..=1.25).contains(&(h / fh)) {
+            // Refactor when the step moved or someone else factored since.
+            if !(0.8..=1.25).contains(&(h / fh)) || d.factor_generation != self.generation {
                 self.factored_h = None;
             }
         }
@@ -225,6 +229,7 @@ impl Integrator for Newmark {
                 d.stats.jacobian_evaluations += 1;
                 d.factor(self.weights(h))?;
                 self.factored_h = Some(h);
+                self.generation = d.factor_generation;
             }
             // −R₁ = −(M a/UCF + s(Φ_qᵀλ − Q) − r f₀), −R₂ = −Φ/scale.
             let mut r1 = DVec::zeros(n);

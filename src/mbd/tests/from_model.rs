@@ -256,7 +256,10 @@ fn part_velocities_are_given_at_the_cm_in_cm_axes() {
     assert!((p.w - Vec3::new(0.0, 2.0, 0.0)).norm() < 1e-15);
     assert!((p.v - Vec3::new(1.0, 0.0, 0.0)).norm() < 1e-15, "{}", p.v);
     let origin = p.v + p.w.cross(&(p.bcs_origin() - p.r));
-    assert!((origin - Vec3::new(1.0, 0.0, 1.0)).norm() < 1e-15, "{origin}");
+    assert!(
+        (origin - Vec3::new(1.0, 0.0, 1.0)).norm() < 1e-15,
+        "{origin}"
+    );
 }
 
 #[test]
