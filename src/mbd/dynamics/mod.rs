@@ -368,29 +368,44 @@ impl Dynamics {
         }
     }
 
-    /// M·x / UCF added to `out` (x in the velocity layout).
-    pub fn add_mass_times(&self, x: &DVec, out: &mut DVec) {
+    /// Every moving part's mass block (divided by UCF) at the current state, in part
+    /// order.
+    pub fn mass_blocks(&self) -> Vec<Mat3Block> {
+        self.sys
+            .parts
+            .iter()
+            .filter(|p| p.index.is_some())
+            .map(|p| self.mass_block(p))
+            .collect()
+    }
+
+    /// w·M·x added to `out` (x in the velocity layout), M given by its `blocks`.
+    pub fn add_blocks_times(&self, blocks: &[Mat3Block], w: f64, x: &DVec, out: &mut DVec) {
         let bs = self.sys.dim.cols();
-        for p in &self.sys.parts {
-            let Some(i) = p.index else { continue };
+        for (i, blk) in blocks.iter().enumerate() {
             let b = i * bs;
-            match self.mass_block(p) {
+            match *blk {
                 Mat3Block::Three(m, j) => {
                     for c in 0..3 {
-                        out[b + c] += m * x[b + c];
+                        out[b + c] += w * m * x[b + c];
                     }
-                    let w = j * Vec3::new(x[b + 3], x[b + 4], x[b + 5]);
+                    let t = j * Vec3::new(x[b + 3], x[b + 4], x[b + 5]);
                     for c in 0..3 {
-                        out[b + 3 + c] += w[c];
+                        out[b + 3 + c] += w * t[c];
                     }
                 }
                 Mat3Block::Two(m, j) => {
-                    out[b] += m * x[b];
-                    out[b + 1] += m * x[b + 1];
-                    out[b + 2] += j * x[b + 2];
+                    out[b] += w * m * x[b];
+                    out[b + 1] += w * m * x[b + 1];
+                    out[b + 2] += w * j * x[b + 2];
                 }
             }
         }
+    }
+
+    /// M·x / UCF added to `out` (x in the velocity layout), M at the current state.
+    pub fn add_mass_times(&self, x: &DVec, out: &mut DVec) {
+        self.add_blocks_times(&self.mass_blocks(), 1.0, x, out);
     }
 
     /// Φ_qᵀ·λ added to `out`, with the Φ_q of the last [`Dynamics::eval_constraints`].

@@ -11,8 +11,12 @@
 //! and multipliers λ₁ by Newton on
 //!
 //! ```text
-//! M·a₁/UCF + s·(Φ_qᵀλ − Q)₁ − r·(Φ_qᵀλ − Q)₀ = 0,     Φ(q₁, t₁)/(β·h²·c) = 0.
+//! (s·M₁ − r·M₀)·a₁/UCF + s·(Φ_qᵀλ − Q)₁ − r·(Φ_qᵀλ − Q)₀ = 0,     Φ(q₁, t₁)/(β·h²·c) = 0.
 //! ```
+//!
+//! HHT's a₁ is the acceleration at t₁ + α·h, so the mass matrix is shifted with the
+//! forces: in 3D the rotational inertia R·J·Rᵀ changes with the configuration, and
+//! M₁·a₁ alone leaves angular velocities first-order accurate.
 //!
 //! HHT: ã = a, s = 1 + α, r = α, γ = ½ − α, β = (1 − α)²/4, α ∈ [−⅓, 0].
 //! Generalized-α: (1 − α_m)·ã₁ + α_m·ã₀ = (1 − α_f)·a₁ + α_f·a₀, s = 1, r = 0,
@@ -29,7 +33,7 @@ use crate::mbd::system::Dimension;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
 /// which the corrector has converged.
-const NEWTON_TOL: f64 = 1e-8;
+const NEWTON_TOL: f64 = 1e-10;
 
 /// Which member of the family.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +62,8 @@ pub struct Newmark {
     lambda0: DVec,
     /// (Φ_qᵀλ − Q) at the last accepted state.
     f0: DVec,
+    /// The mass blocks at the last accepted state.
+    m0: Vec<super::Mat3Block>,
     // The candidate.
     at1: DVec,
     /// Step size and generation ([`Dynamics::factor_generation`]) of the factorization
@@ -94,6 +100,7 @@ impl Newmark {
             at0: DVec::zeros(0),
             lambda0: DVec::zeros(0),
             f0: DVec::zeros(0),
+            m0: Vec::new(),
             at1: DVec::zeros(0),
             factored_h: None,
             generation: 0,
@@ -190,6 +197,7 @@ impl Integrator for Newmark {
         let mut f0 = DVec::zeros(d.n);
         d.add_mass_times(&self.a0, &mut f0);
         self.f0 = -f0;
+        self.m0 = d.mass_blocks();
         self.factored_h = None;
         Ok(())
     }
@@ -213,6 +221,13 @@ impl Integrator for Newmark {
             .iter()
             .map(|p| p.mass / d.sys.ucf)
             .fold(1e-300, f64::max);
+        // The size of the coordinates (their rounding is the floor of every correction).
+        let reach = d
+            .sys
+            .parts
+            .iter()
+            .map(|p| p.r.amax())
+            .fold(d.sys.length, f64::max);
         let mut prev_norm = f64::INFINITY;
         let mut rhs = vec![0.0; n + m];
         let mut fresh_tries = 0;
@@ -233,7 +248,8 @@ impl Integrator for Newmark {
             }
             // −R₁ = −(M a/UCF + s(Φ_qᵀλ − Q) − r f₀), −R₂ = −Φ/scale.
             let mut r1 = DVec::zeros(n);
-            d.add_mass_times(&a1, &mut r1);
+            d.add_blocks_times(&d.mass_blocks(), self.s, &a1, &mut r1);
+            d.add_blocks_times(&self.m0, -self.r, &a1, &mut r1);
             let mut cf = -d.gen.q.clone();
             d.add_constraint_forces(&lambda, &mut cf);
             r1 += cf * self.s - &self.f0 * self.r;
@@ -248,13 +264,17 @@ impl Integrator for Newmark {
             // tolerance still leave accelerations and multipliers (reactions) off by
             // that over β·h². So the test is on the accelerations and multipliers
             // themselves, relative to their size (with a floor where they vanish).
-            let a_scale =
-                a1.amax() + 1e-3 * tol.iter().fold(f64::INFINITY, |x, &y| x.min(y)) / (h * h);
+            // Positions carry rounding of ε·|q|; over β·h²·c that is an acceleration
+            // Newton cannot resolve below. `norm` ≤ 1 is converged.
+            let bh2 = h * h * self.beta * self.c();
+            let a_scale = a1.amax() + 1e-3 * tol.iter().fold(f64::INFINITY, |x, &y| x.min(y)) / bh2;
+            let a_noise = 10.0 * f64::EPSILON * reach / bh2;
+            let a_tol = NEWTON_TOL * a_scale + a_noise;
             // Multipliers are forces: their floor is the accelerations' times the mass.
-            let l_scale = lambda.amax() + a_scale * mass;
+            let l_tol = NEWTON_TOL * (lambda.amax() + a_scale * mass) + a_noise * mass;
             let norm = (0..n)
-                .map(|k| rhs[k].abs() / a_scale)
-                .chain((0..m).map(|k| rhs[n + k].abs() / l_scale))
+                .map(|k| rhs[k].abs() / a_tol)
+                .chain((0..m).map(|k| rhs[n + k].abs() / l_tol))
                 .fold(0.0, f64::max);
             if !norm.is_finite() {
                 return Ok(Attempt::Diverged);
@@ -266,16 +286,13 @@ impl Integrator for Newmark {
                 lambda[k] += rhs[n + k];
             }
             let rate = norm / prev_norm;
-            if std::env::var_os("MBFX_DEBUG_NEWTON").is_some() {
-                eprintln!("t1 {t1} iter {iter} norm {norm:e} rate {rate} refactor {refactor}");
-            }
             // Linear convergence: the error left is about rate/(1 − rate) of this step.
             let left = if rate < 1.0 {
                 norm * rate / (1.0 - rate)
             } else {
                 norm
             };
-            if iter > 1 && norm.min(left) <= NEWTON_TOL || norm <= NEWTON_TOL * 1e-3 {
+            if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 {
                 self.place(d, &a1, h, t1);
                 d.a = a1;
                 d.lambda = lambda;
@@ -305,10 +322,13 @@ impl Integrator for Newmark {
     }
 
     fn accept(&mut self, d: &mut Dynamics) {
-        // (Φ_qᵀλ − Q)₁ from the converged residual: s·f₁ = r·f₀ − M·a₁/UCF.
+        // (Φ_qᵀλ − Q)₁ from the converged residual: s·f₁ = r·f₀ − (s·M₁ − r·M₀)·a₁/UCF.
+        let m1 = d.mass_blocks();
         let mut ma = DVec::zeros(d.n);
-        d.add_mass_times(&d.a, &mut ma);
+        d.add_blocks_times(&m1, self.s, &d.a, &mut ma);
+        d.add_blocks_times(&self.m0, -self.r, &d.a, &mut ma);
         self.f0 = (&self.f0 * self.r - ma) / self.s;
+        self.m0 = m1;
         self.base = Some(d.snapshot());
         self.v0 = d.sys.v();
         self.a0 = d.a.clone();
