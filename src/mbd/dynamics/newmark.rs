@@ -286,6 +286,9 @@ impl Integrator for Newmark {
                 lambda[k] += rhs[n + k];
             }
             let rate = norm / prev_norm;
+            if std::env::var_os("MBFX_DEBUG_NEWTON").is_some() {
+                eprintln!("t1 {t1} h {h:e} iter {iter} norm {norm:e} rate {rate} refactor {refactor}");
+            }
             // Linear convergence: the error left is about rate/(1 − rate) of this step.
             let left = if rate < 1.0 {
                 norm * rate / (1.0 - rate)
