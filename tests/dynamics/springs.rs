@@ -148,3 +148,45 @@ fn transspring_dataset_as_given_does_not_match_adams() {
         "{devs:#?}"
     );
 }
+
+/// TranSpring_Case02's output has no dataset in the corpus; it is the Case01 dataset's
+/// geometry (CM at (0, 2, 0), spring from the origin, free length 2, k = 100 N/m) with
+/// c = 5 N·s/m instead of the dataset's 1, which chrono's own test of that case also uses.
+/// Shown with the independent elastic-pendulum solution: c = 5 matches Adams' positions and
+/// forces within its accuracy, the dataset's c = 1 does not.
+#[test]
+fn transspring_case02_output_is_the_dataset_with_5_n_s_per_m() {
+    let table = |q: Quantity| {
+        crate::adams::Table::read(&crate::adams::joints_dir().join(format!(
+            "transpring_force/TranSpring_Case02_ADAMS_{}.txt",
+            q.suffix()
+        )))
+    };
+    let (pos, force) = (table(Quantity::Pos), table(Quantity::Rforce));
+    let devs = |c: f64| {
+        let sol = transspring_as_given(&pos.time, 100.0, c);
+        let p: Vec<Vec<f64>> = (0..3)
+            .map(|i| sol.iter().map(|s| s.0[i]).collect())
+            .collect();
+        let f: Vec<Vec<f64>> = (0..3)
+            .map(|i| sol.iter().map(|s| s.1[i]).collect())
+            .collect();
+        let mut d = deviations(Quantity::Pos, &pos.time, &p, &pos, |m, a| {
+            Quantity::Pos.adams_bound(m, a)
+        });
+        d.extend(deviations(
+            Quantity::Rforce,
+            &pos.time,
+            &f,
+            &force,
+            |m, a| Quantity::Rforce.adams_bound(m, a),
+        ));
+        d
+    };
+    let matched = devs(5.0);
+    assert!(
+        failures("TranSpring_Case02, c = 5", &matched).is_empty(),
+        "{matched:#?}"
+    );
+    assert!(!failures("TranSpring_Case02, c = 1", &devs(1.0)).is_empty());
+}
