@@ -7,7 +7,7 @@
 
 use super::check_file::read_dataset;
 use crate::diag::{render, Code, Diagnostic, SourceFile};
-use crate::mbd::dynamics::DynError;
+use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::session::run::{Engine, Method, RunFailure, RunSpec, Simulation, Summary};
 use crate::session::{report, DimRequest};
@@ -250,9 +250,11 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
 /// A dynamics failure as a diagnostic at the statement of the element it names.
 fn report_failure(e: &DynError, source: &SourceFile, text: &str, color: bool) {
     let model = crate::model::read_model(text).model;
-    let span = e
-        .element()
-        .map_or(0..0, |el| report::element_span(&model, el));
+    let span = match e.culprit() {
+        Some(Culprit::Element(el)) => report::element_span(&model, &el),
+        Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
+        None => 0..0,
+    };
     let d = Diagnostic::error(code_of(e), span, e.to_string());
     eprint!("{}", render(&[d], source, color));
 }

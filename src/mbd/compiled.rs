@@ -62,6 +62,7 @@ enum Code {
 struct WithGradient {
     code: Code,
     slots: Vec<u32>,
+    reads_time: bool,
     splines: Arc<[Spline]>,
     /// The gradient of the gradient (interpreted: it runs only where consistent
     /// accelerations are solved), or why there is none.
@@ -95,7 +96,11 @@ impl ExprCompiler for CompiledExprs {
                 })
             }
         };
-        let hessian = gradient(&g, &wrt)
+        // The Hessian comes from the function with its piecewise library calls (STEP,
+        // STEP5, MIN, MAX, …) lowered to arithmetic and selects, which differentiate
+        // twice; other library calls have first-derivative companions only.
+        let hessian = gradient(&crate::ir::lower::lower(&e.function), &wrt)
+            .and_then(|g1| gradient(&g1, &wrt))
             .map(|h| Box::new(Program::new(h)))
             .map_err(|err| {
                 format!("the second derivative of its FUNCTION is not available: {err}")
@@ -112,6 +117,7 @@ impl ExprCompiler for CompiledExprs {
         Box::new(WithGradient {
             code,
             slots,
+            reads_time: e.function.uses.time,
             splines: self.splines.clone(),
             hessian,
         })
@@ -144,6 +150,10 @@ impl WithGradient {
 impl ExprFn for WithGradient {
     fn slots(&self) -> &[u32] {
         &self.slots
+    }
+
+    fn reads_time(&self) -> bool {
+        self.reads_time
     }
 
     fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {

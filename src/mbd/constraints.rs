@@ -399,6 +399,16 @@ impl System {
         })
     }
 
+    /// True when the row's equation depends on time (a MOTION's drive, a GCON reading
+    /// TIME).
+    pub fn row_reads_time(&self, e: usize, q: usize) -> bool {
+        match &self.elements[e].eqs[q].row {
+            Row::Measured { drive, .. } => drive.is_some(),
+            Row::Gcon { f, .. } => f.reads_time(),
+            _ => false,
+        }
+    }
+
     /// True when the row reads velocities (a non-holonomic GCON).
     pub fn row_reads_velocity(&self, e: usize, q: usize) -> bool {
         match &self.elements[e].eqs[q].row {

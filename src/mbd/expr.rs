@@ -16,6 +16,11 @@ pub trait ExprFn {
     /// Writes ∂f/∂m for each slot of [`ExprFn::slots`] (same order) into `grad` and
     /// returns ∂f/∂t.
     fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String>;
+    /// Whether the expression reads TIME (true unless the implementation knows).
+    fn reads_time(&self) -> bool {
+        true
+    }
+
     /// The second derivative along the direction `dir` (one entry per slot, in the
     /// order of [`ExprFn::slots`]) with time advancing at rate 1: dᵀ·H·d with
     /// d = (dir, 1) and H the Hessian in (slots, t).
@@ -29,14 +34,17 @@ pub trait ExprFn {
 pub struct Interpreted {
     program: Program,
     slots: Vec<u32>,
+    reads_time: bool,
 }
 
 impl Interpreted {
     pub fn new(function: Function) -> Self {
         let slots = function.uses.measures.clone();
+        let reads_time = function.uses.time;
         Interpreted {
             program: Program::new(function),
             slots,
+            reads_time,
         }
     }
 }
@@ -44,6 +52,10 @@ impl Interpreted {
 impl ExprFn for Interpreted {
     fn slots(&self) -> &[u32] {
         &self.slots
+    }
+
+    fn reads_time(&self) -> bool {
+        self.reads_time
     }
 
     fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {

@@ -272,6 +272,15 @@ impl System {
                 );
                 return Err(why);
             }
+            // Satisfied now is not satisfied identically when the equation moves with
+            // time: it drives motion out of the plane.
+            if self.row_reads_time(e, q) {
+                let why = format!(
+                    "{} ({label}) depends on time and drives motion out of the {plane} plane",
+                    element_name(&el.elref)
+                );
+                return Err(why);
+            }
             drop.push((e, q));
         }
         Ok(drop)

@@ -131,10 +131,13 @@ impl Quantity {
     }
 }
 
-/// What a quantity that is zero in truth may show: 1e-10 in SI units, 1e-11 of these cases'
-/// scales (m·g = 9.8 N, m·g·2 m = 19.6 N·m, g = 9.8 m/s²). Adams prints up to 4e-12 N·m
-/// of torque in Universal_Case02's revolute-free axes.
-pub const ROUND_OFF: f64 = 1e-10;
+/// What a quantity that is zero in truth may show: 1e-6 in SI units, about 1e-7 of these
+/// cases' scales (m·g = 9.8 N, m·g·2 m = 19.6 N·m, g = 9.8 m/s²). Adams prints up to
+/// 4e-12 N·m of torque in Universal_Case02's revolute-free axes; mbfx's multipliers come
+/// from an index-3 solve whose rounding floor is ε·|q|/(β·h²), about 1e-8 of the force
+/// scale at the steps ERROR = 1e-12 takes, and a zero torque is a difference of such
+/// multipliers times lever arms.
+pub const ROUND_OFF: f64 = 1e-6;
 
 /// What the Rforce/Rtorque files of a case hold, as expressions a probe can evaluate.
 /// Three each, ground axes, the load on the part of the element's I marker.

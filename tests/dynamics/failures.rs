@@ -92,7 +92,6 @@ fn check(f: &Failure) {
 }
 
 #[test]
-#[ignore = "needs mbfx run (issue 8, in progress)"]
 fn newton_divergence_is_reported() {
     check(&Failure {
         file: "newton_divergence.adm",
@@ -104,7 +103,6 @@ fn newton_divergence_is_reported() {
 }
 
 #[test]
-#[ignore = "needs mbfx run (issue 8, in progress)"]
 fn step_below_hmin_is_reported() {
     check(&Failure {
         file: "step_below_hmin.adm",
@@ -117,7 +115,6 @@ fn step_below_hmin_is_reported() {
 }
 
 #[test]
-#[ignore = "needs mbfx run (issue 8, in progress)"]
 fn singular_matrix_is_reported() {
     check(&Failure {
         file: "singular_matrix.adm",
@@ -129,7 +126,6 @@ fn singular_matrix_is_reported() {
 }
 
 #[test]
-#[ignore = "needs mbfx run (issue 8, in progress)"]
 fn nan_in_a_force_is_reported() {
     check(&Failure {
         file: "nan_in_force.adm",
@@ -141,7 +137,6 @@ fn nan_in_a_force_is_reported() {
 }
 
 #[test]
-#[ignore = "needs mbfx run (issue 8, in progress)"]
 fn a_dropped_row_violated_is_reported() {
     check(&Failure {
         file: "dropped_row_violated.adm",
@@ -162,7 +157,6 @@ fn the_number_scanner_finds_times() {
 /// A GCON satisfied at t = 0 only must keep the scene 3D (or be honoured in 2D): the slide
 /// follows x = 0.1·STEP(t, 0, 0, 1, 1) exactly, whatever dimension mbfx picks.
 #[test]
-#[ignore = "needs mbfx run (issue 8, in progress)"]
 fn a_time_dependent_gcon_out_of_the_plane_is_not_dropped() {
     let model = models_dir().join("gcon_drives_out_of_plane.adm");
     let csv = run(

@@ -41,8 +41,8 @@ impl Settings {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Attempt {
     /// The corrector converged; `err` is the local error estimate divided by the
-    /// tolerance (≤ 1 to accept; 0 in fixed-step mode).
-    Converged { err: f64 },
+    /// tolerance (≤ 1 to accept; 0 in fixed-step mode), largest at column `worst`.
+    Converged { err: f64, worst: usize },
     /// The corrector did not converge.
     Diverged,
 }
@@ -96,17 +96,22 @@ pub fn simulate(
             let attempt = integrator.attempt(d, end - t, s)?;
             match attempt {
                 Attempt::Diverged => {
-                    integrator.reject(d);
                     d.stats.rejected += 1;
-                    if s.fixed_step.is_some() {
-                        return Err(DynError::Newton { time: t, step: h });
+                    if !(s.fixed_step.is_some() || h * 0.25 < s.hmin) {
+                        integrator.reject(d);
+                    }
+                    if s.fixed_step.is_some() || h * 0.25 < s.hmin {
+                        let culprit = d.worst_row();
+                        integrator.reject(d);
+                        return Err(DynError::Newton {
+                            time: t,
+                            step: h,
+                            culprit,
+                        });
                     }
                     want = h * 0.25;
-                    if want < s.hmin {
-                        return Err(DynError::Newton { time: t, step: h });
-                    }
                 }
-                Attempt::Converged { err } if err > 1.0 && s.fixed_step.is_none() => {
+                Attempt::Converged { err, worst } if err > 1.0 && s.fixed_step.is_none() => {
                     integrator.reject(d);
                     d.stats.rejected += 1;
                     want = h * (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.1, 0.9);
@@ -115,10 +120,11 @@ pub fn simulate(
                             time: t,
                             step: want,
                             hmin: s.hmin,
+                            culprit: d.part_of_column(worst),
                         });
                     }
                 }
-                Attempt::Converged { err } => {
+                Attempt::Converged { err, .. } => {
                     d.sys.time = end;
                     integrator.accept(d);
                     d.stats.steps += 1;

@@ -39,13 +39,38 @@ pub struct Stats {
     pub expression_evaluations: usize,
 }
 
+/// What a failure points at: an element, or a part (by Adams id).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Culprit {
+    Element(ElementRef),
+    Part(u32),
+}
+
+impl fmt::Display for Culprit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Culprit::Element(e) => write!(f, "{}", element_name(e)),
+            Culprit::Part(id) => write!(f, "PART/{id}"),
+        }
+    }
+}
+
+/// ", at X" when there is a culprit.
+fn at(c: &Option<Culprit>) -> String {
+    c.as_ref().map_or(String::new(), |c| format!(" (at {c})"))
+}
+
 /// Why the dynamics stopped.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DynError {
     /// An element or expression could not be evaluated.
     Model(MbdError),
     /// The Newton matrix is singular: `what` names the likely cause.
-    Singular { time: f64, what: String },
+    Singular {
+        time: f64,
+        what: String,
+        culprit: Option<Culprit>,
+    },
     /// A force or state became NaN or infinite; `element` is the force element when one
     /// is to blame.
     NotFinite {
@@ -54,9 +79,18 @@ pub enum DynError {
         element: Option<ElementRef>,
     },
     /// The corrector did not converge even at the smallest step.
-    Newton { time: f64, step: f64 },
+    Newton {
+        time: f64,
+        step: f64,
+        culprit: Option<Culprit>,
+    },
     /// Error control asked for a step below HMIN.
-    StepTooSmall { time: f64, step: f64, hmin: f64 },
+    StepTooSmall {
+        time: f64,
+        step: f64,
+        hmin: f64,
+        culprit: Option<Culprit>,
+    },
     /// A constraint the redundancy analysis dropped is violated: the constraints are
     /// conflicting, not redundant.
     DroppedViolated {
@@ -82,11 +116,33 @@ impl DynError {
         }
     }
 
+    /// The element or part the failure is about, when there is one.
+    pub fn culprit(&self) -> Option<Culprit> {
+        match self {
+            DynError::Singular { culprit, .. }
+            | DynError::Newton { culprit, .. }
+            | DynError::StepTooSmall { culprit, .. } => culprit.clone(),
+            _ => self.element().cloned().map(Culprit::Element),
+        }
+    }
+
     /// The element the failure is about, when there is one.
     pub fn element(&self) -> Option<&ElementRef> {
         match self {
             DynError::DroppedViolated { element, .. } => Some(element),
             DynError::NotFinite { element, .. } => element.as_ref(),
+            DynError::Singular {
+                culprit: Some(Culprit::Element(e)),
+                ..
+            }
+            | DynError::Newton {
+                culprit: Some(Culprit::Element(e)),
+                ..
+            }
+            | DynError::StepTooSmall {
+                culprit: Some(Culprit::Element(e)),
+                ..
+            } => Some(e),
             DynError::Model(MbdError::Expression(e, _))
             | DynError::Model(MbdError::SamePart(e))
             | DynError::Model(MbdError::Floating(e, _)) => Some(e),
@@ -105,17 +161,26 @@ impl fmt::Display for DynError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             DynError::Model(e) => write!(f, "{e}"),
-            DynError::Singular { time, what } => {
-                write!(f, "at time {time}: the equations of motion are singular: {what}")
-            }
-            DynError::NotFinite { time, what, .. } => write!(f, "at time {time}: {what}"),
-            DynError::Newton { time, step } => write!(
+            DynError::Singular { time, what, culprit } => write!(
                 f,
-                "at time {time}: the corrector does not converge (Newton diverges even at step {step:e})"
+                "at time {time}: the equations of motion are singular{}: {what}",
+                at(culprit)
             ),
-            DynError::StepTooSmall { time, step, hmin } => write!(
+            DynError::NotFinite { time, what, .. } => write!(f, "at time {time}: {what}"),
+            DynError::Newton { time, step, culprit } => write!(
                 f,
-                "at time {time}: error control needs a step of {step:e}, below HMIN = {hmin:e}"
+                "at time {time}: the corrector does not converge (Newton diverges even at step {step:e}){}",
+                culprit.as_ref().map_or(String::new(), |c| format!("; the largest constraint error is in {c}"))
+            ),
+            DynError::StepTooSmall {
+                time,
+                step,
+                hmin,
+                culprit,
+            } => write!(
+                f,
+                "at time {time}: error control needs a step of {step:e}, below HMIN = {hmin:e}{}",
+                culprit.as_ref().map_or(String::new(), |c| format!("; the largest error estimate is {c}'s"))
             ),
             DynError::DroppedViolated {
                 time,
@@ -255,32 +320,52 @@ impl Dynamics {
         Pattern::new(n + rows.len(), pos)
     }
 
-    /// A part without mass must have all its freedoms held by constraints: its rows
-    /// must give its columns full rank, or the mass matrix leaves it undetermined.
+    /// A part must not have a direction of motion that is massless and free: one along
+    /// which its mass matrix vanishes and no constraint row it is in changes. (A point
+    /// mass on a pendulum rod is fine: its rotation has no inertia but moves the pin.)
     fn check_massless(&mut self) -> Result<(), DynError> {
         self.eval_constraints(true)?;
         let bs = self.sys.dim.cols();
+        let blocks = self.mass_blocks();
         for (h, p) in self.sys.parts.iter().enumerate() {
             let Some(i) = p.index else { continue };
-            if p.mass > 0.0 && p.inertia.diagonal().iter().all(|&x| x > 0.0) {
-                continue;
-            }
-            let cols = i * bs..(i + 1) * bs;
-            let mut block = super::math::DMat::zeros(self.m.max(1), bs);
-            for &(r, c, x) in &self.phi_q {
-                if cols.contains(&c) {
-                    block[(r, c - cols.start)] += x;
+            let mut stack = super::math::DMat::zeros(bs + self.m, bs);
+            match blocks[i] {
+                Mat3Block::Three(m, j) => {
+                    for c in 0..3 {
+                        stack[(c, c)] = m;
+                        for r in 0..3 {
+                            stack[(3 + r, 3 + c)] = j[(r, c)];
+                        }
+                    }
+                }
+                Mat3Block::Two(m, j) => {
+                    (stack[(0, 0)], stack[(1, 1)], stack[(2, 2)]) = (m, m, j);
                 }
             }
-            let sv = block.singular_values();
-            let top: f64 = sv.max();
-            let rank = sv.iter().filter(|&&s| s > 1e-9 * top.max(1e-300)).count();
-            let free = bs - rank;
+            let top = stack.amax();
+            if top > 0.0 {
+                stack /= top;
+            }
+            let cols = i * bs..(i + 1) * bs;
+            for &(r, c, x) in &self.phi_q {
+                if cols.contains(&c) {
+                    stack[(bs + r, c - cols.start)] += x;
+                }
+            }
+            for r in bs..bs + self.m {
+                let top = stack.row(r).amax();
+                if top > 0.0 {
+                    stack.row_mut(r).scale_mut(1.0 / top);
+                }
+            }
+            let sv = stack.singular_values();
+            let rank = sv.iter().filter(|&&s| s > 1e-9).count();
             if rank < bs {
                 let name = p.id.map_or(format!("part {h}"), |id| format!("PART/{id}"));
                 return Err(DynError::Setup(format!(
-                    "{name} has no mass or no inertia{} and {free} of its freedoms are not held by constraints: give it MASS and IP, or constrain it",
-                    if p.mass > 0.0 { " about some axis" } else { "" }
+                    "{name} can move in {} direction(s) that have no mass or inertia and that no constraint holds: give it MASS and IP, or constrain it",
+                    bs - rank
                 )));
             }
         }
@@ -463,6 +548,7 @@ impl Dynamics {
         self.stats.factorizations += 1;
         self.factor_generation += 1;
         let time = self.sys.time;
+        let culprit = self.singular_culprit();
         self.lu.factor(&self.values).map_err(|e| match e {
             FactorError::NotFinite => DynError::NotFinite {
                 time,
@@ -472,6 +558,7 @@ impl Dynamics {
             FactorError::Singular => DynError::Singular {
                 time,
                 what: "the constraints are dependent here, or a part has no mass along a free direction".into(),
+                culprit,
             },
         })
     }
@@ -479,10 +566,55 @@ impl Dynamics {
     /// Solves the factored Newton matrix in place.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), DynError> {
         let time = self.sys.time;
+        let culprit = self.singular_culprit();
         self.lu.solve(rhs).map_err(|_| DynError::Singular {
             time,
             what: "the Newton matrix is numerically singular (dependent constraints or a lock-up position)".into(),
+            culprit,
         })
+    }
+
+    /// The element of the kept row with the largest residual at the last constraint
+    /// evaluation (translational rows over the model length).
+    pub fn worst_row(&self) -> Option<Culprit> {
+        let scaled = |r: usize| {
+            let (e, q) = self.rows[r];
+            let x = self.phi[r].abs();
+            if self.sys.elements[e].eqs[q].translational {
+                x / self.sys.length
+            } else {
+                x
+            }
+        };
+        (0..self.m)
+            .max_by(|&a, &b| scaled(a).total_cmp(&scaled(b)))
+            .map(|r| Culprit::Element(self.sys.elements[self.rows[r].0].elref.clone()))
+    }
+
+    /// Names what makes the Newton matrix singular: a kept row whose Jacobian vanishes
+    /// (the constraint no longer constrains anything), else the row with the largest
+    /// residual.
+    pub fn singular_culprit(&self) -> Option<Culprit> {
+        let mut norm = vec![0.0f64; self.m];
+        for &(r, _, x) in &self.phi_q {
+            norm[r] = norm[r].max(x.abs());
+        }
+        let top = norm.iter().fold(0.0f64, |a, &b| a.max(b));
+        (0..self.m)
+            .find(|&r| norm[r] <= 1e-12 * top)
+            .map(|r| Culprit::Element(self.sys.elements[self.rows[r].0].elref.clone()))
+            .or_else(|| self.worst_row())
+    }
+
+    /// The part whose velocity-layout column is `col`.
+    pub fn part_of_column(&self, col: usize) -> Option<Culprit> {
+        let i = col / self.sys.dim.cols();
+        self.sys
+            .parts
+            .iter()
+            .find(|p| p.index == Some(i))
+            .and_then(|p| p.id)
+            .map(Culprit::Part)
     }
 
     pub fn snapshot(&self) -> Snapshot {

@@ -62,6 +62,12 @@ pub struct Newmark {
     lambda0: DVec,
     /// (Φ_qᵀλ − Q) at the last accepted state.
     f0: DVec,
+    /// The accelerations before the last accepted step, and that step's size.
+    a_prev: DVec,
+    lambda_prev: DVec,
+    h0: Option<f64>,
+    /// The step of the current attempt.
+    h1: f64,
     /// The mass blocks at the last accepted state.
     m0: Vec<super::Mat3Block>,
     // The candidate.
@@ -101,6 +107,10 @@ impl Newmark {
             lambda0: DVec::zeros(0),
             f0: DVec::zeros(0),
             m0: Vec::new(),
+            a_prev: DVec::zeros(0),
+            lambda_prev: DVec::zeros(0),
+            h0: None,
+            h1: 0.0,
             at1: DVec::zeros(0),
             factored_h: None,
             generation: 0,
@@ -198,6 +208,8 @@ impl Integrator for Newmark {
         d.add_mass_times(&self.a0, &mut f0);
         self.f0 = -f0;
         self.m0 = d.mass_blocks();
+        self.a_prev = DVec::zeros(0);
+        self.h0 = None;
         self.factored_h = None;
         Ok(())
     }
@@ -205,10 +217,20 @@ impl Integrator for Newmark {
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
         let (n, m) = (d.n, d.m);
         let t1 = self.base.as_ref().expect("started").time + h;
+        self.h1 = h;
         let tol = Self::tolerances(d, st.error);
         let scale = self.beta * h * h * self.c();
-        let mut a1 = self.a0.clone();
-        let mut lambda = self.lambda0.clone();
+        // Predictor: the accelerations extrapolated linearly from the last two steps.
+        let mut a1 = match self.h0 {
+            Some(h0) if self.a_prev.len() == n => &self.a0 + (&self.a0 - &self.a_prev) * (h / h0),
+            _ => self.a0.clone(),
+        };
+        let mut lambda = match self.h0 {
+            Some(h0) if self.lambda_prev.len() == m => {
+                &self.lambda0 + (&self.lambda0 - &self.lambda_prev) * (h / h0)
+            }
+            _ => self.lambda0.clone(),
+        };
         if let Some(fh) = self.factored_h {
             // Refactor when the step moved or someone else factored since.
             if !(0.8..=1.25).contains(&(h / fh)) || d.factor_generation != self.generation {
@@ -286,29 +308,31 @@ impl Integrator for Newmark {
                 lambda[k] += rhs[n + k];
             }
             let rate = norm / prev_norm;
-            if std::env::var_os("MBFX_DEBUG_NEWTON").is_some() {
-                eprintln!("t1 {t1} h {h:e} iter {iter} norm {norm:e} rate {rate} refactor {refactor}");
-            }
             // Linear convergence: the error left is about rate/(1 − rate) of this step.
             let left = if rate < 1.0 {
                 norm * rate / (1.0 - rate)
             } else {
                 norm
             };
-            if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 {
+            // Converged; or stalled at the rounding floor of the linear solves (the
+            // contraction is gone while the correction is already below 1e-6 relative).
+            let stalled = iter > 2 && rate > 0.5 && norm * NEWTON_TOL <= 1e-6;
+            if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 || stalled {
                 self.place(d, &a1, h, t1);
                 d.a = a1;
                 d.lambda = lambda;
                 let diff = &self.at1 - &self.at0;
                 let coef = ((self.beta - 1.0 / 6.0) * h * h).abs();
-                let err = if st.fixed_step.is_some() {
-                    0.0
-                } else {
-                    (0..n)
-                        .map(|k| coef * diff[k].abs() / tol[k])
-                        .fold(0.0, f64::max)
-                };
-                return Ok(Attempt::Converged { err });
+                let (mut err, mut worst) = (0.0, 0);
+                if st.fixed_step.is_none() {
+                    for k in 0..n {
+                        let e = coef * diff[k].abs() / tol[k];
+                        if e > err {
+                            (err, worst) = (e, k);
+                        }
+                    }
+                }
+                return Ok(Attempt::Converged { err, worst });
             }
             // Slow or diverging with an old factorization: refactor here and go on.
             prev_norm = norm;
@@ -334,9 +358,10 @@ impl Integrator for Newmark {
         self.m0 = m1;
         self.base = Some(d.snapshot());
         self.v0 = d.sys.v();
-        self.a0 = d.a.clone();
+        self.a_prev = std::mem::replace(&mut self.a0, d.a.clone());
+        self.h0 = Some(self.h1);
         self.at0 = self.at1.clone();
-        self.lambda0 = d.lambda.clone();
+        self.lambda_prev = std::mem::replace(&mut self.lambda0, d.lambda.clone());
         d.store_accelerations();
     }
 
