@@ -685,7 +685,7 @@ fn generic_model_reassembles_onto_its_dataset_in_2d_and_3d() {
                     .iter()
                     .find(|q| q.id == Some(p.el.id))
                     .unwrap();
-                (h.r, h.rot.to_rotation_matrix().into_inner())
+                (h.bcs_origin(), h.rot.to_rotation_matrix().into_inner())
             })
             .collect();
         let gap = largest_pose_gap(&ours, &from_file);

@@ -204,30 +204,28 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
     let keep_rows = a.plot.is_some();
     let progress = super::progress::Progress::new(a.end);
     let written = csv.write_record(&header);
-    let result = if let Err(e) = written {
-        Err((
-            DynError::Setup(format!("the CSV could not be written: {e}")),
+    let (summary, failed) = if let Err(e) = written {
+        (
             None,
-        ))
+            Some(DynError::Setup(format!(
+                "the CSV could not be written: {e}"
+            ))),
+        )
     } else {
-        sim.run(&mut |row| {
+        let (s, f) = sim.run(&mut |row| {
             progress.at(row[0]);
             if keep_rows {
                 rows.push(row.to_vec());
             }
             csv.write_record(row.iter().map(|x| format!("{x:?}")))
                 .map_err(std::io::Error::other)
-        })
-        .map_err(|(e, s)| (e, Some(s)))
+        });
+        (Some(s), f)
     };
     progress.finish();
     let flushed = csv.flush();
     drop(csv);
     let flushed = flushed.and(writer.flush());
-    let (summary, failed) = match result {
-        Ok(s) => (Some(s), None),
-        Err((e, s)) => (s, Some(e)),
-    };
     if let Some(s) = &summary {
         eprint!("{}", summary_text(s));
     }

@@ -321,7 +321,9 @@ impl System {
             .map(|(i, p)| PartMove {
                 part: PartHandle(i as u32),
                 id: p.id,
-                translation: (p.r - p.input_r).norm(),
+                // The BCS origin's move, as the dataset placed it (the reference point is
+                // the CM, which a rotation also moves).
+                translation: (p.bcs_origin() - (p.input_r - p.input_rot * p.cm_offset)).norm(),
                 rotation: (p.rot * p.input_rot.inverse()).angle(),
             })
             .collect();

@@ -422,12 +422,13 @@ impl Simulation {
             / sys.ucf
     }
 
-    /// Runs to the end time, handing each output row to `out` (the first at t = 0). On a
-    /// failure, the rows before it have been handed out.
+    /// Runs to the end time, handing each output row to `out` (the first at t = 0). The
+    /// summary comes with the failure that stopped the run, if one did; the rows before
+    /// it have been handed out.
     pub fn run(
         &mut self,
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
-    ) -> Result<Summary, (DynError, Summary)> {
+    ) -> (Summary, Option<DynError>) {
         let clock = Instant::now();
         let (mut integrator, settings) = self.integrator();
         let dt = self.spec.output_step;
@@ -455,10 +456,7 @@ impl Simulation {
             notes: self.notes.clone(),
             dim: self.dynamics.sys.dim_reason.clone(),
         };
-        match result {
-            Ok(()) => Ok(summary),
-            Err(e) => Err((e, summary)),
-        }
+        (summary, result.err())
     }
 }
 

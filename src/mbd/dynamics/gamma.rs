@@ -75,7 +75,7 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
                     phi += c * sys.measures.jet(sys, m).dd;
                 }
                 if let Some(g) = drive {
-                    phi -= g.second(sys.time, &[], &[]).map_err(|why| name(why))?;
+                    phi -= g.second(sys.time, &[], &[]).map_err(&name)?;
                 }
                 -phi
             }

@@ -721,7 +721,7 @@ impl Dynamics {
             } else {
                 x
             };
-            if !(scaled.abs() <= tol) {
+            if scaled.abs() > tol || scaled.is_nan() {
                 return Err(DynError::DroppedViolated {
                     time: self.sys.time,
                     element: self.sys.elements[e].elref.clone(),

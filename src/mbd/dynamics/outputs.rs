@@ -227,7 +227,7 @@ impl OutputSlot {
                 let v = if comp <= 4 { f } else { t };
                 match comp {
                     1 | 5 => v.norm(),
-                    c => resolve(sys, v, rm, (c - if c <= 4 { 2 } else { 6 }) as u8),
+                    c => resolve(sys, v, rm, c - if c <= 4 { 2 } else { 6 }),
                 }
             }
             OutputSlot::EulerParameter { i, j, comp } => {
