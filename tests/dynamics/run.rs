@@ -426,3 +426,45 @@ fn the_csv_reader_takes_the_contracts_number_format() {
     assert_eq!("-0.000478373".parse::<f64>().unwrap(), -4.78373e-4);
     let _ = magnitudes(&[vec![1.0]]);
 }
+
+/// `--plot` writes the chart; `--csv FILE` the rows (201 at 0.01 s over 2 s, plus the header).
+#[test]
+fn plot_and_csv_files_are_written() {
+    let dir = std::env::temp_dir().join(format!("mbfx-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (csv, svg, png) = (dir.join("s.csv"), dir.join("s.svg"), dir.join("s.png"));
+    let model = crate::adams::models_dir().join("../../examples/slider.adm");
+    for plot in [&svg, &png] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_mbfx"))
+            .arg("run")
+            .arg(&model)
+            .args([
+                "--end",
+                "2",
+                "--output-step",
+                "0.01",
+                "--probe",
+                "x=DX(22,11)",
+                "--csv",
+                csv.to_str().unwrap(),
+                "--plot",
+                plot.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 202);
+    assert!(text.starts_with("time,x,REQ1.F2"));
+    let svg_text = std::fs::read_to_string(&svg).unwrap();
+    // The probe's line (text is drawn as glyph outlines, not <text>).
+    assert!(svg_text.starts_with("<svg") && svg_text.contains("<polyline"));
+    let png_bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&png_bytes[1..4], b"PNG");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
