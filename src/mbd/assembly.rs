@@ -225,7 +225,8 @@ impl System {
 
     pub(crate) fn restore(&mut self, s: &[(Vec3, Quat, f64)]) {
         for (p, &(r, rot, th)) in self.parts.iter_mut().zip(s) {
-            (p.r, p.rot, p.theta) = (r, rot, th);
+            (p.r, p.theta) = (r, th);
+            p.set_rot(rot);
         }
     }
 

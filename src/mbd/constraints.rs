@@ -437,6 +437,22 @@ impl System {
 
     fn eval_row_with(&self, e: usize, q: usize, derivs: bool) -> Result<RowEval, MbdError> {
         let mut out = RowEval::default();
+        self.eval_row_into(e, q, derivs, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`System::eval_row`] into `out`, reusing its buffers (the integrators' inner loop).
+    pub fn eval_row_into(
+        &self,
+        e: usize,
+        q: usize,
+        derivs: bool,
+        out: &mut RowEval,
+    ) -> Result<(), MbdError> {
+        out.value = 0.0;
+        out.dt = 0.0;
+        out.dq.clear();
+        out.dv.clear();
         match &self.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {
                 let (fi, fj) = (self.frame(Some(*i)), self.frame(Some(*j)));
@@ -490,7 +506,7 @@ impl System {
                     .value(self.time, &vals)
                     .map_err(|s| MbdError::Expression(el.clone(), s))?;
                 if !derivs {
-                    return Ok(out);
+                    return Ok(());
                 }
                 let mut grad = vec![0.0; slots.len()];
                 out.dt = f
@@ -508,7 +524,7 @@ impl System {
                 }
             }
         }
-        Ok(out)
+        Ok(())
     }
 
     /// ∂Φ/∂t of a row (−ġ for a MOTION, ∂f/∂t for a GCON, 0 for the rest).

@@ -84,6 +84,8 @@ pub struct Part {
     /// by the dynamics; zero before).
     pub acc: Vec3,
     pub alpha: Vec3,
+    /// `rot` as a matrix, kept by [`Part::set_rot`] (every marker frame reads it).
+    rotm: Mat3,
 }
 
 /// A marker: a frame fixed on a part.
@@ -234,7 +236,7 @@ impl System {
             Some(m) => {
                 let mk = self.marker(m);
                 let p = self.part(mk.part);
-                let rp = p.rot.to_rotation_matrix().into_inner();
+                let rp = p.rotation();
                 let a = rp * mk.s;
                 Frame {
                     r: p.r + a,
@@ -316,14 +318,14 @@ impl System {
                 Dimension::Three => {
                     p.r += Vec3::new(b[0], b[1], b[2]);
                     let dq = Quat::from_scaled_axis(Vec3::new(b[3], b[4], b[5]));
-                    p.rot = Quat::new_normalize((dq * p.rot).into_inner());
+                    p.set_rot(Quat::new_normalize((dq * p.rot).into_inner()));
                 }
                 Dimension::Two => {
                     p.r[a] += b[0];
                     p.r[bb] += b[1];
                     p.theta += b[2];
                     let axis = nalgebra::Unit::new_unchecked(Vec3::ith(nz, 1.0));
-                    p.rot = Quat::from_axis_angle(&axis, p.theta) * p.input_rot;
+                    p.set_rot(Quat::from_axis_angle(&axis, p.theta) * p.input_rot);
                 }
             }
         }
@@ -357,7 +359,8 @@ impl System {
     /// Resets poses and velocities to the input ones.
     pub fn reset_to_input(&mut self) {
         for p in &mut self.parts {
-            (p.r, p.rot, p.v, p.w, p.theta) = (p.input_r, p.input_rot, p.input_v, p.input_w, 0.0);
+            (p.r, p.v, p.w, p.theta) = (p.input_r, p.input_v, p.input_w, 0.0);
+            p.set_rot(p.input_rot);
         }
     }
 
@@ -405,7 +408,23 @@ impl Part {
             cm_offset: Vec3::zeros(),
             acc: Vec3::zeros(),
             alpha: Vec3::zeros(),
+            rotm: rot.to_rotation_matrix().into_inner(),
         }
+    }
+
+    /// Sets the orientation (and its matrix).
+    pub fn set_rot(&mut self, rot: Quat) {
+        self.rot = rot;
+        self.rotm = rot.to_rotation_matrix().into_inner();
+    }
+
+    /// The orientation as a rotation matrix (columns: BCS axes, global).
+    pub fn rotation(&self) -> Mat3 {
+        debug_assert!(
+            (self.rotm - self.rot.to_rotation_matrix().into_inner()).amax() < 1e-12,
+            "Part::rot changed without Part::set_rot"
+        );
+        self.rotm
     }
 
     /// The BCS origin, global.
@@ -415,7 +434,7 @@ impl Part {
 
     /// The inertia tensor about the CM in global axes: R·J·Rᵀ.
     pub fn inertia_global(&self) -> Mat3 {
-        let r = self.rot.to_rotation_matrix().into_inner();
+        let r = self.rotation();
         r * self.inertia * r.transpose()
     }
 }

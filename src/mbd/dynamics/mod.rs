@@ -241,6 +241,10 @@ pub struct Dynamics {
     /// Φ and Φ_q (row, col, value) of the kept rows at the last evaluation.
     pub(crate) phi: DVec,
     pub(crate) phi_q: Vec<(usize, usize, f64)>,
+    /// The mass blocks of a 2D system (constant).
+    planar_mass: Option<Vec<Mat3Block>>,
+    /// Buffers of one row's evaluation, reused.
+    row_scratch: super::constraints::RowEval,
 }
 
 impl Dynamics {
@@ -279,7 +283,12 @@ impl Dynamics {
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
             phi_q: Vec::new(),
+            row_scratch: Default::default(),
+            planar_mass: None,
         };
+        if d.sys.dim == Dimension::Two {
+            d.planar_mass = Some(d.mass_blocks().into_owned());
+        }
         d.check_massless()?;
         Ok(d)
     }
@@ -383,17 +392,16 @@ impl Dynamics {
             ) {
                 self.stats.expression_evaluations += 1;
             }
+            let ev = &mut self.row_scratch;
+            self.sys.eval_row_into(e, q, jacobian, ev)?;
+            self.phi[r] = ev.value;
             if jacobian {
-                let ev = self.sys.eval_row(e, q)?;
-                self.phi[r] = ev.value;
                 let entries = if self.sys.row_reads_velocity(e, q) {
                     &ev.dv
                 } else {
                     &ev.dq
                 };
                 self.phi_q.extend(entries.iter().map(|&(c, x)| (r, c, x)));
-            } else {
-                self.phi[r] = self.sys.row_value(e, q)?;
             }
         }
         Ok(())
@@ -447,21 +455,29 @@ impl Dynamics {
         match self.sys.dim {
             Dimension::Three => Mat3Block::Three(p.mass / u, p.inertia_global() / u),
             Dimension::Two => {
-                let n = Vec3::ith(self.sys.normal, 1.0);
-                Mat3Block::Two(p.mass / u, n.dot(&(p.inertia_global() * n)) / u)
+                // n·(R·J·Rᵀ)·n = (Rᵀn)·J·(Rᵀn).
+                let n = p
+                    .rot
+                    .inverse_transform_vector(&Vec3::ith(self.sys.normal, 1.0));
+                Mat3Block::Two(p.mass / u, n.dot(&(p.inertia * n)) / u)
             }
         }
     }
 
     /// Every moving part's mass block (divided by UCF) at the current state, in part
-    /// order.
-    pub fn mass_blocks(&self) -> Vec<Mat3Block> {
-        self.sys
-            .parts
-            .iter()
-            .filter(|p| p.index.is_some())
-            .map(|p| self.mass_block(p))
-            .collect()
+    /// order. In 2D they never change and are computed once.
+    pub fn mass_blocks(&self) -> std::borrow::Cow<'_, [Mat3Block]> {
+        if let Some(b) = &self.planar_mass {
+            return std::borrow::Cow::Borrowed(b);
+        }
+        std::borrow::Cow::Owned(
+            self.sys
+                .parts
+                .iter()
+                .filter(|p| p.index.is_some())
+                .map(|p| self.mass_block(p))
+                .collect(),
+        )
     }
 
     /// w·M·x added to `out` (x in the velocity layout), M given by its `blocks`.
@@ -548,8 +564,13 @@ impl Dynamics {
         self.stats.factorizations += 1;
         self.factor_generation += 1;
         let time = self.sys.time;
-        let culprit = self.singular_culprit();
-        self.lu.factor(&self.values).map_err(|e| match e {
+        let factored = self.lu.factor(&self.values);
+        let culprit = if factored.is_err() {
+            self.singular_culprit()
+        } else {
+            None
+        };
+        factored.map_err(|e| match e {
             FactorError::NotFinite => DynError::NotFinite {
                 time,
                 what: "the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)".into(),
@@ -566,8 +587,13 @@ impl Dynamics {
     /// Solves the factored Newton matrix in place.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), DynError> {
         let time = self.sys.time;
-        let culprit = self.singular_culprit();
-        self.lu.solve(rhs).map_err(|_| DynError::Singular {
+        let solved = self.lu.solve(rhs);
+        let culprit = if solved.is_err() {
+            self.singular_culprit()
+        } else {
+            None
+        };
+        solved.map_err(|_| DynError::Singular {
             time,
             what: "the Newton matrix is numerically singular (dependent constraints or a lock-up position)".into(),
             culprit,

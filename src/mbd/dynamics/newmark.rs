@@ -32,8 +32,11 @@ use crate::mbd::math::DVec;
 use crate::mbd::system::Dimension;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
-/// which the corrector has converged.
-const NEWTON_TOL: f64 = 1e-10;
+/// which the corrector has converged, as a fraction of ERROR, and its bounds: a loose
+/// ERROR does not need accelerations to ten digits, a tight one needs them that close.
+const NEWTON_PER_ERROR: f64 = 1e-2;
+const NEWTON_TOL_MIN: f64 = 1e-10;
+const NEWTON_TOL_MAX: f64 = 1e-6;
 
 /// Which member of the family.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -207,7 +210,7 @@ impl Integrator for Newmark {
         let mut f0 = DVec::zeros(d.n);
         d.add_mass_times(&self.a0, &mut f0);
         self.f0 = -f0;
-        self.m0 = d.mass_blocks();
+        self.m0 = d.mass_blocks().into_owned();
         self.a_prev = DVec::zeros(0);
         self.h0 = None;
         self.factored_h = None;
@@ -250,6 +253,7 @@ impl Integrator for Newmark {
             .iter()
             .map(|p| p.r.amax())
             .fold(d.sys.length, f64::max);
+        let newton_tol = (NEWTON_PER_ERROR * st.error).clamp(NEWTON_TOL_MIN, NEWTON_TOL_MAX);
         let mut prev_norm = f64::INFINITY;
         let mut rhs = vec![0.0; n + m];
         let mut fresh_tries = 0;
@@ -291,9 +295,9 @@ impl Integrator for Newmark {
             let bh2 = h * h * self.beta * self.c();
             let a_scale = a1.amax() + 1e-3 * tol.iter().fold(f64::INFINITY, |x, &y| x.min(y)) / bh2;
             let a_noise = 10.0 * f64::EPSILON * reach / bh2;
-            let a_tol = NEWTON_TOL * a_scale + a_noise;
+            let a_tol = newton_tol * a_scale + a_noise;
             // Multipliers are forces: their floor is the accelerations' times the mass.
-            let l_tol = NEWTON_TOL * (lambda.amax() + a_scale * mass) + a_noise * mass;
+            let l_tol = newton_tol * (lambda.amax() + a_scale * mass) + a_noise * mass;
             let norm = (0..n)
                 .map(|k| rhs[k].abs() / a_tol)
                 .chain((0..m).map(|k| rhs[n + k].abs() / l_tol))
@@ -316,7 +320,7 @@ impl Integrator for Newmark {
             };
             // Converged; or stalled at the rounding floor of the linear solves (the
             // contraction is gone while the correction is already below 1e-6 relative).
-            let stalled = iter > 2 && rate > 0.5 && norm * NEWTON_TOL <= 1e-6;
+            let stalled = iter > 2 && rate > 0.5 && norm * newton_tol <= 1e-6;
             if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 || stalled {
                 self.place(d, &a1, h, t1);
                 d.a = a1;
@@ -350,7 +354,7 @@ impl Integrator for Newmark {
 
     fn accept(&mut self, d: &mut Dynamics) {
         // (Φ_qᵀλ − Q)₁ from the converged residual: s·f₁ = r·f₀ − (s·M₁ − r·M₀)·a₁/UCF.
-        let m1 = d.mass_blocks();
+        let m1 = d.mass_blocks().into_owned();
         let mut ma = DVec::zeros(d.n);
         d.add_blocks_times(&m1, self.s, &d.a, &mut ma);
         d.add_blocks_times(&self.m0, -self.r, &d.a, &mut ma);
