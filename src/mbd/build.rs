@@ -382,6 +382,6 @@ impl System {
         let map = self
             .resolve_slots(model, f.slots())
             .map_err(|err| MbdError::Expression(r.clone(), err.to_string()))?;
-        Ok(Scalar { f, map })
+        Ok(Scalar::new(f, map))
     }
 }

@@ -1,8 +1,15 @@
-//! The compiled plug-in for GCON and MOTION expressions: each expression and its
-//! forward-mode derivative ([`crate::ir::deriv`]) with respect to the measure slots it
-//! reads and to TIME become one function, compiled to machine code by the JIT (or run by
-//! the interpreter where the JIT is not available: both give the same bits). The core
-//! chains ∂f/∂slot with ∂slot/∂(q, v) itself; no finite differences anywhere.
+//! The compiled plug-in for a model's expressions (GCON, MOTION, force magnitudes): each
+//! expression and its forward-mode derivative ([`crate::ir::deriv`]) with respect to the
+//! measure slots it reads and to TIME become one function, compiled to machine code by
+//! the JIT (or run by the interpreter where the JIT is not available: both give the same
+//! bits). The core chains ∂f/∂slot with ∂slot/∂(q, v) itself; no finite differences
+//! anywhere.
+//!
+//! Compilation is batched: [`CompiledExprs::compile`] only records the function, and the
+//! first evaluation compiles everything recorded so far into one JIT module (so the
+//! constraints of a model share one module, its forces another). Evaluations write into
+//! buffers the function keeps: no allocation per call. A JIT failure is kept
+//! ([`CompiledExprs::jit_error`]) and the interpreter runs those functions instead.
 
 use super::build::ExprCompiler;
 use super::expr::ExprFn;
@@ -13,11 +20,55 @@ use crate::jit::{CompiledExpr, Jit};
 use crate::model::elements::Expr;
 use mbfx_runtime::Spline;
 use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
+
+/// The functions recorded for compilation and the code compiled so far.
+struct Batch {
+    jit: RefCell<Option<Jit>>,
+    /// Recorded, not yet compiled: (index, function).
+    pending: RefCell<Vec<(usize, crate::ir::Function)>>,
+    /// Machine code by index (None: not compiled, or the JIT failed on its batch).
+    code: RefCell<Vec<Option<CompiledExpr>>>,
+    error: RefCell<Option<crate::jit::JitError>>,
+}
+
+impl Batch {
+    /// Records `g` and returns its index.
+    fn record(&self, g: crate::ir::Function) -> usize {
+        let mut code = self.code.borrow_mut();
+        code.push(None);
+        let index = code.len() - 1;
+        if self.jit.borrow().is_some() {
+            self.pending.borrow_mut().push((index, g));
+        }
+        index
+    }
+
+    /// Compiles every pending function in one module.
+    fn flush(&self) {
+        let pending = std::mem::take(&mut *self.pending.borrow_mut());
+        if pending.is_empty() {
+            return;
+        }
+        let mut jit = self.jit.borrow_mut();
+        let Some(jit) = jit.as_mut() else { return };
+        let fs: Vec<&crate::ir::Function> = pending.iter().map(|(_, f)| f).collect();
+        match jit.compile_batch(&fs) {
+            Ok(compiled) => {
+                let mut code = self.code.borrow_mut();
+                for ((i, _), c) in pending.iter().zip(compiled) {
+                    code[*i] = Some(c);
+                }
+            }
+            Err(e) => *self.error.borrow_mut() = Some(e),
+        }
+    }
+}
 
 /// Compiles expressions with their derivatives; one JIT serves them all.
 pub struct CompiledExprs {
-    jit: RefCell<Option<Jit>>,
+    batch: Rc<Batch>,
     /// The model's SPLINE data, which AKISPL and CUBSPL calls read by slot.
     splines: Arc<[Spline]>,
 }
@@ -25,18 +76,29 @@ pub struct CompiledExprs {
 impl CompiledExprs {
     /// Uses the JIT when this CPU supports it, the interpreter otherwise.
     pub fn new() -> Self {
-        CompiledExprs {
-            jit: RefCell::new(Jit::new().ok()),
-            splines: Arc::new([]),
-        }
+        Self::with_jit(Jit::new().ok())
     }
 
     /// Runs everything through the interpreter.
     pub fn interpreted() -> Self {
+        Self::with_jit(None)
+    }
+
+    fn with_jit(jit: Option<Jit>) -> Self {
         CompiledExprs {
-            jit: RefCell::new(None),
+            batch: Rc::new(Batch {
+                jit: RefCell::new(jit),
+                pending: RefCell::new(Vec::new()),
+                code: RefCell::new(Vec::new()),
+                error: RefCell::new(None),
+            }),
             splines: Arc::new([]),
         }
+    }
+
+    /// Why the JIT could not compile a batch (its functions run in the interpreter).
+    pub fn jit_error(&self) -> Option<String> {
+        self.batch.error.borrow().as_ref().map(ToString::to_string)
     }
 
     /// The same compiler with the model's splines (`Model::runtime_splines`) for the
@@ -53,14 +115,15 @@ impl Default for CompiledExprs {
     }
 }
 
-enum Code {
-    Jit(CompiledExpr),
-    Interp(Box<Program>),
-}
-
 /// f and its partials: outputs are f, ∂f/∂slot for each slot read, ∂f/∂t.
 struct WithGradient {
-    code: Code,
+    batch: Rc<Batch>,
+    /// Its place in the batch.
+    index: usize,
+    /// The same function for the interpreter (the interpreted engine, or a JIT failure).
+    program: Box<Program>,
+    /// f, the slot partials, ∂f/∂t of the last evaluation.
+    out: RefCell<Vec<f64>>,
     slots: Vec<u32>,
     reads_time: bool,
     splines: Arc<[Spline]>,
@@ -105,17 +168,14 @@ impl ExprCompiler for CompiledExprs {
             .map_err(|err| {
                 format!("the second derivative of its FUNCTION is not available: {err}")
             });
-        let jitted = self
-            .jit
-            .borrow_mut()
-            .as_mut()
-            .and_then(|jit| jit.compile(&g).ok());
-        let code = match jitted {
-            Some(c) => Code::Jit(c),
-            None => Code::Interp(Box::new(Program::new(g))),
-        };
+        let outputs = slots.len() + 2;
+        let program = Box::new(Program::new(g.clone()));
+        let index = self.batch.record(g);
         Box::new(WithGradient {
-            code,
+            batch: self.batch.clone(),
+            index,
+            program,
+            out: RefCell::new(vec![f64::NAN; outputs]),
             slots,
             reads_time: e.function.uses.time,
             splines: self.splines.clone(),
@@ -133,17 +193,20 @@ fn finite(x: f64, t: f64) -> Result<f64, String> {
 }
 
 impl WithGradient {
-    /// Every output at (t, measures): f, the slot partials, ∂f/∂t.
-    fn run(&self, t: f64, measures: &[f64]) -> Vec<f64> {
+    /// Every output at (t, measures) into `self.out`: f, the slot partials, ∂f/∂t.
+    fn run(&self, t: f64, measures: &[f64]) -> std::cell::Ref<'_, Vec<f64>> {
         let ctx = Context::new(t, &[])
             .with_measures(measures)
             .with_splines(&self.splines);
-        let mut out = vec![f64::NAN; self.slots.len() + 2];
-        match &self.code {
-            Code::Jit(c) => c.eval_into(&ctx, &mut out),
-            Code::Interp(p) => p.eval_into(&ctx, &mut out),
+        self.batch.flush();
+        {
+            let mut out = self.out.borrow_mut();
+            match &self.batch.code.borrow()[self.index] {
+                Some(c) => c.eval_into(&ctx, &mut out),
+                None => self.program.eval_into(&ctx, &mut out),
+            }
         }
-        out
+        self.out.borrow()
     }
 }
 
@@ -167,6 +230,20 @@ impl ExprFn for WithGradient {
             *g = finite(d, t)?;
         }
         finite(out[n + 1], t)
+    }
+
+    fn value_gradient(
+        &self,
+        t: f64,
+        measures: &[f64],
+        grad: &mut [f64],
+    ) -> Result<(f64, f64), String> {
+        let out = self.run(t, measures);
+        let n = self.slots.len();
+        for (g, &d) in grad.iter_mut().zip(&out[1..=n]) {
+            *g = finite(d, t)?;
+        }
+        Ok((finite(out[0], t)?, finite(out[n + 1], t)?))
     }
 
     fn second(&self, t: f64, measures: &[f64], dir: &[f64]) -> Result<f64, String> {

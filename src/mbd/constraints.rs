@@ -502,16 +502,13 @@ impl System {
                 let len = slots.last().map_or(0, |&s| s as usize + 1);
                 let mut vals = vec![0.0; len];
                 let evs = self.fill_slots(map, slots, &mut vals);
-                out.value = f
-                    .value(self.time, &vals)
-                    .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                let err = |s| MbdError::Expression(el.clone(), s);
                 if !derivs {
+                    out.value = f.value(self.time, &vals).map_err(err)?;
                     return Ok(());
                 }
                 let mut grad = vec![0.0; slots.len()];
-                out.dt = f
-                    .gradient(self.time, &vals, &mut grad)
-                    .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                (out.value, out.dt) = f.value_gradient(self.time, &vals, &mut grad).map_err(err)?;
                 for (k, ev) in evs.iter().enumerate() {
                     let c = grad[k];
                     if c != 0.0 {

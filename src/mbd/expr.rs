@@ -16,6 +16,18 @@ pub trait ExprFn {
     /// Writes ∂f/∂m for each slot of [`ExprFn::slots`] (same order) into `grad` and
     /// returns ∂f/∂t.
     fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String>;
+    /// (f, ∂f/∂t), with ∂f/∂slot written into `grad` (one evaluation where the
+    /// implementation computes them together).
+    fn value_gradient(
+        &self,
+        t: f64,
+        measures: &[f64],
+        grad: &mut [f64],
+    ) -> Result<(f64, f64), String> {
+        let dt = self.gradient(t, measures, grad)?;
+        Ok((self.value(t, measures)?, dt))
+    }
+
     /// Whether the expression reads TIME (true unless the implementation knows).
     fn reads_time(&self) -> bool {
         true

@@ -23,6 +23,20 @@ use super::system::{MarkerHandle, PartHandle, System};
 pub struct Scalar {
     pub f: Box<dyn ExprFn>,
     pub map: Vec<usize>,
+    /// Buffers of an evaluation (slot values, measure duals, gradient), reused.
+    scratch: std::cell::RefCell<(Vec<f64>, Vec<D>, Vec<f64>)>,
+}
+
+impl Scalar {
+    pub fn new(f: Box<dyn ExprFn>, map: Vec<usize>) -> Scalar {
+        let len = f.slots().last().map_or(0, |&x| x as usize + 1);
+        let n = map.len();
+        Scalar {
+            f,
+            map,
+            scratch: std::cell::RefCell::new((vec![0.0; len], Vec::with_capacity(n), vec![0.0; n])),
+        }
+    }
 }
 
 /// How an element turns its inputs into loads.
@@ -249,9 +263,9 @@ impl ForceElement {
     /// measures' duals.
     fn scalar(&self, sys: &System, s: &Scalar, slots: &mut PartSlots) -> Result<D, MbdError> {
         let slot_ids = s.f.slots();
-        let len = slot_ids.last().map_or(0, |&x| x as usize + 1);
-        let mut vals = vec![0.0; len];
-        let mut duals = Vec::with_capacity(s.map.len());
+        let mut scratch = s.scratch.borrow_mut();
+        let (vals, duals, grad) = &mut *scratch;
+        duals.clear();
         for (&m, &slot) in s.map.iter().zip(slot_ids) {
             let d = sys.measures.eval_in(sys, m, slots).ok_or_else(|| {
                 MbdError::Unsupported(format!(
@@ -262,12 +276,10 @@ impl ForceElement {
             vals[slot as usize] = d.v;
             duals.push(d);
         }
-        let mut grad = vec![0.0; slot_ids.len()];
         let err = |why: String| MbdError::Expression(self.elref.clone(), why);
-        s.f.gradient(sys.time, &vals, &mut grad).map_err(err)?;
-        let v = s.f.value(sys.time, &vals).map_err(err)?;
+        let (v, _) = s.f.value_gradient(sys.time, vals, grad).map_err(err)?;
         let mut g = [0.0; N];
-        for (d, &c) in duals.iter().zip(&grad) {
+        for (d, &c) in duals.iter().zip(grad.iter()) {
             if c != 0.0 {
                 for (x, y) in g.iter_mut().zip(d.g.iter()) {
                     *x += c * y;
