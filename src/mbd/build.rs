@@ -309,14 +309,14 @@ impl System {
                 VectorForceKind::Gforce => ForceKind::Gforce,
             };
             let r = force_ref(kind, &f.el);
-            let mut three = |xs: &Option<[Expr; 3]>| -> Result<Option<[Scalar; 3]>, MbdError> {
+            let mut three = |xs: &Option<[Expr; 3]>| -> Result<Option<Box<[Scalar; 3]>>, MbdError> {
                 let Some(xs) = xs else { return Ok(None) };
                 let [a, b, c] = xs;
-                Ok(Some([
+                Ok(Some(Box::new([
                     self.scalar(model, exprs, &r, a)?,
                     self.scalar(model, exprs, &r, b)?,
                     self.scalar(model, exprs, &r, c)?,
-                ]))
+                ])))
             };
             let (force, torque) = (three(&f.force)?, three(&f.torque)?);
             let rm = if f.rm == 0 {

@@ -49,8 +49,8 @@ pub enum ForceLaw {
     /// VFORCE, VTORQUE, GFORCE: components in RM axes at I; the reaction at the
     /// floating marker, which sits on I (no moment arm between them).
     Vector {
-        force: Option<[Scalar; 3]>,
-        torque: Option<[Scalar; 3]>,
+        force: Option<Box<[Scalar; 3]>>,
+        torque: Option<Box<[Scalar; 3]>>,
         rm: M,
     },
     /// SPRINGDAMPER TRANSLATION: f = −c·ḋ − k·(d − length) + preload along the line.
@@ -248,7 +248,7 @@ impl ForceElement {
         match &self.law {
             ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => add(f),
             ForceLaw::Vector { force, torque, .. } => {
-                for s in force.iter().chain(torque.iter()).flatten() {
+                for s in force.iter().chain(torque.iter()).flat_map(|b| b.iter()) {
                     add(s);
                 }
             }
@@ -321,7 +321,7 @@ impl ForceElement {
             }
             ForceLaw::Vector { force, torque, rm } => {
                 let frm = dual_frame(sys, *rm, &mut slots).expect("prepared");
-                let comps = |xs: &Option<[Scalar; 3]>, slots: &mut PartSlots| match xs {
+                let comps = |xs: &Option<Box<[Scalar; 3]>>, slots: &mut PartSlots| match xs {
                     None => Ok(zero),
                     Some(xs) => {
                         let mut c = [D::c(0.0); 3];
