@@ -486,3 +486,62 @@ fn engine_compiler(interpret: bool, splines: Arc<[Spline]>) -> CompiledExprs {
     };
     c.with_splines(splines)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 1 kg slider on a rail along global x, pulled by a SPRINGDAMPER (K = 100,
+    /// C = 4, free length 1) to the ground origin, released at rest at x = 1.2.
+    const OSCILLATOR: &str = "oscillator\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        MARKER/11, PART = 1, REULER = 90D, 90D, 0\n\
+        PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 1.2, 0, 0\n\
+        MARKER/20, PART = 2\nMARKER/21, PART = 2, REULER = 90D, 90D, 0\n\
+        JOINT/1, TRANSLATIONAL, I = 21, J = 11\n\
+        SPRINGDAMPER/1, TRANSLATION, I = 20, J = 10, K = 100, C = 4, LENGTH = 1\nEND\n";
+
+    #[test]
+    fn a_damped_spring_follows_its_closed_form() {
+        // m ẍ = −k (x − 1) − c ẋ: ω = 10, ζ = c/(2√(k m)) = 0.2, ω_d = ω√(1 − ζ²);
+        // x − 1 = 0.2·e^{−ζωt}(cos ω_d t + ζω/ω_d sin ω_d t).
+        let probes = [
+            ("x".to_string(), "DX(20,10)".to_string()),
+            ("f".to_string(), "SPDP(1,0,2,0)".to_string()),
+        ];
+        for method in [Method::Hht, Method::Galpha] {
+            let mut spec = RunSpec::new(2.0, 0.05);
+            spec.method = Some(method);
+            spec.error = Some(1e-11);
+            let Ok(mut sim) = Simulation::new(OSCILLATOR, spec, &probes) else {
+                panic!("the oscillator builds");
+            };
+            let mut rows = Vec::new();
+            let (_, failed) = sim.run(&mut |r| {
+                rows.push(r.to_vec());
+                Ok(())
+            });
+            assert!(failed.is_none(), "{failed:?}");
+            assert_eq!(rows.len(), 41);
+            let (w, z) = (10.0f64, 0.2f64);
+            let wd = w * (1.0 - z * z).sqrt();
+            for r in &rows {
+                let t = r[0];
+                let e = (-z * w * t).exp();
+                let x = 1.0 + 0.2 * e * ((wd * t).cos() + z * w / wd * (wd * t).sin());
+                let v = -0.2 * e * (w * w / wd) * (wd * t).sin();
+                assert!(
+                    (r[1] - x).abs() < 1e-6,
+                    "{method:?} t = {t}: x {} vs {x}",
+                    r[1]
+                );
+                // The spring's force on I along x: −k(x − 1) − c·ẋ.
+                let f = -100.0 * (x - 1.0) - 4.0 * v;
+                assert!(
+                    (r[2] - f).abs() < 1e-4,
+                    "{method:?} t = {t}: force {} vs {f}",
+                    r[2]
+                );
+            }
+        }
+    }
+}

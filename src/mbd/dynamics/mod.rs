@@ -421,8 +421,8 @@ impl Dynamics {
                     for c in 0..3 {
                         self.gen.q[b + c] += p.mass * g[c];
                     }
-                    // −ω × (J ω), with ∂/∂ω = −([ω]× J − [J ω]×) (∂/∂θ through J = R J Rᵀ
-                    // is left to the Newton iteration).
+                    // −ω × (J ω), with ∂/∂ω = −([ω]× J − [J ω]×) and, through J = R J Rᵀ
+                    // turning with δR = [δθ]× R, ∂/∂θ = [ω]× ([J ω]× − J [ω]×).
                     let j = p.inertia_global() / self.sys.ucf;
                     let jw = j * p.w;
                     let gyro = -p.w.cross(&jw);
@@ -430,10 +430,13 @@ impl Dynamics {
                         self.gen.q[b + 3 + c] += gyro[c];
                     }
                     if jacobians && p.w.norm() > 0.0 {
-                        let d = -(p.w.cross_matrix() * j - jw.cross_matrix());
+                        let wx = p.w.cross_matrix();
+                        let dw = -(wx * j - jw.cross_matrix());
+                        let dth = wx * (jw.cross_matrix() - j * wx);
                         for r in 0..3 {
                             for c in 0..3 {
-                                self.gen.dv.push((b + 3 + r, b + 3 + c, d[(r, c)]));
+                                self.gen.dv.push((b + 3 + r, b + 3 + c, dw[(r, c)]));
+                                self.gen.dq.push((b + 3 + r, b + 3 + c, dth[(r, c)]));
                             }
                         }
                     }
