@@ -87,7 +87,9 @@ fn command_line_error(msg: String, color: bool) -> i32 {
 fn code_of(e: &DynError) -> Code {
     match e {
         DynError::DroppedViolated { .. } => Code::Conflicting,
-        DynError::NotFinite { .. } | DynError::Model(MbdError::Expression(..)) => {
+        DynError::NotFinite { .. } => Code::NonFiniteForce,
+        // compiled.rs words a NaN or infinite value "evaluates to".
+        DynError::Model(MbdError::Expression(_, why)) if why.contains("evaluates to") => {
             Code::NonFiniteForce
         }
         DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {

@@ -379,9 +379,15 @@ impl System {
             .inline_variables(e)
             .map_err(|s| MbdError::Expression(r.clone(), s))?;
         let f = exprs.compile(&e);
-        let map = self
-            .resolve_slots(model, f.slots())
-            .map_err(|err| MbdError::Expression(r.clone(), err.to_string()))?;
+        let map = self.resolve_slots(model, f.slots()).map_err(|err| match err {
+            MbdError::NeedsDynamics(name, what) => MbdError::Expression(
+                r.clone(),
+                format!(
+                    "its FUNCTION reads {name} ({what}); a force that depends on reactions or accelerations needs them solved with the motion, which mbfx does not do yet"
+                ),
+            ),
+            err => MbdError::Expression(r.clone(), err.to_string()),
+        })?;
         Ok(Scalar::new(f, map))
     }
 }
