@@ -700,3 +700,152 @@ fn repl_without_a_terminal_ends_at_end_of_input() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Output that cannot be written (issue 11 §1)
+
+/// Where one standard stream of a run goes.
+enum Sink {
+    /// A pipe whose reading end is already closed: every write fails with EPIPE.
+    ClosedPipe,
+    /// `/dev/full`: every write fails with ENOSPC.
+    Full,
+    /// Read by the test.
+    Captured,
+}
+
+impl Sink {
+    fn stdio(&self) -> Stdio {
+        match self {
+            Sink::ClosedPipe => {
+                let (reader, writer) = std::io::pipe().expect("a pipe");
+                drop(reader);
+                Stdio::from(writer)
+            }
+            Sink::Full => Stdio::from(
+                std::fs::OpenOptions::new()
+                    .write(true)
+                    .open("/dev/full")
+                    .expect("open /dev/full"),
+            ),
+            Sink::Captured => Stdio::piped(),
+        }
+    }
+}
+
+/// Runs `mbfx` with stdout and stderr sent to the given sinks; returns the exit code and
+/// what the captured stream (if any) received.
+fn mbfx_into(args: &[&str], stdout: Sink, stderr: Sink) -> (i32, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .args(args)
+        .env("HOME", scratch_dir("home"))
+        .stdin(Stdio::null())
+        .stdout(stdout.stdio())
+        .stderr(stderr.stdio())
+        .spawn()
+        .expect("start mbfx");
+    let out = child.wait_with_output().expect("wait for mbfx");
+    let captured = [out.stdout, out.stderr].concat();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&captured).into_owned(),
+    )
+}
+
+#[test]
+fn a_closed_pipe_ends_every_command_quietly() {
+    let many = scratch_file("many.txt", "SIN (1)\n".repeat(5_000).as_bytes());
+    let many = many.to_str().expect("a UTF-8 path");
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    let expressions = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/expressions.txt");
+    // stdout closed: values, reports and summaries are not wanted any more.
+    for args in [
+        &["eval", "SIN(1)"][..],
+        &["eval", "[1, 2, 3]"],
+        &["check", slider],
+        &["check", expressions],
+        &["check", many],
+    ] {
+        let (code, stderr) = mbfx_into(args, Sink::ClosedPipe, Sink::Captured);
+        assert_eq!(code, 0, "{args:?}\n{stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}\n{stderr}");
+        assert!(!stderr.contains("Broken pipe"), "{args:?}\n{stderr}");
+    }
+    // stderr closed: the diagnostics (here 5 000 frames, far more than a pipe buffers).
+    for args in [&["eval", "SIN (1)"][..], &["check", many]] {
+        let (code, stdout) = mbfx_into(args, Sink::Captured, Sink::ClosedPipe);
+        assert_eq!(code, 0, "{args:?}\n{stdout}");
+        assert!(stdout.is_empty(), "{args:?}\n{stdout}");
+    }
+    // The REPL's banner and answers.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .arg("repl")
+        .env("HOME", scratch_dir("home"))
+        .stdin(Stdio::piped())
+        .stdout(Sink::ClosedPipe.stdio())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start mbfx repl");
+    if let Some(mut input) = child.stdin.take() {
+        let _ = input.write_all(b"1+1\n2+2\n");
+    }
+    let out = child.wait_with_output().expect("wait for mbfx repl");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn a_full_disk_is_one_diagnostic_and_exit_1() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    let expressions = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/expressions.txt");
+    for args in [
+        &["eval", "SIN(1)"][..],
+        &["check", slider],
+        &["check", expressions],
+    ] {
+        let (code, stderr) = mbfx_into(args, Sink::Full, Sink::Captured);
+        assert_eq!(code, 1, "{args:?}\n{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}\n{stderr}");
+        assert!(
+            stderr.starts_with("mbfx: cannot write to stdout: No space left on device"),
+            "{args:?}\n{stderr}"
+        );
+    }
+    // Diagnostics to a full stderr: nothing can be said, but the exit code says it.
+    let (code, stdout) = mbfx_into(&["eval", "SIN (1)"], Sink::Captured, Sink::Full);
+    assert_eq!(code, 1, "{stdout}");
+}
+
+#[test]
+fn the_cli_prints_only_through_its_output() {
+    // `print!` and friends panic when a write fails; the CLI writes through
+    // `cli::output::Output` instead. Any new use in the binary's code fails here.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = vec![root.join("src/main.rs")];
+    let mut dirs = vec![root.join("src/cli")];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).expect("list src/cli") {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() > 3, "{files:?}");
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("read a source file");
+        for mac in ["println!(", "print!(", "eprintln!(", "eprint!(", "dbg!("] {
+            assert!(
+                !text.contains(mac),
+                "{} uses `{mac}`: write through cli::output::Output",
+                file.display()
+            );
+        }
+    }
+}

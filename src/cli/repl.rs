@@ -530,7 +530,7 @@ mod terminal {
 }
 
 /// Runs the REPL on the terminal until `:quit` or end of input; returns the exit code.
-pub fn run_terminal() -> i32 {
+pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     use rustyline::error::ReadlineError;
     use std::cell::RefCell;
     use std::rc::Rc;
@@ -539,8 +539,8 @@ pub fn run_terminal() -> i32 {
     let Ok(mut editor) =
         rustyline::Editor::<terminal::ReplHelper, rustyline::history::DefaultHistory>::new()
     else {
-        eprintln!("mbfx repl: cannot open the terminal");
-        return 1;
+        writeln!(o.err(), "mbfx repl: cannot open the terminal")?;
+        return Err(super::Stop::Failed);
     };
     editor.set_helper(Some(terminal::ReplHelper {
         names: names.clone(),
@@ -550,17 +550,18 @@ pub fn run_terminal() -> i32 {
     if let Some(h) = &history {
         let _ = editor.load_history(h);
     }
-    println!(
+    writeln!(
+        o.out(),
         "mbfx {} — :help for help, :quit to leave",
         env!("CARGO_PKG_VERSION")
-    );
+    )?;
     loop {
         match editor.readline("mbfx> ") {
             Ok(line) => {
                 let _ = editor.add_history_entry(line.as_str());
                 let answer = repl.eval_line(&line);
                 if !answer.is_empty() {
-                    println!("{answer}");
+                    writeln!(o.out(), "{answer}")?;
                 }
                 *names.borrow_mut() = repl.completions();
                 if repl.done {
@@ -574,7 +575,7 @@ pub fn run_terminal() -> i32 {
     if let Some(h) = &history {
         let _ = editor.save_history(h);
     }
-    0
+    Ok(0)
 }
 
 #[cfg(test)]
