@@ -221,6 +221,10 @@ pub struct SourceFile {
     pub name: String,
     pub text: String,
     line_starts: Vec<usize>,
+    /// ariadne's own line index of the text, built on the first rendered frame and kept:
+    /// building it per diagnostic made many diagnostics on a big file quadratic (40 000
+    /// in a 320 KB file took 24 s).
+    frames: std::cell::OnceCell<ariadne::Source<String>>,
 }
 
 impl SourceFile {
@@ -233,6 +237,7 @@ impl SourceFile {
             name: name.into(),
             text,
             line_starts,
+            frames: std::cell::OnceCell::new(),
         }
     }
 
@@ -324,11 +329,8 @@ fn render_frame(d: &Diagnostic, file: &SourceFile, primary: Span, color: bool, o
         report = report.with_help(help);
     }
     let mut buf = Vec::new();
-    if report
-        .finish()
-        .write((name, Source::from(file.text.as_str())), &mut buf)
-        .is_ok()
-    {
+    let source = file.frames.get_or_init(|| Source::from(file.text.clone()));
+    if report.finish().write((name, source), &mut buf).is_ok() {
         out.push_str(&String::from_utf8_lossy(&buf));
     }
 }
