@@ -90,6 +90,14 @@ pub enum Code {
     /// GROUND parts, joint markers on one part, a floating marker where a fixed one is
     /// needed).
     Topology,
+    /// A number in a dataset beyond the range of `f64` (`1E400`).
+    NonFiniteNumber,
+    /// Mass properties the equations of motion cannot use: a negative mass, an inertia
+    /// tensor that is not positive semi-definite, zero inertia on a part with mass.
+    MassProperties,
+    /// Principal moments of inertia that break the triangle inequality: no real body has
+    /// them, but they are positive and the equations of motion can use them.
+    ImplausibleInertia,
     /// More errors than are worth showing for one expression.
     TooManyErrors,
     /// A model whose constraints cannot all be satisfied at assembly.
@@ -138,6 +146,9 @@ impl Code {
             MissingArgument => "E0604",
             BadArgument => "E0605",
             Topology => "E0606",
+            NonFiniteNumber => "E0607",
+            MassProperties => "E0608",
+            ImplausibleInertia => "W0609",
             TooManyErrors => "E0207",
             Assembly => "E0701",
             Conflicting => "E0702",
