@@ -873,3 +873,29 @@ fn many_diagnostics_cost_time_linear_in_their_number() {
         "10 000 errors in {small:?}, 40 000 in {big:?}"
     );
 }
+
+#[test]
+fn repl_reports_a_line_that_is_not_utf8_and_goes_on() {
+    // Issue 11 §4: the session used to end silently at such a line.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .arg("repl")
+        .env("HOME", scratch_dir("home"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start mbfx repl");
+    if let Some(mut input) = child.stdin.take() {
+        input
+            .write_all(b"1+1\n\xff\xfe 2\n2+2\n")
+            .expect("write stdin");
+    }
+    let out = child.wait_with_output().expect("wait for mbfx repl");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let answers: Vec<&str> = stdout.lines().skip(1).collect();
+    assert_eq!(answers.len(), 3, "{stdout}");
+    assert!(answers[0].ends_with("2.0"), "{stdout}");
+    assert!(answers[1].contains("E0502"), "{stdout}");
+    assert!(answers[2].ends_with("4.0"), "{stdout}");
+}

@@ -260,7 +260,15 @@ impl Repl {
                 self.model = Some(m);
                 line
             }
-            Err(text) => text.trim_end().to_string(),
+            Err(text) => {
+                let mut answer = text.trim_end().to_string();
+                if self.model.is_some() {
+                    answer.push_str(
+                        "\nthe model loaded before stays loaded (`:load` alone unloads it)",
+                    );
+                }
+                answer
+            }
         }
     }
 
@@ -576,6 +584,10 @@ pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
                 }
             }
             Err(ReadlineError::Interrupted) => continue,
+            // The reader has consumed the line: say so and read the next one.
+            Err(ReadlineError::Io(e)) if e.kind() == std::io::ErrorKind::InvalidData => {
+                writeln!(o.out(), "{NOT_UTF8}")?;
+            }
             Err(_) => break,
         }
     }
@@ -584,6 +596,9 @@ pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     }
     Ok(0)
 }
+
+/// The answer to an input line that is not UTF-8 text.
+const NOT_UTF8: &str = "[E0502] Error: the line is not valid UTF-8 text; it is skipped";
 
 /// Seconds `:time` spends evaluating with each engine, at most.
 pub const TIME_BUDGET: f64 = 0.5;
@@ -669,6 +684,15 @@ mod tests {
         assert_eq!(r.eval_line(":load"), "model unloaded");
         assert!(r.eval_line("DX(21, 11)").contains("E0308"));
         assert!(r.eval_line(":load no/such.adm").contains("E0501"));
+        // A failed :load after a good one says that the good one stays.
+        r.eval_line(":load examples/slider.adm");
+        let failed = r.eval_line(":load no/such.adm");
+        assert!(failed.contains("E0501"), "{failed}");
+        assert!(
+            failed.ends_with("stays loaded (`:load` alone unloads it)"),
+            "{failed}"
+        );
+        assert_eq!(r.eval_line("DX(21, 11)"), "0.3");
     }
 
     #[test]
