@@ -157,7 +157,6 @@ fn eval_prints_the_value_and_nothing_else() {
         (&["--var", "x=2", "--var", "Y=3", "x*y"], "6.0"),
         (&["--var", "x=PI/2", "SIN(x)"], "1.0"),
         (&["--var", "x=-1", "X"], "-1.0"),
-        (&["--var", "x=1", "--var", "X=2", "x"], "2.0"),
         (&["sin(1)"], "0.8414709848078965"),
     ];
     for (args, want) in cases {
@@ -269,6 +268,14 @@ fn eval_rejects_bad_vars_and_times() {
         (&["--var", "x=[1,2,3]", "x"], "E0305", "--var x:1:1"),
         (&["--time", "x", "1"], "E0302", "--time:1:1"),
         (&["--time", "", "1"], "E0204", "--time:1:1"),
+        // Names are case-insensitive: `a` and `A` are one variable, given twice.
+        (&["--var", "a=1", "--var", "A=2", "a"], "E0503", "--var:1:1"),
+        // A value reads only the variables given before it.
+        (
+            &["--var", "a=b", "--var", "b=1", "a"],
+            "E0302",
+            "--var a:1:1",
+        ),
     ];
     for (args, code, place) in cases {
         let r = eval(args);
@@ -277,6 +284,27 @@ fn eval_rejects_bad_vars_and_times() {
         assert!(
             r.stderr.contains(&format!("[{code}] Error")) && r.stderr.contains(place),
             "{args:?}: expected {code} at {place}\n{}",
+            r.describe()
+        );
+    }
+}
+
+/// Issue 11 §4: a `--var` value may read earlier variables and TIME (the `--time` value).
+#[test]
+fn var_values_read_earlier_variables_and_time() {
+    for (args, want) in [
+        (&["--var", "b=1", "--var", "a=b+1", "a"][..], "2.0\n"),
+        (&["--var", "a=TIME", "--time", "3", "a"], "3.0\n"),
+        (
+            &["--time", "0.5", "--var", "w=2*TIME", "--var", "v=w*w", "v"],
+            "1.0\n",
+        ),
+    ] {
+        let r = eval(args);
+        assert_eq!(
+            (r.code, r.stdout.as_str()),
+            (0, want),
+            "{args:?}\n{}",
             r.describe()
         );
     }

@@ -137,7 +137,7 @@ impl Tally {
 }
 
 pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
-    let (scope, _) = super::eval::variables(&a.vars, o)?;
+    let (scope, _) = super::eval::variables(&a.vars, 0.0, o)?;
     let dataset = is_dataset(&a.file);
     let read = if dataset {
         read_dataset(&a.file)

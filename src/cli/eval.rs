@@ -72,9 +72,20 @@ pub fn load_model(
 
 /// Evaluates a constant expression given on the command line (`--time`, `--var` values).
 pub fn constant(text: &str, what: &str, o: &mut Output) -> Result<f64, Stop> {
+    command_line_value(text, what, (&Variables::new(), &[]), 0.0, o)
+}
+
+/// Evaluates a command-line value that may read the variables defined so far and TIME.
+fn command_line_value(
+    text: &str,
+    what: &str,
+    (scope, values): (&Variables, &[f64]),
+    time: f64,
+    o: &mut Output,
+) -> Result<f64, Stop> {
     let source = SourceFile::new(what, text);
-    match check::compile(text, &Variables::new(), Expect::Scalar) {
-        Ok(c) => Ok(Program::new(c.function).eval(&Context::new(0.0, &[]))),
+    match check::compile(text, scope, Expect::Scalar) {
+        Ok(c) => Ok(Program::new(c.function).eval(&Context::new(time, values))),
         Err(diags) => {
             o.diagnostics(&diags, &source)?;
             Err(Stop::Failed)
@@ -82,8 +93,14 @@ pub fn constant(text: &str, what: &str, o: &mut Output) -> Result<f64, Stop> {
     }
 }
 
-/// Parses `--var` arguments into a scope and the slot values.
-pub fn variables(specs: &[String], o: &mut Output) -> Result<(Variables, Vec<f64>), Stop> {
+/// Parses `--var` arguments into a scope and the slot values. A value may read the
+/// variables given before it and TIME (`time`, the `--time` value); a name given twice
+/// (names are case-insensitive: `a` and `A`) is an error.
+pub fn variables(
+    specs: &[String],
+    time: f64,
+    o: &mut Output,
+) -> Result<(Variables, Vec<f64>), Stop> {
     let mut scope = Variables::new();
     let mut values = Vec::new();
     for spec in specs {
@@ -101,13 +118,20 @@ pub fn variables(specs: &[String], o: &mut Output) -> Result<(Variables, Vec<f64
             o.diagnostics(&[d], &source)?;
             return Err(Stop::Failed);
         }
-        let v = constant(value, &format!("--var {name}"), o)?;
-        let slot = scope.define(name) as usize;
-        if slot == values.len() {
-            values.push(v);
-        } else {
-            values[slot] = v;
+        if scope.names().iter().any(|n| n.eq_ignore_ascii_case(name)) {
+            let d = Diagnostic::error(
+                Code::CommandLine,
+                0..name.len(),
+                format!("`{name}` is given twice (names are case-insensitive)"),
+            )
+            .with_help("give each variable once");
+            o.diagnostics(&[d], &source)?;
+            return Err(Stop::Failed);
         }
+        let what = format!("--var {name}");
+        let v = command_line_value(value, &what, (&scope, &values), time, o)?;
+        scope.define(name);
+        values.push(v);
     }
     Ok((scope, values))
 }
@@ -145,7 +169,7 @@ pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
 
 pub fn run(a: &EvalArgs, o: &mut Output) -> Result<i32, Stop> {
     let time = constant(&a.time, "--time", o)?;
-    let (scope, values) = variables(&a.vars, o)?;
+    let (scope, values) = variables(&a.vars, time, o)?;
     let source = SourceFile::new("<expr>", a.expr.as_str());
     let mut model = match &a.model {
         Some(path) => match load_model(path, dim_request(a.dim.as_deref()), o.color) {
