@@ -237,6 +237,19 @@ fn eval_of_an_if_with_a_nan_test_is_an_error() {
     assert_eq!(r.stdout, "", "{}", r.describe());
     assert!(r.stderr.contains("[E0402] Error"), "{}", r.describe());
     assert!(r.stderr.contains("<expr>:1:3"), "{}", r.describe());
+    // Issue 11 §4: a NaN test that comes from an input is the same error, at the IF, with
+    // the input marked (it used to be only a W0401 warning at the input).
+    let r = eval(&["--var", "a=0/0", "IF(a:1,2,3)"]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert_eq!(r.stdout, "", "{}", r.describe());
+    assert!(r.stderr.contains("[E0402] Error"), "{}", r.describe());
+    assert!(r.stderr.contains("<expr>:1:1"), "{}", r.describe());
+    assert!(
+        r.stderr.contains("the first non-finite value"),
+        "{}",
+        r.describe()
+    );
+    assert!(!r.stderr.contains("W0401"), "{}", r.describe());
 }
 
 #[test]

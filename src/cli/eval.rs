@@ -151,12 +151,16 @@ pub fn format_value(out: &[f64]) -> String {
 pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
     let f = p.first_fault(ctx)?;
     Some(if f.nan_if_test {
-        Diagnostic::error(
+        let d = Diagnostic::error(
             Code::NanIfTest,
             f.span,
             "the test of this IF is NaN, so no branch applies",
         )
-        .with_note("decision 2: a NaN test selects no branch; the expression has no value")
+        .with_note("decision 2: a NaN test selects no branch; the expression has no value");
+        match f.cause {
+            Some(cause) => d.with_label(cause, "the first non-finite value, before the IF"),
+            None => d,
+        }
     } else {
         Diagnostic::warning(
             Code::NonFinite,
