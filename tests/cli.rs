@@ -522,7 +522,8 @@ fn check_of_a_dataset_with_latin1_bytes_warns_and_reads_it() {
     );
     let r = check(&path);
     assert_eq!(r.code, 0, "{}", r.describe());
-    assert!(r.stderr.contains("[E0502] Warning"), "{}", r.describe());
+    // A warning has a W code (issue 11 §4: it was `[E0502] Warning`).
+    assert!(r.stderr.contains("[W0504] Warning"), "{}", r.describe());
     assert!(
         r.stderr.contains(&format!("{}:3:6", path.display())),
         "{}",
@@ -939,4 +940,18 @@ fn repl_reports_a_line_that_is_not_utf8_and_goes_on() {
     assert!(answers[0].ends_with("2.0"), "{stdout}");
     assert!(answers[1].contains("E0502"), "{stdout}");
     assert!(answers[2].ends_with("4.0"), "{stdout}");
+}
+
+#[test]
+fn control_characters_of_the_input_never_reach_the_terminal() {
+    // Issue 11 §4: `mbfx eval $'\x1b[31m1'` echoed the escape sequence into the terminal.
+    for expr in ["\u{1b}[31m1", "1 + \u{7}2", "SIN(\u{200b}1)"] {
+        let r = eval(&[expr]);
+        assert_eq!(r.code, 1, "{expr:?}\n{}", r.describe());
+        assert!(
+            !r.stderr.contains(['\u{1b}', '\u{7}', '\u{200b}']),
+            "{expr:?}\n{:?}",
+            r.stderr
+        );
+    }
 }
