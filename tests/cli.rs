@@ -955,3 +955,32 @@ fn control_characters_of_the_input_never_reach_the_terminal() {
         );
     }
 }
+
+#[test]
+fn check_says_when_an_expression_file_looks_like_a_dataset_and_refuses_dim() {
+    // Issue 11 §4: `slider.dataset` was read as 61 bad expressions with no hint, and
+    // `--dim` on an expression file was ignored.
+    let text = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm"))
+        .expect("read the example");
+    let path = scratch_file("slider.dataset", &text);
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("hint: this looks like an .adm dataset (line 9 starts with `PART/1`)"),
+        "{}",
+        r.describe()
+    );
+    let expressions = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/expressions.txt");
+    let r = mbfx(&["check", "--color", "never", "--dim", "2", expressions]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("[E0503] Error: --dim applies to .adm datasets"),
+        "{}",
+        r.describe()
+    );
+    // A good expression file gives no hint.
+    let r = check(Path::new(expressions));
+    assert!(!r.stderr.contains("hint:"), "{}", r.describe());
+}

@@ -112,6 +112,20 @@ pub fn check_expressions<E>(
     Ok(ranges.len())
 }
 
+/// The first line of an expression file that opens a dataset statement (`PART/2, ...`:
+/// a statement keyword, `/` and an id), as (line number, the keyword and id), for the
+/// hint that a file not named `.adm` looks like a dataset.
+fn dataset_statement(text: &str) -> Option<(usize, &str)> {
+    use crate::model::keywords::{lookup_statement, Lookup};
+    text.lines().enumerate().find_map(|(i, line)| {
+        let line = line.trim_start();
+        let (word, rest) = line.split_once('/')?;
+        let id_len = rest.bytes().take_while(u8::is_ascii_digit).count();
+        let known = matches!(lookup_statement(word.trim_end()), Lookup::Known(_));
+        (known && id_len > 0).then(|| (i + 1, &line[..word.len() + 1 + id_len]))
+    })
+}
+
 fn is_dataset(path: &std::path::Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
@@ -152,6 +166,16 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
         }
     };
     let source_name = a.file.display().to_string();
+    if !dataset && a.dim.is_some() {
+        let d = Diagnostic::error(
+            Code::CommandLine,
+            0..0,
+            format!("--dim applies to .adm datasets; {source_name} is read as an expression file"),
+        )
+        .with_help("a file is read as a dataset when its name ends in .adm");
+        o.diagnostics(&[d], &SourceFile::new("--dim", ""))?;
+        return Err(Stop::Failed);
+    }
     let source = SourceFile::new(source_name.clone(), text);
     let mut tally = Tally::default();
     tally.count(&early);
@@ -181,6 +205,15 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
             tally.count(diags);
             o.diagnostics(diags, &source)
         })?;
+        if tally.errors > 0 {
+            if let Some((line, head)) = dataset_statement(&source.text) {
+                writeln!(
+                    o.err(),
+                    "hint: this looks like an .adm dataset (line {line} starts with `{head}`); \
+                     a file is read as a dataset when its name ends in .adm"
+                )?;
+            }
+        }
         format!("{n} expressions")
     };
     let Tally { errors, warnings } = tally;
