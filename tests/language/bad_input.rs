@@ -297,7 +297,7 @@ fn cases() -> Vec<Case> {
         e("scalar_plus_vector", "1+[1,2,3]", "E0305", All),
         e("vector_minus_scalar", "[1,2,3]-1", "E0305", All),
         e("vector_cross_scalar", "[1,2,3]%1", "E0305", All),
-        e("scalar_cross_scalar", "1%2", "E0305", All),
+        e("scalar_cross_scalar", "1%2", "E0305", All).help("MOD(a, b)"),
         e("dot_then_cross", "[1,0,0]*[0,1,0]%[0,0,1]", "E0305", All).help("v*(v%v)"),
         e("sin_of_vector", "SIN([1,2,3])", "E0305", Text("[1,2,3]")),
         e("vector_component", "[[1,2,3],2,3]", "E0305", Bytes(1, 8)),
