@@ -4,7 +4,11 @@
 //!    module each), median over the corpus expressions that check.
 //! 2. The whole corpus in one module: the median µs per expression inside the batch, and
 //!    ms for all of it (parse, check, one `compile_batch` with one finalisation).
-//! 3. Memory: resident set after 1 000 and after 100 000 compile/evaluate/drop cycles of
+//! 3. Long expressions (issue 11 §2): ms to compile sums of 1 000 and 3 000 terms of
+//!    IMPACT, of IFs whose arms call, and of IF/STEP/IMPACT in turn; compile time must
+//!    grow linearly (the 3 000-IMPACT sum took 9.3 s before `jit/anchor.rs` and the
+//!    contact budget of `ir::lower`).
+//! 4. Memory: resident set after 1 000 and after 100 000 compile/evaluate/drop cycles of
 //!    corpus expressions (one module each); the second must stay within 10 % of the first.
 //!
 //! Run: `cargo bench --bench compile` (about a minute; `-- --quick` skips the memory check).
@@ -56,6 +60,45 @@ fn median(mut xs: Vec<f64>) -> f64 {
     xs[xs.len() / 2]
 }
 
+/// Term `i` of a long sum of kind `kind`, in TIME.
+fn term(kind: &str, i: usize) -> String {
+    let impact = format!("IMPACT(TIME, 1, {i}, 1E5, 1.5, 10, 0.1)");
+    let branch = format!("IF(TIME - {i}: LOG(TIME + {}), 0, SIN(TIME*{i}))", i + 1);
+    match (kind, i % 3) {
+        ("IMPACT", _) | ("mixed", 2) => impact,
+        ("IF", _) | ("mixed", 0) => branch,
+        _ => format!("STEP(TIME, {i}, 0, {}, 1)", i + 1),
+    }
+}
+
+/// Compile time of long sums (median of 3), and its growth from 1 000 to 3 000 terms.
+fn long_expressions(jit: &mut Jit) {
+    for kind in ["IMPACT", "IF", "mixed"] {
+        let ms: Vec<f64> = [1000, 3000]
+            .iter()
+            .map(|&n| {
+                let text: Vec<String> = (0..n).map(|i| term(kind, i)).collect();
+                let f = check(&text.join(" + "));
+                median(
+                    (0..3)
+                        .map(|_| {
+                            let t0 = Instant::now();
+                            black_box(jit.compile(&f).expect("compiles"));
+                            t0.elapsed().as_secs_f64() * 1e3
+                        })
+                        .collect(),
+                )
+            })
+            .collect();
+        println!(
+            "compile, long sums of {kind}: 1 000 terms {:.1} ms, 3 000 terms {:.1} ms ({:.2}× for 3× the terms)",
+            ms[0],
+            ms[1],
+            ms[1] / ms[0]
+        );
+    }
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let exprs = corpus();
@@ -105,7 +148,10 @@ fn main() {
         median(checks)
     );
 
-    // 3. Memory over compile/evaluate/drop cycles.
+    // 3. Long expressions.
+    long_expressions(&mut jit);
+
+    // 4. Memory over compile/evaluate/drop cycles.
     if quick {
         return;
     }

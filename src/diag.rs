@@ -76,6 +76,9 @@ pub enum Code {
     Encoding,
     /// A bad command-line value (`--var`, `--time`).
     CommandLine,
+    /// A dataset read in spite of its encoding: bytes that are not UTF-8 (read as
+    /// Latin-1) or NUL bytes (read as blanks).
+    EncodingRepaired,
     /// A malformed dataset statement.
     Statement,
     /// A dataset statement or argument mbfx does not handle: reported, never dropped silently.
@@ -90,6 +93,14 @@ pub enum Code {
     /// GROUND parts, joint markers on one part, a floating marker where a fixed one is
     /// needed).
     Topology,
+    /// A number in a dataset beyond the range of `f64` (`1E400`).
+    NonFiniteNumber,
+    /// Mass properties the equations of motion cannot use: a negative mass, an inertia
+    /// tensor that is not positive semi-definite, zero inertia on a part with mass.
+    MassProperties,
+    /// Principal moments of inertia that break the triangle inequality: no real body has
+    /// them, but they are positive and the equations of motion can use them.
+    ImplausibleInertia,
     /// More errors than are worth showing for one expression.
     TooManyErrors,
     /// A model whose constraints cannot all be satisfied at assembly.
@@ -140,12 +151,16 @@ impl Code {
             Io => "E0501",
             Encoding => "E0502",
             CommandLine => "E0503",
+            EncodingRepaired => "W0504",
             Statement => "E0601",
             UnsupportedStatement => "W0602",
             DuplicateId => "E0603",
             MissingArgument => "E0604",
             BadArgument => "E0605",
             Topology => "E0606",
+            NonFiniteNumber => "E0607",
+            MassProperties => "E0608",
+            ImplausibleInertia => "W0609",
             TooManyErrors => "E0207",
             Assembly => "E0701",
             Conflicting => "E0702",
@@ -232,6 +247,10 @@ pub struct SourceFile {
     pub name: String,
     pub text: String,
     line_starts: Vec<usize>,
+    /// ariadne's own line index of the text, built on the first rendered frame and kept:
+    /// building it per diagnostic made many diagnostics on a big file quadratic (40 000
+    /// in a 320 KB file took 24 s).
+    frames: std::cell::OnceCell<ariadne::Source<String>>,
 }
 
 impl SourceFile {
@@ -244,6 +263,7 @@ impl SourceFile {
             name: name.into(),
             text,
             line_starts,
+            frames: std::cell::OnceCell::new(),
         }
     }
 
@@ -335,11 +355,10 @@ fn render_frame(d: &Diagnostic, file: &SourceFile, primary: Span, color: bool, o
         report = report.with_help(help);
     }
     let mut buf = Vec::new();
-    if report
-        .finish()
-        .write((name, Source::from(file.text.as_str())), &mut buf)
-        .is_ok()
-    {
+    let source = file
+        .frames
+        .get_or_init(|| Source::from(visible(&file.text)));
+    if report.finish().write((name, source), &mut buf).is_ok() {
         out.push_str(&String::from_utf8_lossy(&buf));
     }
 }
@@ -361,11 +380,17 @@ fn render_window(d: &Diagnostic, file: &SourceFile, primary: Span, line: Span, o
         .end;
     let before = &file.text[from..primary.start];
     let marked = &file.text[primary.clone()];
+    // A span longer than the window (E0206 marks a whole expression) shows its start only.
+    let to = if to - primary.start > 2 * WINDOW {
+        file.snap(&(primary.start..primary.start + 2 * WINDOW)).end
+    } else {
+        to
+    };
     let lead = if from > line.start { "..." } else { "" };
     let tail = if to < line.end { "..." } else { "" };
     let _ = writeln!(out, "[{}] {severity}: {}", d.code.as_str(), d.message);
     let _ = writeln!(out, "   ,-[ {}:{row}:{col} ]", file.name);
-    let _ = writeln!(out, "   | {lead}{}{tail}", &file.text[from..to]);
+    let _ = writeln!(out, "   | {lead}{}{tail}", visible(&file.text[from..to]));
     let carets = marked.chars().count().clamp(1, WINDOW);
     let pad = lead.len() + before.chars().count();
     let _ = writeln!(out, "   | {}{} here", " ".repeat(pad), "^".repeat(carets));
@@ -376,6 +401,30 @@ fn render_window(d: &Diagnostic, file: &SourceFile, primary: Span, line: Span, o
         let _ = writeln!(out, "   | Help: {help}");
     }
     let _ = writeln!(out, "---'");
+}
+
+/// `text` as a frame may show it: every control character other than a line break or a
+/// tab (ESC, NUL, a lone carriage return, ...) and every invisible or direction-changing
+/// format character (zero-width space, bidi overrides, line separators, BOM) becomes `?`
+/// repeated to its UTF-8 length, so byte offsets, and so spans, stay valid, the terminal
+/// receives no escape sequence, and no caret hides behind an invisible character.
+fn visible(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let mut out = String::with_capacity(text.len());
+    for (i, c) in text.char_indices() {
+        let lone_cr = c == '\r' && bytes.get(i + 1) != Some(&b'\n');
+        let control = c.is_control() && !matches!(c, '\n' | '\t' | '\r');
+        let invisible = matches!(
+            c,
+            '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{2064}' | '\u{feff}'
+        );
+        if lone_cr || control || invisible {
+            out.extend(std::iter::repeat_n('?', c.len_utf8()));
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// Most diagnostics reported for one expression; past it, one note says how many more
@@ -430,6 +479,36 @@ mod tests {
         let frame: Vec<&str> = out.lines().collect();
         let caret = frame[3].find('^').expect("caret");
         assert_eq!(frame[2].as_bytes()[caret], b'@', "{out}");
+    }
+
+    #[test]
+    fn snippets_show_no_control_or_invisible_characters() {
+        // ESC starting a colour sequence, NUL, a zero-width space before the bad `@`.
+        let f = SourceFile::new("c.txt", "\u{1b}[31m1 + \0 + \u{200b}@");
+        let at = f.text.find('@').unwrap_or_default();
+        let d = Diagnostic::error(Code::UnexpectedChar, at..at + 1, "unexpected");
+        let out = render(&[d], &f, false);
+        assert!(!out.contains(['\u{1b}', '\0', '\u{200b}']), "{out:?}");
+        assert!(out.contains("?[31m1 + ? + ???@"), "{out}");
+        // The pointer stands under the `@`.
+        let lines: Vec<&str> = out.lines().collect();
+        let quoted = lines
+            .iter()
+            .position(|l| l.contains("???@"))
+            .unwrap_or_default();
+        let caret = lines[quoted + 1].rfind('|').unwrap_or_default();
+        assert_eq!(lines[quoted].find('@'), Some(caret), "{out}");
+    }
+
+    #[test]
+    fn a_long_span_on_a_long_line_shows_its_start_only() {
+        // E0206 marks a whole expression: a 2 MB line must not be echoed.
+        let text = "1+".repeat(1_000_000) + "1";
+        let f = SourceFile::new("deep", text.as_str());
+        let d = Diagnostic::error(Code::TooDeep, 0..text.len(), "too deep");
+        let out = render(&[d], &f, false);
+        assert!(out.len() < 600, "{} bytes", out.len());
+        assert!(out.contains("1+1+1+") && out.contains("..."), "{out}");
     }
 
     #[test]

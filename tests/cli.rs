@@ -157,7 +157,6 @@ fn eval_prints_the_value_and_nothing_else() {
         (&["--var", "x=2", "--var", "Y=3", "x*y"], "6.0"),
         (&["--var", "x=PI/2", "SIN(x)"], "1.0"),
         (&["--var", "x=-1", "X"], "-1.0"),
-        (&["--var", "x=1", "--var", "X=2", "x"], "2.0"),
         (&["sin(1)"], "0.8414709848078965"),
     ];
     for (args, want) in cases {
@@ -238,6 +237,19 @@ fn eval_of_an_if_with_a_nan_test_is_an_error() {
     assert_eq!(r.stdout, "", "{}", r.describe());
     assert!(r.stderr.contains("[E0402] Error"), "{}", r.describe());
     assert!(r.stderr.contains("<expr>:1:3"), "{}", r.describe());
+    // Issue 11 §4: a NaN test that comes from an input is the same error, at the IF, with
+    // the input marked (it used to be only a W0401 warning at the input).
+    let r = eval(&["--var", "a=0/0", "IF(a:1,2,3)"]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert_eq!(r.stdout, "", "{}", r.describe());
+    assert!(r.stderr.contains("[E0402] Error"), "{}", r.describe());
+    assert!(r.stderr.contains("<expr>:1:1"), "{}", r.describe());
+    assert!(
+        r.stderr.contains("the first non-finite value"),
+        "{}",
+        r.describe()
+    );
+    assert!(!r.stderr.contains("W0401"), "{}", r.describe());
 }
 
 #[test]
@@ -269,6 +281,14 @@ fn eval_rejects_bad_vars_and_times() {
         (&["--var", "x=[1,2,3]", "x"], "E0305", "--var x:1:1"),
         (&["--time", "x", "1"], "E0302", "--time:1:1"),
         (&["--time", "", "1"], "E0204", "--time:1:1"),
+        // Names are case-insensitive: `a` and `A` are one variable, given twice.
+        (&["--var", "a=1", "--var", "A=2", "a"], "E0503", "--var:1:1"),
+        // A value reads only the variables given before it.
+        (
+            &["--var", "a=b", "--var", "b=1", "a"],
+            "E0302",
+            "--var a:1:1",
+        ),
     ];
     for (args, code, place) in cases {
         let r = eval(args);
@@ -277,6 +297,27 @@ fn eval_rejects_bad_vars_and_times() {
         assert!(
             r.stderr.contains(&format!("[{code}] Error")) && r.stderr.contains(place),
             "{args:?}: expected {code} at {place}\n{}",
+            r.describe()
+        );
+    }
+}
+
+/// Issue 11 §4: a `--var` value may read earlier variables and TIME (the `--time` value).
+#[test]
+fn var_values_read_earlier_variables_and_time() {
+    for (args, want) in [
+        (&["--var", "b=1", "--var", "a=b+1", "a"][..], "2.0\n"),
+        (&["--var", "a=TIME", "--time", "3", "a"], "3.0\n"),
+        (
+            &["--time", "0.5", "--var", "w=2*TIME", "--var", "v=w*w", "v"],
+            "1.0\n",
+        ),
+    ] {
+        let r = eval(args);
+        assert_eq!(
+            (r.code, r.stdout.as_str()),
+            (0, want),
+            "{args:?}\n{}",
             r.describe()
         );
     }
@@ -481,7 +522,8 @@ fn check_of_a_dataset_with_latin1_bytes_warns_and_reads_it() {
     );
     let r = check(&path);
     assert_eq!(r.code, 0, "{}", r.describe());
-    assert!(r.stderr.contains("[E0502] Warning"), "{}", r.describe());
+    // A warning has a W code (issue 11 §4: it was `[E0502] Warning`).
+    assert!(r.stderr.contains("[W0504] Warning"), "{}", r.describe());
     assert!(
         r.stderr.contains(&format!("{}:3:6", path.display())),
         "{}",
@@ -699,4 +741,246 @@ fn repl_without_a_terminal_ends_at_end_of_input() {
             r.describe()
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// Output that cannot be written (issue 11 §1)
+
+/// Where one standard stream of a run goes.
+enum Sink {
+    /// A pipe whose reading end is already closed: every write fails with EPIPE.
+    ClosedPipe,
+    /// `/dev/full`: every write fails with ENOSPC.
+    Full,
+    /// Read by the test.
+    Captured,
+}
+
+impl Sink {
+    fn stdio(&self) -> Stdio {
+        match self {
+            Sink::ClosedPipe => {
+                let (reader, writer) = std::io::pipe().expect("a pipe");
+                drop(reader);
+                Stdio::from(writer)
+            }
+            Sink::Full => Stdio::from(
+                std::fs::OpenOptions::new()
+                    .write(true)
+                    .open("/dev/full")
+                    .expect("open /dev/full"),
+            ),
+            Sink::Captured => Stdio::piped(),
+        }
+    }
+}
+
+/// Runs `mbfx` with stdout and stderr sent to the given sinks; returns the exit code and
+/// what the captured stream (if any) received.
+fn mbfx_into(args: &[&str], stdout: Sink, stderr: Sink) -> (i32, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .args(args)
+        .env("HOME", scratch_dir("home"))
+        .stdin(Stdio::null())
+        .stdout(stdout.stdio())
+        .stderr(stderr.stdio())
+        .spawn()
+        .expect("start mbfx");
+    let out = child.wait_with_output().expect("wait for mbfx");
+    let captured = [out.stdout, out.stderr].concat();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&captured).into_owned(),
+    )
+}
+
+#[test]
+fn a_closed_pipe_ends_every_command_quietly() {
+    let many = scratch_file("many.txt", "SIN (1)\n".repeat(5_000).as_bytes());
+    let many = many.to_str().expect("a UTF-8 path");
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    let expressions = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/expressions.txt");
+    // stdout closed: values, reports and summaries are not wanted any more.
+    for args in [
+        &["eval", "SIN(1)"][..],
+        &["eval", "[1, 2, 3]"],
+        &["check", slider],
+        &["check", expressions],
+        &["check", many],
+    ] {
+        let (code, stderr) = mbfx_into(args, Sink::ClosedPipe, Sink::Captured);
+        assert_eq!(code, 0, "{args:?}\n{stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}\n{stderr}");
+        assert!(!stderr.contains("Broken pipe"), "{args:?}\n{stderr}");
+    }
+    // stderr closed: the diagnostics (here 5 000 frames, far more than a pipe buffers).
+    for args in [&["eval", "SIN (1)"][..], &["check", many]] {
+        let (code, stdout) = mbfx_into(args, Sink::Captured, Sink::ClosedPipe);
+        assert_eq!(code, 0, "{args:?}\n{stdout}");
+        assert!(stdout.is_empty(), "{args:?}\n{stdout}");
+    }
+    // The REPL's banner and answers.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .arg("repl")
+        .env("HOME", scratch_dir("home"))
+        .stdin(Stdio::piped())
+        .stdout(Sink::ClosedPipe.stdio())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start mbfx repl");
+    if let Some(mut input) = child.stdin.take() {
+        let _ = input.write_all(b"1+1\n2+2\n");
+    }
+    let out = child.wait_with_output().expect("wait for mbfx repl");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn a_full_disk_is_one_diagnostic_and_exit_1() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    let expressions = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/expressions.txt");
+    for args in [
+        &["eval", "SIN(1)"][..],
+        &["check", slider],
+        &["check", expressions],
+    ] {
+        let (code, stderr) = mbfx_into(args, Sink::Full, Sink::Captured);
+        assert_eq!(code, 1, "{args:?}\n{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}\n{stderr}");
+        assert!(
+            stderr.starts_with("mbfx: cannot write to stdout: No space left on device"),
+            "{args:?}\n{stderr}"
+        );
+    }
+    // Diagnostics to a full stderr: nothing can be said, but the exit code says it.
+    let (code, stdout) = mbfx_into(&["eval", "SIN (1)"], Sink::Captured, Sink::Full);
+    assert_eq!(code, 1, "{stdout}");
+}
+
+#[test]
+fn the_cli_prints_only_through_its_output() {
+    // `print!` and friends panic when a write fails; the CLI writes through
+    // `cli::output::Output` instead. Any new use in the binary's code fails here.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = vec![root.join("src/main.rs")];
+    let mut dirs = vec![root.join("src/cli")];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).expect("list src/cli") {
+            let path = entry.expect("a directory entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() > 3, "{files:?}");
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("read a source file");
+        for mac in ["println!(", "print!(", "eprintln!(", "eprint!(", "dbg!("] {
+            assert!(
+                !text.contains(mac),
+                "{} uses `{mac}`: write through cli::output::Output",
+                file.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn many_diagnostics_cost_time_linear_in_their_number() {
+    // Each frame used to index the whole file again: 10 000 blank-before-parenthesis
+    // errors took 1.1 s and 40 000 took 24 s. Linear, the four-times file takes about four
+    // times as long (0.08 s and 0.25 s here); the bound leaves room for a busy machine.
+    let time = |n: usize| {
+        let file = scratch_file("blanks.txt", "SIN (1)\n".repeat(n).as_bytes());
+        let r = check(&file);
+        assert_eq!(r.code, 1, "{}", r.stdout);
+        assert!(
+            r.stdout.ends_with(&format!("{n} errors, 0 warnings\n")),
+            "{}",
+            r.stdout
+        );
+        r.took
+    };
+    let small = time(10_000);
+    let big = time(40_000);
+    assert!(
+        big < (small * 8).max(Duration::from_secs(3)),
+        "10 000 errors in {small:?}, 40 000 in {big:?}"
+    );
+}
+
+#[test]
+fn repl_reports_a_line_that_is_not_utf8_and_goes_on() {
+    // Issue 11 §4: the session used to end silently at such a line.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .arg("repl")
+        .env("HOME", scratch_dir("home"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start mbfx repl");
+    if let Some(mut input) = child.stdin.take() {
+        input
+            .write_all(b"1+1\n\xff\xfe 2\n2+2\n")
+            .expect("write stdin");
+    }
+    let out = child.wait_with_output().expect("wait for mbfx repl");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let answers: Vec<&str> = stdout.lines().skip(1).collect();
+    assert_eq!(answers.len(), 3, "{stdout}");
+    assert!(answers[0].ends_with("2.0"), "{stdout}");
+    assert!(answers[1].contains("E0502"), "{stdout}");
+    assert!(answers[2].ends_with("4.0"), "{stdout}");
+}
+
+#[test]
+fn control_characters_of_the_input_never_reach_the_terminal() {
+    // Issue 11 §4: `mbfx eval $'\x1b[31m1'` echoed the escape sequence into the terminal.
+    for expr in ["\u{1b}[31m1", "1 + \u{7}2", "SIN(\u{200b}1)"] {
+        let r = eval(&[expr]);
+        assert_eq!(r.code, 1, "{expr:?}\n{}", r.describe());
+        assert!(
+            !r.stderr.contains(['\u{1b}', '\u{7}', '\u{200b}']),
+            "{expr:?}\n{:?}",
+            r.stderr
+        );
+    }
+}
+
+#[test]
+fn check_says_when_an_expression_file_looks_like_a_dataset_and_refuses_dim() {
+    // Issue 11 §4: `slider.dataset` was read as 61 bad expressions with no hint, and
+    // `--dim` on an expression file was ignored.
+    let text = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm"))
+        .expect("read the example");
+    let path = scratch_file("slider.dataset", &text);
+    let r = check(&path);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("hint: this looks like an .adm dataset (line 9 starts with `PART/1`)"),
+        "{}",
+        r.describe()
+    );
+    let expressions = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/expressions.txt");
+    let r = mbfx(&["check", "--color", "never", "--dim", "2", expressions]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("[E0503] Error: --dim applies to .adm datasets"),
+        "{}",
+        r.describe()
+    );
+    // A good expression file gives no hint.
+    let r = check(Path::new(expressions));
+    assert!(!r.stderr.contains("hint:"), "{}", r.describe());
 }

@@ -357,6 +357,15 @@ impl Checker<'_> {
                 None
             }
             (BinOp::Cross, V(x), V(y)) => Some(V(self.cross(x, y, span))),
+            // Two scalars: the remainder of C and FORTRAN, which is MOD here.
+            (BinOp::Cross, S(_), S(_)) => {
+                let d = type_error(
+                    "`%` is the cross product of two vectors, not a remainder",
+                    "for the remainder of a divided by b write MOD(a, b)",
+                );
+                self.error(d);
+                None
+            }
             (BinOp::Cross, ..) => {
                 let d = type_error(
                     "`%` is the cross product of two vectors",

@@ -2,10 +2,12 @@
 //! continuation lines honoured), or read an `.adm` dataset into a model (every statement
 //! and expression checked against it), analyse it with the multibody core
 //! ([`crate::session`]: 2D or 3D, assembly, degrees of freedom, redundancy) and print the
-//! model report; report all diagnostics.
+//! model report; report all diagnostics. An expression file's diagnostics are written
+//! as each expression is checked, so a big file reports while it is read.
 
+use super::output::{Output, Stop};
 use crate::check::{self, Expect, Scope};
-use crate::diag::{has_errors, render, Code, Diagnostic, Severity, SourceFile};
+use crate::diag::{Code, Diagnostic, Severity, SourceFile};
 use crate::session;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -88,19 +90,40 @@ pub fn logical_lines(text: &str) -> Vec<Range<usize>> {
     out
 }
 
-/// Checks every expression of an expression file; returns diagnostics (spans into the
-/// whole text) and the number of expressions.
-pub fn check_expressions(text: &str, scope: &dyn Scope) -> (Vec<Diagnostic>, usize) {
+/// Checks every expression of an expression file, handing each expression's diagnostics
+/// (spans into the whole text) to `report` as soon as it is checked; returns the number
+/// of expressions.
+pub fn check_expressions<E>(
+    text: &str,
+    scope: &dyn Scope,
+    mut report: impl FnMut(&[Diagnostic]) -> Result<(), E>,
+) -> Result<usize, E> {
     let ranges = logical_lines(text);
-    let mut diags = Vec::new();
     for r in &ranges {
         let found = match check::compile(&text[r.clone()], scope, Expect::Any) {
             Ok(c) => c.warnings,
             Err(d) => d,
         };
-        diags.extend(found.into_iter().map(|d| d.shifted(r.start)));
+        if !found.is_empty() {
+            let shifted: Vec<Diagnostic> = found.into_iter().map(|d| d.shifted(r.start)).collect();
+            report(&shifted)?;
+        }
     }
-    (diags, ranges.len())
+    Ok(ranges.len())
+}
+
+/// The first line of an expression file that opens a dataset statement (`PART/2, ...`:
+/// a statement keyword, `/` and an id), as (line number, the keyword and id), for the
+/// hint that a file not named `.adm` looks like a dataset.
+fn dataset_statement(text: &str) -> Option<(usize, &str)> {
+    use crate::model::keywords::{lookup_statement, Lookup};
+    text.lines().enumerate().find_map(|(i, line)| {
+        let line = line.trim_start();
+        let (word, rest) = line.split_once('/')?;
+        let id_len = rest.bytes().take_while(u8::is_ascii_digit).count();
+        let known = matches!(lookup_statement(word.trim_end()), Lookup::Known(_));
+        (known && id_len > 0).then(|| (i + 1, &line[..word.len() + 1 + id_len]))
+    })
 }
 
 fn is_dataset(path: &std::path::Path) -> bool {
@@ -109,59 +132,96 @@ fn is_dataset(path: &std::path::Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("adm"))
 }
 
-pub fn run(a: &CheckArgs, color: bool) -> i32 {
-    let Ok((scope, _)) = super::eval::variables(&a.vars, color) else {
-        return 1;
-    };
+/// Errors and warnings reported so far.
+#[derive(Default)]
+struct Tally {
+    errors: usize,
+    warnings: usize,
+}
+
+impl Tally {
+    fn count(&mut self, diags: &[Diagnostic]) {
+        let errors = diags
+            .iter()
+            .filter(|d| d.severity == Severity::Error)
+            .count();
+        self.errors += errors;
+        self.warnings += diags.len() - errors;
+    }
+}
+
+pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
+    let (scope, _) = super::eval::variables(&a.vars, 0.0, o)?;
     let dataset = is_dataset(&a.file);
     let read = if dataset {
         read_dataset(&a.file)
     } else {
         read_text(&a.file).map(|t| (t, Vec::new()))
     };
-    let (text, mut diags) = match read {
+    let (text, early) = match read {
         Ok(t) => t,
         Err(u) => {
-            eprint!("{}", render(&[u.diagnostic], &u.source, color));
-            return 1;
+            o.diagnostics(&[u.diagnostic], &u.source)?;
+            return Err(Stop::Failed);
         }
     };
     let source_name = a.file.display().to_string();
-    let (summary, report) = if dataset {
-        let read = crate::model::read_model(&text);
-        let sections = if read.has_errors() {
+    if !dataset && a.dim.is_some() {
+        let d = Diagnostic::error(
+            Code::CommandLine,
+            0..0,
+            format!("--dim applies to .adm datasets; {source_name} is read as an expression file"),
+        )
+        .with_help("a file is read as a dataset when its name ends in .adm");
+        o.diagnostics(&[d], &SourceFile::new("--dim", ""))?;
+        return Err(Stop::Failed);
+    }
+    let source = SourceFile::new(source_name.clone(), text);
+    let mut tally = Tally::default();
+    tally.count(&early);
+    o.diagnostics(&early, &source)?;
+    let summary = if dataset {
+        let read = crate::model::read_model(&source.text);
+        let mut diags = read.diagnostics;
+        let sections = if crate::diag::has_errors(&diags) {
             Vec::new()
         } else {
             let asked = super::eval::dim_request(a.dim.as_deref());
             match session::analyze_model(&read.model, asked) {
                 Ok(analysis) => session::report::sections(&analysis, asked),
                 Err(f) => {
-                    diags.extend(session::report::diagnostics(&f, &read.model));
+                    diags.splice(0..0, session::report::diagnostics(&f, &read.model));
                     session::report::failure_sections(&f, asked)
                 }
             }
         };
-        diags.extend(read.diagnostics);
+        tally.count(&diags);
+        o.diagnostics(&diags, &source)?;
         let report = model_report(&source_name, &read.model, sections);
-        let m = &read.model;
-        (format!("{} elements", count_elements(m)), Some(report))
+        o.out().write_all(report.as_bytes())?;
+        format!("{} elements", count_elements(&read.model))
     } else {
-        let (found, n) = check_expressions(&text, &scope);
-        diags.extend(found);
-        (format!("{n} expressions"), None)
+        let n = check_expressions(&source.text, &scope, |diags| {
+            tally.count(diags);
+            o.diagnostics(diags, &source)
+        })?;
+        if tally.errors > 0 {
+            if let Some((line, head)) = dataset_statement(&source.text) {
+                writeln!(
+                    o.err(),
+                    "hint: this looks like an .adm dataset (line {line} starts with `{head}`); \
+                     a file is read as a dataset when its name ends in .adm"
+                )?;
+            }
+        }
+        format!("{n} expressions")
     };
-    let source = SourceFile::new(source_name.clone(), text);
-    eprint!("{}", render(&diags, &source, color));
-    if let Some(report) = report {
-        print!("{report}");
-    }
-    let errors = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .count();
-    let warnings = diags.len() - errors;
-    println!("{source_name}: {summary}; {errors} errors, {warnings} warnings");
-    i32::from(has_errors(&diags))
+    let Tally { errors, warnings } = tally;
+    writeln!(
+        o.out(),
+        "{source_name}: {summary}; {errors} errors, {warnings} warnings"
+    )?;
+    Ok(i32::from(errors > 0))
 }
 
 /// The report of a model: its summary, then the sections the multibody core adds

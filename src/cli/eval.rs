@@ -1,5 +1,6 @@
 //! `mbfx eval`: compile one expression, evaluate it once, print the value.
 
+use super::output::{Output, Stop};
 use super::Engine;
 use crate::check::{self, Expect, Variables};
 use crate::context::Context;
@@ -70,48 +71,67 @@ pub fn load_model(
 }
 
 /// Evaluates a constant expression given on the command line (`--time`, `--var` values).
-pub fn constant(text: &str, what: &str, color: bool) -> Result<f64, ()> {
+pub fn constant(text: &str, what: &str, o: &mut Output) -> Result<f64, Stop> {
+    command_line_value(text, what, (&Variables::new(), &[]), 0.0, o)
+}
+
+/// Evaluates a command-line value that may read the variables defined so far and TIME.
+fn command_line_value(
+    text: &str,
+    what: &str,
+    (scope, values): (&Variables, &[f64]),
+    time: f64,
+    o: &mut Output,
+) -> Result<f64, Stop> {
     let source = SourceFile::new(what, text);
-    match check::compile(text, &Variables::new(), Expect::Scalar) {
-        Ok(c) => Ok(Program::new(c.function).eval(&Context::new(0.0, &[]))),
+    match check::compile(text, scope, Expect::Scalar) {
+        Ok(c) => Ok(Program::new(c.function).eval(&Context::new(time, values))),
         Err(diags) => {
-            eprint!("{}", render(&diags, &source, color));
-            Err(())
+            o.diagnostics(&diags, &source)?;
+            Err(Stop::Failed)
         }
     }
 }
 
-/// Parses `--var` arguments into a scope and the slot values.
-pub fn variables(specs: &[String], color: bool) -> Result<(Variables, Vec<f64>), ()> {
+/// Parses `--var` arguments into a scope and the slot values. A value may read the
+/// variables given before it and TIME (`time`, the `--time` value); a name given twice
+/// (names are case-insensitive: `a` and `A`) is an error.
+pub fn variables(
+    specs: &[String],
+    time: f64,
+    o: &mut Output,
+) -> Result<(Variables, Vec<f64>), Stop> {
     let mut scope = Variables::new();
     let mut values = Vec::new();
     for spec in specs {
+        let source = SourceFile::new("--var", spec.as_str());
         let Some((name, value)) = spec.split_once('=') else {
             let d = Diagnostic::error(Code::CommandLine, 0..spec.len(), "expected NAME=VALUE")
                 .with_help("e.g. --var x=1.5");
-            eprint!(
-                "{}",
-                render(&[d], &SourceFile::new("--var", spec.as_str()), color)
-            );
-            return Err(());
+            o.diagnostics(&[d], &source)?;
+            return Err(Stop::Failed);
         };
         let name = name.trim();
         if let Err(bad) = crate::check::scope::check_variable_name(name) {
             let d = Diagnostic::error(Code::CommandLine, 0..name.len(), bad.message(name))
                 .with_help(bad.help());
-            eprint!(
-                "{}",
-                render(&[d], &SourceFile::new("--var", spec.as_str()), color)
-            );
-            return Err(());
+            o.diagnostics(&[d], &source)?;
+            return Err(Stop::Failed);
         }
-        let v = constant(value, &format!("--var {name}"), color)?;
-        let slot = scope.define(name) as usize;
-        if slot == values.len() {
-            values.push(v);
-        } else {
-            values[slot] = v;
+        if scope.names().iter().any(|n| n.eq_ignore_ascii_case(name)) {
+            let d = Diagnostic::error(
+                Code::CommandLine,
+                0..name.len(),
+                format!("`{name}` is given twice (names are case-insensitive)"),
+            )
+            .with_help("give each variable once");
+            o.diagnostics(&[d], &source)?;
+            return Err(Stop::Failed);
         }
+        let what = format!("--var {name}");
+        let v = command_line_value(value, &what, (&scope, &values), time, o)?;
+        scope.define(name);
+        values.push(v);
     }
     Ok((scope, values))
 }
@@ -131,12 +151,16 @@ pub fn format_value(out: &[f64]) -> String {
 pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
     let f = p.first_fault(ctx)?;
     Some(if f.nan_if_test {
-        Diagnostic::error(
+        let d = Diagnostic::error(
             Code::NanIfTest,
             f.span,
             "the test of this IF is NaN, so no branch applies",
         )
-        .with_note("decision 2: a NaN test selects no branch; the expression has no value")
+        .with_note("decision 2: a NaN test selects no branch; the expression has no value");
+        match f.cause {
+            Some(cause) => d.with_label(cause, "the first non-finite value, before the IF"),
+            None => d,
+        }
     } else {
         Diagnostic::warning(
             Code::NonFinite,
@@ -147,20 +171,16 @@ pub fn fault_diagnostic(p: &Program, ctx: &Context) -> Option<Diagnostic> {
     })
 }
 
-pub fn run(a: &EvalArgs, color: bool) -> i32 {
-    let Ok(time) = constant(&a.time, "--time", color) else {
-        return 1;
-    };
-    let Ok((scope, values)) = variables(&a.vars, color) else {
-        return 1;
-    };
+pub fn run(a: &EvalArgs, o: &mut Output) -> Result<i32, Stop> {
+    let time = constant(&a.time, "--time", o)?;
+    let (scope, values) = variables(&a.vars, time, o)?;
     let source = SourceFile::new("<expr>", a.expr.as_str());
     let mut model = match &a.model {
-        Some(path) => match load_model(path, dim_request(a.dim.as_deref()), color) {
+        Some(path) => match load_model(path, dim_request(a.dim.as_deref()), o.color) {
             Ok(m) => Some(m),
             Err(text) => {
-                eprint!("{text}");
-                return 1;
+                o.err().write_all(text.as_bytes())?;
+                return Err(Stop::Failed);
             }
         },
         None => None,
@@ -172,18 +192,16 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
     let checked = match compiled {
         Ok(c) => c,
         Err(diags) => {
-            eprint!("{}", render(&diags, &source, color));
-            return 1;
+            o.diagnostics(&diags, &source)?;
+            return Err(Stop::Failed);
         }
     };
-    if !checked.warnings.is_empty() {
-        eprint!("{}", render(&checked.warnings, &source, color));
-    }
+    o.diagnostics(&checked.warnings, &source)?;
     let measures = match model.as_mut().map(|m| m.measures_for(&checked.function)) {
         Some(Ok(m)) => m,
         Some(Err(e)) => {
-            eprintln!("error: {e}");
-            return 1;
+            writeln!(o.err(), "error: {e}")?;
+            return Err(Stop::Failed);
         }
         None => Vec::new(),
     };
@@ -196,8 +214,8 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
         match crate::jit::Jit::new().and_then(|mut j| j.compile(&checked.function)) {
             Ok(code) => code.eval_into(&ctx, &mut out),
             Err(e) => {
-                eprintln!("error: {e}");
-                return 1;
+                writeln!(o.err(), "error: {e}")?;
+                return Err(Stop::Failed);
             }
         }
     }
@@ -215,12 +233,10 @@ pub fn run(a: &EvalArgs, color: bool) -> i32 {
     // A NaN IF test is an error (decision 2); any other non-finite value is printed with
     // a warning (decision 7).
     if let Some(d) = fault.as_ref().filter(|d| d.is_error()) {
-        eprint!("{}", render(std::slice::from_ref(d), &source, color));
-        return 1;
+        o.diagnostics(std::slice::from_ref(d), &source)?;
+        return Err(Stop::Failed);
     }
-    println!("{}", format_value(&out));
-    if let Some(d) = fault {
-        eprint!("{}", render(&[d], &source, color));
-    }
-    0
+    writeln!(o.out(), "{}", format_value(&out))?;
+    o.diagnostics(fault.as_slice(), &source)?;
+    Ok(0)
 }

@@ -2,13 +2,19 @@
 //!
 //! Each command is a thin shell over library calls; all of them print diagnostics to
 //! stderr and return exit code 1 on any error, 0 otherwise (DESIGN.md, CLI contract).
+//! Every command writes through [`output::Output`] and returns `Result<i32, Stop>`; the
+//! outcome becomes the exit code in one place ([`output::finish`]), so no write can
+//! panic and a closed pipe ends the program quietly.
 
 mod check_file;
 mod eval;
+pub mod output;
 mod plot;
 mod progress;
 pub mod repl;
 mod run;
+
+use output::{Output, Stop};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
@@ -87,11 +93,12 @@ where
             return if e.use_stderr() { 1 } else { 0 };
         }
     };
-    let color = cli.color.enabled();
-    match cli.command {
-        Command::Eval(a) => eval::run(&a, color),
-        Command::Check(a) => check_file::run(&a, color),
-        Command::Run(a) => run::run(&a, color),
-        Command::Repl => repl::run_terminal(),
-    }
+    let mut o = Output::stdio(cli.color.enabled());
+    let outcome: Result<i32, Stop> = match cli.command {
+        Command::Eval(a) => eval::run(&a, &mut o),
+        Command::Check(a) => check_file::run(&a, &mut o),
+        Command::Run(a) => run::run(&a, &mut o),
+        Command::Repl => repl::run_terminal(&mut o),
+    };
+    output::finish(outcome, &mut o)
 }

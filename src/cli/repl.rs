@@ -20,7 +20,7 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 :ir EXPR           show the IR the back ends run
 :clif EXPR         show the Cranelift IR the JIT compiles (after branch-free lowering)
 :asm EXPR          show the machine instructions the JIT emits for EXPR
-:time EXPR         ns per evaluation, interpreter vs JIT, and the JIT's compile time
+:time EXPR         ns per evaluation, interpreter vs JIT (at most 0.5 s each), and the JIT's compile time
 :deriv EXPR NAME   the partial derivative of EXPR with respect to variable NAME (or TIME)
 :load FILE.adm     load a model: expressions may then read its measures (DX, VZ, UVZ, ...)
                    at the assembled configuration; :load alone unloads it
@@ -260,7 +260,15 @@ impl Repl {
                 self.model = Some(m);
                 line
             }
-            Err(text) => text.trim_end().to_string(),
+            Err(text) => {
+                let mut answer = text.trim_end().to_string();
+                if self.model.is_some() {
+                    answer.push_str(
+                        "\nthe model loaded before stays loaded (`:load` alone unloads it)",
+                    );
+                }
+                answer
+            }
         }
     }
 
@@ -278,7 +286,9 @@ impl Repl {
         self.jit.as_mut().ok_or(crate::jit::JitError::Malformed(0))
     }
 
-    /// `:time EXPR`: median ns per evaluation of both back ends, and compile µs.
+    /// `:time EXPR`: median ns per evaluation of both back ends, and compile µs. Each
+    /// engine is measured for at most [`TIME_BUDGET`] seconds after one first evaluation,
+    /// so a huge expression answers in about a second instead of running a fixed count.
     fn time_(&mut self, p: &Program) -> String {
         use std::hint::black_box;
         use std::time::Instant;
@@ -296,22 +306,27 @@ impl Repl {
         let n = p.function().outputs.len();
         let mut out = vec![0.0; n];
         let mut per_eval = |f: &mut dyn FnMut(&mut [f64])| {
-            let mut samples: Vec<f64> = (0..7)
+            let t = Instant::now();
+            f(black_box(&mut out));
+            let (samples, batch) = time_plan(t.elapsed().as_secs_f64());
+            let mut ns: Vec<f64> = (0..samples)
                 .map(|_| {
                     let t = Instant::now();
-                    for _ in 0..20_000 {
+                    for _ in 0..batch {
                         f(black_box(&mut out));
                     }
-                    t.elapsed().as_secs_f64() * 1e9 / 20_000.0
+                    t.elapsed().as_secs_f64() * 1e9 / batch as f64
                 })
                 .collect();
-            samples.sort_by(f64::total_cmp);
-            samples[3]
+            ns.sort_by(f64::total_cmp);
+            (ns[ns.len() / 2], samples * batch)
         };
-        let interp = per_eval(&mut |o| p.eval_into(black_box(&ctx), o));
-        let jit = per_eval(&mut |o| code.eval_into(black_box(&ctx), o));
+        let (interp, n_interp) = per_eval(&mut |o| p.eval_into(black_box(&ctx), o));
+        let (jit, n_jit) = per_eval(&mut |o| code.eval_into(black_box(&ctx), o));
         format!(
-            "interp {interp:.1} ns/eval, jit {jit:.1} ns/eval ({:.1}× faster); jit compile {compile_us:.0} µs",
+            "interp {interp:.1} ns/eval, jit {jit:.1} ns/eval ({:.1}× faster); jit compile \
+             {compile_us:.0} µs\n(medians over {n_interp} and {n_jit} evaluations, at most \
+             {TIME_BUDGET} s per engine)",
             interp / jit
         )
     }
@@ -530,7 +545,7 @@ mod terminal {
 }
 
 /// Runs the REPL on the terminal until `:quit` or end of input; returns the exit code.
-pub fn run_terminal() -> i32 {
+pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     use rustyline::error::ReadlineError;
     use std::cell::RefCell;
     use std::rc::Rc;
@@ -539,8 +554,8 @@ pub fn run_terminal() -> i32 {
     let Ok(mut editor) =
         rustyline::Editor::<terminal::ReplHelper, rustyline::history::DefaultHistory>::new()
     else {
-        eprintln!("mbfx repl: cannot open the terminal");
-        return 1;
+        writeln!(o.err(), "mbfx repl: cannot open the terminal")?;
+        return Err(super::Stop::Failed);
     };
     editor.set_helper(Some(terminal::ReplHelper {
         names: names.clone(),
@@ -550,17 +565,18 @@ pub fn run_terminal() -> i32 {
     if let Some(h) = &history {
         let _ = editor.load_history(h);
     }
-    println!(
+    writeln!(
+        o.out(),
         "mbfx {} — :help for help, :quit to leave",
         env!("CARGO_PKG_VERSION")
-    );
+    )?;
     loop {
         match editor.readline("mbfx> ") {
             Ok(line) => {
                 let _ = editor.add_history_entry(line.as_str());
                 let answer = repl.eval_line(&line);
                 if !answer.is_empty() {
-                    println!("{answer}");
+                    writeln!(o.out(), "{answer}")?;
                 }
                 *names.borrow_mut() = repl.completions();
                 if repl.done {
@@ -568,18 +584,60 @@ pub fn run_terminal() -> i32 {
                 }
             }
             Err(ReadlineError::Interrupted) => continue,
+            // The reader has consumed the line: say so and read the next one.
+            Err(ReadlineError::Io(e)) if e.kind() == std::io::ErrorKind::InvalidData => {
+                writeln!(o.out(), "{NOT_UTF8}")?;
+            }
             Err(_) => break,
         }
     }
     if let Some(h) = &history {
         let _ = editor.save_history(h);
     }
-    0
+    Ok(0)
+}
+
+/// The answer to an input line that is not UTF-8 text.
+const NOT_UTF8: &str = "[E0502] Error: the line is not valid UTF-8 text; it is skipped";
+
+/// Seconds `:time` spends evaluating with each engine, at most.
+pub const TIME_BUDGET: f64 = 0.5;
+
+/// How `:time` samples an engine whose first evaluation took `first` seconds: up to seven
+/// samples of up to 20 000 evaluations each, fewer and smaller when that would overrun
+/// [`TIME_BUDGET`] (at least one sample of one evaluation).
+fn time_plan(first: f64) -> (usize, usize) {
+    const SAMPLES: usize = 7;
+    const BATCH: usize = 20_000;
+    let first = first.max(1e-9);
+    let fits = (TIME_BUDGET / first).floor();
+    // `fits` is at least 0 and small enough for usize once clamped below BATCH·SAMPLES.
+    let fits = fits.min((BATCH * SAMPLES) as f64) as usize;
+    let samples = fits.clamp(1, SAMPLES);
+    let batch = (fits / samples).clamp(1, BATCH);
+    (samples, batch)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn time_stays_within_its_budget() {
+        // 1 ns per evaluation: the full plan, 7 × 20 000.
+        assert_eq!(time_plan(1e-9), (7, 20_000));
+        // 2⁻¹⁶ s: 32 768 evaluations fit in 0.5 s, as 7 samples of 4 681.
+        assert_eq!(time_plan(1.0 / 65_536.0), (7, 4_681));
+        // 0.125 s: four evaluations, one per sample.
+        assert_eq!(time_plan(0.125), (4, 1));
+        // Slower than the budget: one evaluation.
+        assert_eq!(time_plan(3.0), (1, 1));
+        for first in [1e-9, 1e-7, 1e-5, 1e-3, 0.05, 0.2, 2.0] {
+            let (samples, batch) = time_plan(first);
+            let spent = (samples * batch) as f64 * first;
+            assert!(spent <= TIME_BUDGET.max(first) + 1e-12, "{first}: {spent}");
+        }
+    }
 
     #[test]
     fn evaluates_lets_and_commands() {
@@ -626,6 +684,15 @@ mod tests {
         assert_eq!(r.eval_line(":load"), "model unloaded");
         assert!(r.eval_line("DX(21, 11)").contains("E0308"));
         assert!(r.eval_line(":load no/such.adm").contains("E0501"));
+        // A failed :load after a good one says that the good one stays.
+        r.eval_line(":load examples/slider.adm");
+        let failed = r.eval_line(":load no/such.adm");
+        assert!(failed.contains("E0501"), "{failed}");
+        assert!(
+            failed.ends_with("stays loaded (`:load` alone unloads it)"),
+            "{failed}"
+        );
+        assert_eq!(r.eval_line("DX(21, 11)"), "0.3");
     }
 
     #[test]

@@ -6,7 +6,8 @@
 //! the cause; the rows before it are written; the exit code is 1.
 
 use super::check_file::read_dataset;
-use crate::diag::{render, Code, Diagnostic, SourceFile};
+use super::output::{Named, Output, Stop};
+use crate::diag::{Code, Diagnostic, SourceFile};
 use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::session::run::{Engine, Method, RunFailure, RunSpec, Simulation, Summary};
@@ -74,13 +75,10 @@ pub struct RunArgs {
     plot: Option<PathBuf>,
 }
 
-fn command_line_error(msg: String, color: bool) -> i32 {
+fn command_line_error(msg: String, o: &mut Output) -> Result<i32, Stop> {
     let d = Diagnostic::error(Code::CommandLine, 0..0, msg);
-    eprint!(
-        "{}",
-        render(&[d], &SourceFile::new("command line", ""), color)
-    );
-    1
+    o.diagnostics(&[d], &SourceFile::new("command line", ""))?;
+    Err(Stop::Failed)
 }
 
 /// The diagnostic code of a dynamics failure.
@@ -99,13 +97,13 @@ fn code_of(e: &DynError) -> Code {
     }
 }
 
-pub fn run(a: &RunArgs, color: bool) -> i32 {
+pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     let dt = a.output_step.unwrap_or(a.end / 100.0);
     if !(a.end.is_finite() && a.end > 0.0) {
-        return command_line_error(format!("--end {} must be a positive time", a.end), color);
+        return command_line_error(format!("--end {} must be a positive time", a.end), o);
     }
     if !(dt.is_finite() && dt > 0.0) {
-        return command_line_error(format!("--output-step {dt} must be a positive time"), color);
+        return command_line_error(format!("--output-step {dt} must be a positive time"), o);
     }
     for (name, x) in [
         ("--error", a.error),
@@ -116,7 +114,7 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
     ] {
         if let Some(x) = x {
             if !(x.is_finite() && x > 0.0) {
-                return command_line_error(format!("{name} {x} must be a positive number"), color);
+                return command_line_error(format!("{name} {x} must be a positive number"), o);
             }
         }
     }
@@ -129,7 +127,7 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
             _ => {
                 return command_line_error(
                     format!("--probe {p}: expected NAME=EXPR, e.g. --probe x=DX(2,1)"),
-                    color,
+                    o,
                 )
             }
         }
@@ -138,8 +136,8 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
     let (text, warnings) = match read_dataset(&a.model) {
         Ok(t) => t,
         Err(u) => {
-            eprint!("{}", render(&[u.diagnostic], &u.source, color));
-            return 1;
+            o.diagnostics(&[u.diagnostic], &u.source)?;
+            return Err(Stop::Failed);
         }
     };
     let mut spec = RunSpec::new(a.end, dt);
@@ -155,26 +153,23 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
         super::Engine::Interp => Engine::Interp,
     };
     let source = SourceFile::new(name.clone(), text.clone());
-    if !warnings.is_empty() {
-        eprint!("{}", render(&warnings, &source, color));
-    }
+    o.diagnostics(&warnings, &source)?;
     let mut sim = match Simulation::new(&text, spec, &probes) {
         Ok(s) => s,
         Err(RunFailure::Diagnostics {
             probe: None,
             diagnostics,
         }) => {
-            eprint!("{}", render(&diagnostics, &source, color));
-            return 1;
+            o.diagnostics(&diagnostics, &source)?;
+            return Err(Stop::Failed);
         }
         Err(RunFailure::Diagnostics {
             probe: Some(p),
             diagnostics,
         }) => {
             let text = probes.iter().find(|(n, _)| *n == p).map_or("", |(_, e)| e);
-            let src = SourceFile::new(format!("--probe {p}"), text);
-            eprint!("{}", render(&diagnostics, &src, color));
-            return 1;
+            o.diagnostics(&diagnostics, &SourceFile::new(format!("--probe {p}"), text))?;
+            return Err(Stop::Failed);
         }
         Err(RunFailure::Analysis(f)) => {
             let model = crate::model::read_model(&text).model;
@@ -182,73 +177,96 @@ pub fn run(a: &RunArgs, color: bool) -> i32 {
             for d in &mut diags {
                 d.severity = crate::diag::Severity::Error;
             }
-            eprint!("{}", render(&diags, &source, color));
-            return 1;
+            o.diagnostics(&diags, &source)?;
+            return Err(Stop::Failed);
         }
         Err(RunFailure::Dynamics(e)) => {
-            report_failure(&e, &source, &text, color);
-            return 1;
+            report_failure(&e, &source, &text, o)?;
+            return Err(Stop::Failed);
         }
     };
     if a.dim.is_none() && sim.spec.dim == DimRequest::Auto {
-        eprintln!("{}", sim.dynamics.sys.dim_reason);
+        writeln!(o.err(), "{}", sim.dynamics.sys.dim_reason)?;
     }
     let header = sim.header();
-    let mut writer: Box<dyn Write> = match a.csv.as_deref() {
-        None | Some("-") => Box::new(std::io::BufWriter::new(std::io::stdout().lock())),
+    let mut file = match a.csv.as_deref() {
+        None | Some("-") => None,
         Some(path) => match std::fs::File::create(path) {
-            Ok(f) => Box::new(std::io::BufWriter::new(f)),
-            Err(e) => return command_line_error(format!("cannot write {path}: {e}"), color),
+            Ok(f) => Some(Named::new(std::io::BufWriter::new(f), path)),
+            Err(e) => return command_line_error(format!("cannot write {path}: {e}"), o),
         },
     };
-    let mut csv = csv::Writer::from_writer(&mut writer);
-    let mut rows: Vec<Vec<f64>> = Vec::new();
-    let keep_rows = a.plot.is_some();
+    let (mut rows, keep_rows) = (Vec::new(), a.plot.is_some());
     let progress = super::progress::Progress::new(a.end);
-    let written = csv.write_record(&header);
-    let (summary, failed) = if let Err(e) = written {
-        (
-            None,
-            Some(DynError::Setup(format!(
-                "the CSV could not be written: {e}"
-            ))),
-        )
-    } else {
-        let (s, f) = sim.run(&mut |row| {
-            progress.at(row[0]);
-            if keep_rows {
-                rows.push(row.to_vec());
+    // The first write error: a closed pipe ends the run quietly, others fail it.
+    let mut io_error: Option<std::io::Error> = None;
+    let (summary, failed) = {
+        let writer: &mut dyn Write = match &mut file {
+            Some(f) => f,
+            None => o.out(),
+        };
+        let mut csv = csv::Writer::from_writer(writer);
+        let result = match csv.write_record(&header) {
+            Err(e) => {
+                io_error = Some(e.into());
+                (None, None)
             }
-            csv.write_record(row.iter().map(|x| format!("{x:?}")))
-                .map_err(std::io::Error::other)
-        });
-        (Some(s), f)
+            Ok(()) => {
+                let (s, f) = sim.run(&mut |row| {
+                    progress.at(row[0]);
+                    if keep_rows {
+                        rows.push(row.to_vec());
+                    }
+                    let w = csv.write_record(row.iter().map(|x| format!("{x:?}")));
+                    w.map_err(|e| {
+                        let e = std::io::Error::from(e);
+                        let copy = std::io::Error::new(e.kind(), e.to_string());
+                        io_error.get_or_insert(e);
+                        copy
+                    })
+                });
+                (Some(s), f)
+            }
+        };
+        if let Err(e) = csv.flush() {
+            io_error.get_or_insert(e);
+        }
+        result
     };
     progress.finish();
-    let flushed = csv.flush();
-    drop(csv);
-    let flushed = flushed.and(writer.flush());
+    if let Some(f) = &mut file {
+        if let Err(e) = f.flush() {
+            io_error.get_or_insert(e);
+        }
+    }
+    if let Some(e) = io_error {
+        return Err(Stop::Io(e));
+    }
     if let Some(s) = &summary {
-        eprint!("{}", summary_text(s));
+        write!(o.err(), "{}", summary_text(s))?;
     }
     if let (Some(path), false) = (&a.plot, rows.is_empty()) {
         if let Err(e) = super::plot::draw(path, &header, &rows, probes.len()) {
-            eprintln!("error: the plot could not be drawn: {e}");
-            return 1;
+            return command_line_error(
+                format!("the plot {} could not be drawn: {e}", path.display()),
+                o,
+            );
         }
     }
     if let Some(e) = failed {
-        report_failure(&e, &source, &text, color);
-        return 1;
+        report_failure(&e, &source, &text, o)?;
+        return Err(Stop::Failed);
     }
-    if let Err(e) = flushed {
-        return command_line_error(format!("the CSV could not be written: {e}"), color);
-    }
-    0
+    Ok(0)
 }
 
-/// A dynamics failure as a diagnostic at the statement of the element it names.
-fn report_failure(e: &DynError, source: &SourceFile, text: &str, color: bool) {
+/// A dynamics failure as a diagnostic at the statement of the element (or part) it names.
+fn report_failure(
+    e: &DynError,
+    source: &SourceFile,
+    text: &str,
+    o: &mut Output,
+) -> std::io::Result<()> {
     let model = crate::model::read_model(text).model;
     let span = match e.culprit() {
         Some(Culprit::Element(el)) => report::element_span(&model, &el),
@@ -256,7 +274,7 @@ fn report_failure(e: &DynError, source: &SourceFile, text: &str, color: bool) {
         None => 0..0,
     };
     let d = Diagnostic::error(code_of(e), span, e.to_string());
-    eprint!("{}", render(&[d], source, color));
+    o.diagnostics(&[d], source)
 }
 
 /// The end-of-run summary.

@@ -1,6 +1,7 @@
 //! Finding where a non-finite value came from (decision 7): a slow re-run that checks
-//! every value as it is produced and names the first one that is NaN or infinite, or the
-//! first IF whose test is NaN.
+//! every value as it is produced and names the first IF whose test is NaN (decision 2:
+//! the expression then has no value), else the first value that is NaN or infinite. A
+//! NaN that reaches an IF test is reported at the IF, with the place it came from.
 
 use super::{Op, Program};
 use crate::context::Context;
@@ -16,6 +17,9 @@ pub struct Fault {
     pub value: f64,
     /// True when an IF's test was NaN, so no branch could be chosen.
     pub nan_if_test: bool,
+    /// For an IF with a NaN test: the first non-finite subexpression before it, when
+    /// there is one (the input that made the test NaN).
+    pub cause: Option<Span>,
 }
 
 pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
@@ -34,31 +38,41 @@ pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
         span: f.spans[value_of[reg as usize] as usize].clone(),
         value,
         nan_if_test,
+        cause: None,
     };
+    // The first non-finite value; the run goes on, as a NaN may still reach an IF test.
+    let mut first: Option<Fault> = None;
     let mut r = p.template.clone();
     let mut pc = 0usize;
     while let Some(op) = p.ops.get(pc) {
         if let Op::If { d, test, .. } = *op {
             if r[test as usize].is_nan() {
-                return Some(fault(d, f64::NAN, true));
+                let cause = first.map(|f| f.span);
+                return Some(Fault {
+                    cause,
+                    ..fault(d, f64::NAN, true)
+                });
             }
         }
         pc = p.step(op, pc, ctx, &mut r);
         if let Some(d) = dest(op) {
-            if !r[d as usize].is_finite() {
-                return Some(fault(d, r[d as usize], false));
+            if first.is_none() && !r[d as usize].is_finite() {
+                first = Some(fault(d, r[d as usize], false));
             }
         }
     }
     // Nothing computed went non-finite: a non-finite constant must be the culprit.
     // (Outputs are IR values, so their spans are looked up directly.)
-    f.outputs.iter().find_map(|&o| match f.inst(o) {
-        Inst::Const(c) if !c.is_finite() => Some(Fault {
-            span: f.spans[o as usize].clone(),
-            value: *c,
-            nan_if_test: false,
-        }),
-        _ => None,
+    first.or_else(|| {
+        f.outputs.iter().find_map(|&o| match f.inst(o) {
+            Inst::Const(c) if !c.is_finite() => Some(Fault {
+                span: f.spans[o as usize].clone(),
+                value: *c,
+                nan_if_test: false,
+                cause: None,
+            }),
+            _ => None,
+        })
     })
 }
 

@@ -194,6 +194,35 @@ impl Uses {
     }
 }
 
+impl Inst {
+    /// Calls `f` on each value this instruction reads directly: for an IF its test only
+    /// (its arms are blocks of their own), for `IfExtra` the IF.
+    pub fn each_operand(&self, mut f: impl FnMut(Value)) {
+        match self {
+            Inst::Const(_) | Inst::Var(_) | Inst::Time | Inst::Mode | Inst::Measure(_) => {}
+            Inst::Neg(a) | Inst::Sqrt(a) => f(*a),
+            Inst::Add(a, b) | Inst::Sub(a, b) | Inst::Mul(a, b) | Inst::Div(a, b) => {
+                f(*a);
+                f(*b);
+            }
+            Inst::Call(_, args) | Inst::Partial { args, .. } => args.iter().copied().for_each(f),
+            Inst::Spline { x, z, .. } => {
+                f(*x);
+                f(*z);
+            }
+            Inst::If { test, .. } => f(*test),
+            Inst::IfExtra { of, .. } => f(*of),
+            Inst::Select {
+                a,
+                b,
+                then,
+                otherwise,
+                ..
+            } => [*a, *b, *then, *otherwise].into_iter().for_each(f),
+        }
+    }
+}
+
 impl Function {
     pub fn inst(&self, v: Value) -> &Inst {
         &self.insts[v as usize]

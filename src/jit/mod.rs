@@ -14,6 +14,7 @@
 //! both run the same IR, call the same runtime functions, and the lowering follows the
 //! runtime's operation order (checked by the differential tests in `tests/backends/`).
 
+mod anchor;
 mod frame;
 #[cfg(all(target_os = "linux", target_arch = "x86_64"))]
 mod memory;

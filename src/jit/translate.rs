@@ -11,6 +11,7 @@
 //! constant pool (one instruction, as compiled Rust does) rather than built in a general
 //! register.
 
+use super::anchor::Crossings;
 use super::symbols;
 use super::JitError;
 use crate::context::layout;
@@ -132,6 +133,10 @@ pub struct Translator<'a, 'b> {
     /// The function's constants and their address (set on entry when there are any).
     consts: &'a Constants,
     consts_base: Option<ir::Value>,
+    /// Values computed before an IF and read after it ([`super::anchor`]).
+    crossings: Crossings,
+    /// Stack slots free for anchoring a value across an IF.
+    free_slots: Vec<ir::StackSlot>,
 }
 
 const TRUSTED: MemFlagsData = MemFlagsData::trusted();
@@ -187,6 +192,8 @@ impl<'a, 'b> Translator<'a, 'b> {
             vectors: FxHashMap::default(),
             consts,
             consts_base,
+            crossings: Crossings::new(f),
+            free_slots: Vec::new(),
         }
     }
 
@@ -311,6 +318,7 @@ impl<'a, 'b> Translator<'a, 'b> {
                 .ok_or(JitError::Malformed(v))?,
         };
         self.vals[v as usize] = Some(r);
+        self.crossings.defined(f, v);
         Ok(())
     }
 
@@ -505,6 +513,18 @@ impl<'a, 'b> Translator<'a, 'b> {
     /// are the results.
     fn if_(&mut self, v: Value, test: Value, arms: &[IrBlock; 3]) -> Result<(), JitError> {
         let t = self.value(test)?;
+        // Values read after the IF go through a stack slot, so they neither sink past it
+        // nor stay live across its arms ([`super::anchor`]).
+        let mut anchored = Vec::new();
+        for u in self.crossings.at_if(v) {
+            let x = self.value(u)?;
+            let slot = match self.free_slots.pop() {
+                Some(s) => s,
+                None => self.slot(1),
+            };
+            self.fb.ins().stack_store(self.ptr, x, slot, 0);
+            anchored.push((u, slot));
+        }
         let n = 1 + arms[0].extra.len();
         let join = self.fb.create_block();
         for _ in 0..n {
@@ -539,6 +559,12 @@ impl<'a, 'b> Translator<'a, 'b> {
             self.fb.ins().jump(join, &results);
         }
         self.fb.switch_to_block(join);
+        for (u, slot) in anchored {
+            let x = self.fb.ins().stack_load(self.ptr, types::F64, slot, 0);
+            self.vals[u as usize] = Some(x);
+            self.vectors.remove(&u);
+            self.free_slots.push(slot);
+        }
         let params = self.fb.block_params(join).to_vec();
         self.vals[v as usize] = params.first().copied();
         self.extras.insert(v, params[1..].to_vec());

@@ -300,7 +300,19 @@ fn item(c: &mut Cursor, diags: &mut Vec<Diagnostic>) -> Option<Item> {
     }
     let text = &c.text[start..end];
     let kind = match number(text) {
-        Some((value, degrees)) => ItemKind::Number { value, degrees },
+        Some((value, degrees)) => {
+            if !value.is_finite() {
+                diags.push(
+                    Diagnostic::error(
+                        Code::NonFiniteNumber,
+                        start..end,
+                        format!("`{text}` is beyond the range of numbers (about ±1.8E308)"),
+                    )
+                    .with_help("write a finite value"),
+                );
+            }
+            ItemKind::Number { value, degrees }
+        }
         None => ItemKind::Word,
     };
     Some(Item {

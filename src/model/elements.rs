@@ -341,8 +341,7 @@ impl Part {
     /// The inertia tensor about the IM (else CM) origin in IM axes, from IP with Adams'
     /// sign convention (spec §2.2: products are +∫xy dm, so they enter negated).
     pub fn inertia(&self) -> Mat3 {
-        let [xx, yy, zz, xy, xz, yz] = self.ip;
-        Mat3::new(xx, -xy, -xz, -xy, yy, -yz, -xz, -yz, zz)
+        super::inertia::tensor(&self.ip)
     }
 }
 

@@ -175,8 +175,12 @@ pub fn decode(bytes: &[u8]) -> (Cow<'_, str>, Option<Diagnostic>) {
         }
     }
     let diag = first_bad.map(|span| {
-        Diagnostic::warning(Code::Encoding, span, "the dataset is not valid UTF-8")
-            .with_note("bytes that are not UTF-8 are read as Latin-1")
+        Diagnostic::warning(
+            Code::EncodingRepaired,
+            span,
+            "the dataset is not valid UTF-8",
+        )
+        .with_note("bytes that are not UTF-8 are read as Latin-1")
     });
     (Cow::Owned(text), diag)
 }

@@ -15,6 +15,7 @@ mod cursor;
 pub mod elements;
 pub mod expressions;
 pub mod frames;
+mod inertia;
 pub mod keywords;
 mod lines;
 mod read_bodies;

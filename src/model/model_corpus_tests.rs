@@ -34,8 +34,9 @@ const INVALID: &[(&str, &[&str], &str)] = &[
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/pm02.adm",
-        &["E0101", "E0311", "E0601", "E0604", "E0606"],
-        "statements continued without a comma, `^` as a power, no GROUND, missing markers",
+        &["E0101", "E0311", "E0601", "E0604", "E0606", "E0608"],
+        "statements continued without a comma, `^` as a power, no GROUND, missing markers, \
+         IP = 10, 20, 30, 45, 60, 70 (principal moments -96.7, 58.1, 98.6: not a body's)",
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/pm03.adm",
@@ -45,9 +46,12 @@ const INVALID: &[(&str, &[&str], &str)] = &[
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova.adm",
-        &["E0302", "E0311", "E0601", "E0603", "E0604", "E0606"],
+        &[
+            "E0302", "E0311", "E0601", "E0603", "E0604", "E0606", "E0608",
+        ],
         "garbage arguments, ids defined twice (PART/1, MARKER/1, JOINT/1, ...), \
-         references to markers that are not defined",
+         references to markers that are not defined, IP = 10, 20, 30, 40, 50, 60 (principal \
+         moment -80)",
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova_beam00.adm",
@@ -61,8 +65,9 @@ const INVALID: &[(&str, &[&str], &str)] = &[
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova_marker01.adm",
-        &["E0311", "E0601", "E0606"],
-        "statements continued without a comma, no GROUND, CM markers not defined",
+        &["E0311", "E0601", "E0606", "E0608"],
+        "statements continued without a comma, no GROUND, CM markers not defined, IP \
+         tensors with a negative principal moment",
     ),
 ];
 

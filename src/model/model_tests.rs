@@ -405,7 +405,100 @@ const BAD: &[Bad] = &[
         code: Code::UndefinedElement,
         at: "55",
     },
+    // Issue 11 §3: numbers past f64's range, anywhere (used or not), and mass properties
+    // no body has.
+    Bad {
+        extra: "PART/3, MASS = 1E400, CM = 31, IP = 1, 1, 1\nMARKER/31, PART = 3",
+        code: Code::NonFiniteNumber,
+        at: "1E400",
+    },
+    Bad {
+        extra: "ACCGRAV/ IGRAV = 1E400",
+        code: Code::NonFiniteNumber,
+        at: "1E400",
+    },
+    Bad {
+        extra: "MARKER/30, PART = 2, QP = -1.0E+999, 0, 0",
+        code: Code::NonFiniteNumber,
+        at: "-1.0E+999",
+    },
+    Bad {
+        extra: "MARKER/30, PART = 2, ZP = 0, 0, 1E400",
+        code: Code::NonFiniteNumber,
+        at: "1E400",
+    },
+    Bad {
+        extra: "GRAPHICS/1, CYLINDER, CM = 21, RADIUS = 2E308",
+        code: Code::NonFiniteNumber,
+        at: "2E308",
+    },
+    Bad {
+        extra: "PART/3, MASS = -5, CM = 31, IP = 1, 1, 1\nMARKER/31, PART = 3",
+        code: Code::MassProperties,
+        at: "MASS = -5",
+    },
+    Bad {
+        extra: "PART/3, MASS = 2, CM = 31, IP = -1, -1, -1\nMARKER/31, PART = 3",
+        code: Code::MassProperties,
+        at: "IP = -1, -1, -1",
+    },
+    // Products of 3 in a tensor of moments 2, 2, 3: principal moments -1, 5, 3.
+    Bad {
+        extra: "PART/3, MASS = 2, CM = 31, IP = 2, 2, 3, 3, 0, 0\nMARKER/31, PART = 3",
+        code: Code::MassProperties,
+        at: "IP = 2, 2, 3, 3, 0, 0",
+    },
 ];
+
+/// Mass properties bodies have pass (issue 11 §3): `MASS = 0` makes a massless part
+/// (needing no CM), a thin plate meets the triangle inequality with equality, products
+/// of inertia that keep the principal moments of a box (1.5, 2.5, 3) are fine, and a
+/// massless part may have zero inertia.
+#[test]
+fn possible_mass_properties_read_clean() {
+    let m = clean(&with(
+        "PART/3, MASS = 0\n\
+         PART/4, MASS = 1, CM = 41, IP = 1, 2, 3\nMARKER/41, PART = 4\n\
+         PART/5, MASS = 1, CM = 51, IP = 2, 2, 3, 0.5, 0, 0\nMARKER/51, PART = 5\n\
+         PART/6, IP = 0, 0, 0",
+    ));
+    assert_eq!(m.part(3).expect("part 3").mass, None);
+    assert_eq!(m.part(4).expect("part 4").mass, Some(1.0));
+}
+
+/// A mass with zero inertia is a point mass (IFToMM A01's bob): a warning (W0609) at the
+/// IP, since only constraints can hold its rotations; `mbfx run` checks they do.
+#[test]
+fn a_point_mass_is_a_warning() {
+    let text = with("PART/3, MASS = 2, CM = 31, IP = 0, 0, 0\nMARKER/31, PART = 3");
+    let r = read(&text);
+    let found: Vec<_> = r
+        .diagnostics
+        .iter()
+        .map(|d| (d.code, d.severity, &text[d.span.clone()]))
+        .collect();
+    assert_eq!(
+        found,
+        [(Code::ImplausibleInertia, Severity::Warning, "IP = 0, 0, 0")]
+    );
+}
+
+/// Principal moments 1, 1, 5 break the triangle inequality (5 > 1 + 1): no real body has
+/// them, but the tensor is positive definite, so it is a warning (W0609) at the IP.
+#[test]
+fn an_inertia_breaking_the_triangle_inequality_is_a_warning() {
+    let text = with("PART/3, MASS = 2, CM = 31, IP = 1, 1, 5\nMARKER/31, PART = 3");
+    let r = read(&text);
+    let found: Vec<_> = r
+        .diagnostics
+        .iter()
+        .map(|d| (d.code, d.severity, &text[d.span.clone()]))
+        .collect();
+    assert_eq!(
+        found,
+        [(Code::ImplausibleInertia, Severity::Warning, "IP = 1, 1, 5")]
+    );
+}
 
 #[test]
 fn bad_datasets_give_their_code_at_their_place() {

@@ -112,18 +112,16 @@ fn orientation(a: &mut Args, origin: Vec3, zkey: &str, xkey: &str, usexp: bool) 
 pub fn part(r: &mut Reader, a: &mut Args) {
     let el = r.named(a);
     let ground = a.flag("GROUND", 2);
-    let mass = a.number("MASS", 2);
+    let mass = mass(a);
     let cm = r.marker_ref(a, "CM", 2, MarkerUse::Fixed, false);
     let im = r.marker_ref(a, "IM", 2, MarkerUse::Fixed, false);
     let mut ip = [0.0; 6];
     if let Some(v) = a.numbers("IP", 2, 3..=6) {
         if v.len() == 3 || v.len() == 6 {
             ip[..v.len()].copy_from_slice(&v);
+            check_inertia(a, &ip, mass);
         } else {
-            let span = a
-                .stmt
-                .arg("IP", 2)
-                .map_or(a.stmt.keyword_span.clone(), |arg| arg.span.clone());
+            let span = arg_span(a, "IP");
             let msg = format!("IP of {} takes 3 or 6 numbers", a.label);
             a.error(Code::BadArgument, span, msg);
         }
@@ -188,6 +186,65 @@ pub fn part(r: &mut Reader, a: &mut Args) {
         wm: wm.map(|m| m.0),
         exact,
     });
+}
+
+/// The span of argument `key` (name and value), or the statement keyword's.
+fn arg_span(a: &Args, key: &str) -> std::ops::Range<usize> {
+    a.stmt
+        .arg(key, 2)
+        .map_or(a.stmt.keyword_span.clone(), |arg| arg.span.clone())
+}
+
+/// `MASS`: `None` for a massless part (MASS absent or 0, as Adams reads it); a negative
+/// mass is an error (E0608).
+fn mass(a: &mut Args) -> Option<f64> {
+    let m = a.number("MASS", 2)?;
+    if m < 0.0 {
+        let msg = format!("MASS of {} is {m}: a mass cannot be negative", a.label);
+        let d = Diagnostic::error(Code::MassProperties, arg_span(a, "MASS"), msg)
+            .with_help("MASS = 0 (or no MASS) makes a massless part");
+        a.diags.push(d);
+        return None;
+    }
+    (m > 0.0).then_some(m)
+}
+
+/// Reports an IP the dynamics cannot use (E0608), or one no real body has (W0609): see
+/// [`super::inertia`]. Zero inertia with a mass is a point mass (IFToMM A01's bob): a
+/// warning, since only constraints can then hold its rotations (`mbfx run` checks that).
+fn check_inertia(a: &mut Args, ip: &[f64; 6], mass: Option<f64>) {
+    use super::inertia::{check, tensor, Impossible};
+    let span = arg_span(a, "IP");
+    let d = match check(&tensor(ip)) {
+        Err(e @ Impossible::Negative { .. }) => {
+            let msg = format!("IP of {} is no body's inertia: {}", a.label, e.describe());
+            Diagnostic::error(Code::MassProperties, span, msg)
+        }
+        Err(e @ Impossible::Triangle { .. }) => {
+            let msg = format!(
+                "IP of {} is no real body's inertia: {}",
+                a.label,
+                e.describe()
+            );
+            Diagnostic::warning(Code::ImplausibleInertia, span, msg)
+                .with_help("the tensor is positive semi-definite, so mbfx uses it as written")
+        }
+        Ok(moments) if moments[2] == 0.0 && mass.is_some() => {
+            let msg = format!(
+                "IP of {} is zero while the part has a mass: a point mass, whose rotations only constraints can hold",
+                a.label
+            );
+            Diagnostic::warning(Code::ImplausibleInertia, span, msg)
+                .with_help("give the moments of inertia, or MASS = 0 for a massless part")
+        }
+        Ok(_) => return,
+    };
+    let d = d.with_note(
+        "IP = Ixx, Iyy, Izz[, Ixy, Ixz, Iyz] with products +∫xy dm: the tensor \
+         [[Ixx, -Ixy, -Ixz], [-Ixy, Iyy, -Iyz], [-Ixz, -Iyz, Izz]] must be positive \
+         semi-definite and each principal moment at most the sum of the other two",
+    );
+    a.diags.push(d);
 }
 
 /// `MARKER/id, PART=…`: origin and axes in the part's BCS; FLOATING markers move.

@@ -153,7 +153,7 @@ pub fn read_statements(text: &str) -> (Vec<Statement>, Vec<Diagnostic>) {
     let mut diags = Vec::new();
     if let Some(span) = nul {
         diags.push(
-            Diagnostic::warning(Code::Encoding, span, "NUL bytes in the dataset")
+            Diagnostic::warning(Code::EncodingRepaired, span, "NUL bytes in the dataset")
                 .with_note("they are read as blanks"),
         );
     }

@@ -118,7 +118,7 @@ fn nul_bytes_are_blanks_with_one_warning() {
     assert_eq!(diags.len(), 1, "{diags:?}");
     assert_eq!(
         (diags[0].code, diags[0].severity),
-        (Code::Encoding, Severity::Warning)
+        (Code::EncodingRepaired, Severity::Warning)
     );
     assert_eq!(stmts.len(), 2);
     assert_eq!(stmts[0].args[0].items()[0].text, "");

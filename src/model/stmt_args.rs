@@ -163,7 +163,9 @@ impl<'s> Args<'s> {
         let mut out = Vec::with_capacity(a.items().len());
         for item in a.items() {
             match item.as_f64() {
-                Some(v) => out.push(v),
+                Some(v) if v.is_finite() => out.push(v),
+                // Reported where the statement was read (E0607): no value, no second message.
+                Some(_) => return None,
                 None => {
                     let msg = format!("{}: expected a number, found `{}`", a.name, item.text);
                     self.error(Code::BadArgument, item.span.clone(), msg);

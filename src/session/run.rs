@@ -339,10 +339,11 @@ impl Outputs {
     /// The output row at the state of `d`.
     fn row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
         // The integrator's accelerations and multipliers are its own (HHT's are shifted
-        // by α and only first-order accurate): outputs get the consistent ones of the
-        // state, M·a/UCF + Φ_qᵀλ = Q with Φ_q·a = γ (spec §6.1 phase 3), as Adams
-        // reconciles at output steps.
-        d.solve_accelerations()?;
+        // by α and only first-order accurate), and index 3 lets velocities drift: outputs
+        // get velocities projected onto the velocity constraints and the consistent a
+        // and λ of that state, M·a/UCF + Φ_qᵀλ = Q with Φ_q·a = γ (spec §6.1 phase 3), as
+        // Adams reconciles at output steps. The integrator keeps its own state.
+        d.reconcile()?;
         d.refresh_outputs()?;
         for &(s, slot) in &self.slots {
             self.measures[s as usize] = slot.value(d);

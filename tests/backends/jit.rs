@@ -291,3 +291,80 @@ fn leaf_functions_run_without_a_frame() {
         }
     }
 }
+
+/// A chain of `n` IF terms whose arms call the runtime (so they stay real branches) and a
+/// sum of `n` IMPACTs, in `x`.
+fn long_chains(n: usize) -> [String; 2] {
+    let ifs: Vec<String> = (0..n)
+        .map(|i| format!("IF(x - {i}: LOG(x + {}), 0, SIN(x*{i}))", i + 1))
+        .collect();
+    let impacts: Vec<String> = (0..n)
+        .map(|i| format!("IMPACT(x, y, {i}, 1E5, 1.5, 10, 0.1)"))
+        .collect();
+    [ifs.join(" + "), impacts.join(" + ")]
+}
+
+/// Seconds to compile `src`.
+fn compile_seconds(src: &str) -> f64 {
+    let f = ir(src).unwrap();
+    let t = std::time::Instant::now();
+    let code = Jit::new().unwrap().compile(&f).unwrap();
+    let s = t.elapsed().as_secs_f64();
+    drop(code);
+    s
+}
+
+/// Regression (issue 11 §2): Cranelift sank every addition of a sum of IFs to the return,
+/// so all the IF results stayed live across every later arm, and register allocation grew
+/// quadratically (a 3 000-IMPACT sum: 9.3 s and 1.7 GB). Values that cross an IF are now
+/// anchored before it (`jit/anchor.rs`), and past 64 IMPACT/BISTOP calls their contact
+/// branches stay runtime calls. Eight times the terms must cost about eight times the time
+/// (quadratic growth would be 64 times).
+#[test]
+fn compile_time_of_long_if_and_impact_chains_is_linear() {
+    for (kind, (small, big)) in ["IF", "IMPACT"]
+        .iter()
+        .zip(long_chains(250).iter().zip(long_chains(2000).iter()))
+    {
+        let (t1, t8) = (compile_seconds(small), compile_seconds(big));
+        assert!(
+            t8 < (20.0 * t1).max(1.0),
+            "{kind}: 250 terms in {t1:.3} s, 2 000 in {t8:.3} s"
+        );
+    }
+}
+
+/// The long chains, both back ends, same bits: anchored values and runtime-called IMPACTs
+/// give what the interpreter gives, in contact and out of it, and at NaN.
+#[test]
+fn long_chains_match_the_interpreter() {
+    for src in long_chains(100) {
+        let f = ir(&src).unwrap();
+        let code = Jit::new().unwrap().compile(&f).unwrap();
+        let program = Program::new(f);
+        for x in [-1.0, 0.0, 0.5, 3.0, 37.25, 99.0, 150.0, f64::NAN] {
+            for y in [-2.0, 0.0, 1.5] {
+                let vars = [x, y, 0.0];
+                let ctx = Context::new(0.0, &vars);
+                let (want, got) = (program.eval(&ctx), code.eval(&ctx));
+                assert!(same(got, want), "x = {x}, y = {y}: {got} != {want}");
+            }
+        }
+    }
+}
+
+/// The contact budget: up to 64 IMPACTs branch on contact, more stay calls (no IF).
+#[test]
+fn many_contact_functions_stay_runtime_calls() {
+    use mbfx::ir::{lower::lower, Inst};
+    let ifs = |n: usize| {
+        let f = ir(&long_chains(n)[1]).unwrap();
+        lower(&f)
+            .insts
+            .iter()
+            .filter(|i| matches!(i, Inst::If { .. }))
+            .count()
+    };
+    assert_eq!(ifs(64), 64);
+    assert_eq!(ifs(65), 0);
+}

@@ -297,7 +297,7 @@ fn cases() -> Vec<Case> {
         e("scalar_plus_vector", "1+[1,2,3]", "E0305", All),
         e("vector_minus_scalar", "[1,2,3]-1", "E0305", All),
         e("vector_cross_scalar", "[1,2,3]%1", "E0305", All),
-        e("scalar_cross_scalar", "1%2", "E0305", All),
+        e("scalar_cross_scalar", "1%2", "E0305", All).help("MOD(a, b)"),
         e("dot_then_cross", "[1,0,0]*[0,1,0]%[0,0,1]", "E0305", All).help("v*(v%v)"),
         e("sin_of_vector", "SIN([1,2,3])", "E0305", Text("[1,2,3]")),
         e("vector_component", "[[1,2,3],2,3]", "E0305", Bytes(1, 8)),
@@ -323,6 +323,11 @@ fn cases() -> Vec<Case> {
         e("bistop_x1_above_x2", "BISTOP(0,5,2,-2,1,1,1,1)", "E0307", All),
         e("bistop_negative_stiffness", "BISTOP(x,v,-1,1,-1,1,1,1)", "E0307", Nth("-1", 1)),
         e("bistop_zero_exponent", "BISTOP(x,v,-1,1,1,0,1,1)", "E0307", Text("0")),
+        // SWEEP(x, a, x0, f0, x1, f1, dx) has STEP's x0 < x1 (issue 11 §4: it was NaN at
+        // run time) and needs dx > 0.
+        e("sweep_x0_above_x1", "SWEEP(0.5,1,1,10,0,1,0.1)", "E0307", All),
+        e("sweep_x0_equals_x1", "SWEEP(x,1,2,10,2,1,0.1)", "E0307", All),
+        e("sweep_zero_fade", "SWEEP(x,1,0,10,1,20,0)", "E0307", Bytes(20, 21)),
         e("mod_by_zero", "MOD(x,0)", "E0307", Text("0")),
         e("mod_by_folded_zero", "MOD(x,1-1)", "E0307", Text("1-1")),
         e("iord_on_surface", "AKISPL(x,0.5,1,1)", "E0307", Bytes(15, 16)),

@@ -673,16 +673,53 @@ impl Dynamics {
     /// 3): M·a/UCF + Φ_qᵀλ = Q, Φ_q·a = γ.
     pub fn solve_accelerations(&mut self) -> Result<(), DynError> {
         self.eval_constraints(true)?;
-        self.eval_forces(false)?;
-        self.check_forces()?;
-        let gamma = gamma::gamma(self)?;
+        self.factor_saddle()?;
+        self.accelerations_factored()
+    }
+
+    /// Reconciles the state for output (as Adams does at output steps): velocities
+    /// projected onto the velocity constraints, closest in the mass metric
+    /// ([[M, Φ_qᵀ], [Φ_q, 0]]·[δv; μ] = [0; −(Φ_q·v + Φ_t)]), then the consistent
+    /// accelerations and multipliers, both from one factorization. The index-3 integrators
+    /// keep positions on the constraints but let velocities drift by their error.
+    pub fn reconcile(&mut self) -> Result<(), DynError> {
+        self.eval_constraints(true)?;
+        self.factor_saddle()?;
+        let v = self.sys.v();
+        let mut rhs = vec![0.0; self.n + self.m];
+        for &(r, c, x) in &self.phi_q {
+            rhs[self.n + r] -= x * v[c];
+        }
+        for (r, &(e, q)) in self.rows.iter().enumerate() {
+            if self.sys.row_reads_velocity(e, q) {
+                // A non-holonomic row holds ∂f/∂v: its velocity residual is f itself.
+                rhs[self.n + r] = -self.phi[r];
+            } else {
+                rhs[self.n + r] -= self.sys.row_dt(e, q)?;
+            }
+        }
+        self.solve(&mut rhs)?;
+        let v = v + DVec::from_column_slice(&rhs[..self.n]);
+        self.sys.set_v(&v);
+        self.accelerations_factored()
+    }
+
+    /// Factors [[M/UCF, Φ_qᵀ], [Φ_q, 0]] from the last constraint evaluation.
+    fn factor_saddle(&mut self) -> Result<(), DynError> {
         self.stats.jacobian_evaluations += 1;
         self.factor(Weights {
             w_m: 1.0,
             w_k: 0.0,
             w_c: 0.0,
             w_l: 1.0,
-        })?;
+        })
+    }
+
+    /// The accelerations and multipliers with the saddle-point matrix factored.
+    fn accelerations_factored(&mut self) -> Result<(), DynError> {
+        self.eval_forces(false)?;
+        self.check_forces()?;
+        let gamma = gamma::gamma(self)?;
         let mut rhs: Vec<f64> = self
             .gen
             .q
