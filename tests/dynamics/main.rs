@@ -7,7 +7,9 @@
 //! `mbfx run` itself are ignored until the dynamics land, each with its reason.
 
 mod a01;
+mod a02;
 mod adams;
+mod contact;
 mod exact;
 mod failures;
 mod reference;
