@@ -319,6 +319,8 @@ impl Dynamics {
             }
         }
         for (r, &(e, q)) in rows.iter().enumerate() {
+            // The multiplier's diagonal holds the regularisation (Dynamics::factor).
+            pos.push((n + r, n + r));
             for p in row_parts(sys, e, q).into_iter().filter_map(block) {
                 for c in p..p + bs {
                     pos.push((n + r, c));
@@ -560,13 +562,44 @@ impl Dynamics {
                 add(&mut self.values, r, c, -w.w_c * x);
             }
         }
+        let mut row_norm = vec![0.0f64; self.m];
         for &(r, c, x) in &self.phi_q {
             add(&mut self.values, n + r, c, x);
             add(&mut self.values, c, n + r, w.w_l * x);
+            row_norm[r] = row_norm[r].max(x.abs());
+        }
+        // Where the constraints lose rank for an instant (a four-bar passing its dead
+        // centre), the saddle-point matrix is singular although the motion goes on. A
+        // regularisation −ε·I on the multipliers' block, ε = 1e-10 of the Schur complement's
+        // scale |Φ_q|²/m, keeps it factorable; it changes the Newton matrix only, so a
+        // converged step still solves the equations exactly. A row whose Jacobian has
+        // vanished altogether constrains nothing any more: that is reported.
+        let top = row_norm.iter().fold(0.0f64, |a, &b| a.max(b));
+        let time = self.sys.time;
+        if let Some(r) = (0..self.m).find(|&r| row_norm[r] <= 1e-12 * top) {
+            return Err(DynError::Singular {
+                time,
+                what: "this constraint's Jacobian vanishes: it no longer constrains anything"
+                    .into(),
+                culprit: Some(Culprit::Element(
+                    self.sys.elements[self.rows[r].0].elref.clone(),
+                )),
+            });
+        }
+        let heaviest = self
+            .mass_blocks()
+            .iter()
+            .map(|b| match b {
+                Mat3Block::Three(m, j) => m.max(j.amax()),
+                Mat3Block::Two(m, j) => m.max(*j),
+            })
+            .fold(0.0f64, f64::max);
+        let eps = 1e-10 * w.w_l * top * top / heaviest.max(f64::MIN_POSITIVE);
+        for r in 0..self.m {
+            add(&mut self.values, n + r, n + r, -eps);
         }
         self.stats.factorizations += 1;
         self.factor_generation += 1;
-        let time = self.sys.time;
         let factored = self.lu.factor(&self.values);
         let culprit = if factored.is_err() {
             self.singular_culprit()
@@ -698,10 +731,42 @@ impl Dynamics {
                 rhs[self.n + r] -= self.sys.row_dt(e, q)?;
             }
         }
-        self.solve(&mut rhs)?;
+        self.solve_saddle(&mut rhs)?;
         let v = v + DVec::from_column_slice(&rhs[..self.n]);
         self.sys.set_v(&v);
         self.accelerations_factored()
+    }
+
+    /// Solves [[M/UCF, Φ_qᵀ], [Φ_q, 0]]·x = b in place with the factorization of
+    /// [`Dynamics::factor_saddle`]: its regularisation is taken back out by iterative
+    /// refinement against the exact matrix (a direct solve, unlike a Newton step, would
+    /// keep the regularisation's bias).
+    fn solve_saddle(&mut self, b: &mut [f64]) -> Result<(), DynError> {
+        let n = self.n;
+        let rhs = b.to_vec();
+        self.solve(b)?;
+        for _ in 0..3 {
+            let a = DVec::from_column_slice(&b[..n]);
+            let lambda = DVec::from_column_slice(&b[n..]);
+            let mut top = DVec::zeros(n);
+            self.add_mass_times(&a, &mut top);
+            self.add_constraint_forces(&lambda, &mut top);
+            let mut r: Vec<f64> = (0..n).map(|k| rhs[k] - top[k]).collect();
+            r.extend_from_slice(&rhs[n..]);
+            for &(row, c, x) in &self.phi_q {
+                r[n + row] -= x * a[c];
+            }
+            let size = b.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            self.solve(&mut r)?;
+            let step = r.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            for (x, d) in b.iter_mut().zip(&r) {
+                *x += d;
+            }
+            if step <= 1e-15 * size {
+                break;
+            }
+        }
+        Ok(())
     }
 
     /// Factors [[M/UCF, Φ_qᵀ], [Φ_q, 0]] from the last constraint evaluation.
@@ -727,7 +792,7 @@ impl Dynamics {
             .copied()
             .chain(gamma.iter().copied())
             .collect();
-        self.solve(&mut rhs)?;
+        self.solve_saddle(&mut rhs)?;
         self.a = DVec::from_column_slice(&rhs[..self.n]);
         self.lambda = DVec::from_column_slice(&rhs[self.n..]);
         self.store_accelerations();
