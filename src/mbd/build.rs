@@ -9,7 +9,7 @@ use super::expr::{ExprFn, Interpreted};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar};
 use super::inertia::mass_properties;
 use super::math::Vec3;
-use super::measures::{Measure, M};
+use super::measures::Measure;
 use super::planar::Dim;
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
@@ -92,17 +92,7 @@ impl System {
             let slot = model.measures.get(s as usize).ok_or_else(|| {
                 MbdError::Unsupported(format!("measure slot {s} is not in the model"))
             })?;
-            let marker = |id: i64| -> Result<M, MbdError> {
-                if id == 0 {
-                    return Ok(None);
-                }
-                u32::try_from(id)
-                    .ok()
-                    .and_then(|id| self.marker_by_id(id))
-                    .map(Some)
-                    .ok_or(MbdError::UnknownMarker(id))
-            };
-            let m = Measure::resolve(slot, &marker)?;
+            let m = Measure::resolve(slot, &|id| self.marker_or_ground(id))?;
             map.push(self.measures.add(m));
         }
         Ok(map)

@@ -202,6 +202,22 @@ impl System {
         self.marker_ids.get(&id).copied()
     }
 
+    /// A measure argument's marker: id 0 is the ground frame at the origin (None); an id
+    /// that names no marker is an error.
+    pub fn marker_or_ground(
+        &self,
+        id: i64,
+    ) -> Result<Option<MarkerHandle>, super::error::MbdError> {
+        if id == 0 {
+            return Ok(None);
+        }
+        u32::try_from(id)
+            .ok()
+            .and_then(|id| self.marker_by_id(id))
+            .map(Some)
+            .ok_or(super::error::MbdError::UnknownMarker(id))
+    }
+
     pub fn part(&self, h: PartHandle) -> &Part {
         &self.parts[h.0 as usize]
     }

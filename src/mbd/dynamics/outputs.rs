@@ -65,16 +65,7 @@ impl OutputSlot {
         })?;
         let name = ms.name.as_str();
         let ids = &ms.ids;
-        let marker = |n: usize| -> Result<M, MbdError> {
-            match ids.get(n) {
-                None | Some(0) => Ok(None),
-                Some(&id) => u32::try_from(id)
-                    .ok()
-                    .and_then(|id| sys.marker_by_id(id))
-                    .map(Some)
-                    .ok_or(MbdError::UnknownMarker(id)),
-            }
-        };
+        let marker = |n: usize| sys.marker_or_ground(ids.get(n).copied().unwrap_or(0));
         // Vector measures (…XYZ) carry their component in the slot.
         let comp = |n: &str| {
             if n.ends_with("XYZ") {
@@ -178,16 +169,7 @@ impl OutputSlot {
                 }
             }
             _ => {
-                let m = Measure::resolve(ms, &|id| {
-                    if id == 0 {
-                        return Ok(None);
-                    }
-                    u32::try_from(id)
-                        .ok()
-                        .and_then(|id| sys.marker_by_id(id))
-                        .map(Some)
-                        .ok_or(MbdError::UnknownMarker(id))
-                })?;
+                let m = Measure::resolve(ms, &|id| sys.marker_or_ground(id))?;
                 OutputSlot::Kinematic(sys.measures.add(m))
             }
         })
