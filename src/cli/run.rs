@@ -118,6 +118,16 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
             }
         }
     }
+    if let Some(alpha) = a.alpha {
+        if !(-1.0 / 3.0..=0.0).contains(&alpha) {
+            return command_line_error(format!("--alpha {alpha} must lie in [-1/3, 0]"), o);
+        }
+    }
+    if let Some(rho) = a.rho_inf {
+        if !(0.0..=1.0).contains(&rho) {
+            return command_line_error(format!("--rho-inf {rho} must lie in [0, 1]"), o);
+        }
+    }
     let mut probes = Vec::new();
     for p in &a.probes {
         match p.split_once('=') {

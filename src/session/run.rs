@@ -399,7 +399,14 @@ impl Simulation {
         s.hinit = sp.hinit.unwrap_or(s.hinit).min(s.hmax);
         s.hmin = sp.hmin.unwrap_or(s.hmin);
         s.fixed_step = sp.fixed_step;
-        alpha = sp.alpha.unwrap_or(alpha).clamp(-1.0 / 3.0, 0.0);
+        alpha = sp.alpha.unwrap_or(alpha);
+        if !(-1.0 / 3.0..=0.0).contains(&alpha) {
+            let clamped = alpha.clamp(-1.0 / 3.0, 0.0);
+            self.notes.push(format!(
+                "INTEGRATOR ALPHA = {alpha} is outside [-1/3, 0]; HHT runs with {clamped}"
+            ));
+            alpha = clamped;
+        }
         let integrator: Box<dyn Integrator> = match sp.method.or(method).unwrap_or(Method::Hht) {
             Method::Hht => Box::new(Newmark::hht(alpha)),
             Method::Galpha => Box::new(Newmark::generalized_alpha(sp.rho_inf.unwrap_or(0.9))),

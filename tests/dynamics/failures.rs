@@ -177,3 +177,24 @@ fn a_time_dependent_gcon_out_of_the_plane_is_not_dropped() {
         assert!((x - exact).abs() < 1e-9, "t = {t}: x = {x}, exact {exact}");
     }
 }
+
+/// Integrator parameters outside their ranges are command-line errors, not clamped.
+#[test]
+fn integrator_parameters_out_of_range_are_refused() {
+    let model = models_dir().join("a01_pendulum.adm");
+    for args in [
+        ["--alpha", "-0.5"],
+        ["--alpha", "0.1"],
+        ["--rho-inf", "1.5"],
+    ] {
+        let mut all = vec!["--end", "0.1"];
+        all.extend(args);
+        let out = crate::run::run_raw(&model, &all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("E0503") && stderr.contains(args[0]),
+            "{stderr}"
+        );
+    }
+}
