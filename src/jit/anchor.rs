@@ -15,7 +15,10 @@
 //! and the reload is a fresh value, so nothing is live across the arms (around a call it
 //! would be spilled and reloaded anyway). A value is anchored at most once, at the first
 //! IF it crosses (afterwards it is defined in a block that dominates the rest of its
-//! list), so the work is linear in the function's size.
+//! list), so the work is linear in the function's size. It is anchored only at an IF in
+//! whose instruction list all its later reads lie: an IF nested in another IF's arm
+//! reloads into a block of that arm, which the other arms and the code after the outer IF
+//! do not see (anchoring there broke SSA dominance: Cranelift's egraph pass asserted).
 
 use crate::ir::{Func, Function, Inst, Value};
 
@@ -25,6 +28,9 @@ pub struct Crossings {
     pos: Vec<u32>,
     /// For an IF, the position just after its last arm.
     end: Vec<u32>,
+    /// For an IF, the last position of the instruction list it stands in (its arm's jump
+    /// to the join, or `u32::MAX` at the top level).
+    scope: Vec<u32>,
     /// Position of the last read of each value (`u32::MAX` for an output).
     last: Vec<u32>,
     /// Translated values that may still be read after a later IF.
@@ -37,6 +43,7 @@ impl Crossings {
         let mut c = Crossings {
             pos: vec![0; n],
             end: vec![0; n],
+            scope: vec![u32::MAX; n],
             last: vec![0; n],
             pending: Vec::new(),
         };
@@ -61,6 +68,11 @@ impl Crossings {
                     // The arm's results are read by its jump to the join.
                     *at += 1;
                     let jump = *at;
+                    for &w in arm.insts.iter() {
+                        if matches!(f.inst(w), Inst::If { .. }) {
+                            self.scope[w as usize] = jump;
+                        }
+                    }
                     self.read(arm.result, jump);
                     for &x in &arm.extra {
                         self.read(x, jump);
@@ -88,15 +100,21 @@ impl Crossings {
     /// The values to anchor at IF `v`: computed before it and read after it. They, and
     /// values no longer read, leave the pending list.
     pub fn at_if(&mut self, v: Value) -> Vec<Value> {
-        let (start, end) = (self.pos[v as usize], self.end[v as usize]);
+        let i = v as usize;
+        let (start, end, scope) = (self.pos[i], self.end[i], self.scope[i]);
         let last = &self.last;
         let mut crossing = Vec::new();
         self.pending.retain(|&u| {
             let l = last[u as usize];
-            if l > end {
-                crossing.push(u);
+            if l <= start {
+                return false; // no longer read
             }
-            l > start && l <= end
+            if l > end && l <= scope {
+                crossing.push(u);
+                return false;
+            }
+            // Read inside this IF, or beyond the list it stands in: a later IF decides.
+            true
         });
         crossing
     }

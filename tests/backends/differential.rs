@@ -358,3 +358,11 @@ fn lowering_equals_runtime_on_edge_grids() {
         }
     }
 }
+
+/// A seed whose batch once broke SSA dominance in the JIT: a value anchored across an IF
+/// nested in another IF's arm was reloaded where the other arms could not see it
+/// (`jit/anchor.rs`). The expression is also a regression test of its own below.
+#[test]
+fn nested_if_anchor_regression_seed() {
+    agree(6216517326490059351).unwrap();
+}
