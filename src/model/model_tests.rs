@@ -466,38 +466,36 @@ fn possible_mass_properties_read_clean() {
     assert_eq!(m.part(4).expect("part 4").mass, Some(1.0));
 }
 
-/// A mass with zero inertia is a point mass (IFToMM A01's bob): a warning (W0609) at the
-/// IP, since only constraints can hold its rotations; `mbfx run` checks they do.
-#[test]
-fn a_point_mass_is_a_warning() {
-    let text = with("PART/3, MASS = 2, CM = 31, IP = 0, 0, 0\nMARKER/31, PART = 3");
+/// The one W0609 warning a part `PART/3, MASS = 2, CM = 31, IP = <ip>` gives, at its IP.
+fn assert_inertia_warning(ip: &str) {
+    let text = with(&format!(
+        "PART/3, MASS = 2, CM = 31, IP = {ip}\nMARKER/31, PART = 3"
+    ));
     let r = read(&text);
     let found: Vec<_> = r
         .diagnostics
         .iter()
         .map(|d| (d.code, d.severity, &text[d.span.clone()]))
         .collect();
+    let at = format!("IP = {ip}");
     assert_eq!(
         found,
-        [(Code::ImplausibleInertia, Severity::Warning, "IP = 0, 0, 0")]
+        [(Code::ImplausibleInertia, Severity::Warning, at.as_str())]
     );
+}
+
+/// A mass with zero inertia is a point mass (IFToMM A01's bob): a warning (W0609) at the
+/// IP, since only constraints can hold its rotations; `mbfx run` checks they do.
+#[test]
+fn a_point_mass_is_a_warning() {
+    assert_inertia_warning("0, 0, 0");
 }
 
 /// Principal moments 1, 1, 5 break the triangle inequality (5 > 1 + 1): no real body has
 /// them, but the tensor is positive definite, so it is a warning (W0609) at the IP.
 #[test]
 fn an_inertia_breaking_the_triangle_inequality_is_a_warning() {
-    let text = with("PART/3, MASS = 2, CM = 31, IP = 1, 1, 5\nMARKER/31, PART = 3");
-    let r = read(&text);
-    let found: Vec<_> = r
-        .diagnostics
-        .iter()
-        .map(|d| (d.code, d.severity, &text[d.span.clone()]))
-        .collect();
-    assert_eq!(
-        found,
-        [(Code::ImplausibleInertia, Severity::Warning, "IP = 1, 1, 5")]
-    );
+    assert_inertia_warning("1, 1, 5");
 }
 
 #[test]
