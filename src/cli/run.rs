@@ -191,7 +191,9 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
             return Err(Stop::Failed);
         }
         Err(RunFailure::Dynamics(e)) => {
-            report_failure(&e, &source, &text, o)?;
+            // Simulation::new kept its model to itself: read it again for the span.
+            let model = crate::model::read_model(&text).model;
+            report_failure(&e, &source, &model, o)?;
             return Err(Stop::Failed);
         }
     };
@@ -264,7 +266,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         }
     }
     if let Some(e) = failed {
-        report_failure(&e, &source, &text, o)?;
+        report_failure(&e, &source, &sim.read.model, o)?;
         return Err(Stop::Failed);
     }
     Ok(0)
@@ -274,12 +276,11 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
 fn report_failure(
     e: &DynError,
     source: &SourceFile,
-    text: &str,
+    model: &crate::model::Model,
     o: &mut Output,
 ) -> std::io::Result<()> {
-    let model = crate::model::read_model(text).model;
     let span = match e.culprit() {
-        Some(Culprit::Element(el)) => report::element_span(&model, &el),
+        Some(Culprit::Element(el)) => report::element_span(model, &el),
         Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
         None => 0..0,
     };

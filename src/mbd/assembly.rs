@@ -143,7 +143,8 @@ struct Linear {
 }
 
 impl System {
-    fn row_scale(&self, e: usize, q: usize) -> f64 {
+    /// 1/L for a translational row (model lengths), 1 for the rest (spec §5.3).
+    pub(crate) fn row_scale(&self, e: usize, q: usize) -> f64 {
         if self.elements[e].eqs[q].translational {
             1.0 / self.length
         } else {

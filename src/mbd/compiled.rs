@@ -184,6 +184,15 @@ impl ExprCompiler for CompiledExprs {
     }
 }
 
+/// From the outputs (f, ∂f/∂slot for `n` slots, ∂f/∂t): writes the slot partials into
+/// `grad` and returns ∂f/∂t, each checked finite.
+fn partials(out: &[f64], n: usize, t: f64, grad: &mut [f64]) -> Result<f64, String> {
+    for (g, &d) in grad.iter_mut().zip(&out[1..=n]) {
+        *g = finite(d, t)?;
+    }
+    finite(out[n + 1], t)
+}
+
 fn finite(x: f64, t: f64) -> Result<f64, String> {
     if x.is_finite() {
         Ok(x)
@@ -224,12 +233,7 @@ impl ExprFn for WithGradient {
     }
 
     fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String> {
-        let out = self.run(t, measures);
-        let n = self.slots.len();
-        for (g, &d) in grad.iter_mut().zip(&out[1..=n]) {
-            *g = finite(d, t)?;
-        }
-        finite(out[n + 1], t)
+        partials(&self.run(t, measures), self.slots.len(), t, grad)
     }
 
     fn value_gradient(
@@ -239,11 +243,8 @@ impl ExprFn for WithGradient {
         grad: &mut [f64],
     ) -> Result<(f64, f64), String> {
         let out = self.run(t, measures);
-        let n = self.slots.len();
-        for (g, &d) in grad.iter_mut().zip(&out[1..=n]) {
-            *g = finite(d, t)?;
-        }
-        Ok((finite(out[0], t)?, finite(out[n + 1], t)?))
+        let dt = partials(&out, self.slots.len(), t, grad)?;
+        Ok((finite(out[0], t)?, dt))
     }
 
     fn second(&self, t: f64, measures: &[f64], dir: &[f64]) -> Result<f64, String> {

@@ -11,7 +11,7 @@
 //! and the moment about the CM, global axes; a force applied at a marker adds the moment
 //! of its arm.
 
-use super::dual::{D, N, PER_PART, V};
+use super::dual::{Scalar as _, D, N, PER_PART, V};
 use super::equations::ElementRef;
 use super::error::{element_name, MbdError};
 use super::expr::ExprFn;
@@ -308,7 +308,7 @@ impl ForceElement {
                     (scale_v(&fj.axes[2], f), zero, zero, zero, true)
                 } else {
                     let d = fi.r.sub(&fj.r);
-                    let u = scale_v(&d, recip(d.norm()));
+                    let u = scale_v(&d, d.norm().recip());
                     let fv = scale_v(&u, f);
                     (fv, zero, neg_v(&fv), zero, false)
                 }
@@ -343,7 +343,7 @@ impl ForceElement {
             } => {
                 let d = fi.r.sub(&fj.r);
                 let len = d.norm();
-                let u = scale_v(&d, recip(len));
+                let u = scale_v(&d, len.recip());
                 let rate = fi.vel.sub(&fj.vel).dot(&u);
                 let f = rate.scale(-c) + (len - D::c(*length)).scale(-k) + D::c(*preload);
                 let fv = scale_v(&u, f);
@@ -442,16 +442,6 @@ impl ForceElement {
             }
         }
     }
-}
-
-/// 1/x as a dual.
-fn recip(x: D) -> D {
-    let s = -1.0 / (x.v * x.v);
-    let mut g = x.g;
-    for v in &mut g {
-        *v *= s;
-    }
-    dual(1.0 / x.v, g)
 }
 
 /// The angle measure a rotational element reads: AX, AY or AZ of I relative to J.

@@ -471,18 +471,7 @@ impl Simulation {
 /// The largest scaled residual of the kept rows of `d` (translational rows over the
 /// model length), from its last constraint evaluation.
 fn residual(d: &Dynamics) -> f64 {
-    d.rows
-        .iter()
-        .enumerate()
-        .map(|(r, &(e, q))| {
-            let x = d.phi[r].abs();
-            if d.sys.elements[e].eqs[q].translational {
-                x / d.sys.length
-            } else {
-                x
-            }
-        })
-        .fold(0.0, f64::max)
+    (0..d.m).map(|r| d.scaled_residual(r)).fold(0.0, f64::max)
 }
 
 /// The expression compiler of `engine`.

@@ -562,11 +562,11 @@ impl Dynamics {
                 add(&mut self.values, r, c, -w.w_c * x);
             }
         }
-        let mut row_norm = vec![0.0f64; self.m];
+        let mut top = 0.0f64;
         for &(r, c, x) in &self.phi_q {
             add(&mut self.values, n + r, c, x);
             add(&mut self.values, c, n + r, w.w_l * x);
-            row_norm[r] = row_norm[r].max(x.abs());
+            top = top.max(x.abs());
         }
         // Where the constraints lose rank for an instant (a four-bar passing its dead
         // centre), the saddle-point matrix is singular although the motion goes on. A
@@ -574,16 +574,13 @@ impl Dynamics {
         // scale |Φ_q|²/m, keeps it factorable; it changes the Newton matrix only, so a
         // converged step still solves the equations exactly. A row whose Jacobian has
         // vanished altogether constrains nothing any more: that is reported.
-        let top = row_norm.iter().fold(0.0f64, |a, &b| a.max(b));
         let time = self.sys.time;
-        if let Some(r) = (0..self.m).find(|&r| row_norm[r] <= 1e-12 * top) {
+        if let Some(r) = self.vanished_row() {
             return Err(DynError::Singular {
                 time,
                 what: "this constraint's Jacobian vanishes: it no longer constrains anything"
                     .into(),
-                culprit: Some(Culprit::Element(
-                    self.sys.elements[self.rows[r].0].elref.clone(),
-                )),
+                culprit: Some(self.row_culprit(r)),
             });
         }
         let heaviest = self
@@ -639,32 +636,39 @@ impl Dynamics {
     /// The element of the kept row with the largest residual at the last constraint
     /// evaluation (translational rows over the model length).
     pub fn worst_row(&self) -> Option<Culprit> {
-        let scaled = |r: usize| {
-            let (e, q) = self.rows[r];
-            let x = self.phi[r].abs();
-            if self.sys.elements[e].eqs[q].translational {
-                x / self.sys.length
-            } else {
-                x
-            }
-        };
         (0..self.m)
-            .max_by(|&a, &b| scaled(a).total_cmp(&scaled(b)))
-            .map(|r| Culprit::Element(self.sys.elements[self.rows[r].0].elref.clone()))
+            .max_by(|&a, &b| self.scaled_residual(a).total_cmp(&self.scaled_residual(b)))
+            .map(|r| self.row_culprit(r))
+    }
+
+    /// |Φ| of kept row `r` at the last evaluation, translational rows over the model
+    /// length.
+    pub fn scaled_residual(&self, r: usize) -> f64 {
+        let (e, q) = self.rows[r];
+        self.phi[r].abs() * self.sys.row_scale(e, q)
+    }
+
+    fn row_culprit(&self, r: usize) -> Culprit {
+        Culprit::Element(self.sys.elements[self.rows[r].0].elref.clone())
+    }
+
+    /// A kept row whose Jacobian (the last evaluation's) has vanished: it constrains
+    /// nothing any more.
+    fn vanished_row(&self) -> Option<usize> {
+        let mut norm = vec![0.0f64; self.m];
+        for &(r, _, x) in &self.phi_q {
+            norm[r] = norm[r].max(x.abs());
+        }
+        let top = norm.iter().fold(0.0f64, |a, &b| a.max(b));
+        (0..self.m).find(|&r| norm[r] <= 1e-12 * top)
     }
 
     /// Names what makes the Newton matrix singular: a kept row whose Jacobian vanishes
     /// (the constraint no longer constrains anything), else the row with the largest
     /// residual.
     pub fn singular_culprit(&self) -> Option<Culprit> {
-        let mut norm = vec![0.0f64; self.m];
-        for &(r, _, x) in &self.phi_q {
-            norm[r] = norm[r].max(x.abs());
-        }
-        let top = norm.iter().fold(0.0f64, |a, &b| a.max(b));
-        (0..self.m)
-            .find(|&r| norm[r] <= 1e-12 * top)
-            .map(|r| Culprit::Element(self.sys.elements[self.rows[r].0].elref.clone()))
+        self.vanished_row()
+            .map(|r| self.row_culprit(r))
             .or_else(|| self.worst_row())
     }
 
@@ -846,12 +850,7 @@ impl Dynamics {
     pub fn check_dropped(&self, tol: f64) -> Result<f64, DynError> {
         let mut worst: f64 = 0.0;
         for &(e, q) in &self.dropped {
-            let x = self.sys.row_value(e, q)?;
-            let scaled = if self.sys.elements[e].eqs[q].translational {
-                x / self.sys.length
-            } else {
-                x
-            };
+            let scaled = self.sys.row_value(e, q)? * self.sys.row_scale(e, q);
             if scaled.abs() > tol || scaled.is_nan() {
                 return Err(DynError::DroppedViolated {
                     time: self.sys.time,
