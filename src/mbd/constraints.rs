@@ -10,8 +10,11 @@ use super::error::MbdError;
 use super::expr::ExprFn;
 use super::math::Vec3;
 use super::measures::Measure;
-use super::system::{ElementHandle, MarkerHandle, PartHandle, System};
+use super::system::{Dimension, ElementHandle, MarkerHandle, PartHandle, System};
 use std::f64::consts::PI;
+
+/// A row's derivative over one part: δr x y z, δθ x y z (global).
+pub type PartDerivative = (PartHandle, [f64; 6]);
 
 /// How one scalar equation is computed.
 pub enum Row {
@@ -417,10 +420,63 @@ impl System {
         }
     }
 
+    /// Adds the non-zero entries of `g` (δr x y z, δθ x y z) at `part`'s columns (the
+    /// three of the plane in 2D); ground has none.
     fn push_part(&self, out: &mut Vec<(usize, f64)>, part: PartHandle, g: [f64; 6]) {
-        for (c, x) in g.iter().enumerate() {
-            if let (Some(col), true) = (self.col(part, c), *x != 0.0) {
-                out.push((col, *x));
+        let Some(i) = self.part(part).index else {
+            return;
+        };
+        let bs = self.dim.cols();
+        for (c, &x) in self.local_components(&g)[..bs].iter().enumerate() {
+            if x != 0.0 {
+                out.push((i * bs + c, x));
+            }
+        }
+    }
+
+    /// A primitive row (`Along`, `Dot`): its value and, for the I and the J part, the
+    /// derivative over δr x y z, δθ x y z (global). None for the other rows.
+    pub fn primitive_blocks(&self, e: usize, q: usize) -> Option<(f64, [PartDerivative; 2])> {
+        match &self.elements[e].eqs[q].row {
+            Row::Along { i, j, dir, sign } => {
+                let ((ri, ai, pi), (rj, aj, pj)) = (self.marker_point(*i), self.marker_point(*j));
+                let ev = self.marker_axis(*j, dir) * *sign;
+                let d = ri - rj;
+                let ai = ai.cross(&ev);
+                let bj = -(aj + d).cross(&ev);
+                Some((
+                    d.dot(&ev),
+                    [
+                        (pi, [ev.x, ev.y, ev.z, ai.x, ai.y, ai.z]),
+                        (pj, [-ev.x, -ev.y, -ev.z, bj.x, bj.y, bj.z]),
+                    ],
+                ))
+            }
+            Row::Dot { i, j, a, b } => {
+                let (u, w) = (self.marker_axis(*i, a), self.marker_axis(*j, b));
+                let c = u.cross(&w);
+                let (pi, pj) = (self.marker(*i).part, self.marker(*j).part);
+                Some((
+                    u.dot(&w),
+                    [
+                        (pi, [0.0, 0.0, 0.0, c.x, c.y, c.z]),
+                        (pj, [0.0, 0.0, 0.0, -c.x, -c.y, -c.z]),
+                    ],
+                ))
+            }
+            _ => None,
+        }
+    }
+
+    /// The components of a 3D derivative (δr x y z, δθ x y z) a part's columns hold, in
+    /// column order: all six in 3D, the in-plane translations and the rotation about the
+    /// normal in 2D.
+    pub fn local_components(&self, g: &[f64; 6]) -> [f64; 6] {
+        match self.dim {
+            Dimension::Three => *g,
+            Dimension::Two => {
+                let (a, b, n) = self.plane_axes();
+                [g[a], g[b], g[3 + n], 0.0, 0.0, 0.0]
             }
         }
     }
@@ -454,27 +510,12 @@ impl System {
         out.dq.clear();
         out.dv.clear();
         match &self.elements[e].eqs[q].row {
-            Row::Along { i, j, dir, sign } => {
-                let (fi, fj) = (self.frame(Some(*i)), self.frame(Some(*j)));
-                let ev = fj.rot * dir * *sign;
-                let d = fi.r - fj.r;
-                out.value = d.dot(&ev);
-                let ai = fi.a.cross(&ev);
-                self.push_part(&mut out.dq, fi.part, [ev.x, ev.y, ev.z, ai.x, ai.y, ai.z]);
-                let bj = -(fj.a + d).cross(&ev);
-                self.push_part(
-                    &mut out.dq,
-                    fj.part,
-                    [-ev.x, -ev.y, -ev.z, bj.x, bj.y, bj.z],
-                );
-            }
-            Row::Dot { i, j, a, b } => {
-                let (fi, fj) = (self.frame(Some(*i)), self.frame(Some(*j)));
-                let (u, w) = (fi.rot * a, fj.rot * b);
-                out.value = u.dot(&w);
-                let c = u.cross(&w);
-                self.push_part(&mut out.dq, fi.part, [0.0, 0.0, 0.0, c.x, c.y, c.z]);
-                self.push_part(&mut out.dq, fj.part, [0.0, 0.0, 0.0, -c.x, -c.y, -c.z]);
+            Row::Along { .. } | Row::Dot { .. } => {
+                let (value, sides) = self.primitive_blocks(e, q).expect("a primitive row");
+                out.value = value;
+                for (part, g) in sides {
+                    self.push_part(&mut out.dq, part, g);
+                }
             }
             Row::Measured { terms, drive } => {
                 for &(c, m) in terms {

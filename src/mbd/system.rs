@@ -264,6 +264,21 @@ impl System {
         }
     }
 
+    /// A marker's origin (global), its offset from its part's reference point (global
+    /// axes) and its part: the frame without the orientation.
+    pub fn marker_point(&self, m: MarkerHandle) -> (Vec3, Vec3, PartHandle) {
+        let mk = self.marker(m);
+        let p = self.part(mk.part);
+        let a = p.rotation() * mk.s;
+        (p.r + a, a, mk.part)
+    }
+
+    /// The marker-axes vector `local` in global axes.
+    pub fn marker_axis(&self, m: MarkerHandle, local: &Vec3) -> Vec3 {
+        let mk = self.marker(m);
+        self.part(mk.part).rotation() * (mk.rot * local)
+    }
+
     /// Sets the state velocity of a part (global axes) and makes it the input velocity.
     pub fn set_part_velocity(&mut self, h: PartHandle, v: Vec3, w: Vec3) {
         let p = self.part_mut(h);
@@ -326,23 +341,23 @@ impl System {
     /// Moves every part by a column-space increment: δr and δθ (global) in 3D, δx, δy,
     /// δθz in 2D.
     pub fn apply_increment(&mut self, dx: &[f64]) {
-        let (n, dim, (a, bb, nz)) = (self.dim.cols(), self.dim, self.plane_axes());
+        let (dim, axes) = (self.dim, self.plane_axes());
         for p in self.parts.iter_mut() {
-            let Some(i) = p.index else { continue };
-            let b = &dx[i * n..(i + 1) * n];
-            match dim {
-                Dimension::Three => {
-                    p.r += Vec3::new(b[0], b[1], b[2]);
-                    let dq = Quat::from_scaled_axis(Vec3::new(b[3], b[4], b[5]));
-                    p.set_rot(Quat::new_normalize((dq * p.rot).into_inner()));
-                }
-                Dimension::Two => {
-                    p.r[a] += b[0];
-                    p.r[bb] += b[1];
-                    p.theta += b[2];
-                    let axis = nalgebra::Unit::new_unchecked(Vec3::ith(nz, 1.0));
-                    p.set_rot(Quat::from_axis_angle(&axis, p.theta) * p.input_rot);
-                }
+            p.move_by(dx, dim, axes, p.r, p.rot, p.theta);
+        }
+    }
+
+    /// The poses `base` (as [`System::snapshot`] took them) moved by the column-space
+    /// increment `dx`: a restore and [`System::apply_increment`] in one pass, with one
+    /// rotation update per part.
+    pub fn set_moved(&mut self, base: &[(Vec3, Quat, f64)], dx: &[f64]) {
+        let (dim, axes) = (self.dim, self.plane_axes());
+        for (p, &(r, rot, theta)) in self.parts.iter_mut().zip(base) {
+            if p.index.is_some() {
+                p.move_by(dx, dim, axes, r, rot, theta);
+            } else {
+                (p.r, p.theta) = (r, theta);
+                p.set_rot(rot);
             }
         }
     }
@@ -429,6 +444,39 @@ impl Part {
     }
 
     /// Sets the orientation (and its matrix).
+    /// Sets the pose to (`r`, `rot`, `theta`) moved by this part's columns of `dx` (a
+    /// part without columns just takes the pose).
+    fn move_by(
+        &mut self,
+        dx: &[f64],
+        dim: Dimension,
+        (a, b, n): (usize, usize, usize),
+        r: Vec3,
+        rot: Quat,
+        theta: f64,
+    ) {
+        (self.r, self.theta) = (r, theta);
+        let Some(i) = self.index else {
+            return;
+        };
+        let cols = dim.cols();
+        let d = &dx[i * cols..(i + 1) * cols];
+        match dim {
+            Dimension::Three => {
+                self.r += Vec3::new(d[0], d[1], d[2]);
+                let dq = Quat::from_scaled_axis(Vec3::new(d[3], d[4], d[5]));
+                self.set_rot(Quat::new_normalize((dq * rot).into_inner()));
+            }
+            Dimension::Two => {
+                self.r[a] += d[0];
+                self.r[b] += d[1];
+                self.theta += d[2];
+                let axis = nalgebra::Unit::new_unchecked(Vec3::ith(n, 1.0));
+                self.set_rot(Quat::from_axis_angle(&axis, self.theta) * self.input_rot);
+            }
+        }
+    }
+
     pub fn set_rot(&mut self, rot: Quat) {
         self.rot = rot;
         self.rotm = rot.to_rotation_matrix().into_inner();

@@ -354,8 +354,9 @@ fn dim_2_and_dim_3_agree_on_planar_scenes() {
             let runs: Vec<Csv> = ["2", "3"]
                 .iter()
                 .map(|dim| {
-                    // Fixed steps: both builds take the same steps, so they must agree to
-                    // rounding, not merely to the integration error.
+                    // Fixed steps with a tight corrector (ERROR sets the Newton tolerance):
+                    // both builds take the same steps, so they must agree to rounding, not
+                    // merely to the integration error.
                     let mut args = vec![
                         "--end",
                         "5",
@@ -365,6 +366,8 @@ fn dim_2_and_dim_3_agree_on_planar_scenes() {
                         integrator,
                         "--fixed-step",
                         "1e-3",
+                        "--error",
+                        "1e-6",
                     ];
                     args.extend(["--dim", dim]);
                     run_probed(&model, &args, &probes)

@@ -14,8 +14,10 @@
 
 pub mod gamma;
 pub mod integrator;
+pub mod jacobian;
 pub mod newmark;
 pub mod outputs;
+pub mod schur;
 
 use super::constraints::Row;
 use super::equations::ElementRef;
@@ -238,13 +240,17 @@ pub struct Dynamics {
     pub factor_generation: u64,
     /// Scratch: generalized forces and their Jacobians.
     pub(crate) gen: Generalized,
-    /// Φ and Φ_q (row, col, value) of the kept rows at the last evaluation.
+    /// Φ and Φ_q of the kept rows at the last evaluation.
     pub(crate) phi: DVec,
-    pub(crate) phi_q: Vec<(usize, usize, f64)>,
+    pub(crate) jac: jacobian::Jacobian,
     /// The mass blocks of a 2D system (constant).
     planar_mass: Option<Vec<Mat3Block>>,
     /// Buffers of one row's evaluation, reused.
     row_scratch: super::constraints::RowEval,
+    /// The Schur-complement solver when no force element couples two parts, and
+    /// whether the last factorization went through it.
+    schur: Option<schur::Schur>,
+    via_schur: bool,
 }
 
 impl Dynamics {
@@ -264,6 +270,17 @@ impl Dynamics {
         }
         let (n, m) = (sys.ncols(), rows.len());
         let pattern = Self::pattern(&sys, &forces, &rows);
+        let index = |p: PartHandle| sys.part(p).index;
+        let row_parts: Vec<Vec<usize>> = rows
+            .iter()
+            .map(|&(e, q)| {
+                row_parts(&sys, e, q)
+                    .into_iter()
+                    .filter_map(index)
+                    .collect()
+            })
+            .collect();
+        let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
         let values = vec![0.0; pattern.nnz()];
         let lu = SparseLu::new(pattern)
             .map_err(|_| DynError::Setup("the Newton matrix has no valid structure".into()))?;
@@ -282,10 +299,13 @@ impl Dynamics {
             factor_generation: 0,
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
-            phi_q: Vec::new(),
+            jac,
             row_scratch: Default::default(),
             planar_mass: None,
+            schur: None,
+            via_schur: false,
         };
+        d.schur = d.schur_solver();
         if d.sys.dim == Dimension::Two {
             d.planar_mass = Some(d.mass_blocks().into_owned());
         }
@@ -331,6 +351,25 @@ impl Dynamics {
         Pattern::new(n + rows.len(), pos)
     }
 
+    /// The Schur-complement solver, when the effective mass is block diagonal: no force
+    /// element reads or loads more than one moving part.
+    fn schur_solver(&self) -> Option<schur::Schur> {
+        let sys = &self.sys;
+        let index = |p: PartHandle| sys.part(p).index;
+        for el in &self.forces.elements {
+            let mut touched = [Some(sys.marker(el.i).part), Some(sys.frame(el.j).part)]
+                .into_iter()
+                .chain(el.slots.parts)
+                .flatten()
+                .filter_map(index);
+            let first = touched.next();
+            if touched.any(|i| Some(i) != first) {
+                return None;
+            }
+        }
+        schur::Schur::new(&self.jac, sys.moving_parts()).ok()
+    }
+
     /// A part must not have a direction of motion that is massless and free: one along
     /// which its mass matrix vanishes and no constraint row it is in changes. (A point
     /// mass on a pendulum rod is fine: its rotation has no inertia but moves the pin.)
@@ -359,7 +398,7 @@ impl Dynamics {
                 stack /= top;
             }
             let cols = i * bs..(i + 1) * bs;
-            for &(r, c, x) in &self.phi_q {
+            for (r, c, x) in self.jac.entries() {
                 if cols.contains(&c) {
                     stack[(bs + r, c - cols.start)] += x;
                 }
@@ -384,10 +423,29 @@ impl Dynamics {
     }
 
     /// Φ over the kept rows (into `self.phi`) and, with `jacobian`, Φ_q (into
-    /// `self.phi_q`; a non-holonomic row holds ∂f/∂v).
+    /// `self.jac`; a non-holonomic row holds ∂f/∂v).
     pub fn eval_constraints(&mut self, jacobian: bool) -> Result<(), MbdError> {
-        self.phi_q.clear();
+        let bs = self.sys.dim.cols();
         for (r, &(e, q)) in self.rows.iter().enumerate() {
+            if jacobian {
+                // The primitives (nearly every row of a jointed model) write their blocks
+                // directly.
+                if let Some((value, sides)) = self.sys.primitive_blocks(e, q) {
+                    self.phi[r] = value;
+                    self.jac.clear_row(r);
+                    for (part, g) in sides {
+                        let Some(i) = self.sys.part(part).index else {
+                            continue;
+                        };
+                        let local = self.sys.local_components(&g);
+                        let block = self.jac.block_mut(r, i).expect("the row reads its parts");
+                        for (b, x) in block.iter_mut().zip(&local[..bs]) {
+                            *b += x;
+                        }
+                    }
+                    continue;
+                }
+            }
             if matches!(
                 self.sys.elements[e].eqs[q].row,
                 Row::Gcon { .. } | Row::Measured { drive: Some(_), .. }
@@ -403,7 +461,11 @@ impl Dynamics {
                 } else {
                     &ev.dq
                 };
-                self.phi_q.extend(entries.iter().map(|&(c, x)| (r, c, x)));
+                self.jac.clear_row(r);
+                for &(c, x) in entries {
+                    let read = self.jac.add(r, c, x);
+                    debug_assert!(read, "row {r} reads column {c} outside its parts");
+                }
             }
         }
         Ok(())
@@ -516,14 +578,78 @@ impl Dynamics {
 
     /// Φ_qᵀ·λ added to `out`, with the Φ_q of the last [`Dynamics::eval_constraints`].
     pub fn add_constraint_forces(&self, lambda: &DVec, out: &mut DVec) {
-        for &(r, c, x) in &self.phi_q {
-            out[c] += x * lambda[r];
-        }
+        self.jac.add_transpose_times(lambda.as_slice(), 1.0, out);
     }
 
     /// Fills and factors the Newton matrix with weights `w` from the last evaluations of
     /// constraints (with Jacobian) and forces (with Jacobians).
     pub fn factor(&mut self, w: Weights) -> Result<(), DynError> {
+        // Where the constraints lose rank for an instant (a four-bar passing its dead
+        // centre), the saddle-point matrix is singular although the motion goes on. A
+        // regularisation −ε·I on the multipliers' block, ε = 1e-10 of the Schur complement's
+        // scale |Φ_q|²/m, keeps it factorable; it changes the Newton matrix only, so a
+        // converged step still solves the equations exactly. A row whose Jacobian has
+        // vanished altogether constrains nothing any more: that is reported.
+        let time = self.sys.time;
+        if let Some(r) = self.vanished_row() {
+            return Err(DynError::Singular {
+                time,
+                what: "this constraint's Jacobian vanishes: it no longer constrains anything"
+                    .into(),
+                culprit: Some(self.row_culprit(r)),
+            });
+        }
+        let top = self.jac.row_amax().into_iter().fold(0.0f64, f64::max);
+        let blocks = self.mass_blocks().into_owned();
+        let heaviest = blocks
+            .iter()
+            .map(|b| match b {
+                Mat3Block::Three(m, j) => m.max(j.amax()),
+                Mat3Block::Two(m, j) => m.max(*j),
+            })
+            .fold(0.0f64, f64::max);
+        let eps = 1e-10 * w.w_l * top * top / heaviest.max(f64::MIN_POSITIVE);
+        self.stats.factorizations += 1;
+        self.factor_generation += 1;
+        self.via_schur = false;
+        if let Some(schur) = &mut self.schur {
+            let all_finite = self
+                .gen
+                .dq
+                .iter()
+                .chain(&self.gen.dv)
+                .all(|e| e.2.is_finite());
+            if all_finite && top.is_finite() {
+                if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, w, eps) {
+                    self.via_schur = true;
+                    return Ok(());
+                }
+            }
+        }
+        drop(blocks);
+        self.fill_full(w, eps);
+        let factored = self.lu.factor(&self.values);
+        let culprit = if factored.is_err() {
+            self.singular_culprit()
+        } else {
+            None
+        };
+        factored.map_err(|e| match e {
+            FactorError::NotFinite => DynError::NotFinite {
+                time,
+                what: "the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)".into(),
+                element: None,
+            },
+            FactorError::Singular => DynError::Singular {
+                time,
+                what: "the constraints are dependent here, or a part has no mass along a free direction".into(),
+                culprit,
+            },
+        })
+    }
+
+    /// Fills the full saddle-point matrix with weights `w` and regularisation `eps`.
+    fn fill_full(&mut self, w: Weights, eps: f64) {
         self.values.fill(0.0);
         let n = self.n;
         let bs = self.sys.dim.cols();
@@ -562,65 +688,26 @@ impl Dynamics {
                 add(&mut self.values, r, c, -w.w_c * x);
             }
         }
-        let mut top = 0.0f64;
-        for &(r, c, x) in &self.phi_q {
+        for (r, c, x) in self.jac.entries() {
             add(&mut self.values, n + r, c, x);
             add(&mut self.values, c, n + r, w.w_l * x);
-            top = top.max(x.abs());
         }
-        // Where the constraints lose rank for an instant (a four-bar passing its dead
-        // centre), the saddle-point matrix is singular although the motion goes on. A
-        // regularisation −ε·I on the multipliers' block, ε = 1e-10 of the Schur complement's
-        // scale |Φ_q|²/m, keeps it factorable; it changes the Newton matrix only, so a
-        // converged step still solves the equations exactly. A row whose Jacobian has
-        // vanished altogether constrains nothing any more: that is reported.
-        let time = self.sys.time;
-        if let Some(r) = self.vanished_row() {
-            return Err(DynError::Singular {
-                time,
-                what: "this constraint's Jacobian vanishes: it no longer constrains anything"
-                    .into(),
-                culprit: Some(self.row_culprit(r)),
-            });
-        }
-        let heaviest = self
-            .mass_blocks()
-            .iter()
-            .map(|b| match b {
-                Mat3Block::Three(m, j) => m.max(j.amax()),
-                Mat3Block::Two(m, j) => m.max(*j),
-            })
-            .fold(0.0f64, f64::max);
-        let eps = 1e-10 * w.w_l * top * top / heaviest.max(f64::MIN_POSITIVE);
         for r in 0..self.m {
             add(&mut self.values, n + r, n + r, -eps);
         }
-        self.stats.factorizations += 1;
-        self.factor_generation += 1;
-        let factored = self.lu.factor(&self.values);
-        let culprit = if factored.is_err() {
-            self.singular_culprit()
-        } else {
-            None
-        };
-        factored.map_err(|e| match e {
-            FactorError::NotFinite => DynError::NotFinite {
-                time,
-                what: "the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)".into(),
-                element: None,
-            },
-            FactorError::Singular => DynError::Singular {
-                time,
-                what: "the constraints are dependent here, or a part has no mass along a free direction".into(),
-                culprit,
-            },
-        })
     }
 
     /// Solves the factored Newton matrix in place.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), DynError> {
         let time = self.sys.time;
-        let solved = self.lu.solve(rhs);
+        let solved = match (&mut self.schur, self.via_schur) {
+            (Some(schur), true) => schur.solve(&self.jac, rhs),
+            _ => self.lu.solve(rhs),
+        };
+        let solved = solved.and_then(|()| match rhs.iter().all(|x| x.is_finite()) {
+            true => Ok(()),
+            false => Err(FactorError::Singular),
+        });
         let culprit = if solved.is_err() {
             self.singular_culprit()
         } else {
@@ -655,10 +742,7 @@ impl Dynamics {
     /// A kept row whose Jacobian (the last evaluation's) has vanished: it constrains
     /// nothing any more.
     fn vanished_row(&self) -> Option<usize> {
-        let mut norm = vec![0.0f64; self.m];
-        for &(r, _, x) in &self.phi_q {
-            norm[r] = norm[r].max(x.abs());
-        }
+        let norm = self.jac.row_amax();
         let top = norm.iter().fold(0.0f64, |a, &b| a.max(b));
         (0..self.m).find(|&r| norm[r] <= 1e-12 * top)
     }
@@ -700,8 +784,7 @@ impl Dynamics {
     /// Sets the configuration to `base` moved by the increment `dx` (velocity layout:
     /// δr and a rotation vector, global), and the velocities to `v`.
     pub fn set_state(&mut self, base: &Snapshot, dx: &[f64], v: &DVec, time: f64) {
-        self.sys.restore(&base.poses);
-        self.sys.apply_increment(dx);
+        self.sys.set_moved(&base.poses, dx);
         self.sys.set_v(v);
         self.sys.time = time;
     }
@@ -724,8 +807,10 @@ impl Dynamics {
         self.factor_saddle()?;
         let v = self.sys.v();
         let mut rhs = vec![0.0; self.n + self.m];
-        for &(r, c, x) in &self.phi_q {
-            rhs[self.n + r] -= x * v[c];
+        let mut jv = vec![0.0; self.m];
+        self.jac.add_times(v.as_slice(), &mut jv);
+        for (r, x) in jv.iter().enumerate() {
+            rhs[self.n + r] -= x;
         }
         for (r, &(e, q)) in self.rows.iter().enumerate() {
             if self.sys.row_reads_velocity(e, q) {
@@ -757,8 +842,10 @@ impl Dynamics {
             self.add_constraint_forces(&lambda, &mut top);
             let mut r: Vec<f64> = (0..n).map(|k| rhs[k] - top[k]).collect();
             r.extend_from_slice(&rhs[n..]);
-            for &(row, c, x) in &self.phi_q {
-                r[n + row] -= x * a[c];
+            let mut ja = vec![0.0; self.m];
+            self.jac.add_times(a.as_slice(), &mut ja);
+            for (row, x) in ja.iter().enumerate() {
+                r[n + row] -= x;
             }
             let size = b.iter().fold(0.0f64, |s, x| s.max(x.abs()));
             self.solve(&mut r)?;

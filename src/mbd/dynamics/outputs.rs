@@ -319,7 +319,7 @@ impl Dynamics {
     fn element_on_part(&self, e: usize, p: PartHandle) -> (Vec3, Vec3) {
         let mut g = [0.0; 6];
         let cols: Vec<Option<usize>> = (0..6).map(|c| self.sys.col(p, c)).collect();
-        for &(r, c, x) in &self.phi_q {
+        for (r, c, x) in self.jac.entries() {
             if self.rows[r].0 != e {
                 continue;
             }

@@ -1,0 +1,347 @@
+//! The Newton matrix solved through the multipliers' Schur complement, for systems
+//! whose effective mass is block diagonal (no force element couples two parts):
+//!
+//! ```text
+//! [A    w·Bᵀ] [x]   [r₁]        (w·B·A⁻¹·Bᵀ + ε·I)·y = B·A⁻¹·r₁ − r₂,
+//! [B    −ε·I] [y] = [r₂]   ⇒    x = A⁻¹·(r₁ − w·Bᵀ·y).
+//! ```
+//!
+//! A = w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v has one small dense block per part, inverted
+//! on its own; the complement is m × m over the constraint rows and couples only rows
+//! that share a part (block tridiagonal for a chain). It is the same linear system the
+//! full saddle-point LU solves, several times cheaper to factor and to solve, because
+//! the zero block no longer needs pivoting across the whole matrix. A part whose block
+//! is singular (a point mass has no rotational inertia) sends the factorization back
+//! to the full LU.
+
+use super::jacobian::Jacobian;
+use super::Mat3Block;
+use crate::mbd::forces::Generalized;
+use crate::mbd::sparse::{FactorError, Pattern, SparseLu};
+use nalgebra::Matrix6;
+
+/// Condition number (∞-norm) above which a part's block is not inverted on its own.
+const BLOCK_CONDITION_MAX: f64 = 1e12;
+
+/// The Schur-complement solver: the static structure (which rows share a part) and the
+/// numeric factors of the last [`Schur::factor`].
+pub struct Schur {
+    /// Columns per part, parts and rows.
+    bs: usize,
+    parts: usize,
+    m: usize,
+    /// The Jacobian slots of each part.
+    part_slots: Vec<Vec<usize>>,
+    /// For each part, for each ordered pair of its slots, the complement's value slot.
+    pair_slot: Vec<usize>,
+    diag_slot: Vec<usize>,
+    /// Per Jacobian slot, A⁻¹ times the row's block.
+    ainv_bt: Vec<f64>,
+    /// Per part, A and then A⁻¹ (row major, bs × bs).
+    a: Vec<f64>,
+    ainv: Vec<f64>,
+    values: Vec<f64>,
+    lu: SparseLu,
+    w_l: f64,
+}
+
+impl Schur {
+    /// The structure for `parts` moving parts and the rows of `jac`.
+    pub fn new(jac: &Jacobian, parts: usize) -> Result<Schur, FactorError> {
+        let (bs, m) = (jac.bs, jac.rows());
+        let mut part_slots = vec![Vec::new(); parts];
+        for k in 0..jac.slots() {
+            part_slots[jac.slot_part(k)].push(k);
+        }
+        let pairs = || {
+            part_slots.iter().flat_map(|slots| {
+                slots.iter().flat_map(|&a| {
+                    slots
+                        .iter()
+                        .map(move |&b| (jac.slot_row(a), jac.slot_row(b)))
+                })
+            })
+        };
+        let positions = (0..m).map(|r| (r, r)).chain(pairs()).collect();
+        let pattern = Pattern::new(m, positions);
+        let slot = |(r, c)| pattern.slot(r, c).expect("in the pattern");
+        let pair_slot = pairs().map(slot).collect();
+        let diag_slot = (0..m).map(|r| slot((r, r))).collect();
+        Ok(Schur {
+            bs,
+            parts,
+            m,
+            part_slots,
+            pair_slot,
+            diag_slot,
+            ainv_bt: vec![0.0; jac.slots() * bs],
+            a: vec![0.0; parts * bs * bs],
+            ainv: vec![0.0; parts * bs * bs],
+            values: vec![0.0; pattern.nnz()],
+            lu: SparseLu::new(pattern)?,
+            w_l: 1.0,
+        })
+    }
+
+    /// Factors the Newton matrix with weights (w_m, w_k, w_c, w_l) from the mass
+    /// `blocks`, the force Jacobians in `gen` (which must stay within each part's own
+    /// block), the constraint Jacobian `jac` and the multipliers' regularisation `eps`.
+    /// `Ok(false)`: a part's block is too ill-conditioned to invert alone; the caller
+    /// factors the full matrix instead.
+    pub fn factor(
+        &mut self,
+        jac: &Jacobian,
+        blocks: &[Mat3Block],
+        gen: &Generalized,
+        w: super::Weights,
+        eps: f64,
+    ) -> Result<bool, FactorError> {
+        let bs = self.bs;
+        let a = &mut self.a;
+        a.fill(0.0);
+        for (i, blk) in blocks.iter().enumerate() {
+            let o = i * bs * bs;
+            match *blk {
+                Mat3Block::Three(m, j) => {
+                    for c in 0..3 {
+                        a[o + c * bs + c] = w.w_m * m;
+                        for r in 0..3 {
+                            a[o + (3 + r) * bs + 3 + c] = w.w_m * j[(r, c)];
+                        }
+                    }
+                }
+                Mat3Block::Two(m, j) => {
+                    a[o] = w.w_m * m;
+                    a[o + bs + 1] = w.w_m * m;
+                    a[o + 2 * bs + 2] = w.w_m * j;
+                }
+            }
+        }
+        for (list, wt) in [(&gen.dq, w.w_k), (&gen.dv, w.w_c)] {
+            if wt == 0.0 {
+                continue;
+            }
+            for &(r, c, x) in list {
+                let i = r / bs;
+                debug_assert_eq!(i, c / bs, "a force couples two parts");
+                a[i * bs * bs + (r % bs) * bs + c % bs] -= wt * x;
+            }
+        }
+        for (blk, inv) in a
+            .chunks_exact(bs * bs)
+            .zip(self.ainv.chunks_exact_mut(bs * bs))
+        {
+            if !invert(blk, bs, inv) {
+                return Ok(false);
+            }
+        }
+        for k in 0..jac.slots() {
+            let i = jac.slot_part(k);
+            let (inv, bk) = (&self.ainv[i * bs * bs..(i + 1) * bs * bs], jac.block(k));
+            for r in 0..bs {
+                self.ainv_bt[k * bs + r] = dot(&inv[r * bs..(r + 1) * bs], bk);
+            }
+        }
+        self.values.fill(0.0);
+        let mut next = 0;
+        for slots in &self.part_slots {
+            for &sa in slots {
+                let ba = jac.block(sa);
+                for &sb in slots {
+                    let y = &self.ainv_bt[sb * bs..(sb + 1) * bs];
+                    self.values[self.pair_slot[next]] += w.w_l * dot(ba, y);
+                    next += 1;
+                }
+            }
+        }
+        for &d in &self.diag_slot {
+            self.values[d] += eps;
+        }
+        self.w_l = w.w_l;
+        self.lu.factor(&self.values)?;
+        Ok(true)
+    }
+
+    /// Solves the factored matrix in place: `rhs` = [r₁ (parts × bs); r₂ (rows)].
+    pub fn solve(&mut self, jac: &Jacobian, rhs: &mut [f64]) -> Result<(), FactorError> {
+        match self.bs {
+            3 => self.solve_blocks::<3>(jac, rhs),
+            _ => self.solve_blocks::<6>(jac, rhs),
+        }
+    }
+
+    /// [`Schur::solve`] with the block size known to the compiler.
+    fn solve_blocks<const BS: usize>(
+        &mut self,
+        jac: &Jacobian,
+        rhs: &mut [f64],
+    ) -> Result<(), FactorError> {
+        let n = self.parts * BS;
+        let (top, bottom) = rhs.split_at_mut(n);
+        debug_assert_eq!(bottom.len(), self.m);
+        for (x, inv) in top
+            .chunks_exact_mut(BS)
+            .zip(self.ainv.chunks_exact(BS * BS))
+        {
+            let z: [f64; BS] = std::array::from_fn(|r| dot(&inv[r * BS..(r + 1) * BS], x));
+            x.copy_from_slice(&z);
+        }
+        for t in bottom.iter_mut() {
+            *t = -*t;
+        }
+        jac.add_times(top, bottom);
+        self.lu.solve(bottom)?;
+        // x = z − w·A⁻¹·Bᵀ·y, with A⁻¹·Bᵀ kept per slot.
+        for (k, g) in self.ainv_bt.chunks_exact(BS).enumerate() {
+            let y = self.w_l * bottom[jac.slot_row(k)];
+            let p = jac.slot_part(k);
+            for (x, g) in top[p * BS..(p + 1) * BS].iter_mut().zip(g) {
+                *x -= y * g;
+            }
+        }
+        Ok(())
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Writes into `out` the inverse of the 3 × 3 or 6 × 6 row-major block `a`; false
+/// when it is singular or too ill-conditioned to be inverted alone.
+fn invert(a: &[f64], bs: usize, out: &mut [f64]) -> bool {
+    let norm = |x: &[f64]| {
+        x.chunks_exact(bs)
+            .map(|row| row.iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max)
+    };
+    let ok = match bs {
+        3 => invert3(a, out),
+        6 => match Matrix6::from_row_slice(a).try_inverse() {
+            Some(inv) => {
+                for (r, row) in out.chunks_exact_mut(6).enumerate() {
+                    for (c, o) in row.iter_mut().enumerate() {
+                        *o = inv[(r, c)];
+                    }
+                }
+                true
+            }
+            None => false,
+        },
+        _ => false,
+    };
+    let cond = norm(a) * norm(out);
+    ok && cond.is_finite() && cond <= BLOCK_CONDITION_MAX
+}
+
+/// 3 × 3 inverse by cofactors (the 2D blocks: one per part at every refactor).
+fn invert3(a: &[f64], out: &mut [f64]) -> bool {
+    let c = [
+        a[4] * a[8] - a[5] * a[7],
+        a[5] * a[6] - a[3] * a[8],
+        a[3] * a[7] - a[4] * a[6],
+    ];
+    let det = a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+    if det == 0.0 || !det.is_finite() {
+        return false;
+    }
+    let inv = [
+        c[0],
+        a[2] * a[7] - a[1] * a[8],
+        a[1] * a[5] - a[2] * a[4],
+        c[1],
+        a[0] * a[8] - a[2] * a[6],
+        a[2] * a[3] - a[0] * a[5],
+        c[2],
+        a[1] * a[6] - a[0] * a[7],
+        a[0] * a[4] - a[1] * a[3],
+    ];
+    for (o, x) in out.iter_mut().zip(inv) {
+        *o = x / det;
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mbd::dynamics::Weights;
+    use crate::mbd::math::{DMat, DVec};
+
+    #[test]
+    fn cofactor_inverse_times_the_block_is_the_identity() {
+        let a = [4.0, 1.0, -2.0, 0.5, 3.0, 1.0, -1.0, 2.0, 5.0];
+        let mut inv = [0.0; 9];
+        assert!(invert3(&a, &mut inv));
+        for r in 0..3 {
+            for c in 0..3 {
+                let x: f64 = (0..3).map(|k| a[r * 3 + k] * inv[k * 3 + c]).sum();
+                assert!(
+                    (x - f64::from(u8::from(r == c))).abs() < 1e-15,
+                    "{r} {c}: {x}"
+                );
+            }
+        }
+        assert!(!invert3(
+            &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 0.0, 1.0],
+            &mut inv
+        ));
+    }
+
+    #[test]
+    fn the_complement_solves_the_same_system_as_a_dense_lu() {
+        // Two planar parts, three rows: row 0 reads part 0, rows 1 and 2 both parts.
+        let jac_rows = [vec![0], vec![0, 1], vec![1, 0]];
+        let mut jac = Jacobian::new(3, &jac_rows);
+        let entries = [
+            (0, 0, 1.0),
+            (0, 2, 0.3),
+            (1, 1, 1.0),
+            (1, 2, -0.7),
+            (1, 4, -1.0),
+            (2, 3, 0.4),
+            (2, 5, 1.0),
+            (2, 0, 0.2),
+        ];
+        for &(r, c, x) in &entries {
+            assert!(jac.add(r, c, x));
+        }
+        let blocks = [Mat3Block::Two(2.0, 0.5), Mat3Block::Two(3.0, 0.25)];
+        // A force Jacobian within part 1's block (unsymmetric, as damping may be).
+        let mut gen = Generalized::new(6);
+        gen.dv.push((3, 4, 0.6));
+        gen.dv.push((5, 3, -0.2));
+        let w = Weights {
+            w_m: 1.0,
+            w_k: 0.0,
+            w_c: 0.5,
+            w_l: 0.8,
+        };
+        let eps = 1e-3;
+        let mut schur = Schur::new(&jac, 2).unwrap();
+        assert!(schur.factor(&jac, &blocks, &gen, w, eps).unwrap());
+        let b = [1.0, -2.0, 0.5, 3.0, 0.25, -1.0, 0.1, 0.2, -0.3];
+        let mut x = b;
+        schur.solve(&jac, &mut x).unwrap();
+        // The same matrix, dense: [[A, w_l·Bᵀ], [B, −ε·I]].
+        let mut k = DMat::zeros(9, 9);
+        for (i, m, j) in [(0, 2.0, 0.5), (1, 3.0, 0.25)] {
+            k[(3 * i, 3 * i)] = m;
+            k[(3 * i + 1, 3 * i + 1)] = m;
+            k[(3 * i + 2, 3 * i + 2)] = j;
+        }
+        k[(3, 4)] -= 0.5 * 0.6;
+        k[(5, 3)] -= 0.5 * -0.2;
+        for &(r, c, v) in &entries {
+            k[(6 + r, c)] = v;
+            k[(c, 6 + r)] = 0.8 * v;
+        }
+        for r in 0..3 {
+            k[(6 + r, 6 + r)] = -eps;
+        }
+        let want = k.lu().solve(&DVec::from_column_slice(&b)).unwrap();
+        for (got, want) in x.iter().zip(want.iter()) {
+            assert!((got - want).abs() < 1e-12, "{x:?} vs {want}");
+        }
+    }
+}
