@@ -8,9 +8,9 @@
 use super::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType, JprimType};
 use super::error::MbdError;
 use super::expr::ExprFn;
-use super::math::Vec3;
 use super::measures::Measure;
 use super::system::{ElementHandle, MarkerHandle, PartHandle, System};
+use crate::vocab::math::Vec3;
 use std::f64::consts::PI;
 
 /// How one scalar equation is computed.

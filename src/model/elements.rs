@@ -12,7 +12,7 @@
 use crate::diag::Span;
 use crate::ir::Function;
 use crate::mbd::equations::{JointType, JprimType};
-use crate::mbd::math::{Mat3, Vec3};
+use crate::vocab::math::{Mat3, Vec3};
 
 /// An Adams element id (`PART/2` has id 2).
 pub type Id = u32;

@@ -7,7 +7,7 @@ use super::elements::{MeasureSlot, Model, MotionLevel, MotionTarget, RequestKind
 use super::{read_model, ModelRead};
 use crate::diag::{Code, Severity};
 use crate::mbd::equations::JointType;
-use crate::mbd::math::{Mat3, Vec3};
+use crate::vocab::math::{Mat3, Vec3};
 use nalgebra::{Rotation3, Unit};
 
 /// Ground with a plain and a floating marker, and part 2 (`arm`) with two fixed markers

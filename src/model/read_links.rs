@@ -12,7 +12,7 @@ use super::stmt_args::Args;
 use crate::check::Expect;
 use crate::diag::{Code, Diagnostic};
 use crate::mbd::equations::{JointType, JprimType};
-use crate::mbd::math::Vec3;
+use crate::vocab::math::Vec3;
 
 const JOINT_TYPES: &[(&str, usize, JointType)] = &[
     ("FIXED", 3, JointType::Fixed),

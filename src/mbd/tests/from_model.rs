@@ -8,10 +8,10 @@ use crate::mbd::assembly::AssemblyOptions;
 use crate::mbd::build::InterpretOnly;
 use crate::mbd::equations::JointType;
 use crate::mbd::expr::ExprFn;
-use crate::mbd::math::{Mat3, Vec3};
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{Dimension, PartHandle, System};
 use crate::model::elements::{self as el, MeasureSlot, Model, Named};
+use crate::vocab::math::{Mat3, Vec3};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
