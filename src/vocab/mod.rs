@@ -2,6 +2,10 @@
 //! nothing from the rest of the crate, so every layer may use them and no dependency runs
 //! back up the pipeline (syntax → ir → check → model → mbd → session).
 //!
-//! [`math`] holds the nalgebra aliases of the reader and the core.
+//! [`builtins`] is the table of the language's names (arity, argument kinds, result type,
+//! meaning) and [`func`] the runtime functions they stand for; [`math`] holds the
+//! nalgebra aliases of the reader and the core.
 
+pub mod builtins;
+pub mod func;
 pub mod math;
