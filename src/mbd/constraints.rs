@@ -5,11 +5,12 @@
 //! RACKPIN, SCREW and MOTION are linear combinations of measures minus a drive g(t);
 //! GCON is an expression of measures. Rows carry their [`EquationLabel`].
 
-use super::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType, JprimType};
+use super::equations::{Equation, EquationLabel};
 use super::error::MbdError;
 use super::expr::ExprFn;
 use super::measures::Measure;
 use super::system::{ElementHandle, MarkerHandle, PartHandle, System};
+use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
 use crate::vocab::math::Vec3;
 use std::f64::consts::PI;
 

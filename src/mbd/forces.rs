@@ -12,11 +12,11 @@
 //! of its arm.
 
 use super::dual::{Scalar as _, D, N, PER_PART, V};
-use super::equations::ElementRef;
 use super::error::{element_name, MbdError};
 use super::expr::ExprFn;
 use super::measures::{dual_frame, DFrame, Measure, PartSlots, M};
 use super::system::{MarkerHandle, PartHandle, System};
+use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Vec3};
 
 /// An expression of the model: `map[k]` is the measure index of its k-th slot.

@@ -12,7 +12,7 @@
 //! [`AssemblyOptions::dropped`].
 //!
 //! ```
-//! use mbfx::mbd::equations::{ElementKind, ElementRef, JointType};
+//! use mbfx::vocab::elements::{ElementKind, ElementRef, JointType};
 //! use mbfx::vocab::math::{Mat3, Vec3};
 //! use mbfx::mbd::{AssemblyOptions, Dim, Dimension, System};
 //!

@@ -3,9 +3,11 @@
 //! back up the pipeline (syntax → ir → check → model → mbd → session).
 //!
 //! [`builtins`] is the table of the language's names (arity, argument kinds, result type,
-//! meaning) and [`func`] the runtime functions they stand for; [`math`] holds the
+//! meaning) and [`func`] the runtime functions they stand for; [`elements`] holds the joint,
+//! primitive and element kinds with the one table of their names; [`math`] holds the
 //! nalgebra aliases of the reader and the core.
 
 pub mod builtins;
+pub mod elements;
 pub mod func;
 pub mod math;

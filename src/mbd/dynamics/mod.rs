@@ -18,11 +18,11 @@ pub mod newmark;
 pub mod outputs;
 
 use super::constraints::Row;
-use super::equations::ElementRef;
 use super::error::{element_name, MbdError};
 use super::forces::{ForceSet, Generalized};
 use super::sparse::{FactorError, Pattern, SparseLu};
 use super::system::{Dimension, PartHandle, System};
+use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Mat3, Quat, Vec3};
 use std::fmt;
 

@@ -9,9 +9,9 @@ mod jacobians;
 mod measures;
 mod mechanisms;
 
-use super::equations::{ElementKind, ElementRef, JointType};
 use super::expr::{Closure, ExprFn};
 use super::system::{MarkerHandle, System};
+use crate::vocab::elements::{ElementKind, ElementRef, JointType};
 use crate::vocab::math::{DMat, Mat3, Vec3};
 
 pub(super) fn rz(a: f64) -> Mat3 {
