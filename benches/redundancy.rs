@@ -17,7 +17,7 @@ struct Case {
     n: usize,
     jacobian: mbfx::mbd::sparse::Triplets,
     labels: Vec<mbfx::mbd::equations::EquationLabel>,
-    elements: Vec<mbfx::mbd::equations::ElementRef>,
+    elements: Vec<mbfx::vocab::elements::ElementRef>,
     parts: usize,
 }
 

@@ -18,6 +18,7 @@ pub mod model;
 pub mod session;
 mod stack;
 pub mod syntax;
+pub mod vocab;
 
 /// The README's Rust examples, compiled and run as doctests so they stay true.
 #[cfg(doctest)]

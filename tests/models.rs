@@ -10,10 +10,10 @@
 mod common;
 
 use common::adm_files;
-use mbfx::mbd::math::{Mat3, Quat, Vec3};
 use mbfx::mbd::{Dimension, System};
 use mbfx::model::Model;
 use mbfx::session::{analyze_model, Analysis, DimRequest, Failure};
+use mbfx::vocab::math::{Mat3, Quat, Vec3};
 use std::path::{Path, PathBuf};
 
 fn corpus() -> PathBuf {

@@ -7,7 +7,6 @@
 //! and emits IR through [`crate::ir::builder::Builder`]. It reports every error it finds;
 //! an expression with errors yields no IR.
 
-pub mod builtins;
 pub mod scope;
 mod suggest;
 mod validate;
@@ -17,7 +16,7 @@ use crate::ir::builder::{Arith, Builder};
 use crate::ir::{Function, Value};
 use crate::syntax::ast::{Ast, BinOp, Kind, NodeId, UnOp};
 use crate::syntax::parser;
-use builtins::{Builtin, Param, Role};
+use crate::vocab::builtins::{self, Builtin, Param, Role};
 pub use scope::{EveryIdExists, MeasureCall, MeasureValue, Scope, SplineInfo, Variables};
 use std::cell::RefCell;
 
@@ -434,7 +433,7 @@ impl Checker<'_> {
                     p
                 }
             }
-            _ => self.b.call(crate::ir::Func::Pow, vec![a, b], span),
+            _ => self.b.call(crate::vocab::func::Func::Pow, vec![a, b], span),
         }
     }
 

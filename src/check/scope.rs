@@ -4,8 +4,8 @@
 //! ([`Variables`]), measures are errors that say a model is needed; the multibody core
 //! supplies a scope that resolves marker IDs to measure slots.
 
-use super::builtins::{Builtin, Needs, Role, Ty};
 use crate::diag::{Code, Diagnostic, Span};
+use crate::vocab::builtins::{self, Builtin, Needs, Role, Ty};
 
 /// A measure call as written: which builtin and its integer-literal arguments.
 pub struct MeasureCall<'a> {
@@ -109,7 +109,7 @@ pub fn check_variable_name(name: &str) -> Result<(), BadVariableName> {
         && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
     if !valid {
         Err(BadVariableName::NotAName)
-    } else if super::builtins::lookup(&name.to_ascii_uppercase()).is_some() {
+    } else if builtins::lookup(&name.to_ascii_uppercase()).is_some() {
         Err(BadVariableName::Builtin)
     } else {
         Ok(())

@@ -5,7 +5,7 @@
 //! gives NaN for the others, which evaluation reports.
 
 use crate::diag::{Code, Diagnostic, Span};
-use crate::ir::Func;
+use crate::vocab::func::Func;
 
 /// (argument index, condition it must meet, what the condition says).
 type Bound = (usize, fn(f64) -> bool, &'static str);

@@ -2,13 +2,14 @@
 //! terminal); [`run_terminal`] wraps it in rustyline with history, multi-line input
 //! (continuation commas, open brackets) and tab completion of names and commands.
 
-use crate::check::{builtins, Expect, Variables};
+use crate::check::{Expect, Variables};
 use crate::context::Context;
 use crate::diag::{render, SourceFile};
 use crate::interp::Program;
 use crate::session::loaded::LoadedModel;
 use crate::session::DimRequest;
 use crate::syntax::{parser, print};
+use crate::vocab::builtins;
 use std::fmt::Write as _;
 
 const HELP: &str = "\

@@ -5,9 +5,9 @@
 //! passed straight from a pool.
 
 use super::{Coeffs, Op, Program, SeriesFn};
-use crate::check::builtins::SplineKind;
-use crate::ir::func::Callee;
-use crate::ir::{Block, Func, Function, Inst, Value};
+use crate::ir::{Block, Function, Inst, Value};
+use crate::vocab::builtins::SplineKind;
+use crate::vocab::func::{Callee, Func};
 
 /// Most coefficients a series call takes (spec §5.6–5.8).
 pub const MAX_COEFFICIENTS: usize = 31;

@@ -11,8 +11,8 @@ mod compile;
 mod trace;
 
 use crate::context::Context;
-use crate::ir::func::{Fn5, Fn6, Fn7, Fn8};
 use crate::ir::{if_arm as branch, Function, Uses};
+use crate::vocab::func::{Fn5, Fn6, Fn7, Fn8};
 pub use trace::Fault;
 
 /// Functions with at most this many registers evaluate in a register file on the stack.
@@ -152,7 +152,7 @@ enum Op {
         args: u32,
         n: u32,
         wrt: u32,
-        func: crate::ir::Func,
+        func: crate::vocab::func::Func,
     },
     Jump {
         to: u32,

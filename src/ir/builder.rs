@@ -6,9 +6,10 @@
 //! unfolded code would produce. Sharing is scoped: a value computed inside an IF arm is
 //! visible only there, never hoisted out of the arm (that would evaluate it eagerly).
 
-use super::{Block, Cmp, Func, Function, Inst, Uses, Value};
-use crate::check::builtins::SplineKind;
+use super::{Block, Cmp, Function, Inst, Uses, Value};
 use crate::diag::Span;
+use crate::vocab::builtins::SplineKind;
+use crate::vocab::func::Func;
 use rustc_hash::FxHashMap;
 
 /// Hashable identity of an instruction, for sharing. IF is never shared.

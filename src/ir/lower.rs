@@ -33,8 +33,9 @@
 
 use super::builder::{Arith, Builder};
 use super::rebuild::{constants, copy, copy_if, if_extra};
-use super::{Cmp, Func, Function, Inst, Value};
+use super::{Cmp, Function, Inst, Value};
 use crate::diag::Span;
+use crate::vocab::func::Func;
 use core::f64::consts::{FRAC_PI_2, PI};
 use rustc_hash::FxHashMap;
 

@@ -11,15 +11,14 @@
 
 pub mod builder;
 pub mod deriv;
-pub mod func;
 pub mod inline;
 pub mod lower;
 pub mod print;
 mod rebuild;
 
-use crate::check::builtins::SplineKind;
 use crate::diag::Span;
-pub use func::Func;
+use crate::vocab::builtins::SplineKind;
+use crate::vocab::func::Func;
 
 /// Index of an instruction (and of the value it defines) in [`Function::insts`].
 pub type Value = u32;

@@ -1,6 +1,7 @@
 //! Text form of the IR, for the REPL's `:ir` and for tests.
 
 use super::{Function, Inst, Value};
+use crate::vocab::func::Func;
 use std::fmt::Write as _;
 
 /// Prints a function: one instruction per line, IF arms indented, then the outputs.
@@ -236,9 +237,9 @@ fn expr(
 }
 
 /// The language's name of a runtime function (`mbfx_step` → `STEP`).
-fn adams_name(func: super::Func) -> String {
+fn adams_name(func: Func) -> String {
     match func {
-        super::Func::Pow | super::Func::PowLibm => "POW".into(),
+        Func::Pow | Func::PowLibm => "POW".into(),
         _ => func
             .symbol()
             .trim_start_matches("mbfx_")

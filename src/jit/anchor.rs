@@ -20,7 +20,8 @@
 //! reloads into a block of that arm, which the other arms and the code after the outer IF
 //! do not see (anchoring there broke SSA dominance: Cranelift's egraph pass asserted).
 
-use crate::ir::{Func, Function, Inst, Value};
+use crate::ir::{Function, Inst, Value};
+use crate::vocab::func::Func;
 
 /// Positions of the instructions in program order and the last read of each value.
 pub struct Crossings {

@@ -2,9 +2,8 @@
 //! looked up by name, and the parameter list the translator passes to each, so a wrong
 //! signature is an error at compile time (and a test checks every builtin).
 
-use crate::check::builtins::SplineKind;
-use crate::ir::func::Callee;
-use crate::ir::Func;
+use crate::vocab::builtins::SplineKind;
+use crate::vocab::func::{Callee, Func};
 use mbfx_runtime::ffi::{self, Param, Symbol};
 use rustc_hash::FxHashMap;
 use std::sync::OnceLock;

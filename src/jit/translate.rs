@@ -15,7 +15,8 @@ use super::anchor::Crossings;
 use super::symbols;
 use super::JitError;
 use crate::context::layout;
-use crate::ir::{Block as IrBlock, Cmp, Func, Function, Inst, Value};
+use crate::ir::{Block as IrBlock, Cmp, Function, Inst, Value};
+use crate::vocab::func::Func;
 use cranelift_codegen::ir;
 use cranelift_codegen::ir::condcodes::FloatCC;
 use cranelift_codegen::ir::{

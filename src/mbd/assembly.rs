@@ -11,13 +11,14 @@
 //! and checked afterwards (a violated dropped row is a conflict, not a redundancy).
 
 use super::constraints::Row;
-use super::equations::{ElementRef, Equation};
+use super::equations::Equation;
 use super::error::{element_name, MbdError};
-use super::math::{DVec, Quat, Vec3};
 use super::normal::min_norm;
 use super::sparse::Triplets;
 use super::system::{Dimension, PartHandle, System};
 use crate::model::elements::Id;
+use crate::vocab::elements::ElementRef;
+use crate::vocab::math::{DVec, Quat, Vec3};
 use std::fmt;
 
 /// Settings of [`System::assemble`].

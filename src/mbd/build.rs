@@ -3,16 +3,16 @@
 //! [`ExprFn`]s through an [`ExprCompiler`]: the integration plugs in the compiled IR
 //! derivative; [`InterpretOnly`] evaluates values alone.
 
-use super::equations::{ElementKind, ElementRef, ForceKind};
 use super::error::MbdError;
 use super::expr::{ExprFn, Interpreted};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar};
 use super::inertia::mass_properties;
-use super::math::Vec3;
 use super::measures::Measure;
 use super::planar::Dim;
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
+use crate::vocab::elements::{ElementKind, ElementRef, ForceKind};
+use crate::vocab::math::Vec3;
 use std::collections::HashMap;
 
 /// Turns an expression of the model into an [`ExprFn`].

@@ -5,12 +5,13 @@
 //! RACKPIN, SCREW and MOTION are linear combinations of measures minus a drive g(t);
 //! GCON is an expression of measures. Rows carry their [`EquationLabel`].
 
-use super::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType, JprimType};
+use super::equations::{Equation, EquationLabel};
 use super::error::MbdError;
 use super::expr::ExprFn;
-use super::math::Vec3;
 use super::measures::Measure;
 use super::system::{Dimension, ElementHandle, MarkerHandle, PartHandle, System};
+use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
+use crate::vocab::math::Vec3;
 use std::f64::consts::PI;
 
 /// A row's derivative over one part: δr x y z, δθ x y z (global).

@@ -6,7 +6,7 @@
 //! PSI, YAW or VR need no separate hand-derived Jacobian; the primitive constraint
 //! equations, which are simple, are differentiated by hand in `primitives`.
 
-use super::math::Vec3;
+use crate::vocab::math::Vec3;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// Parts a measure can touch.

@@ -1,82 +1,8 @@
 //! What each scalar constraint equation means, in the user's words: the element it
-//! belongs to (Adams type, id, `adams_view_name`) and its Adams label (multibody spec
-//! §4.1: `X Delta`, `Zi.Xj`, ...). Constraint assembly attaches one [`EquationLabel`] to
-//! every row of the constraint vector; the redundancy report and error messages read them.
-
-/// The Adams joint types (multibody spec §4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum JointType {
-    Fixed,
-    Revolute,
-    Spherical,
-    Translational,
-    Cylindrical,
-    Planar,
-    Hooke,
-    Universal,
-    Convel,
-    Rackpin,
-    Screw,
-}
-
-/// The Adams joint primitives (multibody spec §4.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum JprimType {
-    Atpoint,
-    Inline,
-    Inplane,
-    Orientation,
-    ParallelAxes,
-    Perpendicular,
-}
-
-/// The kind of element a constraint equation comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ElementKind {
-    Joint(JointType),
-    Jprim(JprimType),
-    Gcon,
-    Motion,
-    /// Exudyn's 2D prismatic joint (multibody spec §6.4), library API only.
-    Prismatic2d,
-    /// An applied force element (no constraint equations; named in dynamics messages).
-    Force(ForceKind),
-}
-
-/// The force statements of multibody spec §7.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ForceKind {
-    Sforce,
-    Vforce,
-    Vtorque,
-    Gforce,
-    Springdamper,
-    Bushing,
-}
-
-impl ForceKind {
-    /// The statement keyword.
-    pub fn keyword(self) -> &'static str {
-        match self {
-            ForceKind::Sforce => "SFORCE",
-            ForceKind::Vforce => "VFORCE",
-            ForceKind::Vtorque => "VTORQUE",
-            ForceKind::Gforce => "GFORCE",
-            ForceKind::Springdamper => "SPRINGDAMPER",
-            ForceKind::Bushing => "BUSHING",
-        }
-    }
-}
-
-/// One element as the user named it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ElementRef {
-    pub kind: ElementKind,
-    /// The Adams id.
-    pub id: u32,
-    /// The `adams_view_name`, when the dataset gives one.
-    pub name: Option<String>,
-}
+//! belongs to (an index into the system's [`crate::vocab::elements::ElementRef`]s) and its
+//! Adams label (multibody spec §4.1: `X Delta`, `Zi.Xj`, ...). Constraint assembly attaches
+//! one [`EquationLabel`] to every row of the constraint vector; the redundancy report and
+//! error messages read them.
 
 /// What one scalar equation constrains. The translational ones are resolved in J-marker
 /// axes (spec §4.1 recommendation): `XDelta` is d·x_J = 0.
@@ -118,7 +44,7 @@ impl Equation {
 }
 
 /// The meaning of one row of the constraint vector: `element` indexes the system's list
-/// of [`ElementRef`]s.
+/// of [`crate::vocab::elements::ElementRef`]s.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct EquationLabel {
     pub element: usize,

@@ -1,7 +1,7 @@
 //! Errors of the multibody core, in the user's words: elements are named the Adams way
 //! (`JOINT/3 'crank_pin'`), equations by their Adams labels.
 
-use super::equations::{ElementKind, ElementRef, JointType, JprimType};
+use crate::vocab::elements::ElementRef;
 use std::fmt;
 
 /// Something the core cannot build, evaluate or solve.
@@ -26,48 +26,16 @@ pub enum MbdError {
     Expression(ElementRef, String),
 }
 
-/// `JOINT/3 'name'` (the name only when the dataset gives one).
+/// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the
+/// dataset gives one).
 pub fn element_name(e: &ElementRef) -> String {
-    let kind = match e.kind {
-        ElementKind::Joint(t) => format!("JOINT/{} ({})", e.id, joint_word(t)),
-        ElementKind::Jprim(t) => format!("JPRIM/{} ({})", e.id, jprim_word(t)),
-        ElementKind::Gcon => format!("GCON/{}", e.id),
-        ElementKind::Motion => format!("MOTION/{}", e.id),
-        ElementKind::Prismatic2d => format!("PRISMATIC_2D/{}", e.id),
-        ElementKind::Force(k) => format!("{}/{}", k.keyword(), e.id),
+    let kind = match e.kind.flag() {
+        Some(flag) => format!("{}/{} ({flag})", e.kind.keyword(), e.id),
+        None => format!("{}/{}", e.kind.keyword(), e.id),
     };
     match &e.name {
         Some(n) => format!("{kind} '{n}'"),
         None => kind,
-    }
-}
-
-fn joint_word(t: JointType) -> &'static str {
-    use JointType::*;
-    match t {
-        Fixed => "FIXED",
-        Revolute => "REVOLUTE",
-        Spherical => "SPHERICAL",
-        Translational => "TRANSLATIONAL",
-        Cylindrical => "CYLINDRICAL",
-        Planar => "PLANAR",
-        Hooke => "HOOKE",
-        Universal => "UNIVERSAL",
-        Convel => "CONVEL",
-        Rackpin => "RACKPIN",
-        Screw => "SCREW",
-    }
-}
-
-fn jprim_word(t: JprimType) -> &'static str {
-    use JprimType::*;
-    match t {
-        Atpoint => "ATPOINT",
-        Inline => "INLINE",
-        Inplane => "INPLANE",
-        Orientation => "ORIENTATION",
-        ParallelAxes => "PARALLEL_AXES",
-        Perpendicular => "PERPENDICULAR",
     }
 }
 

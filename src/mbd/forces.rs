@@ -12,12 +12,12 @@
 //! of its arm.
 
 use super::dual::{Scalar as _, D, N, PER_PART, V};
-use super::equations::ElementRef;
 use super::error::{element_name, MbdError};
 use super::expr::ExprFn;
-use super::math::{DVec, Vec3};
 use super::measures::{dual_frame, DFrame, Measure, PartSlots, M};
 use super::system::{MarkerHandle, PartHandle, System};
+use crate::vocab::elements::ElementRef;
+use crate::vocab::math::{DVec, Vec3};
 
 /// An expression of the model: `map[k]` is the measure index of its k-th slot.
 pub struct Scalar {
@@ -459,10 +459,10 @@ mod tests {
     //! Jacobians against central differences of Q (the test oracle DESIGN.md allows).
     use crate::mbd::compiled::CompiledExprs;
     use crate::mbd::dynamics::Dynamics;
-    use crate::mbd::math::DVec;
     use crate::mbd::planar::Dim;
     use crate::mbd::system::System;
     use crate::model::read_model;
+    use crate::vocab::math::DVec;
 
     /// Two free parts in 3D, every force kind between them.
     const FORCES: &str = "forces\nPART/1, GROUND\nMARKER/10, PART = 1\n\
@@ -561,13 +561,13 @@ mod tests {
         let mut d = Dynamics::new(sys, forces, &[]).unwrap();
         d.eval_forces(false).unwrap();
         let (mut f, mut m) = (
-            crate::mbd::math::Vec3::zeros(),
-            crate::mbd::math::Vec3::zeros(),
+            crate::vocab::math::Vec3::zeros(),
+            crate::vocab::math::Vec3::zeros(),
         );
         for p in d.sys.parts.iter().filter(|p| p.index.is_some()) {
             let b = 6 * p.index.unwrap();
-            let fp = crate::mbd::math::Vec3::new(d.gen.q[b], d.gen.q[b + 1], d.gen.q[b + 2]);
-            let tp = crate::mbd::math::Vec3::new(d.gen.q[b + 3], d.gen.q[b + 4], d.gen.q[b + 5]);
+            let fp = crate::vocab::math::Vec3::new(d.gen.q[b], d.gen.q[b + 1], d.gen.q[b + 2]);
+            let tp = crate::vocab::math::Vec3::new(d.gen.q[b + 3], d.gen.q[b + 4], d.gen.q[b + 5]);
             // Remove the gyroscopic moment −ω × (J ω), which is no applied force.
             let j = p.inertia_global();
             let gyro = -p.w.cross(&(j * p.w));

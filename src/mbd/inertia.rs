@@ -5,8 +5,8 @@
 //! rotated into BCS axes. The core then takes each part's CM as its reference point, so
 //! the Newton–Euler equations have a block-diagonal mass matrix diag(m·I, R·J·Rᵀ).
 
-use super::math::{Mat3, Vec3};
 use crate::model::elements::{Model, Part};
+use crate::vocab::math::{Mat3, Vec3};
 
 /// Mass, CM offset (BCS) and inertia about the CM (BCS axes) of a moving part.
 #[derive(Clone, Debug, PartialEq)]

@@ -12,9 +12,9 @@
 
 use super::dual::{Scalar, D, J2, N, PARTS, PER_PART, V};
 use super::error::MbdError;
-use super::math::Vec3;
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::model::elements::MeasureSlot;
+use crate::vocab::math::Vec3;
 use std::f64::consts::PI;
 
 /// A marker, or the ground frame at the origin (None).

@@ -12,8 +12,8 @@
 //! [`AssemblyOptions::dropped`].
 //!
 //! ```
-//! use mbfx::mbd::equations::{ElementKind, ElementRef, JointType};
-//! use mbfx::mbd::math::{Mat3, Vec3};
+//! use mbfx::vocab::elements::{ElementKind, ElementRef, JointType};
+//! use mbfx::vocab::math::{Mat3, Vec3};
 //! use mbfx::mbd::{AssemblyOptions, Dim, Dimension, System};
 //!
 //! // A unit pendulum hinged at the origin, placed slightly off.
@@ -41,7 +41,6 @@ pub mod error;
 pub mod expr;
 pub mod forces;
 pub mod inertia;
-pub mod math;
 pub mod measures;
 mod normal;
 pub mod planar;

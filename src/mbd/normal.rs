@@ -174,7 +174,7 @@ pub fn min_norm(n: usize, rows: &Rows, b: &[f64], mu: f64, sweeps: usize) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mbd::math::{DMat, DVec};
+    use crate::vocab::math::{DMat, DVec};
 
     #[test]
     fn envelope_cholesky_matches_dense() {

@@ -17,9 +17,9 @@
 //! and equations are one code path and the 2D system gives the 3D results.
 
 use super::constraints::Element;
-use super::math::{DVec, Mat3, Quat, Vec3};
 use super::measures::MeasureSet;
 use crate::model::elements::Id;
+use crate::vocab::math::{DVec, Mat3, Quat, Vec3};
 use std::collections::HashMap;
 
 /// A part: index into [`System::parts`]; ground is [`System::GROUND`].

@@ -11,8 +11,8 @@
 
 use crate::diag::Span;
 use crate::ir::Function;
-use crate::mbd::equations::{JointType, JprimType};
-use crate::mbd::math::{Mat3, Vec3};
+use crate::vocab::elements::{JointType, JprimType};
+use crate::vocab::math::{Mat3, Vec3};
 
 /// An Adams element id (`PART/2` has id 2).
 pub type Id = u32;

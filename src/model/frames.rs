@@ -2,7 +2,7 @@
 //! 3-1-3 angles, and the ZP/XP (ZG/XG) point pairs, turned into rotation matrices whose
 //! columns are the child axes in parent coordinates.
 
-use crate::mbd::math::{Mat3, Vec3};
+use crate::vocab::math::{Mat3, Vec3};
 
 /// `REULER = ψ, θ, φ`: R = Rz(ψ)·Rx(θ)·Rz(φ) (spec §2.4).
 pub fn reuler(psi: f64, theta: f64, phi: f64) -> Mat3 {

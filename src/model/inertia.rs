@@ -12,7 +12,7 @@
 //! datasets round their values, so both tests allow a relative tolerance of
 //! [`TOLERANCE`] of the largest moment; a thin plate or rod (C = A + B exactly) passes.
 
-use crate::mbd::math::Mat3;
+use crate::vocab::math::Mat3;
 
 /// Relative slack of the tests, against the largest principal moment.
 pub const TOLERANCE: f64 = 1e-6;

@@ -236,7 +236,7 @@ fn every_corpus_orientation_is_a_rotation() {
             .map(|p| (p.el.id, p.orientation))
             .chain(m.markers.iter().map(|mk| (mk.el.id, mk.orientation)));
         for (id, r) in frames {
-            let err = (r.transpose() * r - crate::mbd::math::Mat3::identity())
+            let err = (r.transpose() * r - crate::vocab::math::Mat3::identity())
                 .abs()
                 .max();
             assert!(

@@ -6,8 +6,8 @@
 use super::elements::{MeasureSlot, Model, MotionLevel, MotionTarget, RequestKind};
 use super::{read_model, ModelRead};
 use crate::diag::{Code, Severity};
-use crate::mbd::equations::JointType;
-use crate::mbd::math::{Mat3, Vec3};
+use crate::vocab::elements::{ElementKind, ForceKind, JointType, ELEMENT_NAMES};
+use crate::vocab::math::{Mat3, Vec3};
 use nalgebra::{Rotation3, Unit};
 
 /// Ground with a plain and a floating marker, and part 2 (`arm`) with two fixed markers
@@ -613,6 +613,50 @@ fn settings_are_kept_as_written() {
         ]
     );
     assert_eq!(m.settings[1].statement, "OUTPUT");
+}
+
+/// One statement of every element kind a dataset can hold, written with the spellings of
+/// the one table of element names: the reader reads each as that kind and counts it under
+/// that keyword, so what the core prints is what the reader accepts.
+#[test]
+fn every_element_kind_reads_back_under_its_table_name() {
+    use ElementKind::*;
+    for n in ELEMENT_NAMES.iter().filter(|n| n.kind.in_dataset()) {
+        let (keyword, flag) = (n.keyword, n.flag.unwrap_or_default());
+        let statement = match n.kind {
+            Joint(JointType::Rackpin) => format!("{keyword}/1, {flag}, I = 21, J = 11, PD = 2"),
+            Joint(JointType::Screw) => format!("{keyword}/1, {flag}, I = 21, J = 11, PITCH = 2"),
+            Joint(_) | Jprim(_) => format!("{keyword}/1, {flag}, I = 21, J = 11"),
+            Gcon => format!("{keyword}/1, I = 21, FUNCTION = DX(21)"),
+            Motion => format!("JOINT/1, REVOLUTE, I = 21, J = 11\n{keyword}/1, JOINT = 1, FUNCTION = TIME"),
+            Force(ForceKind::Sforce) => format!("{keyword}/1, I = 21, J = 11, FUNCTION = 1"),
+            Force(ForceKind::Vforce) => {
+                format!("{keyword}/1, I = 22, JFLOAT = 12, RM = 11, FX = 0\\ FY = 0\\ FZ = 1")
+            }
+            Force(ForceKind::Vtorque) => {
+                format!("{keyword}/1, I = 22, JFLOAT = 12, RM = 11, TX = 0\\ TY = 0\\ TZ = 1")
+            }
+            Force(ForceKind::Gforce) => format!(
+                "{keyword}/1, I = 22, JFLOAT = 12, RM = 11, FX = 0\\ FY = 0\\ FZ = 1\\ TX = 0\\ TY = 0\\ TZ = 1"
+            ),
+            Force(ForceKind::Springdamper) => {
+                format!("{keyword}/1, TRANSLATIONAL, I = 21, J = 11, K = 1, C = 0")
+            }
+            Force(ForceKind::Bushing) => {
+                format!("{keyword}/1, I = 22, J = 11, K = 1, 2, 3, C = 4, 5, 6")
+            }
+            Prismatic2d => unreachable!("no dataset statement makes a 2D prismatic joint"),
+        };
+        let m = clean(&with(&statement));
+        let counts = m.element_counts();
+        let count = counts.iter().find(|(k, _)| *k == keyword);
+        assert_eq!(count, Some(&(keyword, 1)), "{statement}");
+        match n.kind {
+            Joint(t) => assert_eq!(m.joints[0].kind, t, "{statement}"),
+            Jprim(t) => assert_eq!(m.jprims[0].kind, t, "{statement}"),
+            _ => {}
+        }
+    }
 }
 
 #[test]

@@ -7,7 +7,7 @@ use super::resolve::MarkerUse;
 use super::stmt_args::Args;
 use super::units::{si_value, system, ucf, Quantity};
 use crate::diag::{Code, Diagnostic};
-use crate::mbd::math::{Mat3, Vec3};
+use crate::vocab::math::{Mat3, Vec3};
 
 /// `UNITS/`: unit names (or a SYSTEM preset) and the UCF they imply; `UCF =` overrides.
 /// A unit left out is the SI one.

@@ -11,37 +11,20 @@ use super::resolve::{ExprArg, MarkerUse};
 use super::stmt_args::Args;
 use crate::check::Expect;
 use crate::diag::{Code, Diagnostic};
-use crate::mbd::equations::{JointType, JprimType};
-use crate::mbd::math::Vec3;
+use crate::vocab::elements::{JointType, JprimType};
+use crate::vocab::math::Vec3;
 
-const JOINT_TYPES: &[(&str, usize, JointType)] = &[
-    ("FIXED", 3, JointType::Fixed),
-    ("REVOLUTE", 3, JointType::Revolute),
-    ("SPHERICAL", 3, JointType::Spherical),
-    ("TRANSLATIONAL", 3, JointType::Translational),
-    ("CYLINDRICAL", 3, JointType::Cylindrical),
-    ("PLANAR", 3, JointType::Planar),
-    ("HOOKE", 3, JointType::Hooke),
-    ("UNIVERSAL", 3, JointType::Universal),
-    ("CONVEL", 3, JointType::Convel),
-    ("RACKPIN", 3, JointType::Rackpin),
-    ("SCREW", 3, JointType::Screw),
-];
+/// The shortest abbreviation of a JOINT or JPRIM type flag the reader accepts
+/// (multibody spec §1.6); the full spellings come from the one table of element names.
+const FLAG_MIN_LEN: usize = 3;
 
-const JPRIM_TYPES: &[(&str, usize, JprimType)] = &[
-    ("ATPOINT", 3, JprimType::Atpoint),
-    ("INLINE", 3, JprimType::Inline),
-    ("INPLANE", 3, JprimType::Inplane),
-    ("ORIENTATION", 3, JprimType::Orientation),
-    ("PARALLEL_AXES", 3, JprimType::ParallelAxes),
-    ("PERPENDICULAR", 3, JprimType::Perpendicular),
-];
-
-/// A type flag from a table; `E0604` naming the choices when none is given.
-fn type_flag<T: Copy>(a: &mut Args, table: &[(&str, usize, T)]) -> Option<T> {
-    let options: Vec<(&str, usize)> = table.iter().map(|(n, m, _)| (*n, *m)).collect();
+/// A type flag from the vocabulary's `(flag, type)` list; `E0604` naming the choices when
+/// none is given.
+fn type_flag<T: Copy>(a: &mut Args, flags: impl Iterator<Item = (&'static str, T)>) -> Option<T> {
+    let table: Vec<(&str, T)> = flags.collect();
+    let options: Vec<(&str, usize)> = table.iter().map(|&(n, _)| (n, FLAG_MIN_LEN)).collect();
     match a.choice(&options) {
-        Some(k) => Some(table[k].2),
+        Some(k) => Some(table[k].1),
         None => {
             let names: Vec<&str> = table.iter().map(|t| t.0).collect();
             a.missing(&format!("a type, one of {}", names.join(", ")));
@@ -81,7 +64,7 @@ fn pair(a: &mut Args, full: &str, min: usize) -> Option<[f64; 2]> {
 
 pub fn joint(r: &mut Reader, a: &mut Args) {
     let el = r.named(a);
-    let kind = type_flag(a, JOINT_TYPES);
+    let kind = type_flag(a, JointType::flags());
     let markers = fixed_pair(r, a);
     let need = |a: &mut Args, key: &str| {
         let v = a.number(key, 2);
@@ -124,7 +107,7 @@ pub fn joint(r: &mut Reader, a: &mut Args) {
 
 pub fn jprim(r: &mut Reader, a: &mut Args) {
     let el = r.named(a);
-    let kind = type_flag(a, JPRIM_TYPES);
+    let kind = type_flag(a, JprimType::flags());
     let markers = fixed_pair(r, a);
     if let (Some(kind), Some((i, j))) = (kind, markers) {
         r.model.jprims.push(Jprim { el, kind, i, j });

@@ -4,9 +4,9 @@
 //! element ids (`VARVAL(3)`, `JOINT(1,0,2,0)`, `SFORCE(5,…)`) against the elements.
 
 use super::elements::MeasureSlot;
-use crate::check::builtins::{Param, Ty};
 use crate::check::{MeasureCall, MeasureValue, Scope, SplineInfo};
 use crate::diag::{Code, Diagnostic};
+use crate::vocab::builtins::{Param, Ty};
 use std::cell::{Cell, RefCell};
 use std::collections::{HashMap, HashSet};
 

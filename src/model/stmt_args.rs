@@ -7,7 +7,7 @@ use super::elements::Id;
 use super::keywords::abbreviates;
 use super::statement::{ArgValue, Argument, ItemKind, Statement};
 use crate::diag::{Code, Diagnostic, Span};
-use crate::mbd::math::Vec3;
+use crate::vocab::math::Vec3;
 use std::ops::RangeInclusive;
 
 /// Arguments that configure joint friction, which mbfx does not model (spec §2.5).

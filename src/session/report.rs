@@ -5,11 +5,11 @@
 use super::{Analysis, DimRequest, Failure};
 use crate::diag::{Code, Diagnostic, Span};
 use crate::mbd::assembly::AssemblyError;
-use crate::mbd::equations::{ElementKind, ElementRef};
 use crate::mbd::redundancy::AnalysisError;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
 use crate::model::report::ReportSection;
+use crate::vocab::elements::{ElementKind, ElementRef};
 
 /// `built in 2D: why` (or 3D), from the system's reason.
 fn dimension_line(system: &System, asked: DimRequest) -> String {
@@ -138,7 +138,7 @@ pub(crate) fn element_span(model: &Model, e: &ElementRef) -> Span {
             .map(|m| &m.el.span),
         ElementKind::Prismatic2d => None,
         ElementKind::Force(k) => {
-            use crate::mbd::equations::ForceKind;
+            use crate::vocab::elements::ForceKind;
             fn find<'a>(
                 mut list: impl Iterator<Item = &'a crate::model::elements::Named>,
                 id: u32,

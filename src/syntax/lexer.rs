@@ -331,7 +331,7 @@ pub fn lex_into(src: &str, out: &mut Lexed) {
                         || continued_paren(rest));
                 let spaced_call = spaced && {
                     let upper = out.names.get(idx);
-                    let callable = crate::check::builtins::is_callable(upper);
+                    let callable = crate::vocab::builtins::is_callable(upper);
                     if callable {
                         out.diagnostics.push(
                             Diagnostic::error(

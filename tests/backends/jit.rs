@@ -1,11 +1,11 @@
 //! The JIT's own contracts.
 
 use super::support::{ir, same};
-use mbfx::check::builtins::SplineKind;
 use mbfx::context::Context;
 use mbfx::interp::Program;
-use mbfx::ir::Func;
 use mbfx::jit::{runtime_symbol, spline_symbol, symbol_name, symbol_params, Jit};
+use mbfx::vocab::builtins::SplineKind;
+use mbfx::vocab::func::Func;
 
 /// Every function of the IR has a runtime symbol, and so does its derivative companion,
 /// with exactly the parameters the translator passes.

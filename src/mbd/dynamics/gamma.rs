@@ -18,8 +18,8 @@
 use super::Dynamics;
 use crate::mbd::constraints::Row;
 use crate::mbd::error::{element_name, MbdError};
-use crate::mbd::math::{DVec, Vec3};
 use crate::mbd::system::{MarkerHandle, System};
+use crate::vocab::math::{DVec, Vec3};
 
 /// Position, velocity and zero-acceleration second derivative of a marker's origin, and
 /// its part's angular velocity.

@@ -3,7 +3,7 @@
 //! fixed when the dynamics is set up, so an evaluation writes values in place, and
 //! Φ_qᵀ·λ, Φ_q·x and the Schur complement read contiguous blocks instead of triplets.
 
-use crate::mbd::math::DVec;
+use crate::vocab::math::DVec;
 use std::ops::Range;
 
 /// Φ_q over fixed (row, part) blocks. A non-holonomic row holds ∂f/∂v.

@@ -20,12 +20,12 @@ pub mod outputs;
 pub mod schur;
 
 use super::constraints::Row;
-use super::equations::ElementRef;
 use super::error::{element_name, MbdError};
 use super::forces::{ForceSet, Generalized};
-use super::math::{DVec, Mat3, Quat, Vec3};
 use super::sparse::{FactorError, Pattern, SparseLu};
 use super::system::{Dimension, PartHandle, System};
+use crate::vocab::elements::ElementRef;
+use crate::vocab::math::{DVec, Mat3, Quat, Vec3};
 use std::fmt;
 
 /// Counters of a run: what the work-precision charts plot against accuracy.
@@ -379,7 +379,7 @@ impl Dynamics {
         let blocks = self.mass_blocks();
         for (h, p) in self.sys.parts.iter().enumerate() {
             let Some(i) = p.index else { continue };
-            let mut stack = super::math::DMat::zeros(bs + self.m, bs);
+            let mut stack = crate::vocab::math::DMat::zeros(bs + self.m, bs);
             match blocks[i] {
                 Mat3Block::Three(m, j) => {
                     for c in 0..3 {

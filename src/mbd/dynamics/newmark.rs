@@ -28,8 +28,8 @@
 
 use super::integrator::{Attempt, Integrator, Settings};
 use super::{DynError, Dynamics, Snapshot, Weights};
-use crate::mbd::math::DVec;
 use crate::mbd::system::Dimension;
+use crate::vocab::math::DVec;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
 /// which the corrector has converged, as a fraction of ERROR, and its bounds: a loose

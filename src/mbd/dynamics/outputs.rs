@@ -8,12 +8,12 @@
 
 use super::Dynamics;
 use crate::mbd::constraints::Row;
-use crate::mbd::equations::{ElementKind, ForceKind};
 use crate::mbd::error::MbdError;
-use crate::mbd::math::Vec3;
 use crate::mbd::measures::{Measure, M};
 use crate::mbd::system::{MarkerHandle, PartHandle, System};
 use crate::model::elements::{MeasureSlot, Model};
+use crate::vocab::elements::{ElementKind, ForceKind};
+use crate::vocab::math::Vec3;
 
 /// A measure slot an output expression reads.
 #[derive(Clone, Copy, Debug)]

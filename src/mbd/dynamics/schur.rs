@@ -266,7 +266,7 @@ fn invert3(a: &[f64], out: &mut [f64]) -> bool {
 mod tests {
     use super::*;
     use crate::mbd::dynamics::Weights;
-    use crate::mbd::math::{DMat, DVec};
+    use crate::vocab::math::{DMat, DVec};
 
     #[test]
     fn cofactor_inverse_times_the_block_is_the_identity() {

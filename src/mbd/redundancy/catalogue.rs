@@ -1,11 +1,13 @@
 //! The catalogue of single constraint elements by the equations they impose (multibody
-//! spec §4.2), and how elements and equations are named in reports.
+//! spec §4.2), and how elements and equations are named in reports (the words come from
+//! the one table of element names, [`crate::vocab::elements::ELEMENT_NAMES`]).
 //!
 //! The redundancy analysis looks an element's kept equations up here to propose a lighter
 //! element: a JOINT 4 REVOLUTE whose Z Delta, Zi.Xj and Zi.Yj are redundant keeps exactly
 //! the equations of a JPRIM INLINE.
 
-use crate::mbd::equations::{ElementKind, ElementRef, Equation, JointType, JprimType};
+use crate::mbd::equations::Equation;
+use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
 
 use Equation::*;
 
@@ -135,65 +137,17 @@ pub(super) fn equation_order(e: Equation) -> u8 {
     }
 }
 
-/// The dataset keyword of an element kind: `JOINT`, `JPRIM`, `GCON`, `MOTION`.
-pub fn keyword(kind: ElementKind) -> &'static str {
-    match kind {
-        ElementKind::Joint(_) => "JOINT",
-        ElementKind::Jprim(_) => "JPRIM",
-        ElementKind::Gcon => "GCON",
-        ElementKind::Motion => "MOTION",
-        ElementKind::Prismatic2d => "PRISMATIC2D",
-        ElementKind::Force(k) => k.keyword(),
-    }
-}
-
-/// The type word of a JOINT or JPRIM as the dataset spells it (`REVOLUTE`, `INLINE`).
-pub fn type_name(kind: ElementKind) -> Option<&'static str> {
-    Some(match kind {
-        ElementKind::Joint(t) => match t {
-            JointType::Fixed => "FIXED",
-            JointType::Revolute => "REVOLUTE",
-            JointType::Spherical => "SPHERICAL",
-            JointType::Translational => "TRANSLATIONAL",
-            JointType::Cylindrical => "CYLINDRICAL",
-            JointType::Planar => "PLANAR",
-            JointType::Hooke => "HOOKE",
-            JointType::Universal => "UNIVERSAL",
-            JointType::Convel => "CONVEL",
-            JointType::Rackpin => "RACKPIN",
-            JointType::Screw => "SCREW",
-        },
-        ElementKind::Jprim(t) => match t {
-            JprimType::Atpoint => "ATPOINT",
-            JprimType::Inline => "INLINE",
-            JprimType::Inplane => "INPLANE",
-            JprimType::Orientation => "ORIENTATION",
-            JprimType::ParallelAxes => "PARALLEL_AXES",
-            JprimType::Perpendicular => "PERPENDICULAR",
-        },
-        _ => return None,
-    })
-}
-
-/// `JPRIM INLINE`, `JOINT SPHERICAL`: an element kind as a user would write it.
-pub fn kind_phrase(kind: ElementKind) -> String {
-    match type_name(kind) {
-        Some(t) => format!("{} {t}", keyword(kind)),
-        None => keyword(kind).to_string(),
-    }
-}
-
 /// The element's `adams_view_name` when it has one, else `JOINT/4`.
 pub fn element_name(e: &ElementRef) -> String {
     match &e.name {
         Some(n) => n.clone(),
-        None => format!("{}/{}", keyword(e.kind), e.id),
+        None => format!("{}/{}", e.kind.keyword(), e.id),
     }
 }
 
 /// `JOINT/4 (REVOLUTE)`: the element's name with its type.
 pub fn element_title(e: &ElementRef) -> String {
-    match type_name(e.kind) {
+    match e.kind.flag() {
         Some(t) => format!("{} ({t})", element_name(e)),
         None => element_name(e),
     }

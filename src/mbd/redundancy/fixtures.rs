@@ -17,9 +17,10 @@
 //! Ground (part `None`) has no columns.
 
 use super::{analyze, AnalysisError, Options, Problem, Report};
-use crate::mbd::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType};
-use crate::mbd::math::{Mat3, Vec3};
+use crate::mbd::equations::{Equation, EquationLabel};
 use crate::mbd::sparse::Triplets;
+use crate::vocab::elements::{ElementKind, ElementRef, JointType};
+use crate::vocab::math::{Mat3, Vec3};
 
 /// A marker at the configuration analysed: its part (`None` for ground), origin and axes
 /// (columns x, y, z) in ground coordinates.

@@ -28,11 +28,12 @@ mod report;
 #[cfg(test)]
 mod tests;
 
-pub use catalogue::{element_name, element_title, keyword, kind_phrase, older_phrase, type_name};
+pub use catalogue::{element_name, element_title, older_phrase};
 pub use report::{Advice, AnalysisError, Conflict, Lighter, Redundant, Report};
 
-use crate::mbd::equations::{ElementKind, ElementRef, EquationLabel};
+use crate::mbd::equations::EquationLabel;
 use crate::mbd::sparse::Triplets;
+use crate::vocab::elements::{ElementKind, ElementRef};
 use factor::{Factor, Rows};
 
 /// What the analysis reads: the constraint Jacobian at the assembled configuration and

@@ -5,11 +5,11 @@
 use std::fmt;
 
 use super::catalogue::{
-    element_name, element_title, elements_with, equation_order, is_lowerable, kind_phrase,
-    older_phrase,
+    element_name, element_title, elements_with, equation_order, is_lowerable, older_phrase,
 };
 use super::{Outcome, Problem};
-use crate::mbd::equations::{ElementKind, ElementRef, Equation, EquationLabel};
+use crate::mbd::equations::{Equation, EquationLabel};
+use crate::vocab::elements::{ElementKind, ElementRef};
 
 /// The header Adams Solver prints above the deactivated equations.
 const ADAMS_HEADER: &str =
@@ -254,7 +254,7 @@ impl Report {
                     format!("{title}: all its equations are redundant ({list}); remove it")
                 }
                 Lighter::Replace(kinds) => {
-                    let kinds: Vec<String> = kinds.iter().map(|&k| kind_phrase(k)).collect();
+                    let kinds: Vec<String> = kinds.iter().map(|&k| k.phrase()).collect();
                     format!(
                         "{title} → {} would remove {these} ({list})",
                         kinds.join(" or ")

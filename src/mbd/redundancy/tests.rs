@@ -7,8 +7,9 @@ use proptest::prelude::*;
 
 use super::fixtures::{bricard, n_four_bar, Mechanism};
 use super::*;
-use crate::mbd::equations::{ElementRef, Equation, JointType, JprimType};
-use crate::mbd::math::{DMat, Vec3};
+use crate::mbd::equations::Equation;
+use crate::vocab::elements::{ElementRef, JointType, JprimType};
+use crate::vocab::math::{DMat, Vec3};
 
 /// Dense copy of a triplet matrix (duplicates summed).
 fn dense(t: &Triplets) -> DMat {

@@ -6,12 +6,13 @@ use crate::check::{self, Expect, MeasureCall, MeasureValue, Scope};
 use crate::diag::Diagnostic;
 use crate::mbd::assembly::AssemblyOptions;
 use crate::mbd::build::InterpretOnly;
-use crate::mbd::equations::JointType;
 use crate::mbd::expr::ExprFn;
-use crate::mbd::math::{Mat3, Vec3};
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{Dimension, PartHandle, System};
 use crate::model::elements::{self as el, MeasureSlot, Model, Named};
+use crate::vocab::builtins::Ty;
+use crate::vocab::elements::JointType;
+use crate::vocab::math::{Mat3, Vec3};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -35,8 +36,8 @@ impl Scope for Slots {
             v.len() as u32 - 1
         };
         Ok(match call.builtin.result {
-            check::builtins::Ty::Scalar => MeasureValue::Scalar(push(0)),
-            check::builtins::Ty::Vector => MeasureValue::Vector([push(0), push(1), push(2)]),
+            Ty::Scalar => MeasureValue::Scalar(push(0)),
+            Ty::Vector => MeasureValue::Vector([push(0), push(1), push(2)]),
         })
     }
 }

@@ -2,12 +2,12 @@
 //! element removes (multibody spec §4.2).
 
 use super::*;
-use crate::mbd::equations::{ElementKind, ElementRef, JointType, JprimType};
 use crate::mbd::expr::Closure;
-use crate::mbd::math::{Mat3, Vec3};
 use crate::mbd::measures::Measure;
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{MarkerHandle, System};
+use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
+use crate::vocab::math::{Mat3, Vec3};
 use proptest::prelude::*;
 
 /// Every measure kind's derivatives against central differences of its value.

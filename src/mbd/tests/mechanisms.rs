@@ -3,13 +3,13 @@
 
 use super::*;
 use crate::mbd::assembly::AssemblyOptions;
-use crate::mbd::equations::{ElementKind, ElementRef, JointType, JprimType};
 use crate::mbd::expr::Closure;
-use crate::mbd::math::{Mat3, Vec3};
 use crate::mbd::measures::Measure;
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{Dimension, PartHandle, System};
 use crate::mbd::AssemblyError;
+use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
+use crate::vocab::math::{Mat3, Vec3};
 use std::f64::consts::PI;
 
 #[test]

@@ -9,10 +9,10 @@ mod jacobians;
 mod measures;
 mod mechanisms;
 
-use super::equations::{ElementKind, ElementRef, JointType};
 use super::expr::{Closure, ExprFn};
-use super::math::{DMat, Mat3, Vec3};
 use super::system::{MarkerHandle, System};
+use crate::vocab::elements::{ElementKind, ElementRef, JointType};
+use crate::vocab::math::{DMat, Mat3, Vec3};
 
 pub(super) fn rz(a: f64) -> Mat3 {
     *nalgebra::Rotation3::from_axis_angle(&Vec3::z_axis(), a).matrix()

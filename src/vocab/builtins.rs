@@ -2,10 +2,10 @@
 //! argument kinds, result type, meaning and a one-line doc.
 //!
 //! One table serves the lexer (is this a function name?), the checker (arity, kinds,
-//! types), both back ends (which runtime function), the REPL's `:help` and completion, and
-//! the "did you mean" hints.
+//! types), both back ends (which runtime function), the model's measure slots, the REPL's
+//! `:help` and completion, and the "did you mean" hints.
 
-use crate::ir::func::Func;
+use super::func::Func;
 use rustc_hash::FxHashMap;
 use std::sync::OnceLock;
 

@@ -1,6 +1,7 @@
-//! The runtime functions an IR `Call` can name, and how to evaluate each one through the
-//! `mbfx-runtime` crate. The constant folder and the interpreter both evaluate through
-//! [`Func::eval`], so folding gives exactly the bits that evaluation would.
+//! The runtime functions a builtin can stand for and an IR `Call` can name, and how to
+//! evaluate each one through the `mbfx-runtime` crate (its only import). The constant
+//! folder and the interpreter both evaluate through [`Func::eval`], so folding gives
+//! exactly the bits that evaluation would; the JIT calls [`Func::symbol`].
 
 use mbfx_runtime as rt;
 
