@@ -233,8 +233,10 @@ pub struct Dynamics {
     pub a: DVec,
     pub lambda: DVec,
     pub stats: Stats,
-    lu: SparseLu,
-    values: Vec<f64>,
+    /// The Newton matrix's factors, and the saddle-point matrix's of the outputs'
+    /// reconciliation: separate, so an output does not cost the integrator its
+    /// factorization.
+    factors: [Factors; 2],
     /// Counts factorizations, so an integrator can tell whether the factors it reuses
     /// are still its own.
     pub factor_generation: u64,
@@ -247,8 +249,21 @@ pub struct Dynamics {
     planar_mass: Option<Vec<Mat3Block>>,
     /// Buffers of one row's evaluation, reused.
     row_scratch: super::constraints::RowEval,
-    /// The Schur-complement solver when no force element couples two parts, and
-    /// whether the last factorization went through it.
+}
+
+/// Which factorization: the integrator's Newton matrix or the outputs' saddle point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Which {
+    Newton = 0,
+    Saddle = 1,
+}
+
+/// One factorization of the Newton matrix: the full LU on the pattern and, when no
+/// force element couples two parts, the Schur-complement solver; `via_schur` says which
+/// one holds the last factors.
+struct Factors {
+    lu: SparseLu,
+    values: Vec<f64>,
     schur: Option<schur::Schur>,
     via_schur: bool,
 }
@@ -281,9 +296,17 @@ impl Dynamics {
             })
             .collect();
         let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
-        let values = vec![0.0; pattern.nnz()];
-        let lu = SparseLu::new(pattern)
-            .map_err(|_| DynError::Setup("the Newton matrix has no valid structure".into()))?;
+        let factors = |pattern: Pattern| -> Result<Factors, DynError> {
+            Ok(Factors {
+                values: vec![0.0; pattern.nnz()],
+                lu: SparseLu::new(pattern).map_err(|_| {
+                    DynError::Setup("the Newton matrix has no valid structure".into())
+                })?,
+                schur: None,
+                via_schur: false,
+            })
+        };
+        let factors = [factors(pattern.clone())?, factors(pattern)?];
         let mut d = Dynamics {
             sys,
             forces,
@@ -294,18 +317,17 @@ impl Dynamics {
             a: DVec::zeros(n),
             lambda: DVec::zeros(m),
             stats: Stats::default(),
-            lu,
-            values,
+            factors,
             factor_generation: 0,
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
             jac,
             row_scratch: Default::default(),
             planar_mass: None,
-            schur: None,
-            via_schur: false,
         };
-        d.schur = d.schur_solver();
+        for f in 0..2 {
+            d.factors[f].schur = d.schur_solver();
+        }
         if d.sys.dim == Dimension::Two {
             d.planar_mass = Some(d.mass_blocks().into_owned());
         }
@@ -427,11 +449,11 @@ impl Dynamics {
     pub fn eval_constraints(&mut self, jacobian: bool) -> Result<(), MbdError> {
         let bs = self.sys.dim.cols();
         for (r, &(e, q)) in self.rows.iter().enumerate() {
-            if jacobian {
-                // The primitives (nearly every row of a jointed model) write their blocks
-                // directly.
-                if let Some((value, sides)) = self.sys.primitive_blocks(e, q) {
-                    self.phi[r] = value;
+            // The primitives (nearly every row of a jointed model) write their blocks
+            // directly.
+            if let Some((value, sides)) = self.sys.primitive_blocks(e, q) {
+                self.phi[r] = value;
+                if jacobian {
                     self.jac.clear_row(r);
                     for (part, g) in sides {
                         let Some(i) = self.sys.part(part).index else {
@@ -443,8 +465,8 @@ impl Dynamics {
                             *b += x;
                         }
                     }
-                    continue;
                 }
+                continue;
             }
             if matches!(
                 self.sys.elements[e].eqs[q].row,
@@ -584,6 +606,10 @@ impl Dynamics {
     /// Fills and factors the Newton matrix with weights `w` from the last evaluations of
     /// constraints (with Jacobian) and forces (with Jacobians).
     pub fn factor(&mut self, w: Weights) -> Result<(), DynError> {
+        self.factor_into(Which::Newton, w)
+    }
+
+    fn factor_into(&mut self, which: Which, w: Weights) -> Result<(), DynError> {
         // Where the constraints lose rank for an instant (a four-bar passing its dead
         // centre), the saddle-point matrix is singular although the motion goes on. A
         // regularisation −ε·I on the multipliers' block, ε = 1e-10 of the Schur complement's
@@ -591,14 +617,7 @@ impl Dynamics {
         // converged step still solves the equations exactly. A row whose Jacobian has
         // vanished altogether constrains nothing any more: that is reported.
         let time = self.sys.time;
-        if let Some(r) = self.vanished_row() {
-            return Err(DynError::Singular {
-                time,
-                what: "this constraint's Jacobian vanishes: it no longer constrains anything"
-                    .into(),
-                culprit: Some(self.row_culprit(r)),
-            });
-        }
+        self.check_rows()?;
         let top = self.jac.row_amax().into_iter().fold(0.0f64, f64::max);
         let blocks = self.mass_blocks().into_owned();
         let heaviest = blocks
@@ -610,9 +629,12 @@ impl Dynamics {
             .fold(0.0f64, f64::max);
         let eps = 1e-10 * w.w_l * top * top / heaviest.max(f64::MIN_POSITIVE);
         self.stats.factorizations += 1;
-        self.factor_generation += 1;
-        self.via_schur = false;
-        if let Some(schur) = &mut self.schur {
+        if which == Which::Newton {
+            self.factor_generation += 1;
+        }
+        let f = &mut self.factors[which as usize];
+        f.via_schur = false;
+        if let Some(schur) = &mut f.schur {
             let all_finite = self
                 .gen
                 .dq
@@ -621,14 +643,15 @@ impl Dynamics {
                 .all(|e| e.2.is_finite());
             if all_finite && top.is_finite() {
                 if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, w, eps) {
-                    self.via_schur = true;
+                    f.via_schur = true;
                     return Ok(());
                 }
             }
         }
         drop(blocks);
-        self.fill_full(w, eps);
-        let factored = self.lu.factor(&self.values);
+        self.fill_full(which, w, eps);
+        let f = &mut self.factors[which as usize];
+        let factored = f.lu.factor(&f.values);
         let culprit = if factored.is_err() {
             self.singular_culprit()
         } else {
@@ -648,61 +671,83 @@ impl Dynamics {
         })
     }
 
+    /// A kept row whose Jacobian vanished at the last evaluation constrains nothing any
+    /// more: the Newton matrix is singular there, even while an older factorization
+    /// still converges.
+    pub fn check_rows(&self) -> Result<(), DynError> {
+        match self.vanished_row() {
+            Some(r) => Err(DynError::Singular {
+                time: self.sys.time,
+                what: "this constraint's Jacobian vanishes: it no longer constrains anything"
+                    .into(),
+                culprit: Some(self.row_culprit(r)),
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Fills the full saddle-point matrix with weights `w` and regularisation `eps`.
-    fn fill_full(&mut self, w: Weights, eps: f64) {
-        self.values.fill(0.0);
+    fn fill_full(&mut self, which: Which, w: Weights, eps: f64) {
+        let blocks = self.mass_blocks().into_owned();
+        let f = &mut self.factors[which as usize];
+        let values = &mut f.values;
+        values.fill(0.0);
         let n = self.n;
         let bs = self.sys.dim.cols();
-        let pat = self.lu.pattern();
+        let pat = f.lu.pattern();
         let add = |vals: &mut Vec<f64>, r: usize, c: usize, x: f64| {
             if let Some(s) = pat.slot(r, c) {
                 vals[s] += x;
             }
         };
-        for p in &self.sys.parts {
-            let Some(i) = p.index else { continue };
+        for (i, block) in blocks.iter().enumerate() {
             let b = i * bs;
-            match self.mass_block(p) {
+            match *block {
                 Mat3Block::Three(m, j) => {
                     for c in 0..3 {
-                        add(&mut self.values, b + c, b + c, w.w_m * m);
+                        add(values, b + c, b + c, w.w_m * m);
                         for r in 0..3 {
-                            add(&mut self.values, b + 3 + r, b + 3 + c, w.w_m * j[(r, c)]);
+                            add(values, b + 3 + r, b + 3 + c, w.w_m * j[(r, c)]);
                         }
                     }
                 }
                 Mat3Block::Two(m, j) => {
-                    add(&mut self.values, b, b, w.w_m * m);
-                    add(&mut self.values, b + 1, b + 1, w.w_m * m);
-                    add(&mut self.values, b + 2, b + 2, w.w_m * j);
+                    add(values, b, b, w.w_m * m);
+                    add(values, b + 1, b + 1, w.w_m * m);
+                    add(values, b + 2, b + 2, w.w_m * j);
                 }
             }
         }
         if w.w_k != 0.0 {
             for &(r, c, x) in &self.gen.dq {
-                add(&mut self.values, r, c, -w.w_k * x);
+                add(values, r, c, -w.w_k * x);
             }
         }
         if w.w_c != 0.0 {
             for &(r, c, x) in &self.gen.dv {
-                add(&mut self.values, r, c, -w.w_c * x);
+                add(values, r, c, -w.w_c * x);
             }
         }
         for (r, c, x) in self.jac.entries() {
-            add(&mut self.values, n + r, c, x);
-            add(&mut self.values, c, n + r, w.w_l * x);
+            add(values, n + r, c, x);
+            add(values, c, n + r, w.w_l * x);
         }
         for r in 0..self.m {
-            add(&mut self.values, n + r, n + r, -eps);
+            add(values, n + r, n + r, -eps);
         }
     }
 
     /// Solves the factored Newton matrix in place.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), DynError> {
+        self.solve_with(Which::Newton, rhs)
+    }
+
+    fn solve_with(&mut self, which: Which, rhs: &mut [f64]) -> Result<(), DynError> {
         let time = self.sys.time;
-        let solved = match (&mut self.schur, self.via_schur) {
+        let f = &mut self.factors[which as usize];
+        let solved = match (&mut f.schur, f.via_schur) {
             (Some(schur), true) => schur.solve(&self.jac, rhs),
-            _ => self.lu.solve(rhs),
+            _ => f.lu.solve(rhs),
         };
         let solved = solved.and_then(|()| match rhs.iter().all(|x| x.is_finite()) {
             true => Ok(()),
@@ -833,7 +878,7 @@ impl Dynamics {
     fn solve_saddle(&mut self, b: &mut [f64]) -> Result<(), DynError> {
         let n = self.n;
         let rhs = b.to_vec();
-        self.solve(b)?;
+        self.solve_with(Which::Saddle, b)?;
         for _ in 0..3 {
             let a = DVec::from_column_slice(&b[..n]);
             let lambda = DVec::from_column_slice(&b[n..]);
@@ -848,7 +893,7 @@ impl Dynamics {
                 r[n + row] -= x;
             }
             let size = b.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-            self.solve(&mut r)?;
+            self.solve_with(Which::Saddle, &mut r)?;
             let step = r.iter().fold(0.0f64, |s, x| s.max(x.abs()));
             for (x, d) in b.iter_mut().zip(&r) {
                 *x += d;
@@ -863,12 +908,15 @@ impl Dynamics {
     /// Factors [[M/UCF, Φ_qᵀ], [Φ_q, 0]] from the last constraint evaluation.
     fn factor_saddle(&mut self) -> Result<(), DynError> {
         self.stats.jacobian_evaluations += 1;
-        self.factor(Weights {
-            w_m: 1.0,
-            w_k: 0.0,
-            w_c: 0.0,
-            w_l: 1.0,
-        })
+        self.factor_into(
+            Which::Saddle,
+            Weights {
+                w_m: 1.0,
+                w_k: 0.0,
+                w_c: 0.0,
+                w_l: 1.0,
+            },
+        )
     }
 
     /// The accelerations and multipliers with the saddle-point matrix factored.

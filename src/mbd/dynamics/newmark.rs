@@ -284,6 +284,9 @@ impl Integrator for Newmark {
             d.eval_forces(refactor)?;
             d.check_forces()?;
             d.stats.newton_iterations += 1;
+            if !refactor {
+                d.check_rows()?;
+            }
             if refactor {
                 d.stats.jacobian_evaluations += 1;
                 d.factor(self.weights(h))?;

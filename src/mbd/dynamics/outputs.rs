@@ -57,6 +57,16 @@ fn axis_of(name: &str) -> u8 {
 }
 
 impl OutputSlot {
+    /// True when the slot reads velocities, accelerations or forces: the state the
+    /// outputs reconcile. Positions and orientations do not change under it.
+    pub fn reads_reconciled(&self, sys: &System) -> bool {
+        match self {
+            OutputSlot::Kinematic(m) => sys.measures.list[*m].reads_velocity(),
+            OutputSlot::EulerParameter { .. } => false,
+            _ => true,
+        }
+    }
+
     /// Resolves model slot `slot` for the dynamics: kinematic measures through the
     /// system's measure set, the rest here.
     pub fn resolve(sys: &mut System, model: &Model, slot: u32) -> Result<OutputSlot, MbdError> {
