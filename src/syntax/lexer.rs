@@ -1,6 +1,6 @@
 //! Lexer: turns expression text into `(start, Tok, end)` triples for the LALRPOP parser.
 //!
-//! Two layers. [`Raw`] is the logos token set (numbers, names, operators, blanks,
+//! Two layers. `Raw` is the logos token set (numbers, names, operators, blanks,
 //! continuation joins, comments). [`lex`] then walks the raw tokens once and applies the
 //! rules that need a neighbour: a name directly followed by `(` is a call (a blank in
 //! between is diagnosed, spec §1.4); a number must not run into a letter or digit

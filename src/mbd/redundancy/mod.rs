@@ -18,7 +18,7 @@
 //! scaled (mm vs m models, or any length the caller divided translational rows by). A row
 //! is dependent when its residual after elimination is at most [`Options::tolerance`]
 //! (default 1e-8): its distance to the span of the kept rows is then at most that, relative
-//! to its own length. See [`factor`] for the elimination.
+//! to its own length. See the `factor` module for the elimination.
 
 mod catalogue;
 mod factor;
