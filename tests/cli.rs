@@ -984,3 +984,28 @@ fn check_says_when_an_expression_file_looks_like_a_dataset_and_refuses_dim() {
     let r = check(Path::new(expressions));
     assert!(!r.stderr.contains("hint:"), "{}", r.describe());
 }
+
+#[test]
+fn comment_lines_may_stand_between_continuation_lines() {
+    // Issue 11 §4: `1`, a `!` comment line, then `, +1` was refused with a help asking for
+    // the comma in column one that the input had. A dataset's reader skips comment lines
+    // between a statement's lines; expressions now do too, in files and datasets alike.
+    let file = scratch_file("continued.txt", b"1\n! a note\n, +1\n");
+    let r = check(&file);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(
+        r.stdout.ends_with("1 expressions; 0 errors, 0 warnings\n"),
+        "{}",
+        r.describe()
+    );
+    let dataset = scratch_file(
+        "continued.adm",
+        b"comment lines inside a FUNCTION\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+          PART/2, MASS = 1, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+          JOINT/1, TRANSLATIONAL, I = 20, J = 10\n\
+          SFORCE/1, TRANSLATION, I = 20, J = 10, FUNCTION = 1\n! a note\n\n, + 1\nEND\n",
+    );
+    let r = check(&dataset);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(!r.stderr.contains("E0101"), "{}", r.describe());
+}
