@@ -917,6 +917,21 @@ fn many_diagnostics_cost_time_linear_in_their_number() {
 }
 
 #[test]
+fn repl_answers_an_input_still_open_at_end_of_input() {
+    // Issue 11 §4: `SIN(1` and then the end of input was dropped silently, while a
+    // trailing `1+` was reported.
+    for input in ["SIN(1", "SIN(1\n", "1+1\nSIN(1,\n"] {
+        let r = mbfx_with_input(&["repl"], Some(input));
+        assert_eq!(r.code, 0, "{input:?}\n{}", r.describe());
+        assert!(
+            r.stdout.contains("[E0202] Error: missing `)`"),
+            "{input:?}\n{}",
+            r.describe()
+        );
+    }
+}
+
+#[test]
 fn repl_reports_a_line_that_is_not_utf8_and_goes_on() {
     // Issue 11 §4: the session used to end silently at such a line.
     let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))

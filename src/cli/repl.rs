@@ -544,12 +544,18 @@ mod terminal {
     impl Helper for ReplHelper {}
 }
 
-/// Runs the REPL on the terminal until `:quit` or end of input; returns the exit code.
+/// Runs the REPL until `:quit` or end of input: with line editing when standard input is
+/// a terminal, else reading it line by line ([`run_lines`]); returns the exit code.
 pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     use rustyline::error::ReadlineError;
     use std::cell::RefCell;
+    use std::io::IsTerminal;
     use std::rc::Rc;
     let mut repl = Repl::new();
+    if !std::io::stdin().is_terminal() {
+        writeln!(o.out(), "{}", banner())?;
+        return run_lines(&mut repl, std::io::stdin().lock(), o);
+    }
     let names = Rc::new(RefCell::new(repl.completions()));
     let Ok(mut editor) =
         rustyline::Editor::<terminal::ReplHelper, rustyline::history::DefaultHistory>::new()
@@ -565,19 +571,12 @@ pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     if let Some(h) = &history {
         let _ = editor.load_history(h);
     }
-    writeln!(
-        o.out(),
-        "mbfx {} — :help for help, :quit to leave",
-        env!("CARGO_PKG_VERSION")
-    )?;
+    writeln!(o.out(), "{}", banner())?;
     loop {
         match editor.readline("mbfx> ") {
             Ok(line) => {
                 let _ = editor.add_history_entry(line.as_str());
-                let answer = repl.eval_line(&line);
-                if !answer.is_empty() {
-                    writeln!(o.out(), "{answer}")?;
-                }
+                reply(&mut repl, &line, o)?;
                 *names.borrow_mut() = repl.completions();
                 if repl.done {
                     break;
@@ -595,6 +594,68 @@ pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
         let _ = editor.save_history(h);
     }
     Ok(0)
+}
+
+/// The first line the REPL prints.
+fn banner() -> String {
+    format!(
+        "mbfx {} — :help for help, :quit to leave",
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
+/// Runs the REPL over `input` read line by line (standard input that is not a terminal):
+/// lines join into one input while [`needs_more`] says so, as at the terminal, and an input
+/// still open at the end of the text is answered too (`SIN(1` says its `)` is missing)
+/// instead of being dropped. A line that is not UTF-8 is reported and skipped.
+pub fn run_lines(
+    repl: &mut Repl,
+    mut input: impl std::io::BufRead,
+    o: &mut super::Output,
+) -> Result<i32, super::Stop> {
+    let mut pending = String::new();
+    let mut line = Vec::new();
+    loop {
+        line.clear();
+        match input.read_until(b'\n', &mut line) {
+            Ok(0) => break,
+            Ok(_) => {}
+            Err(e) => {
+                writeln!(o.err(), "mbfx repl: cannot read the input: {e}")?;
+                return Err(super::Stop::Failed);
+            }
+        }
+        let text = line.strip_suffix(b"\n").unwrap_or(&line);
+        let text = text.strip_suffix(b"\r").unwrap_or(text);
+        let Ok(text) = std::str::from_utf8(text) else {
+            writeln!(o.out(), "{NOT_UTF8}")?;
+            continue;
+        };
+        if !pending.is_empty() {
+            pending.push('\n');
+        }
+        pending.push_str(text);
+        if needs_more(&pending) {
+            continue;
+        }
+        reply(repl, &std::mem::take(&mut pending), o)?;
+        if repl.done {
+            return Ok(0);
+        }
+    }
+    if !pending.is_empty() {
+        reply(repl, &pending, o)?;
+    }
+    Ok(0)
+}
+
+/// Answers one input on standard output (nothing for an input with no answer).
+fn reply(repl: &mut Repl, input: &str, o: &mut super::Output) -> std::io::Result<()> {
+    let answer = repl.eval_line(input);
+    if answer.is_empty() {
+        return Ok(());
+    }
+    writeln!(o.out(), "{answer}")
 }
 
 /// The answer to an input line that is not UTF-8 text.
@@ -693,6 +754,31 @@ mod tests {
             "{failed}"
         );
         assert_eq!(r.eval_line("DX(21, 11)"), "0.3");
+    }
+
+    /// What [`run_lines`] writes to standard output for `input`, and its exit code.
+    fn answers(input: &str) -> (i32, String) {
+        let mut out = Vec::new();
+        let mut o = super::super::Output::new(Box::new(&mut out), Box::new(std::io::sink()), false);
+        let code = run_lines(&mut Repl::new(), input.as_bytes(), &mut o);
+        let code = super::super::output::finish(code, &mut o);
+        drop(o);
+        (code, String::from_utf8_lossy(&out).into_owned())
+    }
+
+    #[test]
+    fn input_still_open_at_the_end_of_the_text_is_answered() {
+        // Issue 11 §4: `SIN(1` then the end of input was dropped silently.
+        let (code, out) = answers("SIN(1");
+        assert_eq!(code, 0);
+        assert!(out.contains("E0202"), "{out}");
+        assert!(out.contains("missing `)`"), "{out}");
+        let (_, out) = answers("1+1\nSTEP(TIME, 0, 0,\n, 1,");
+        assert!(out.starts_with("2.0\n"), "{out}");
+        assert!(out.contains("missing `)`"), "{out}");
+        // Joined lines and :quit, as at the terminal; nothing after :quit is read.
+        let (_, out) = answers("STEP(0.5, 0, 0,\n1, 100)\n:quit\nSIN(");
+        assert_eq!(out, "50.0\n");
     }
 
     #[test]
