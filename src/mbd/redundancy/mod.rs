@@ -22,8 +22,11 @@
 
 mod catalogue;
 mod factor;
-#[doc(hidden)]
-pub mod fixtures;
+/// Reference mechanisms for the tests (test data shared with the bench, kept out of the
+/// library).
+#[cfg(test)]
+#[path = "../../../tests/common/redundancy_fixtures.rs"]
+mod fixtures;
 mod report;
 #[cfg(test)]
 mod tests;

@@ -15,11 +15,15 @@
 //!
 //! In 2D the columns are [v_x, v_y, ω_z]: the same rows restricted to those components.
 //! Ground (part `None`) has no columns.
+//!
+//! Test data, not library API: the redundancy unit tests (`src/mbd/redundancy/tests.rs`)
+//! and `benches/redundancy.rs` include this file through `#[path]`, and it names the
+//! library `mbfx` in both (the library's unit tests see itself under that name).
 
-use super::{analyze, AnalysisError, Options, Problem, Report};
-use crate::mbd::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType};
-use crate::mbd::math::{Mat3, Vec3};
-use crate::mbd::sparse::Triplets;
+use mbfx::mbd::equations::{ElementKind, ElementRef, Equation, EquationLabel, JointType};
+use mbfx::mbd::math::{Mat3, Vec3};
+use mbfx::mbd::redundancy::{analyze, AnalysisError, Options, Problem, Report};
+use mbfx::mbd::sparse::Triplets;
 
 /// A marker at the configuration analysed: its part (`None` for ground), origin and axes
 /// (columns x, y, z) in ground coordinates.
