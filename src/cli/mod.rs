@@ -49,6 +49,15 @@ pub enum Engine {
     Jit,
 }
 
+impl From<Engine> for crate::session::run::Engine {
+    fn from(e: Engine) -> Self {
+        match e {
+            Engine::Interp => crate::session::run::Engine::Interp,
+            Engine::Jit => crate::session::run::Engine::Jit,
+        }
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "mbfx",

@@ -2,11 +2,12 @@
 //! terminal); [`run_terminal`] wraps it in rustyline with history, multi-line input
 //! (continuation commas, open brackets) and tab completion of names and commands.
 
-use crate::check::{builtins, Expect, Variables};
-use crate::context::Context;
-use crate::diag::{render, SourceFile};
+use crate::check::{builtins, Expect};
+use crate::diag::{render, Diagnostic, SourceFile};
 use crate::interp::Program;
+use crate::session::evaluate::{EvalError, Evaluation, Evaluator};
 use crate::session::loaded::LoadedModel;
+use crate::session::run::Engine;
 use crate::session::DimRequest;
 use crate::syntax::{parser, print};
 use std::fmt::Write as _;
@@ -38,18 +39,12 @@ const COMMANDS: &[&str] = &[
 type JitListing =
     fn(&mut crate::jit::Jit, &crate::ir::Function) -> Result<String, crate::jit::JitError>;
 
-/// REPL state: variables and their values, TIME and MODE.
+/// REPL state: what expressions are evaluated against (variables, TIME and MODE, the
+/// model of `:load`; the interpreter evaluates) and whether the session is over.
 pub struct Repl {
-    scope: Variables,
-    values: Vec<f64>,
-    time: f64,
-    mode: f64,
+    e: Evaluator,
     /// Set by `:quit`.
     pub done: bool,
-    /// The JIT, made on first use.
-    jit: Option<crate::jit::Jit>,
-    /// The model of `:load`, whose measures expressions may read.
-    model: Option<LoadedModel>,
 }
 
 impl Default for Repl {
@@ -61,20 +56,15 @@ impl Default for Repl {
 impl Repl {
     pub fn new() -> Self {
         Repl {
-            scope: Variables::new(),
-            values: Vec::new(),
-            time: 0.0,
-            mode: 4.0,
+            e: Evaluator::new(Engine::Interp),
             done: false,
-            jit: None,
-            model: None,
         }
     }
 
     /// Names to complete: builtins, variables and commands.
     pub fn completions(&self) -> Vec<String> {
         let mut names: Vec<String> = builtins::all_names().map(str::to_string).collect();
-        names.extend(self.scope.names().iter().cloned());
+        names.extend(self.e.variables().names().iter().cloned());
         names.extend(COMMANDS.iter().map(|c| c.to_string()));
         names
     }
@@ -82,44 +72,26 @@ impl Repl {
     /// Compiles `text`, rendering diagnostics (spans relative to `text`) on failure.
     fn compile(&mut self, text: &str) -> Result<(Program, String), String> {
         let source = SourceFile::new("<repl>", text);
-        let compiled = match self.model.as_mut() {
-            Some(m) => m.compile(text, &self.scope),
-            None => crate::check::compile(text, &self.scope, Expect::Any),
-        };
-        match compiled {
-            Ok(c) => {
-                let warnings = if c.warnings.is_empty() {
-                    String::new()
-                } else {
-                    render(&c.warnings, &source, false)
-                };
-                Ok((Program::new(c.function), warnings))
-            }
+        match self.e.compile(text, Expect::Any) {
+            Ok(c) => Ok((Program::new(c.function), rendered(&c.warnings, &source))),
             Err(d) => Err(render(&d, &source, false)),
         }
     }
 
+    /// Evaluates `text`: its value and the warnings rendered, or why it has none.
     fn evaluate(&mut self, text: &str) -> Result<(Vec<f64>, String), String> {
-        let (program, mut notes) = self.compile(text)?;
-        let measures = match self.model.as_mut() {
-            Some(m) => m
-                .measures_for(program.function())
-                .map_err(|e| format!("error: {e}"))?,
-            None => Vec::new(),
-        };
-        let splines = self.model.as_ref().map_or(&[][..], |m| m.splines());
-        let ctx = Context::new(self.time, &self.values)
-            .with_mode(self.mode)
-            .with_measures(&measures)
-            .with_splines(splines);
-        let mut out = vec![0.0; program.function().outputs.len()];
-        program.eval_into(&ctx, &mut out);
-        if out.iter().any(|v| !v.is_finite()) {
-            if let Some(d) = super::eval::fault_diagnostic(&program, &ctx) {
-                notes.push_str(&render(&[d], &SourceFile::new("<repl>", text), false));
+        let source = SourceFile::new("<repl>", text);
+        match self.e.evaluate(text, Expect::Any) {
+            Ok(Evaluation {
+                values,
+                mut warnings,
+                fault,
+            }) => {
+                warnings.extend(fault);
+                Ok((values, rendered(&warnings, &source)))
             }
+            Err(failed) => Err(failure_text(&failed, &source)),
         }
-        Ok((out, notes))
     }
 
     /// Answers one input (possibly several physical lines joined by `\n`). A line that
@@ -149,8 +121,8 @@ impl Repl {
             }
             "help" | "h" => help(rest),
             "vars" => {
-                let mut out = format!("TIME = {:?}\nMODE = {:?}", self.time, self.mode);
-                for (n, v) in self.scope.names().iter().zip(&self.values) {
+                let mut out = format!("TIME = {:?}\nMODE = {:?}", self.e.time, self.e.mode);
+                for (n, v) in self.e.values() {
                     let _ = write!(out, "\n{n} = {v:?}");
                 }
                 out
@@ -189,7 +161,7 @@ impl Repl {
     /// What the JIT's `show` (`Jit::clif`, `Jit::asm`) lists for expression `rest`.
     fn jit_listing(&mut self, rest: &str, show: JitListing) -> String {
         match self.compile(rest) {
-            Ok((p, _)) => match self.jit().and_then(|j| show(j, p.function())) {
+            Ok((p, _)) => match self.e.jit().and_then(|j| show(j, p.function())) {
                 Ok(text) => text.trim_end().to_string(),
                 Err(e) => format!("error: {e}"),
             },
@@ -207,12 +179,7 @@ impl Repl {
         }
         match self.evaluate(expr) {
             Ok((v, notes)) if v.len() == 1 => {
-                let slot = self.scope.define(&name) as usize;
-                if slot == self.values.len() {
-                    self.values.push(v[0]);
-                } else {
-                    self.values[slot] = v[0];
-                }
+                self.e.set_variable(&name, v[0]);
                 format!("{notes}{name} = {:?}", v[0])
             }
             Ok(_) => "variables hold scalars; this is a vector".to_string(),
@@ -230,8 +197,8 @@ impl Repl {
             Err(e) => return e,
         };
         match name.trim().to_ascii_lowercase().as_str() {
-            "time" => self.time = value,
-            "mode" => self.mode = value,
+            "time" => self.e.time = value,
+            "mode" => self.e.mode = value,
             other => return format!("cannot set `{other}`; use :let for variables"),
         }
         format!("{} = {value:?}", name.trim().to_ascii_uppercase())
@@ -242,7 +209,7 @@ impl Repl {
     /// `:load FILE`: reads, assembles and analyses a dataset (2D when planar).
     fn load(&mut self, path: &str) -> String {
         if path.is_empty() {
-            return match self.model.take() {
+            return match self.e.set_model(None) {
                 Some(_) => "model unloaded".into(),
                 None => "usage: :load FILE.adm".into(),
             };
@@ -257,12 +224,12 @@ impl Repl {
                     m.analysis.redundancy.dof(),
                     s.dim_reason
                 );
-                self.model = Some(m);
+                self.e.set_model(Some(m));
                 line
             }
             Err(text) => {
                 let mut answer = text.trim_end().to_string();
-                if self.model.is_some() {
+                if self.e.model().is_some() {
                     answer.push_str(
                         "\nthe model loaded before stays loaded (`:load` alone unloads it)",
                     );
@@ -273,17 +240,10 @@ impl Repl {
     }
 
     fn listing(&self, table: fn(&LoadedModel) -> String) -> String {
-        match &self.model {
+        match self.e.model() {
             Some(m) => table(m),
             None => "no model loaded; use :load FILE.adm".into(),
         }
-    }
-
-    fn jit(&mut self) -> Result<&mut crate::jit::Jit, crate::jit::JitError> {
-        if self.jit.is_none() {
-            self.jit = Some(crate::jit::Jit::new()?);
-        }
-        self.jit.as_mut().ok_or(crate::jit::JitError::Malformed(0))
     }
 
     /// `:time EXPR`: median ns per evaluation of both back ends, and compile µs. Each
@@ -292,7 +252,7 @@ impl Repl {
     fn time_(&mut self, p: &Program) -> String {
         use std::hint::black_box;
         use std::time::Instant;
-        let jit = match self.jit() {
+        let jit = match self.e.jit() {
             Ok(j) => j,
             Err(e) => return format!("error: {e}"),
         };
@@ -302,27 +262,32 @@ impl Repl {
             Err(e) => return format!("error: {e}"),
         };
         let compile_us = t0.elapsed().as_secs_f64() * 1e6;
-        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
         let n = p.function().outputs.len();
-        let mut out = vec![0.0; n];
-        let mut per_eval = |f: &mut dyn FnMut(&mut [f64])| {
-            let t = Instant::now();
-            f(black_box(&mut out));
-            let (samples, batch) = time_plan(t.elapsed().as_secs_f64());
-            let mut ns: Vec<f64> = (0..samples)
-                .map(|_| {
-                    let t = Instant::now();
-                    for _ in 0..batch {
-                        f(black_box(&mut out));
-                    }
-                    t.elapsed().as_secs_f64() * 1e9 / batch as f64
-                })
-                .collect();
-            ns.sort_by(f64::total_cmp);
-            (ns[ns.len() / 2], samples * batch)
+        let timed = self.e.in_context(p.function(), |ctx| {
+            let mut out = vec![0.0; n];
+            let mut per_eval = |f: &mut dyn FnMut(&mut [f64])| {
+                let t = Instant::now();
+                f(black_box(&mut out));
+                let (samples, batch) = time_plan(t.elapsed().as_secs_f64());
+                let mut ns: Vec<f64> = (0..samples)
+                    .map(|_| {
+                        let t = Instant::now();
+                        for _ in 0..batch {
+                            f(black_box(&mut out));
+                        }
+                        t.elapsed().as_secs_f64() * 1e9 / batch as f64
+                    })
+                    .collect();
+                ns.sort_by(f64::total_cmp);
+                (ns[ns.len() / 2], samples * batch)
+            };
+            let interp = per_eval(&mut |o| p.eval_into(black_box(ctx), o));
+            (interp, per_eval(&mut |o| code.eval_into(black_box(ctx), o)))
+        });
+        let ((interp, n_interp), (jit, n_jit)) = match timed {
+            Ok(times) => times,
+            Err(e) => return format!("error: {e}"),
         };
-        let (interp, n_interp) = per_eval(&mut |o| p.eval_into(black_box(&ctx), o));
-        let (jit, n_jit) = per_eval(&mut |o| code.eval_into(black_box(&ctx), o));
         format!(
             "interp {interp:.1} ns/eval, jit {jit:.1} ns/eval ({:.1}× faster); jit compile \
              {compile_us:.0} µs\n(medians over {n_interp} and {n_jit} evaluations, at most \
@@ -341,7 +306,8 @@ impl Repl {
             Input::Time
         } else {
             match self
-                .scope
+                .e
+                .variables()
                 .names()
                 .iter()
                 .position(|n| n.eq_ignore_ascii_case(var))
@@ -360,7 +326,7 @@ impl Repl {
             Ok(g) => g,
             Err(e) => return format!("error: {e}"),
         };
-        let names = self.scope.names().to_vec();
+        let names = self.e.variables().names().to_vec();
         let name = |s: u32| {
             names
                 .get(s as usize)
@@ -368,10 +334,13 @@ impl Repl {
                 .unwrap_or_else(|| format!("var[{s}]"))
         };
         let n = p.function().outputs.len();
-        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
-        let mut values = vec![0.0; g.outputs.len()];
         let program = Program::new(g);
-        program.eval_into(&ctx, &mut values);
+        let mut values = vec![0.0; program.function().outputs.len()];
+        if let Err(e) = self.e.in_context(program.function(), |ctx| {
+            program.eval_into(ctx, &mut values)
+        }) {
+            return format!("error: {e}");
+        }
         let mut lines = Vec::new();
         for i in 0..n {
             let text = crate::ir::print::expression(program.function(), n + i, &name, 4000)
@@ -451,6 +420,23 @@ fn help(name: &str) -> String {
         Some(b) => b.doc.to_string(),
         None => format!("no builtin named {upper}"),
     }
+}
+
+/// Diagnostics rendered without colour (nothing for none).
+fn rendered(diags: &[Diagnostic], source: &SourceFile) -> String {
+    if diags.is_empty() {
+        return String::new();
+    }
+    render(diags, source, false)
+}
+
+/// Why an expression has no value, as the REPL answers it.
+fn failure_text(failed: &EvalError, source: &SourceFile) -> String {
+    let mut text = rendered(failed.diagnostics(), source);
+    if let Some(why) = failed.failure() {
+        text.push_str(&format!("error: {why}"));
+    }
+    text
 }
 
 /// Joins the physical lines of one REPL input: `\n,` continuations stay for the lexer,
@@ -754,6 +740,25 @@ mod tests {
             "{failed}"
         );
         assert_eq!(r.eval_line("DX(21, 11)"), "0.3");
+        // :deriv and :time evaluate with the model's measures too (they read none before).
+        assert!(r
+            .eval_line(":deriv DX(21, 11)*TIME TIME")
+            .ends_with("= 0.3 here"));
+        assert!(r.eval_line(":time DX(21, 11)").contains("ns/eval"));
+    }
+
+    #[test]
+    fn a_nan_if_test_is_an_error_with_no_value() {
+        let mut r = Repl::new();
+        let answer = r.eval_line("IF(0/0: 1, 2, 3)");
+        assert!(answer.contains("[E0402] Error"), "{answer}");
+        assert!(!answer.ends_with("NaN"), "{answer}");
+        assert!(r.eval_line(":let a = IF(0/0: 1, 2, 3)").contains("E0402"));
+        assert!(r.eval_line("a").contains("E0302"));
+        // Any other non-finite value is printed, after its warning.
+        let answer = r.eval_line("LOG(0)");
+        assert!(answer.contains("[W0401] Warning"), "{answer}");
+        assert!(answer.ends_with("-inf"), "{answer}");
     }
 
     /// What [`run_lines`] writes to standard output for `input`, and its exit code.

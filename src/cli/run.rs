@@ -5,12 +5,12 @@
 //! A failure is a diagnostic at the statement of the element it names, with the time and
 //! the cause; the rows before it are written; the exit code is 1.
 
-use super::check_file::read_dataset;
 use super::output::{Named, Output, Stop};
 use crate::diag::{Code, Diagnostic, SourceFile};
 use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
-use crate::session::run::{Engine, Method, RunFailure, RunSpec, Simulation, Summary};
+use crate::session::files::read_dataset;
+use crate::session::run::{Method, RunFailure, RunSpec, Simulation, Summary};
 use crate::session::{report, DimRequest};
 use std::io::Write;
 use std::path::PathBuf;
@@ -158,10 +158,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     (spec.error, spec.hmax, spec.hinit, spec.hmin) = (a.error, a.hmax, a.hinit, a.hmin);
     (spec.fixed_step, spec.alpha, spec.rho_inf) = (a.fixed_step, a.alpha, a.rho_inf);
     spec.dim = super::eval::dim_request(a.dim.as_deref());
-    spec.engine = match a.engine {
-        super::Engine::Jit => Engine::Jit,
-        super::Engine::Interp => Engine::Interp,
-    };
+    spec.engine = a.engine.into();
     let source = SourceFile::new(name.clone(), text.clone());
     o.diagnostics(&warnings, &source)?;
     let mut sim = match Simulation::new(&text, spec, &probes) {
