@@ -1024,3 +1024,38 @@ fn comment_lines_may_stand_between_continuation_lines() {
     assert_eq!(r.code, 0, "{}", r.describe());
     assert!(!r.stderr.contains("E0101"), "{}", r.describe());
 }
+
+#[test]
+fn dim_takes_2_or_3_on_every_command() {
+    // `--dim` is one clap value enum for check, run and eval: the same spellings, the same
+    // refusal of anything else, listed in each command's help.
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    for args in [
+        &["check", "--dim", "4", slider][..],
+        &["run", slider, "--end", "1", "--dim", "two"],
+        &["eval", "--model", slider, "--dim", "3D", "1"],
+    ] {
+        let r = mbfx(args);
+        assert_eq!(r.code, 1, "{args:?}\n{}", r.describe());
+        assert!(
+            r.stderr.contains("[possible values: 2, 3]"),
+            "{args:?}\n{}",
+            r.describe()
+        );
+    }
+    for command in ["check", "run", "eval"] {
+        let r = mbfx(&[command, "--help"]);
+        assert!(
+            r.stdout.contains("--dim <2|3>"),
+            "{command}\n{}",
+            r.describe()
+        );
+    }
+    let r = eval(&["--model", slider, "--dim", "3", "DX(21, 11)"]);
+    assert_eq!(
+        (r.code, r.stdout.as_str()),
+        (0, "0.3\n"),
+        "{}",
+        r.describe()
+    );
+}

@@ -6,6 +6,7 @@
 //! as each expression is checked, so a big file reports while it is read.
 
 use super::output::{Output, Stop};
+use super::Dim;
 use crate::check::{self, Expect, Scope};
 use crate::diag::{Code, Diagnostic, Severity, SourceFile};
 use crate::session;
@@ -21,8 +22,8 @@ pub struct CheckArgs {
     vars: Vec<String>,
     /// For a dataset: build the multibody system in 2D (an error when the scene is not
     /// planar) or 3D; by default 2D when the scene is planar.
-    #[arg(long, value_name = "2|3", value_parser = ["2", "3"])]
-    dim: Option<String>,
+    #[arg(long, value_enum, value_name = "2|3")]
+    dim: Option<Dim>,
     /// An expression file or an .adm dataset.
     file: PathBuf,
 }
@@ -148,7 +149,7 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
         let sections = if crate::diag::has_errors(&diags) {
             Vec::new()
         } else {
-            let asked = super::eval::dim_request(a.dim.as_deref());
+            let asked = Dim::request(a.dim);
             match session::analyze_model(&read.model, asked) {
                 Ok(analysis) => session::report::sections(&analysis, asked),
                 Err(f) => {

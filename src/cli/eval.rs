@@ -2,7 +2,7 @@
 //! printed; also the command-line inputs (`--time`, `--var`) other commands share.
 
 use super::output::{Output, Stop};
-use super::Engine;
+use super::{Dim, Engine};
 use crate::check::Expect;
 use crate::diag::{render, Code, Diagnostic, SourceFile};
 use crate::session::evaluate::{EvalError, Evaluator};
@@ -27,20 +27,11 @@ pub struct EvalArgs {
     model: Option<std::path::PathBuf>,
     /// With --model: build the system in 2D (an error when the scene is not planar) or 3D;
     /// by default 2D when the scene is planar.
-    #[arg(long, value_name = "2|3", value_parser = ["2", "3"], requires = "model")]
-    dim: Option<String>,
+    #[arg(long, value_enum, value_name = "2|3", requires = "model")]
+    dim: Option<Dim>,
     /// The expression.
     #[arg(allow_hyphen_values = true)]
     expr: String,
-}
-
-/// `--dim` as the session's request.
-pub fn dim_request(dim: Option<&str>) -> DimRequest {
-    match dim {
-        Some("2") => DimRequest::Two,
-        Some("3") => DimRequest::Three,
-        _ => DimRequest::Auto,
-    }
 }
 
 /// Loads `path` as the model expressions read; the error is the rendered diagnostics (or
@@ -134,7 +125,7 @@ pub fn run(a: &EvalArgs, o: &mut Output) -> Result<i32, Stop> {
     define_variables(&a.vars, &mut e, o)?;
     e.engine = a.engine.into();
     if let Some(path) = &a.model {
-        match load_model(path, dim_request(a.dim.as_deref()), o.color) {
+        match load_model(path, Dim::request(a.dim), o.color) {
             Ok(m) => e.set_model(Some(m)),
             Err(text) => {
                 o.err().write_all(text.as_bytes())?;
