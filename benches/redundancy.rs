@@ -8,10 +8,15 @@
 //! Run: `cargo bench --bench redundancy`.
 
 use criterion::Criterion;
-use mbfx::mbd::redundancy::fixtures::n_four_bar;
+use fixtures::n_four_bar;
 use mbfx::mbd::redundancy::{analyze, Options, Problem};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
+
+/// The reference mechanisms of the redundancy unit tests.
+#[allow(dead_code, reason = "the bench uses one of the mechanisms")]
+#[path = "../tests/common/redundancy_fixtures.rs"]
+mod fixtures;
 
 struct Case {
     n: usize,

@@ -917,6 +917,21 @@ fn many_diagnostics_cost_time_linear_in_their_number() {
 }
 
 #[test]
+fn repl_answers_an_input_still_open_at_end_of_input() {
+    // Issue 11 §4: `SIN(1` and then the end of input was dropped silently, while a
+    // trailing `1+` was reported.
+    for input in ["SIN(1", "SIN(1\n", "1+1\nSIN(1,\n"] {
+        let r = mbfx_with_input(&["repl"], Some(input));
+        assert_eq!(r.code, 0, "{input:?}\n{}", r.describe());
+        assert!(
+            r.stdout.contains("[E0202] Error: missing `)`"),
+            "{input:?}\n{}",
+            r.describe()
+        );
+    }
+}
+
+#[test]
 fn repl_reports_a_line_that_is_not_utf8_and_goes_on() {
     // Issue 11 §4: the session used to end silently at such a line.
     let mut child = Command::new(env!("CARGO_BIN_EXE_mbfx"))
@@ -983,4 +998,64 @@ fn check_says_when_an_expression_file_looks_like_a_dataset_and_refuses_dim() {
     // A good expression file gives no hint.
     let r = check(Path::new(expressions));
     assert!(!r.stderr.contains("hint:"), "{}", r.describe());
+}
+
+#[test]
+fn comment_lines_may_stand_between_continuation_lines() {
+    // Issue 11 §4: `1`, a `!` comment line, then `, +1` was refused with a help asking for
+    // the comma in column one that the input had. A dataset's reader skips comment lines
+    // between a statement's lines; expressions now do too, in files and datasets alike.
+    let file = scratch_file("continued.txt", b"1\n! a note\n, +1\n");
+    let r = check(&file);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(
+        r.stdout.ends_with("1 expressions; 0 errors, 0 warnings\n"),
+        "{}",
+        r.describe()
+    );
+    let dataset = scratch_file(
+        "continued.adm",
+        b"comment lines inside a FUNCTION\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+          PART/2, MASS = 1, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+          JOINT/1, TRANSLATIONAL, I = 20, J = 10\n\
+          SFORCE/1, TRANSLATION, I = 20, J = 10, FUNCTION = 1\n! a note\n\n, + 1\nEND\n",
+    );
+    let r = check(&dataset);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(!r.stderr.contains("E0101"), "{}", r.describe());
+}
+
+#[test]
+fn dim_takes_2_or_3_on_every_command() {
+    // `--dim` is one clap value enum for check, run and eval: the same spellings, the same
+    // refusal of anything else, listed in each command's help.
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    for args in [
+        &["check", "--dim", "4", slider][..],
+        &["run", slider, "--end", "1", "--dim", "two"],
+        &["eval", "--model", slider, "--dim", "3D", "1"],
+    ] {
+        let r = mbfx(args);
+        assert_eq!(r.code, 1, "{args:?}\n{}", r.describe());
+        assert!(
+            r.stderr.contains("[possible values: 2, 3]"),
+            "{args:?}\n{}",
+            r.describe()
+        );
+    }
+    for command in ["check", "run", "eval"] {
+        let r = mbfx(&[command, "--help"]);
+        assert!(
+            r.stdout.contains("--dim <2|3>"),
+            "{command}\n{}",
+            r.describe()
+        );
+    }
+    let r = eval(&["--model", slider, "--dim", "3", "DX(21, 11)"]);
+    assert_eq!(
+        (r.code, r.stdout.as_str()),
+        (0, "0.3\n"),
+        "{}",
+        r.describe()
+    );
 }

@@ -6,9 +6,12 @@
 //! as each expression is checked, so a big file reports while it is read.
 
 use super::output::{Output, Stop};
+use super::Dim;
 use crate::check::{self, Expect, Scope};
 use crate::diag::{Code, Diagnostic, Severity, SourceFile};
 use crate::session;
+use crate::session::evaluate::Evaluator;
+use crate::session::files::{read_dataset, read_text};
 use std::ops::Range;
 use std::path::PathBuf;
 
@@ -19,52 +22,10 @@ pub struct CheckArgs {
     vars: Vec<String>,
     /// For a dataset: build the multibody system in 2D (an error when the scene is not
     /// planar) or 3D; by default 2D when the scene is planar.
-    #[arg(long, value_name = "2|3", value_parser = ["2", "3"])]
-    dim: Option<String>,
+    #[arg(long, value_enum, value_name = "2|3")]
+    dim: Option<Dim>,
     /// An expression file or an .adm dataset.
     file: PathBuf,
-}
-
-/// A file that could not be read as text, with the diagnostic that says why.
-pub struct Unreadable {
-    pub source: SourceFile,
-    pub diagnostic: Diagnostic,
-}
-
-fn read_bytes(path: &std::path::Path) -> Result<Vec<u8>, Box<Unreadable>> {
-    let name = path.display().to_string();
-    std::fs::read(path).map_err(|e| {
-        Box::new(Unreadable {
-            diagnostic: Diagnostic::error(Code::Io, 0..0, format!("cannot read {name}: {e}")),
-            source: SourceFile::new(name.clone(), ""),
-        })
-    })
-}
-
-/// Reads an expression file as UTF-8 text, or explains why it cannot be read.
-pub fn read_text(path: &std::path::Path) -> Result<String, Box<Unreadable>> {
-    let bytes = read_bytes(path)?;
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        let lossy = String::from_utf8_lossy(e.as_bytes()).into_owned();
-        Box::new(Unreadable {
-            source: SourceFile::new(path.display().to_string(), lossy),
-            diagnostic: Diagnostic::error(
-                Code::Encoding,
-                at..at + 1,
-                "the file is not valid UTF-8 text",
-            )
-            .with_help("expressions are ASCII text"),
-        })
-    })
-}
-
-/// Reads a dataset: bytes that are not UTF-8 are read as Latin-1 with a warning (some
-/// generated `.adm` files carry Latin-1 comments).
-pub fn read_dataset(path: &std::path::Path) -> Result<(String, Vec<Diagnostic>), Box<Unreadable>> {
-    let bytes = read_bytes(path)?;
-    let (text, warning) = crate::model::decode(&bytes);
-    Ok((text.into_owned(), warning.into_iter().collect()))
 }
 
 /// Byte ranges of the logical expressions of an expression file: one per line, a line
@@ -151,7 +112,9 @@ impl Tally {
 }
 
 pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
-    let (scope, _) = super::eval::variables(&a.vars, 0.0, o)?;
+    let mut inputs = Evaluator::new(super::Engine::Interp.into());
+    super::eval::define_variables(&a.vars, &mut inputs, o)?;
+    let scope = inputs.variables();
     let dataset = is_dataset(&a.file);
     let read = if dataset {
         read_dataset(&a.file)
@@ -186,7 +149,7 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
         let sections = if crate::diag::has_errors(&diags) {
             Vec::new()
         } else {
-            let asked = super::eval::dim_request(a.dim.as_deref());
+            let asked = Dim::request(a.dim);
             match session::analyze_model(&read.model, asked) {
                 Ok(analysis) => session::report::sections(&analysis, asked),
                 Err(f) => {
@@ -201,7 +164,7 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
         o.out().write_all(report.as_bytes())?;
         format!("{} elements", count_elements(&read.model))
     } else {
-        let n = check_expressions(&source.text, &scope, |diags| {
+        let n = check_expressions(&source.text, scope, |diags| {
             tally.count(diags);
             o.diagnostics(diags, &source)
         })?;

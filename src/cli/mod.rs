@@ -49,6 +49,38 @@ pub enum Engine {
     Jit,
 }
 
+impl From<Engine> for crate::session::run::Engine {
+    fn from(e: Engine) -> Self {
+        match e {
+            Engine::Interp => crate::session::run::Engine::Interp,
+            Engine::Jit => crate::session::run::Engine::Jit,
+        }
+    }
+}
+
+/// `--dim`: which dimension a dataset's multibody system is built in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Dim {
+    /// 2D (an error when the scene is not planar).
+    #[value(name = "2")]
+    Two,
+    /// 3D, whatever the scene.
+    #[value(name = "3")]
+    Three,
+}
+
+impl Dim {
+    /// The session's request for an optional `--dim` (none: 2D when the scene is planar).
+    pub fn request(dim: Option<Dim>) -> crate::session::DimRequest {
+        use crate::session::DimRequest;
+        match dim {
+            None => DimRequest::Auto,
+            Some(Dim::Two) => DimRequest::Two,
+            Some(Dim::Three) => DimRequest::Three,
+        }
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "mbfx",

@@ -2,11 +2,12 @@
 //! terminal); [`run_terminal`] wraps it in rustyline with history, multi-line input
 //! (continuation commas, open brackets) and tab completion of names and commands.
 
-use crate::check::{Expect, Variables};
-use crate::context::Context;
-use crate::diag::{render, SourceFile};
+use crate::check::Expect;
+use crate::diag::{render, Diagnostic, SourceFile};
 use crate::interp::Program;
+use crate::session::evaluate::{EvalError, Evaluation, Evaluator};
 use crate::session::loaded::LoadedModel;
+use crate::session::run::Engine;
 use crate::session::DimRequest;
 use crate::syntax::{parser, print};
 use crate::vocab::builtins;
@@ -39,18 +40,12 @@ const COMMANDS: &[&str] = &[
 type JitListing =
     fn(&mut crate::jit::Jit, &crate::ir::Function) -> Result<String, crate::jit::JitError>;
 
-/// REPL state: variables and their values, TIME and MODE.
+/// REPL state: what expressions are evaluated against (variables, TIME and MODE, the
+/// model of `:load`; the interpreter evaluates) and whether the session is over.
 pub struct Repl {
-    scope: Variables,
-    values: Vec<f64>,
-    time: f64,
-    mode: f64,
+    e: Evaluator,
     /// Set by `:quit`.
     pub done: bool,
-    /// The JIT, made on first use.
-    jit: Option<crate::jit::Jit>,
-    /// The model of `:load`, whose measures expressions may read.
-    model: Option<LoadedModel>,
 }
 
 impl Default for Repl {
@@ -62,20 +57,15 @@ impl Default for Repl {
 impl Repl {
     pub fn new() -> Self {
         Repl {
-            scope: Variables::new(),
-            values: Vec::new(),
-            time: 0.0,
-            mode: 4.0,
+            e: Evaluator::new(Engine::Interp),
             done: false,
-            jit: None,
-            model: None,
         }
     }
 
     /// Names to complete: builtins, variables and commands.
     pub fn completions(&self) -> Vec<String> {
         let mut names: Vec<String> = builtins::all_names().map(str::to_string).collect();
-        names.extend(self.scope.names().iter().cloned());
+        names.extend(self.e.variables().names().iter().cloned());
         names.extend(COMMANDS.iter().map(|c| c.to_string()));
         names
     }
@@ -83,44 +73,26 @@ impl Repl {
     /// Compiles `text`, rendering diagnostics (spans relative to `text`) on failure.
     fn compile(&mut self, text: &str) -> Result<(Program, String), String> {
         let source = SourceFile::new("<repl>", text);
-        let compiled = match self.model.as_mut() {
-            Some(m) => m.compile(text, &self.scope),
-            None => crate::check::compile(text, &self.scope, Expect::Any),
-        };
-        match compiled {
-            Ok(c) => {
-                let warnings = if c.warnings.is_empty() {
-                    String::new()
-                } else {
-                    render(&c.warnings, &source, false)
-                };
-                Ok((Program::new(c.function), warnings))
-            }
+        match self.e.compile(text, Expect::Any) {
+            Ok(c) => Ok((Program::new(c.function), rendered(&c.warnings, &source))),
             Err(d) => Err(render(&d, &source, false)),
         }
     }
 
+    /// Evaluates `text`: its value and the warnings rendered, or why it has none.
     fn evaluate(&mut self, text: &str) -> Result<(Vec<f64>, String), String> {
-        let (program, mut notes) = self.compile(text)?;
-        let measures = match self.model.as_mut() {
-            Some(m) => m
-                .measures_for(program.function())
-                .map_err(|e| format!("error: {e}"))?,
-            None => Vec::new(),
-        };
-        let splines = self.model.as_ref().map_or(&[][..], |m| m.splines());
-        let ctx = Context::new(self.time, &self.values)
-            .with_mode(self.mode)
-            .with_measures(&measures)
-            .with_splines(splines);
-        let mut out = vec![0.0; program.function().outputs.len()];
-        program.eval_into(&ctx, &mut out);
-        if out.iter().any(|v| !v.is_finite()) {
-            if let Some(d) = super::eval::fault_diagnostic(&program, &ctx) {
-                notes.push_str(&render(&[d], &SourceFile::new("<repl>", text), false));
+        let source = SourceFile::new("<repl>", text);
+        match self.e.evaluate(text, Expect::Any) {
+            Ok(Evaluation {
+                values,
+                mut warnings,
+                fault,
+            }) => {
+                warnings.extend(fault);
+                Ok((values, rendered(&warnings, &source)))
             }
+            Err(failed) => Err(failure_text(&failed, &source)),
         }
-        Ok((out, notes))
     }
 
     /// Answers one input (possibly several physical lines joined by `\n`). A line that
@@ -150,8 +122,8 @@ impl Repl {
             }
             "help" | "h" => help(rest),
             "vars" => {
-                let mut out = format!("TIME = {:?}\nMODE = {:?}", self.time, self.mode);
-                for (n, v) in self.scope.names().iter().zip(&self.values) {
+                let mut out = format!("TIME = {:?}\nMODE = {:?}", self.e.time, self.e.mode);
+                for (n, v) in self.e.values() {
                     let _ = write!(out, "\n{n} = {v:?}");
                 }
                 out
@@ -190,7 +162,7 @@ impl Repl {
     /// What the JIT's `show` (`Jit::clif`, `Jit::asm`) lists for expression `rest`.
     fn jit_listing(&mut self, rest: &str, show: JitListing) -> String {
         match self.compile(rest) {
-            Ok((p, _)) => match self.jit().and_then(|j| show(j, p.function())) {
+            Ok((p, _)) => match self.e.jit().and_then(|j| show(j, p.function())) {
                 Ok(text) => text.trim_end().to_string(),
                 Err(e) => format!("error: {e}"),
             },
@@ -208,12 +180,7 @@ impl Repl {
         }
         match self.evaluate(expr) {
             Ok((v, notes)) if v.len() == 1 => {
-                let slot = self.scope.define(&name) as usize;
-                if slot == self.values.len() {
-                    self.values.push(v[0]);
-                } else {
-                    self.values[slot] = v[0];
-                }
+                self.e.set_variable(&name, v[0]);
                 format!("{notes}{name} = {:?}", v[0])
             }
             Ok(_) => "variables hold scalars; this is a vector".to_string(),
@@ -231,8 +198,8 @@ impl Repl {
             Err(e) => return e,
         };
         match name.trim().to_ascii_lowercase().as_str() {
-            "time" => self.time = value,
-            "mode" => self.mode = value,
+            "time" => self.e.time = value,
+            "mode" => self.e.mode = value,
             other => return format!("cannot set `{other}`; use :let for variables"),
         }
         format!("{} = {value:?}", name.trim().to_ascii_uppercase())
@@ -243,7 +210,7 @@ impl Repl {
     /// `:load FILE`: reads, assembles and analyses a dataset (2D when planar).
     fn load(&mut self, path: &str) -> String {
         if path.is_empty() {
-            return match self.model.take() {
+            return match self.e.set_model(None) {
                 Some(_) => "model unloaded".into(),
                 None => "usage: :load FILE.adm".into(),
             };
@@ -258,12 +225,12 @@ impl Repl {
                     m.analysis.redundancy.dof(),
                     s.dim_reason
                 );
-                self.model = Some(m);
+                self.e.set_model(Some(m));
                 line
             }
             Err(text) => {
                 let mut answer = text.trim_end().to_string();
-                if self.model.is_some() {
+                if self.e.model().is_some() {
                     answer.push_str(
                         "\nthe model loaded before stays loaded (`:load` alone unloads it)",
                     );
@@ -274,17 +241,10 @@ impl Repl {
     }
 
     fn listing(&self, table: fn(&LoadedModel) -> String) -> String {
-        match &self.model {
+        match self.e.model() {
             Some(m) => table(m),
             None => "no model loaded; use :load FILE.adm".into(),
         }
-    }
-
-    fn jit(&mut self) -> Result<&mut crate::jit::Jit, crate::jit::JitError> {
-        if self.jit.is_none() {
-            self.jit = Some(crate::jit::Jit::new()?);
-        }
-        self.jit.as_mut().ok_or(crate::jit::JitError::Malformed(0))
     }
 
     /// `:time EXPR`: median ns per evaluation of both back ends, and compile µs. Each
@@ -293,7 +253,7 @@ impl Repl {
     fn time_(&mut self, p: &Program) -> String {
         use std::hint::black_box;
         use std::time::Instant;
-        let jit = match self.jit() {
+        let jit = match self.e.jit() {
             Ok(j) => j,
             Err(e) => return format!("error: {e}"),
         };
@@ -303,27 +263,32 @@ impl Repl {
             Err(e) => return format!("error: {e}"),
         };
         let compile_us = t0.elapsed().as_secs_f64() * 1e6;
-        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
         let n = p.function().outputs.len();
-        let mut out = vec![0.0; n];
-        let mut per_eval = |f: &mut dyn FnMut(&mut [f64])| {
-            let t = Instant::now();
-            f(black_box(&mut out));
-            let (samples, batch) = time_plan(t.elapsed().as_secs_f64());
-            let mut ns: Vec<f64> = (0..samples)
-                .map(|_| {
-                    let t = Instant::now();
-                    for _ in 0..batch {
-                        f(black_box(&mut out));
-                    }
-                    t.elapsed().as_secs_f64() * 1e9 / batch as f64
-                })
-                .collect();
-            ns.sort_by(f64::total_cmp);
-            (ns[ns.len() / 2], samples * batch)
+        let timed = self.e.in_context(p.function(), |ctx| {
+            let mut out = vec![0.0; n];
+            let mut per_eval = |f: &mut dyn FnMut(&mut [f64])| {
+                let t = Instant::now();
+                f(black_box(&mut out));
+                let (samples, batch) = time_plan(t.elapsed().as_secs_f64());
+                let mut ns: Vec<f64> = (0..samples)
+                    .map(|_| {
+                        let t = Instant::now();
+                        for _ in 0..batch {
+                            f(black_box(&mut out));
+                        }
+                        t.elapsed().as_secs_f64() * 1e9 / batch as f64
+                    })
+                    .collect();
+                ns.sort_by(f64::total_cmp);
+                (ns[ns.len() / 2], samples * batch)
+            };
+            let interp = per_eval(&mut |o| p.eval_into(black_box(ctx), o));
+            (interp, per_eval(&mut |o| code.eval_into(black_box(ctx), o)))
+        });
+        let ((interp, n_interp), (jit, n_jit)) = match timed {
+            Ok(times) => times,
+            Err(e) => return format!("error: {e}"),
         };
-        let (interp, n_interp) = per_eval(&mut |o| p.eval_into(black_box(&ctx), o));
-        let (jit, n_jit) = per_eval(&mut |o| code.eval_into(black_box(&ctx), o));
         format!(
             "interp {interp:.1} ns/eval, jit {jit:.1} ns/eval ({:.1}× faster); jit compile \
              {compile_us:.0} µs\n(medians over {n_interp} and {n_jit} evaluations, at most \
@@ -342,7 +307,8 @@ impl Repl {
             Input::Time
         } else {
             match self
-                .scope
+                .e
+                .variables()
                 .names()
                 .iter()
                 .position(|n| n.eq_ignore_ascii_case(var))
@@ -361,7 +327,7 @@ impl Repl {
             Ok(g) => g,
             Err(e) => return format!("error: {e}"),
         };
-        let names = self.scope.names().to_vec();
+        let names = self.e.variables().names().to_vec();
         let name = |s: u32| {
             names
                 .get(s as usize)
@@ -369,10 +335,13 @@ impl Repl {
                 .unwrap_or_else(|| format!("var[{s}]"))
         };
         let n = p.function().outputs.len();
-        let ctx = Context::new(self.time, &self.values).with_mode(self.mode);
-        let mut values = vec![0.0; g.outputs.len()];
         let program = Program::new(g);
-        program.eval_into(&ctx, &mut values);
+        let mut values = vec![0.0; program.function().outputs.len()];
+        if let Err(e) = self.e.in_context(program.function(), |ctx| {
+            program.eval_into(ctx, &mut values)
+        }) {
+            return format!("error: {e}");
+        }
         let mut lines = Vec::new();
         for i in 0..n {
             let text = crate::ir::print::expression(program.function(), n + i, &name, 4000)
@@ -452,6 +421,23 @@ fn help(name: &str) -> String {
         Some(b) => b.doc.to_string(),
         None => format!("no builtin named {upper}"),
     }
+}
+
+/// Diagnostics rendered without colour (nothing for none).
+fn rendered(diags: &[Diagnostic], source: &SourceFile) -> String {
+    if diags.is_empty() {
+        return String::new();
+    }
+    render(diags, source, false)
+}
+
+/// Why an expression has no value, as the REPL answers it.
+fn failure_text(failed: &EvalError, source: &SourceFile) -> String {
+    let mut text = rendered(failed.diagnostics(), source);
+    if let Some(why) = failed.failure() {
+        text.push_str(&format!("error: {why}"));
+    }
+    text
 }
 
 /// Joins the physical lines of one REPL input: `\n,` continuations stay for the lexer,
@@ -545,12 +531,18 @@ mod terminal {
     impl Helper for ReplHelper {}
 }
 
-/// Runs the REPL on the terminal until `:quit` or end of input; returns the exit code.
+/// Runs the REPL until `:quit` or end of input: with line editing when standard input is
+/// a terminal, else reading it line by line ([`run_lines`]); returns the exit code.
 pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     use rustyline::error::ReadlineError;
     use std::cell::RefCell;
+    use std::io::IsTerminal;
     use std::rc::Rc;
     let mut repl = Repl::new();
+    if !std::io::stdin().is_terminal() {
+        writeln!(o.out(), "{}", banner())?;
+        return run_lines(&mut repl, std::io::stdin().lock(), o);
+    }
     let names = Rc::new(RefCell::new(repl.completions()));
     let Ok(mut editor) =
         rustyline::Editor::<terminal::ReplHelper, rustyline::history::DefaultHistory>::new()
@@ -566,19 +558,12 @@ pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
     if let Some(h) = &history {
         let _ = editor.load_history(h);
     }
-    writeln!(
-        o.out(),
-        "mbfx {} — :help for help, :quit to leave",
-        env!("CARGO_PKG_VERSION")
-    )?;
+    writeln!(o.out(), "{}", banner())?;
     loop {
         match editor.readline("mbfx> ") {
             Ok(line) => {
                 let _ = editor.add_history_entry(line.as_str());
-                let answer = repl.eval_line(&line);
-                if !answer.is_empty() {
-                    writeln!(o.out(), "{answer}")?;
-                }
+                reply(&mut repl, &line, o)?;
                 *names.borrow_mut() = repl.completions();
                 if repl.done {
                     break;
@@ -596,6 +581,68 @@ pub fn run_terminal(o: &mut super::Output) -> Result<i32, super::Stop> {
         let _ = editor.save_history(h);
     }
     Ok(0)
+}
+
+/// The first line the REPL prints.
+fn banner() -> String {
+    format!(
+        "mbfx {} — :help for help, :quit to leave",
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
+/// Runs the REPL over `input` read line by line (standard input that is not a terminal):
+/// lines join into one input while [`needs_more`] says so, as at the terminal, and an input
+/// still open at the end of the text is answered too (`SIN(1` says its `)` is missing)
+/// instead of being dropped. A line that is not UTF-8 is reported and skipped.
+pub fn run_lines(
+    repl: &mut Repl,
+    mut input: impl std::io::BufRead,
+    o: &mut super::Output,
+) -> Result<i32, super::Stop> {
+    let mut pending = String::new();
+    let mut line = Vec::new();
+    loop {
+        line.clear();
+        match input.read_until(b'\n', &mut line) {
+            Ok(0) => break,
+            Ok(_) => {}
+            Err(e) => {
+                writeln!(o.err(), "mbfx repl: cannot read the input: {e}")?;
+                return Err(super::Stop::Failed);
+            }
+        }
+        let text = line.strip_suffix(b"\n").unwrap_or(&line);
+        let text = text.strip_suffix(b"\r").unwrap_or(text);
+        let Ok(text) = std::str::from_utf8(text) else {
+            writeln!(o.out(), "{NOT_UTF8}")?;
+            continue;
+        };
+        if !pending.is_empty() {
+            pending.push('\n');
+        }
+        pending.push_str(text);
+        if needs_more(&pending) {
+            continue;
+        }
+        reply(repl, &std::mem::take(&mut pending), o)?;
+        if repl.done {
+            return Ok(0);
+        }
+    }
+    if !pending.is_empty() {
+        reply(repl, &pending, o)?;
+    }
+    Ok(0)
+}
+
+/// Answers one input on standard output (nothing for an input with no answer).
+fn reply(repl: &mut Repl, input: &str, o: &mut super::Output) -> std::io::Result<()> {
+    let answer = repl.eval_line(input);
+    if answer.is_empty() {
+        return Ok(());
+    }
+    writeln!(o.out(), "{answer}")
 }
 
 /// The answer to an input line that is not UTF-8 text.
@@ -694,6 +741,50 @@ mod tests {
             "{failed}"
         );
         assert_eq!(r.eval_line("DX(21, 11)"), "0.3");
+        // :deriv and :time evaluate with the model's measures too (they read none before).
+        assert!(r
+            .eval_line(":deriv DX(21, 11)*TIME TIME")
+            .ends_with("= 0.3 here"));
+        assert!(r.eval_line(":time DX(21, 11)").contains("ns/eval"));
+    }
+
+    #[test]
+    fn a_nan_if_test_is_an_error_with_no_value() {
+        let mut r = Repl::new();
+        let answer = r.eval_line("IF(0/0: 1, 2, 3)");
+        assert!(answer.contains("[E0402] Error"), "{answer}");
+        assert!(!answer.ends_with("NaN"), "{answer}");
+        assert!(r.eval_line(":let a = IF(0/0: 1, 2, 3)").contains("E0402"));
+        assert!(r.eval_line("a").contains("E0302"));
+        // Any other non-finite value is printed, after its warning.
+        let answer = r.eval_line("LOG(0)");
+        assert!(answer.contains("[W0401] Warning"), "{answer}");
+        assert!(answer.ends_with("-inf"), "{answer}");
+    }
+
+    /// What [`run_lines`] writes to standard output for `input`, and its exit code.
+    fn answers(input: &str) -> (i32, String) {
+        let mut out = Vec::new();
+        let mut o = super::super::Output::new(Box::new(&mut out), Box::new(std::io::sink()), false);
+        let code = run_lines(&mut Repl::new(), input.as_bytes(), &mut o);
+        let code = super::super::output::finish(code, &mut o);
+        drop(o);
+        (code, String::from_utf8_lossy(&out).into_owned())
+    }
+
+    #[test]
+    fn input_still_open_at_the_end_of_the_text_is_answered() {
+        // Issue 11 §4: `SIN(1` then the end of input was dropped silently.
+        let (code, out) = answers("SIN(1");
+        assert_eq!(code, 0);
+        assert!(out.contains("E0202"), "{out}");
+        assert!(out.contains("missing `)`"), "{out}");
+        let (_, out) = answers("1+1\nSTEP(TIME, 0, 0,\n, 1,");
+        assert!(out.starts_with("2.0\n"), "{out}");
+        assert!(out.contains("missing `)`"), "{out}");
+        // Joined lines and :quit, as at the terminal; nothing after :quit is read.
+        let (_, out) = answers("STEP(0.5, 0, 0,\n1, 100)\n:quit\nSIN(");
+        assert_eq!(out, "50.0\n");
     }
 
     #[test]

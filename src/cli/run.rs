@@ -5,12 +5,13 @@
 //! A failure is a diagnostic at the statement of the element it names, with the time and
 //! the cause; the rows before it are written; the exit code is 1.
 
-use super::check_file::read_dataset;
 use super::output::{Named, Output, Stop};
+use super::Dim;
 use crate::diag::{Code, Diagnostic, SourceFile};
 use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
-use crate::session::run::{Engine, Method, RunFailure, RunSpec, Simulation, Summary};
+use crate::session::files::read_dataset;
+use crate::session::run::{Method, RunFailure, RunSpec, Simulation, Summary};
 use crate::session::{report, DimRequest};
 use std::io::Write;
 use std::path::PathBuf;
@@ -59,8 +60,8 @@ pub struct RunArgs {
     #[arg(long = "rho-inf")]
     rho_inf: Option<f64>,
     /// Build in 2D (an error when the scene is not planar) or 3D [default: 2D when planar].
-    #[arg(long, value_name = "2|3", value_parser = ["2", "3"])]
-    dim: Option<String>,
+    #[arg(long, value_enum, value_name = "2|3")]
+    dim: Option<Dim>,
     /// Which back end evaluates the model's expressions.
     #[arg(long, value_enum, default_value = "jit")]
     engine: super::Engine,
@@ -157,11 +158,8 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     });
     (spec.error, spec.hmax, spec.hinit, spec.hmin) = (a.error, a.hmax, a.hinit, a.hmin);
     (spec.fixed_step, spec.alpha, spec.rho_inf) = (a.fixed_step, a.alpha, a.rho_inf);
-    spec.dim = super::eval::dim_request(a.dim.as_deref());
-    spec.engine = match a.engine {
-        super::Engine::Jit => Engine::Jit,
-        super::Engine::Interp => Engine::Interp,
-    };
+    spec.dim = Dim::request(a.dim);
+    spec.engine = a.engine.into();
     let source = SourceFile::new(name.clone(), text.clone());
     o.diagnostics(&warnings, &source)?;
     let mut sim = match Simulation::new(&text, spec, &probes) {

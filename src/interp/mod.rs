@@ -1,6 +1,6 @@
 //! The interpreter: evaluates IR by running a flat register bytecode.
 //!
-//! [`Program::new`] turns a [`Function`] into a list of [`Op`]s over a register file in
+//! [`Program::new`] turns a [`Function`] into a list of `Op`s over a register file in
 //! which every IR value has its own register and constants are preloaded; IF arms become
 //! jump targets, so only the taken arm runs. Library functions are called from
 //! `mbfx-runtime`, exactly as the JIT calls them, so both back ends give the same bits.

@@ -22,7 +22,7 @@
 //! Up to the limit each saves about 10 ns per evaluation in contact.
 //!
 //! An arithmetic IF whose arms are all cheap call-free arithmetic (at most
-//! [`SPECULATE_LIMIT`] instructions together) is if-converted: every arm runs and selects
+//! `SPECULATE_LIMIT` instructions together) is if-converted: every arm runs and selects
 //! pick the result, as an optimising compiler speculates a cheap branch. Nothing can tell:
 //! IEEE arithmetic has no side effects or traps, and the selects give exactly the picked
 //! arm's bits (NaN for a NaN test). Random tests mispredict a branch about half the time

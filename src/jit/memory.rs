@@ -199,7 +199,8 @@ mod tests {
         assert_eq!(more as usize, code as usize + 112);
         assert_eq!(m.chunks.len(), 2);
         assert_eq!(data as usize % 8, 0);
-        // SAFETY: freshly allocated read-write memory of at least 100 bytes.
+        // SAFETY: `allocate` gave 100 bytes at `code` inside a mapping it made read-write,
+        // and nothing has finalised (write-protected) it yet.
         unsafe { code.write_bytes(0xc3, 100) };
         m.finalize(BranchProtection::None).unwrap();
         // After finalisation new requests get new pages.

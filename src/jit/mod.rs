@@ -272,7 +272,7 @@ pub struct Jit {
     fctx: FunctionBuilderContext,
     /// Lower the cheap library functions to branch-free code (on by default).
     pub lower: bool,
-    /// Run leaf functions without a stack frame ([`frame`]; on by default).
+    /// Run leaf functions without a stack frame (the `frame` module; on by default).
     pub elide_frames: bool,
     /// Seconds each function of the last batch took (lowering, translation, Cranelift),
     /// for the compile benchmark.
@@ -445,7 +445,7 @@ impl Jit {
 
     /// The machine instructions Cranelift emits for `f` (its VCode listing, after
     /// register allocation), for the REPL's `:asm`, with a last line saying whether the
-    /// loaded code drops the listed frame ([`frame`]). `listing` turns the listing flag
+    /// loaded code drops the listed frame (the `frame` module). `listing` turns the listing flag
     /// off again.
     pub fn asm(&mut self, f: &Function) -> Result<String, JitError> {
         self.listing(f, |jit| {

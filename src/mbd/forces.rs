@@ -1,6 +1,6 @@
 //! Applied forces (multibody spec §7): SFORCE (translational, rotational, ACTIONONLY),
 //! VFORCE, VTORQUE, GFORCE, SPRINGDAMPER, BUSHING, and ACCGRAV with the units-consistency
-//! factor. Each element is evaluated as duals ([`super::dual`]) over the local directions
+//! factor. Each element is evaluated as duals (the `dual` module) over the local directions
 //! of the parts it reads (its markers and the markers of the measures its expressions
 //! read, one shared [`PartSlots`] table), so the generalized force Q and its exact
 //! Jacobians ∂Q/∂q and ∂Q/∂v come out of one evaluation. Expression magnitudes enter with

@@ -1,6 +1,6 @@
 //! Marker measures of expr-language §6 from the system state: value and exact
 //! derivatives with respect to the position-level increments (δr, δθ per part) and the
-//! velocities (v, ω per part), through [`super::dual`]. GCON and MOTION rows read them;
+//! velocities (v, ω per part), through the `dual` module. GCON and MOTION rows read them;
 //! their Jacobians follow by the chain rule ∂f/∂slot · ∂slot/∂(q, v).
 //!
 //! Conventions (spec §6): `i` measured marker, `j` reference (ground origin when absent

@@ -3,7 +3,7 @@
 //!
 //! **Coordinates.** A moving part's pose is its BCS origin `r` and a unit quaternion
 //! (`q` holds x, y, z, e0, e1, e2, e3 per part). Changes of pose are *velocity-level*
-//! increments (δr, δθ) in global axes: r ← r + δr, R ← exp([δθ]×)·R. This is the
+//! increments (δr, δθ) in global axes: r ← r + δr, R ← exp(\[δθ\]×)·R. This is the
 //! rotation-vector increment on a reference rotation: it has no Euler-angle singularity,
 //! needs no normalisation constraint (which would add rows that are not the user's
 //! equations to the redundancy analysis), and its Jacobian columns are exactly the
@@ -347,7 +347,7 @@ impl System {
         }
     }
 
-    /// The poses `base` (as [`System::snapshot`] took them) moved by the column-space
+    /// The poses `base` (as `System::snapshot` took them) moved by the column-space
     /// increment `dx`: a restore and [`System::apply_increment`] in one pass, with one
     /// rotation update per part.
     pub fn set_moved(&mut self, base: &[(Vec3, Quat, f64)], dx: &[f64]) {

@@ -5,11 +5,12 @@
 
 use super::{analyze_model, Analysis, DimRequest, Failure};
 use crate::check::{Checked, Expect, Variables};
-use crate::diag::{Code, Diagnostic};
+use crate::diag::{has_errors, Code, Diagnostic, SourceFile};
 use crate::ir::Function;
 use crate::mbd::MbdError;
 use crate::model::{read_model, ModelRead};
 use mbfx_runtime::Spline;
+use std::path::Path;
 
 /// A model and its assembled system.
 pub struct LoadedModel {
@@ -17,7 +18,51 @@ pub struct LoadedModel {
     pub analysis: Analysis,
 }
 
+/// Why a dataset file could not be loaded, ready to be shown: diagnostics in the file, and
+/// where the pipeline stopped when no error among them says so.
+pub struct LoadError {
+    /// The dataset (empty when it could not be read), for rendering the diagnostics.
+    pub source: SourceFile,
+    /// The reader's diagnostics, or those of the failed analysis at the element at fault.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The failure in words, when `diagnostics` holds no error.
+    pub failure: Option<String>,
+}
+
 impl LoadedModel {
+    /// Reads the dataset file at `path` and loads it ([`LoadedModel::load`]). The dataset's
+    /// own warnings are dropped on success: they belong to `mbfx check`, not to each
+    /// expression evaluated against the model.
+    pub fn open(path: &Path, dim: DimRequest) -> Result<LoadedModel, Box<LoadError>> {
+        let (text, mut diagnostics) = super::files::read_dataset(path).map_err(|u| {
+            Box::new(LoadError {
+                source: u.source,
+                diagnostics: vec![u.diagnostic],
+                failure: None,
+            })
+        })?;
+        let (read, failure) = match LoadedModel::load(&text, dim) {
+            Ok(m) => return Ok(m),
+            Err(failed) => *failed,
+        };
+        let mut said = None;
+        match failure {
+            Failure::Read(d) => diagnostics.extend(d),
+            f => {
+                diagnostics.extend(super::report::diagnostics(&f, &read.model));
+                if !has_errors(&diagnostics) {
+                    diagnostics.clear();
+                    said = Some(f.to_string());
+                }
+            }
+        }
+        Err(Box::new(LoadError {
+            source: SourceFile::new(path.display().to_string(), text),
+            diagnostics,
+            failure: said,
+        }))
+    }
+
     /// Reads and analyses a dataset text; the failure says where the pipeline stopped
     /// (with the reader's diagnostics when the dataset has errors).
     pub fn load(text: &str, dim: DimRequest) -> Result<LoadedModel, Box<(ModelRead, Failure)>> {
@@ -37,14 +82,15 @@ impl LoadedModel {
         &self.analysis.splines
     }
 
-    /// Checks and lowers an expression against the model and `variables`, with the
-    /// dataset's VARIABLEs inlined where it reads them (`VARVAL`).
+    /// Checks and lowers an expression of the kind `expect` asks for against the model and
+    /// `variables`, with the dataset's VARIABLEs inlined where it reads them (`VARVAL`).
     pub fn compile(
         &mut self,
         text: &str,
         variables: &Variables,
+        expect: Expect,
     ) -> Result<Checked, Vec<Diagnostic>> {
-        let mut checked = self.read.compile(text, variables, Expect::Any)?;
+        let mut checked = self.read.compile(text, variables, expect)?;
         let e = crate::model::elements::Expr {
             span: 0..text.len(),
             function: std::mem::take(&mut checked.function),
@@ -91,7 +137,7 @@ mod tests {
         let k = vars.define("k");
         assert_eq!(k, 0);
         let c = m
-            .compile("k*DM(20, 10) + DX(20, 10) - DY(20)", &vars)
+            .compile("k*DM(20, 10) + DX(20, 10) - DY(20)", &vars, Expect::Any)
             .unwrap();
         let measures = m.measures_for(&c.function).unwrap();
         let v = Program::new(c.function).eval(&Context::new(0.0, &[2.0]).with_measures(&measures));
@@ -109,12 +155,15 @@ mod tests {
             panic!("the pendulum with variables loads");
         };
         let c = m
-            .compile("VARVAL(2) + DY(20, 10)", &Variables::new())
+            .compile("VARVAL(2) + DY(20, 10)", &Variables::new(), Expect::Any)
             .unwrap();
         let measures = m.measures_for(&c.function).unwrap();
         let v = Program::new(c.function).eval(&Context::new(0.0, &[]).with_measures(&measures));
         assert!((v - (3.0 * 0.6 + 0.8)).abs() < 1e-12, "{v}");
-        let errors = m.compile("VARVAL(3)", &Variables::new()).err().unwrap();
+        let errors = m
+            .compile("VARVAL(3)", &Variables::new(), Expect::Any)
+            .err()
+            .unwrap();
         assert!(
             errors[0].message.contains("VARIABLE/3 → VARIABLE/3"),
             "{errors:?}"
@@ -133,7 +182,7 @@ mod tests {
             panic!("the pendulum with a spline loads");
         };
         let c = m
-            .compile("CUBSPL(DX(20, 10), 0, 7)", &Variables::new())
+            .compile("CUBSPL(DX(20, 10), 0, 7)", &Variables::new(), Expect::Any)
             .unwrap();
         let measures = m.measures_for(&c.function).unwrap();
         let ctx = Context::new(0.0, &[])
@@ -148,7 +197,10 @@ mod tests {
         let Ok(mut m) = LoadedModel::load(PENDULUM, DimRequest::Auto) else {
             panic!("the pendulum loads");
         };
-        let errors = m.compile("DX(99)", &Variables::new()).err().unwrap();
+        let errors = m
+            .compile("DX(99)", &Variables::new(), Expect::Any)
+            .err()
+            .unwrap();
         assert_eq!(errors[0].code, crate::diag::Code::UndefinedElement);
     }
 }

@@ -20,7 +20,13 @@
 //! functions are compiled with their exact IR derivative
 //! ([`crate::mbd::compiled::CompiledExprs`]); [`report`] words
 //! the result for `mbfx check`.
+//!
+//! Beside it: [`files`] reads input files as text, [`loaded`] keeps a dataset loaded for
+//! questions, [`evaluate`] takes one expression from text to value (`mbfx eval` and the
+//! REPL) and [`run`] simulates a dataset (`mbfx run`).
 
+pub mod evaluate;
+pub mod files;
 pub mod loaded;
 pub mod report;
 pub mod run;

@@ -1,13 +1,15 @@
 //! Lexer: turns expression text into `(start, Tok, end)` triples for the LALRPOP parser.
 //!
-//! Two layers. [`Raw`] is the logos token set (numbers, names, operators, blanks,
+//! Two layers. `Raw` is the logos token set (numbers, names, operators, blanks,
 //! continuation joins, comments). [`lex`] then walks the raw tokens once and applies the
 //! rules that need a neighbour: a name directly followed by `(` is a call (a blank in
 //! between is diagnosed, spec §1.4); a number must not run into a letter or digit
 //! (`1.5D3`, `10DTOR`, decision 4); `* *` is not a power; relational operators get a hint;
-//! bracket depth is limited (decision 11). The lexer never stops at an error: it records
-//! a diagnostic and hands the parser a placeholder token so every error is reported.
-//! Spans are byte offsets into the text given (callers shift them for `.adm` files).
+//! a line break is a blank when the next line that is neither blank nor a whole-line `!`
+//! comment continues the expression (a comma first) or the text ends there, and an error
+//! otherwise; bracket depth is limited (decision 11). The lexer never stops at an error:
+//! it records a diagnostic and hands the parser a placeholder token so every error is
+//! reported. Spans are byte offsets into the text given (callers shift them for `.adm` files).
 
 use crate::diag::{Code, Diagnostic};
 use crate::syntax::ast::Names;
@@ -263,21 +265,26 @@ pub fn lex_into(src: &str, out: &mut Lexed) {
                 continue;
             }
             Raw::Newline => {
-                if src[end..].trim().is_empty() {
+                // Blank lines and whole-line comments may stand between a line and its
+                // continuation, as between a dataset statement's lines. The lexer moves
+                // past them either way, so no line is scanned twice.
+                let next = after_break(src, end);
+                raw.bump(next.at() - end);
+                if let AfterBreak::Other(_) = next {
+                    out.diagnostics.push(
+                        Diagnostic::error(
+                            Code::UnexpectedChar,
+                            start..end,
+                            "line break inside an expression",
+                        )
+                        .with_help(
+                            "continue an expression on the next line with a comma in column one",
+                        ),
+                    );
+                    blank_since = None;
+                } else {
                     blank_since.get_or_insert(start);
-                    continue;
                 }
-                out.diagnostics.push(
-                    Diagnostic::error(
-                        Code::UnexpectedChar,
-                        start..end,
-                        "line break inside an expression",
-                    )
-                    .with_help(
-                        "continue an expression on the next line with a comma in column one",
-                    ),
-                );
-                blank_since = None;
                 continue;
             }
             Raw::Number => {
@@ -441,12 +448,55 @@ pub fn lex_into(src: &str, out: &mut Lexed) {
 fn continued_paren(rest: &str) -> bool {
     let rest = rest.trim_start_matches([' ', '\t']);
     let rest = rest.strip_prefix('\r').unwrap_or(rest);
-    match rest.strip_prefix('\n') {
-        Some(r) => r
-            .trim_start_matches([' ', '\t'])
-            .strip_prefix(',')
-            .is_some_and(|r| r.trim_start_matches([' ', '\t']).starts_with('(')),
-        None => false,
+    if !rest.starts_with('\n') {
+        return false;
+    }
+    match after_break(rest, 1) {
+        AfterBreak::Continuation(at) => rest[at..].trim_start_matches([' ', '\t']).starts_with('('),
+        AfterBreak::End(_) | AfterBreak::Other(_) => false,
+    }
+}
+
+/// What follows a line break inside an expression once blank lines and whole-line `!`
+/// comments are passed over; each variant holds the byte offset where lexing resumes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum AfterBreak {
+    /// The text ends: the expression ends at the break.
+    End(usize),
+    /// A continuation line (a comma first on the line); lexing resumes after that comma.
+    Continuation(usize),
+    /// A line that does not continue the expression; lexing resumes at its start.
+    Other(usize),
+}
+
+impl AfterBreak {
+    fn at(self) -> usize {
+        match self {
+            AfterBreak::End(at) | AfterBreak::Continuation(at) | AfterBreak::Other(at) => at,
+        }
+    }
+}
+
+/// Looks past the line break that ends just before `line_start` in `src`: skips blank
+/// lines and lines whose first non-blank character is `!` (the dataset reader skips them
+/// between a statement's lines too), and says what the first other line is.
+fn after_break(src: &str, mut line_start: usize) -> AfterBreak {
+    loop {
+        let line_end = src[line_start..]
+            .find('\n')
+            .map_or(src.len(), |i| line_start + i);
+        let line = &src[line_start..line_end];
+        let body = line.trim_start_matches([' ', '\t']);
+        if body.starts_with(',') {
+            return AfterBreak::Continuation(line_start + (line.len() - body.len()) + 1);
+        }
+        if !(body.starts_with('!') || body.trim().is_empty()) {
+            return AfterBreak::Other(line_start);
+        }
+        if line_end == src.len() {
+            return AfterBreak::End(line_end);
+        }
+        line_start = line_end + 1;
     }
 }
 

@@ -1,5 +1,5 @@
 //! Front end: text → tokens ([`lexer`]) → syntax tree ([`parser`], [`ast`]), and back to
-//! text ([`print`]).
+//! text ([`mod@print`]).
 
 pub mod ast;
 pub mod fast;

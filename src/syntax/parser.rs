@@ -191,6 +191,15 @@ fn describe(tok: Tok) -> &'static str {
     }
 }
 
+/// A token as the user wrote it, for messages: the power operator also stands for `^` and
+/// `* *` (already diagnosed by the lexer), which a message must not call `**`.
+fn written(tok: Tok, src: &str, span: std::ops::Range<usize>) -> String {
+    match (tok, src.get(span)) {
+        (Tok::Pow, Some(text)) if text != "**" => format!("`{text}`"),
+        _ => describe(tok).to_string(),
+    }
+}
+
 /// True for tokens that can begin a value.
 fn starts_value(tok: Tok) -> bool {
     matches!(
@@ -327,7 +336,11 @@ pub fn to_diagnostic(
                 Diagnostic::error(
                     Code::UnexpectedToken,
                     s..e,
-                    format!("unexpected {}{}", describe(tok), expected_words(&expected)),
+                    format!(
+                        "unexpected {}{}",
+                        written(tok, src, s..e),
+                        expected_words(&expected)
+                    ),
                 )
             }
         }
@@ -336,7 +349,7 @@ pub fn to_diagnostic(
             s..e,
             format!(
                 "unexpected {} after the end of the expression",
-                describe(tok)
+                written(tok, src, s..e)
             ),
         ),
         ParseError::InvalidToken { location } => {

@@ -165,6 +165,10 @@ fn cases() -> Vec<Case> {
         e("backslash", "1\\2", "E0101", Text("\\")),
         e("line_break", "1\n2", "E0101", Text("\n")).help("comma in column one"),
         e("crlf_line_break", "1+\r\n2", "E0101", Text("\r\n")),
+        // Blank and comment lines pass over, then a line that does not continue: the help
+        // (a comma in column one) is what the input lacks.
+        e("comment_line_then_a_new_line", "1\n! note\n\n2", "E0101", Text("\n"))
+            .help("comma in column one"),
         // E0102: malformed numbers.
         e("fortran_exponent", "1.5D3", "E0102", All).help("1.5E3"),
         e("fortran_exponent_lower", "2*1.5d3", "E0102", Text("1.5d3")),
@@ -177,6 +181,7 @@ fn cases() -> Vec<Case> {
         e("tab_before_paren", "MAX\t(1,2)", "E0103", Text("MAX\t")),
         e("blank_before_if_paren", "IF (1:2,3,4)", "E0103", Text("IF ")),
         e("name_broken_from_paren", "SIN\n,(1)", "E0103", Text("SIN\n")),
+        e("name_broken_from_paren_by_a_comment", "SIN\n! note\n,(1)", "E0103", Text("SIN\n")),
         // E0104: relational and logical operators.
         e("less", "1 < 2", "E0104", Text("<")),
         e("greater", "1 > 2", "E0104", Text(">")),
@@ -253,6 +258,12 @@ fn cases() -> Vec<Case> {
         v("minus_signs_1000", format!("{}1", repeat("-", 1000)), |x| x == 1.0),
         v("minus_signs_1001", format!("{}1", repeat("-", 1001)), |x| x == -1.0),
         v("nine_nested_ifs", nine_ifs, |x| x == 7.0),
+        // Issue 11 §4: a comment line between an expression's lines was refused with a
+        // help asking for the comma the input already had. The dataset reader skips
+        // comment and blank lines between a statement's lines, and so does the lexer.
+        v("comment_line_between_continuations", "1\n! note\n, +1", |x| x == 2.0),
+        v("blank_and_comment_lines_between_continuations", "1 +\r\n\r\n  ! a\r\n!b\r\n  , 1", |x| x == 2.0),
+        v("comment_lines_after_an_expression", "1\n! note\n!", |x| x == 1.0),
         // Numbers at and past the range of f64.
         v("overflowing_literal_is_inf", "1E999", |x| x == f64::INFINITY),
         v("negative_overflow_is_minus_inf", "-1E999", |x| x == f64::NEG_INFINITY),

@@ -7,7 +7,7 @@
 //! q₁ = q₀ ⊕ (h·v₀ + h²·((½ − β)·ã₀ + β·ã₁)),   v₁ = v₀ + h·((1 − γ)·ã₀ + γ·ã₁)
 //! ```
 //!
-//! (⊕: rotations compose as R₁ = exp([Δθ]×)·R₀), and solve for the accelerations a₁
+//! (⊕: rotations compose as R₁ = exp(\[Δθ\]×)·R₀), and solve for the accelerations a₁
 //! and multipliers λ₁ by Newton on
 //!
 //! ```text

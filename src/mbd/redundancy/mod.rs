@@ -18,12 +18,15 @@
 //! scaled (mm vs m models, or any length the caller divided translational rows by). A row
 //! is dependent when its residual after elimination is at most [`Options::tolerance`]
 //! (default 1e-8): its distance to the span of the kept rows is then at most that, relative
-//! to its own length. See [`factor`] for the elimination.
+//! to its own length. See the `factor` module for the elimination.
 
 mod catalogue;
 mod factor;
-#[doc(hidden)]
-pub mod fixtures;
+/// Reference mechanisms for the tests (test data shared with the bench, kept out of the
+/// library).
+#[cfg(test)]
+#[path = "../../../tests/common/redundancy_fixtures.rs"]
+mod fixtures;
 mod report;
 #[cfg(test)]
 mod tests;

@@ -15,12 +15,16 @@
 //!
 //! In 2D the columns are [v_x, v_y, ω_z]: the same rows restricted to those components.
 //! Ground (part `None`) has no columns.
+//!
+//! Test data, not library API: the redundancy unit tests (`src/mbd/redundancy/tests.rs`)
+//! and `benches/redundancy.rs` include this file through `#[path]`, and it names the
+//! library `mbfx` in both (the library's unit tests see itself under that name).
 
-use super::{analyze, AnalysisError, Options, Problem, Report};
-use crate::mbd::equations::{Equation, EquationLabel};
-use crate::mbd::sparse::Triplets;
-use crate::vocab::elements::{ElementKind, ElementRef, JointType};
-use crate::vocab::math::{Mat3, Vec3};
+use mbfx::mbd::equations::{Equation, EquationLabel};
+use mbfx::mbd::redundancy::{analyze, AnalysisError, Options, Problem, Report};
+use mbfx::mbd::sparse::Triplets;
+use mbfx::vocab::elements::{ElementKind, ElementRef, JointType};
+use mbfx::vocab::math::{Mat3, Vec3};
 
 /// A marker at the configuration analysed: its part (`None` for ground), origin and axes
 /// (columns x, y, z) in ground coordinates.
