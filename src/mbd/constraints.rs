@@ -17,6 +17,28 @@ use std::f64::consts::PI;
 /// A row's derivative over one part: δr x y z, δθ x y z (global).
 pub type PartDerivative = (PartHandle, [f64; 6]);
 
+/// A primitive equation with its markers resolved to their parts: offsets and axes in
+/// part coordinates, so an evaluation reads only the two parts' poses.
+#[derive(Clone, Copy, Debug)]
+pub enum Primitive {
+    /// (r_I − r_J)·(R_J·axis): the marker offsets `si`, `sj` and J's axis (times the
+    /// row's sign) in part coordinates.
+    Along {
+        pi: PartHandle,
+        si: Vec3,
+        pj: PartHandle,
+        sj: Vec3,
+        axis: Vec3,
+    },
+    /// (R_I·u)·(R_J·w), u and w in part coordinates.
+    Dot {
+        pi: PartHandle,
+        u: Vec3,
+        pj: PartHandle,
+        w: Vec3,
+    },
+}
+
 /// How one scalar equation is computed.
 pub enum Row {
     /// (r_I − r_J)·(R_J dir) · sign.
@@ -438,34 +460,71 @@ impl System {
     /// A primitive row (`Along`, `Dot`): its value and, for the I and the J part, the
     /// derivative over δr x y z, δθ x y z (global). None for the other rows.
     pub fn primitive_blocks(&self, e: usize, q: usize) -> Option<(f64, [PartDerivative; 2])> {
+        self.resolved_primitive(e, q)
+            .map(|p| self.eval_primitive(&p))
+    }
+
+    /// Equation `q` of element `e` as a [`Primitive`], if it is one.
+    pub fn resolved_primitive(&self, e: usize, q: usize) -> Option<Primitive> {
         match &self.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {
-                let ((ri, ai, pi), (rj, aj, pj)) = (self.marker_point(*i), self.marker_point(*j));
-                let ev = self.marker_axis(*j, dir) * *sign;
-                let d = ri - rj;
-                let ai = ai.cross(&ev);
-                let bj = -(aj + d).cross(&ev);
-                Some((
-                    d.dot(&ev),
-                    [
-                        (pi, [ev.x, ev.y, ev.z, ai.x, ai.y, ai.z]),
-                        (pj, [-ev.x, -ev.y, -ev.z, bj.x, bj.y, bj.z]),
-                    ],
-                ))
+                let (mi, mj) = (self.marker(*i), self.marker(*j));
+                Some(Primitive::Along {
+                    pi: mi.part,
+                    si: mi.s,
+                    pj: mj.part,
+                    sj: mj.s,
+                    axis: (mj.rot * dir) * *sign,
+                })
             }
             Row::Dot { i, j, a, b } => {
-                let (u, w) = (self.marker_axis(*i, a), self.marker_axis(*j, b));
+                let (mi, mj) = (self.marker(*i), self.marker(*j));
+                Some(Primitive::Dot {
+                    pi: mi.part,
+                    u: mi.rot * a,
+                    pj: mj.part,
+                    w: mj.rot * b,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// The value of a primitive and its derivative over each of its two parts.
+    pub fn eval_primitive(&self, p: &Primitive) -> (f64, [PartDerivative; 2]) {
+        match *p {
+            Primitive::Along {
+                pi,
+                si,
+                pj,
+                sj,
+                axis,
+            } => {
+                let (bi, bj) = (self.part(pi), self.part(pj));
+                let (ai, aj) = (bi.rotation() * si, bj.rotation() * sj);
+                let ev = bj.rotation() * axis;
+                let d = (bi.r + ai) - (bj.r + aj);
+                let ti = ai.cross(&ev);
+                let tj = -(aj + d).cross(&ev);
+                (
+                    d.dot(&ev),
+                    [
+                        (pi, [ev.x, ev.y, ev.z, ti.x, ti.y, ti.z]),
+                        (pj, [-ev.x, -ev.y, -ev.z, tj.x, tj.y, tj.z]),
+                    ],
+                )
+            }
+            Primitive::Dot { pi, u, pj, w } => {
+                let (u, w) = (self.part(pi).rotation() * u, self.part(pj).rotation() * w);
                 let c = u.cross(&w);
-                let (pi, pj) = (self.marker(*i).part, self.marker(*j).part);
-                Some((
+                (
                     u.dot(&w),
                     [
                         (pi, [0.0, 0.0, 0.0, c.x, c.y, c.z]),
                         (pj, [0.0, 0.0, 0.0, -c.x, -c.y, -c.z]),
                     ],
-                ))
+                )
             }
-            _ => None,
         }
     }
 

@@ -264,21 +264,6 @@ impl System {
         }
     }
 
-    /// A marker's origin (global), its offset from its part's reference point (global
-    /// axes) and its part: the frame without the orientation.
-    pub fn marker_point(&self, m: MarkerHandle) -> (Vec3, Vec3, PartHandle) {
-        let mk = self.marker(m);
-        let p = self.part(mk.part);
-        let a = p.rotation() * mk.s;
-        (p.r + a, a, mk.part)
-    }
-
-    /// The marker-axes vector `local` in global axes.
-    pub fn marker_axis(&self, m: MarkerHandle, local: &Vec3) -> Vec3 {
-        let mk = self.marker(m);
-        self.part(mk.part).rotation() * (mk.rot * local)
-    }
-
     /// Sets the state velocity of a part (global axes) and makes it the input velocity.
     pub fn set_part_velocity(&mut self, h: PartHandle, v: Vec3, w: Vec3) {
         let p = self.part_mut(h);

@@ -77,10 +77,20 @@ impl Jacobian {
         self.vals[s.start * self.bs..s.end * self.bs].fill(0.0);
     }
 
+    /// The slot of row `r` over part `part`, if the row reads it.
+    pub fn slot_of(&self, r: usize, part: usize) -> Option<usize> {
+        self.row_slots(r).find(|&k| self.slot_part[k] == part)
+    }
+
+    /// The values of slot `k`, to write.
+    pub fn block_at_mut(&mut self, k: usize) -> &mut [f64] {
+        &mut self.vals[k * self.bs..(k + 1) * self.bs]
+    }
+
     /// The block of row `r` over part `part`, if the row reads it.
     pub fn block_mut(&mut self, r: usize, part: usize) -> Option<&mut [f64]> {
-        let k = self.row_slots(r).find(|&k| self.slot_part[k] == part)?;
-        Some(&mut self.vals[k * self.bs..(k + 1) * self.bs])
+        let k = self.slot_of(r, part)?;
+        Some(self.block_at_mut(k))
     }
 
     /// Adds `x` at (row `r`, velocity-layout column `col`). False when the row was not
@@ -150,16 +160,21 @@ impl Jacobian {
         }
     }
 
-    /// The largest magnitude of each row.
-    pub fn row_amax(&self) -> Vec<f64> {
-        (0..self.rows())
-            .map(|r| {
-                let s = self.row_slots(r);
-                self.vals[s.start * self.bs..s.end * self.bs]
-                    .iter()
-                    .fold(0.0f64, |m, x| m.max(x.abs()))
-            })
-            .collect()
+    /// The largest magnitude of all entries.
+    pub fn amax(&self) -> f64 {
+        self.vals.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+
+    /// The first row whose entries are all within `rel` × [`Jacobian::amax`] of zero.
+    pub fn vanished_row(&self, rel: f64) -> Option<usize> {
+        let floor = rel * self.amax();
+        let bs = self.bs;
+        (0..self.rows()).find(|&r| {
+            let s = self.row_slots(r);
+            !self.vals[s.start * bs..s.end * bs]
+                .iter()
+                .any(|x| x.abs() > floor)
+        })
     }
 }
 
@@ -184,6 +199,6 @@ mod tests {
         let nz: Vec<_> = j.entries().filter(|e| e.2 != 0.0).collect();
         assert_eq!(nz, vec![(0, 1, 2.0), (0, 5, -1.0), (1, 3, 4.0)]);
         j.clear_row(0);
-        assert_eq!(j.row_amax(), vec![0.0, 4.0]);
+        assert_eq!((j.amax(), j.vanished_row(1e-12)), (4.0, Some(0)));
     }
 }

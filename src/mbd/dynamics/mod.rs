@@ -19,7 +19,7 @@ pub mod newmark;
 pub mod outputs;
 pub mod schur;
 
-use super::constraints::Row;
+use super::constraints::{Primitive, Row};
 use super::error::{element_name, MbdError};
 use super::forces::{ForceSet, Generalized};
 use super::sparse::{FactorError, Pattern, SparseLu};
@@ -245,6 +245,9 @@ pub struct Dynamics {
     /// Φ and Φ_q of the kept rows at the last evaluation.
     pub(crate) phi: DVec,
     pub(crate) jac: jacobian::Jacobian,
+    /// Per kept row, its primitive equation resolved, with the Jacobian slots of its I
+    /// and J parts (None for ground): the rows evaluated without looking anything up.
+    prims: Vec<Option<(Primitive, [Option<usize>; 2])>>,
     /// The mass blocks of a 2D system (constant).
     planar_mass: Option<Vec<Mat3Block>>,
     /// Buffers of one row's evaluation, reused.
@@ -296,6 +299,18 @@ impl Dynamics {
             })
             .collect();
         let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
+        let prims = rows
+            .iter()
+            .enumerate()
+            .map(|(r, &(e, q))| {
+                let p = sys.resolved_primitive(e, q)?;
+                let (pi, pj) = match p {
+                    Primitive::Along { pi, pj, .. } | Primitive::Dot { pi, pj, .. } => (pi, pj),
+                };
+                let slot = |h: PartHandle| index(h).and_then(|i| jac.slot_of(r, i));
+                Some((p, [slot(pi), slot(pj)]))
+            })
+            .collect();
         let factors = |pattern: Pattern| -> Result<Factors, DynError> {
             Ok(Factors {
                 values: vec![0.0; pattern.nnz()],
@@ -322,6 +337,7 @@ impl Dynamics {
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
             jac,
+            prims,
             row_scratch: Default::default(),
             planar_mass: None,
         };
@@ -451,17 +467,15 @@ impl Dynamics {
         for (r, &(e, q)) in self.rows.iter().enumerate() {
             // The primitives (nearly every row of a jointed model) write their blocks
             // directly.
-            if let Some((value, sides)) = self.sys.primitive_blocks(e, q) {
+            if let Some((p, slots)) = &self.prims[r] {
+                let (value, sides) = self.sys.eval_primitive(p);
                 self.phi[r] = value;
                 if jacobian {
                     self.jac.clear_row(r);
-                    for (part, g) in sides {
-                        let Some(i) = self.sys.part(part).index else {
-                            continue;
-                        };
-                        let local = self.sys.local_components(&g);
-                        let block = self.jac.block_mut(r, i).expect("the row reads its parts");
-                        for (b, x) in block.iter_mut().zip(&local[..bs]) {
+                    for ((_, g), k) in sides.iter().zip(slots) {
+                        let Some(k) = *k else { continue };
+                        let local = self.sys.local_components(g);
+                        for (b, x) in self.jac.block_at_mut(k).iter_mut().zip(&local[..bs]) {
                             *b += x;
                         }
                     }
@@ -618,7 +632,7 @@ impl Dynamics {
         // vanished altogether constrains nothing any more: that is reported.
         let time = self.sys.time;
         self.check_rows()?;
-        let top = self.jac.row_amax().into_iter().fold(0.0f64, f64::max);
+        let top = self.jac.amax();
         let blocks = self.mass_blocks().into_owned();
         let heaviest = blocks
             .iter()
@@ -787,9 +801,7 @@ impl Dynamics {
     /// A kept row whose Jacobian (the last evaluation's) has vanished: it constrains
     /// nothing any more.
     fn vanished_row(&self) -> Option<usize> {
-        let norm = self.jac.row_amax();
-        let top = norm.iter().fold(0.0f64, |a, &b| a.max(b));
-        (0..self.m).find(|&r| norm[r] <= 1e-12 * top)
+        self.jac.vanished_row(1e-12)
     }
 
     /// Names what makes the Newton matrix singular: a kept row whose Jacobian vanishes

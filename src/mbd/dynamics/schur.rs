@@ -17,7 +17,7 @@
 use super::jacobian::Jacobian;
 use super::Mat3Block;
 use crate::mbd::forces::Generalized;
-use crate::mbd::sparse::{FactorError, Pattern, SparseLu};
+use crate::mbd::sparse::{FactorError, Pattern, SparseLlt, SparseLu};
 use nalgebra::Matrix6;
 
 /// Condition number (∞-norm) above which a part's block is not inverted on its own.
@@ -42,6 +42,10 @@ pub struct Schur {
     ainv: Vec<f64>,
     values: Vec<f64>,
     lu: SparseLu,
+    /// Cholesky of the complement, used when every block is symmetric (then the
+    /// complement is symmetric positive definite); `via_llt` says it holds the factors.
+    llt: Option<SparseLlt>,
+    via_llt: bool,
     w_l: f64,
 }
 
@@ -78,6 +82,8 @@ impl Schur {
             a: vec![0.0; parts * bs * bs],
             ainv: vec![0.0; parts * bs * bs],
             values: vec![0.0; pattern.nnz()],
+            llt: SparseLlt::new(pattern.clone()).ok(),
+            via_llt: false,
             lu: SparseLu::new(pattern)?,
             w_l: 1.0,
         })
@@ -127,6 +133,11 @@ impl Schur {
                 a[i * bs * bs + (r % bs) * bs + c % bs] -= wt * x;
             }
         }
+        let symmetric = a.chunks_exact(bs * bs).all(|blk| {
+            let top = blk.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            (0..bs)
+                .all(|r| (0..r).all(|c| (blk[r * bs + c] - blk[c * bs + r]).abs() <= 1e-14 * top))
+        });
         for (blk, inv) in a
             .chunks_exact(bs * bs)
             .zip(self.ainv.chunks_exact_mut(bs * bs))
@@ -158,6 +169,15 @@ impl Schur {
             self.values[d] += eps;
         }
         self.w_l = w.w_l;
+        // Symmetric blocks make the complement symmetric positive definite (A positive
+        // definite, ε > 0): Cholesky, unless it finds otherwise.
+        self.via_llt = false;
+        if let (true, Some(llt)) = (symmetric, &mut self.llt) {
+            if llt.factor(&self.values).is_ok() {
+                self.via_llt = true;
+                return Ok(true);
+            }
+        }
         self.lu.factor(&self.values)?;
         Ok(true)
     }
@@ -190,7 +210,10 @@ impl Schur {
             *t = -*t;
         }
         jac.add_times(top, bottom);
-        self.lu.solve(bottom)?;
+        match (&mut self.llt, self.via_llt) {
+            (Some(llt), true) => llt.solve(bottom)?,
+            _ => self.lu.solve(bottom)?,
+        }
         // x = z − w·A⁻¹·Bᵀ·y, with A⁻¹·Bᵀ kept per slot.
         for (k, g) in self.ainv_bt.chunks_exact(BS).enumerate() {
             let y = self.w_l * bottom[jac.slot_row(k)];
