@@ -248,6 +248,11 @@ pub struct Dynamics {
     /// Per kept row, its primitive equation resolved, with the Jacobian slots of its I
     /// and J parts (None for ground): the rows evaluated without looking anything up.
     prims: Vec<Option<(Primitive, [Option<usize>; 2])>>,
+    /// The rows whose Jacobian can vanish (all but the `Along` primitives, whose
+    /// direction is a unit vector), and the Jacobian's largest entry at the last
+    /// factorization, their scale.
+    may_vanish: Vec<usize>,
+    jac_top: f64,
     /// The mass blocks of a 2D system (constant).
     planar_mass: Option<Vec<Mat3Block>>,
     /// Buffers of one row's evaluation, reused.
@@ -299,7 +304,7 @@ impl Dynamics {
             })
             .collect();
         let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
-        let prims = rows
+        let prims: Vec<Option<(Primitive, [Option<usize>; 2])>> = rows
             .iter()
             .enumerate()
             .map(|(r, &(e, q))| {
@@ -336,6 +341,10 @@ impl Dynamics {
             factor_generation: 0,
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
+            may_vanish: (0..m)
+                .filter(|&r| !matches!(prims[r], Some((Primitive::Along { .. }, _))))
+                .collect(),
+            jac_top: 0.0,
             jac,
             prims,
             row_scratch: Default::default(),
@@ -415,9 +424,27 @@ impl Dynamics {
         self.eval_constraints(true)?;
         let bs = self.sys.dim.cols();
         let blocks = self.mass_blocks();
+        let mut part_slots = vec![Vec::new(); self.sys.moving_parts()];
+        for k in 0..self.jac.slots() {
+            part_slots[self.jac.slot_part(k)].push(k);
+        }
         for (h, p) in self.sys.parts.iter().enumerate() {
             let Some(i) = p.index else { continue };
-            let mut stack = crate::vocab::math::DMat::zeros(bs + self.m, bs);
+            // Mass in every direction (relative to the largest): nothing to check.
+            let (lo, hi) = match blocks[i] {
+                Mat3Block::Three(m, j) => {
+                    let eig = j.symmetric_eigenvalues();
+                    (m.min(eig.min()), m.max(eig.max()))
+                }
+                Mat3Block::Two(m, j) => (m.min(j), m.max(j)),
+            };
+            if lo > 1e-9 * hi {
+                continue;
+            }
+            // Otherwise the mass block stacked on the rows that read the part must have
+            // full rank: each massless direction held by a constraint.
+            let slots = &part_slots[i];
+            let mut stack = crate::vocab::math::DMat::zeros(bs + slots.len(), bs);
             match blocks[i] {
                 Mat3Block::Three(m, j) => {
                     for c in 0..3 {
@@ -435,16 +462,13 @@ impl Dynamics {
             if top > 0.0 {
                 stack /= top;
             }
-            let cols = i * bs..(i + 1) * bs;
-            for (r, c, x) in self.jac.entries() {
-                if cols.contains(&c) {
-                    stack[(bs + r, c - cols.start)] += x;
+            for (row, &k) in slots.iter().enumerate() {
+                for (c, &x) in self.jac.block(k).iter().enumerate() {
+                    stack[(bs + row, c)] = x;
                 }
-            }
-            for r in bs..bs + self.m {
-                let top = stack.row(r).amax();
+                let top = stack.row(bs + row).amax();
                 if top > 0.0 {
-                    stack.row_mut(r).scale_mut(1.0 / top);
+                    stack.row_mut(bs + row).scale_mut(1.0 / top);
                 }
             }
             let sv = stack.singular_values();
@@ -631,8 +655,9 @@ impl Dynamics {
         // converged step still solves the equations exactly. A row whose Jacobian has
         // vanished altogether constrains nothing any more: that is reported.
         let time = self.sys.time;
-        self.check_rows()?;
         let top = self.jac.amax();
+        self.jac_top = top;
+        self.check_rows()?;
         let blocks = self.mass_blocks().into_owned();
         let heaviest = blocks
             .iter()
@@ -801,7 +826,11 @@ impl Dynamics {
     /// A kept row whose Jacobian (the last evaluation's) has vanished: it constrains
     /// nothing any more.
     fn vanished_row(&self) -> Option<usize> {
-        self.jac.vanished_row(1e-12)
+        let floor = 1e-12 * self.jac_top;
+        self.may_vanish
+            .iter()
+            .copied()
+            .find(|&r| self.jac.row_amax(r) <= floor)
     }
 
     /// Names what makes the Newton matrix singular: a kept row whose Jacobian vanishes
