@@ -240,6 +240,7 @@ fn invert(a: &[f64], bs: usize, out: &mut [f64]) -> bool {
     };
     let ok = match bs {
         3 => invert3(a, out),
+        6 if decoupled6(a) => invert_diagonal_blocks6(a, out),
         6 => match Matrix6::from_row_slice(a).try_inverse() {
             Some(inv) => {
                 for (r, row) in out.chunks_exact_mut(6).enumerate() {
@@ -255,6 +256,30 @@ fn invert(a: &[f64], bs: usize, out: &mut [f64]) -> bool {
     };
     let cond = norm(a) * norm(out);
     ok && cond.is_finite() && cond <= BLOCK_CONDITION_MAX
+}
+
+/// True when a 6 × 6 block has no translation–rotation coupling (the mass matrix alone,
+/// or forces that keep the two apart): it inverts as two 3 × 3 blocks.
+fn decoupled6(a: &[f64]) -> bool {
+    (0..3).all(|r| (3..6).all(|c| a[r * 6 + c] == 0.0 && a[c * 6 + r] == 0.0))
+}
+
+/// The inverse of a decoupled 6 × 6 block from its two 3 × 3 diagonal blocks.
+fn invert_diagonal_blocks6(a: &[f64], out: &mut [f64]) -> bool {
+    out.fill(0.0);
+    for o in [0, 3] {
+        let (mut blk, mut inv) = ([0.0; 9], [0.0; 9]);
+        for r in 0..3 {
+            blk[r * 3..r * 3 + 3].copy_from_slice(&a[(o + r) * 6 + o..(o + r) * 6 + o + 3]);
+        }
+        if !invert3(&blk, &mut inv) {
+            return false;
+        }
+        for r in 0..3 {
+            out[(o + r) * 6 + o..(o + r) * 6 + o + 3].copy_from_slice(&inv[r * 3..r * 3 + 3]);
+        }
+    }
+    true
 }
 
 /// 3 × 3 inverse by cofactors (the 2D blocks: one per part at every refactor).
@@ -309,6 +334,27 @@ mod tests {
             &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 0.0, 1.0],
             &mut inv
         ));
+    }
+
+    #[test]
+    fn a_decoupled_six_block_inverts_as_two_threes() {
+        let mut a = [0.0; 36];
+        for (k, x) in [2.0, 2.0, 2.0].iter().enumerate() {
+            a[k * 6 + k] = *x;
+        }
+        let j = [4.0, 1.0, 0.5, 1.0, 3.0, 0.2, 0.5, 0.2, 5.0];
+        for r in 0..3 {
+            a[(3 + r) * 6 + 3..(3 + r) * 6 + 6].copy_from_slice(&j[r * 3..r * 3 + 3]);
+        }
+        assert!(decoupled6(&a));
+        let mut inv = [0.0; 36];
+        assert!(invert(&a, 6, &mut inv));
+        let want = Matrix6::from_row_slice(&a).try_inverse().unwrap();
+        for r in 0..6 {
+            for c in 0..6 {
+                assert!((inv[r * 6 + c] - want[(r, c)]).abs() < 1e-15, "{r} {c}");
+            }
+        }
     }
 
     #[test]
