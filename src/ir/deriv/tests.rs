@@ -257,3 +257,33 @@ fn functions_without_a_second_derivative_are_named() {
     let err = hessian(&ir("IMPACT(x, 0, 1, y, 2, 0, 0.1)"), &[X]).unwrap_err();
     assert_eq!(err, DerivError::SecondOrder(Func::Impact));
 }
+
+/// A spline differentiates twice in x: d²/dx² CUBSPL(x², 0, 1) = S″(x²)·4x² + S′(x²)·2,
+/// with S′ and S″ from the runtime (iord 1 and 2).
+#[test]
+fn splines_differentiate_twice_in_x() {
+    use mbfx_runtime::{cubspl, Spline};
+    let xs: Vec<f64> = (0..8).map(|i| i as f64 * 0.5).collect();
+    let ys: Vec<f64> = xs.iter().map(|x| (x * 1.3).sin() + 0.2 * x).collect();
+    let spline = Spline::new(xs, vec![0.0], ys).unwrap();
+    let mut scope = Variables::new();
+    scope.define("x");
+    scope.define_spline(1, false);
+    let f = compile("CUBSPL(x*x, 0, 1)", &scope, Expect::Scalar)
+        .unwrap()
+        .function;
+    let h = hessian(&f, &[X]).unwrap();
+    let splines = [spline];
+    for x in [0.3, 0.9, 1.4, 1.8] {
+        let mut out = vec![0.0; h.outputs.len()];
+        let vars = [x];
+        let ctx = Context::new(0.0, &vars).with_splines(&splines);
+        Program::new(h.clone()).eval_into(&ctx, &mut out);
+        let u = x * x;
+        let (d1, d2) = (
+            cubspl(u, 0.0, &splines[0], 1),
+            cubspl(u, 0.0, &splines[0], 2),
+        );
+        close(out[3], d2 * 4.0 * u + d1 * 2.0, &format!("CUBSPL at {x}"));
+    }
+}
