@@ -13,8 +13,9 @@
 //!
 //! STEP, STEP5, HAVSIN and IMPACT and BISTOP with constant parameters are lowered to
 //! arithmetic before the first derivative ([`crate::ir::lower`]), so they never reach
-//! here; SWEEP, and IMPACT or BISTOP whose parameters vary, have no formula: their second
-//! derivative is an error naming the function.
+//! here; IMPACT or BISTOP whose parameters vary, and SWEEP in arguments other than x and
+//! its amplitude, have no formula: their second derivative is an error naming the
+//! function.
 
 use super::DerivError;
 use crate::diag::Span;
@@ -163,6 +164,7 @@ impl Ir<'_> {
             (Poly, _) => self.poly(wrt, a)?,
             (Cheby, _) => self.cheby(wrt, a)?,
             (Forcos | Forsin, _) => self.fourier(func == Forcos, wrt, a)?,
+            (Sweep, 0 | 1) => self.sweep(wrt, a)?,
             _ => return None,
         })
     }
@@ -189,6 +191,66 @@ impl Ir<'_> {
             4 => self.neg(ac),
             _ => self.c(1.0),
         })
+    }
+
+    /// SWEEP(x, a, x0, f0, x1, f1, dx) in x and a (the runtime's formulas): with the phase
+    /// φ (f0·x below x0; f0·u + (f1 − f0)/(2l)·u² + f0·x0 between, u = x − x0,
+    /// l = x1 − x0; f1·x − (f1 − f0)/2·(x1 + x0) above), the fade F = STEP5(x, x0, 0,
+    /// x0 + dx, 1), S = sin 2πφ: ∂a = F·S, ∂x = a·F_x·S + a·F·2π·cos 2πφ·φ_x, with
+    /// F_x = 30·Δ²(1 − Δ)²/dx inside the fade (Δ = u/dx), 0 outside. The other arguments
+    /// have no formula here.
+    fn sweep(&mut self, wrt: usize, a: &[Value]) -> Option<Value> {
+        let [x, amp, x0, f0, x1, f1, dx] = *a else {
+            return None;
+        };
+        let (zero, one, half, two) = (self.c(0.0), self.c(1.0), self.c(0.5), self.c(2.0));
+        let (u, l, df) = (self.sub(x, x0), self.sub(x1, x0), self.sub(f1, f0));
+        // The phase and its slope on each piece: c = (f1 − f0)/(2l).
+        let below = self.mul(f0, x);
+        let (f1x, mid) = (self.mul(f1, x), self.add(x1, x0));
+        let shift = self.prod(&[df, half, mid]);
+        let above = self.sub(f1x, shift);
+        let two_l = self.mul(two, l);
+        let c = self.div(df, two_l);
+        let (f0u, cuu, f0x0) = (self.mul(f0, u), self.prod(&[c, u, u]), self.mul(f0, x0));
+        let inside = self.add(f0u, cuu);
+        let inside = self.add(inside, f0x0);
+        let two_cu = self.prod(&[two, c, u]);
+        let slope_inside = self.add(f0, two_cu);
+        let phase = self.sel(Cmp::Ge, x, x1, above, inside);
+        let phase = self.sel(Cmp::Le, x, x0, below, phase);
+        let slope = self.sel(Cmp::Ge, x, x1, f1, slope_inside);
+        let slope = self.sel(Cmp::Le, x, x0, f0, slope);
+        let tau = self.c(core::f64::consts::TAU);
+        let angle = self.mul(tau, phase);
+        let sin = self.call(Func::Sin, &[angle]);
+        let end = self.add(x0, dx);
+        let fade = self.call(Func::Step5, &[x, x0, zero, end, one]);
+        if wrt == 1 {
+            return Some(self.mul(fade, sin));
+        }
+        // F_x = 30·Δ²(1 − Δ)²/dx inside the fade.
+        let d = self.div(u, dx);
+        let e = self.sub(one, d);
+        let thirty = self.c(30.0);
+        let ramp = self.prod(&[thirty, d, e, d, e]);
+        let ramp = self.div(ramp, dx);
+        let fade_x = self.sel(Cmp::Ge, x, end, zero, ramp);
+        let fade_x = self.sel(Cmp::Le, x, x0, zero, fade_x);
+        let cos = self.call(Func::Cos, &[angle]);
+        let t1 = self.mul(fade_x, sin);
+        let t2 = self.prod(&[fade, tau, cos, slope]);
+        let sum = self.add(t1, t2);
+        Some(self.mul(amp, sum))
+    }
+
+    /// The product of `vs`, left to right.
+    fn prod(&mut self, vs: &[Value]) -> Value {
+        let mut p = vs[0];
+        for &v in &vs[1..] {
+            p = self.mul(p, v);
+        }
+        p
     }
 
     /// t^k by repeated multiplication (t⁰ = 1), as the series companions compute it.

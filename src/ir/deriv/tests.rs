@@ -248,9 +248,53 @@ fn mixed_second_derivatives() {
     }
 }
 
+/// SWEEP(x, a, x0, f0, x1, f1, dx) = a·F·sin 2πφ: f″ = a·(F″S + 2F′S′ + F·S″), with
+/// S′ = 2πφ′·cos 2πφ, S″ = 2πφ″·cos 2πφ − (2πφ′)²·sin 2πφ, the phase φ of the runtime's
+/// documentation (quadratic between x0 and x1) and the fade F = STEP5(x, x0, 0, x0 + dx, 1)
+/// (F′ = 30Δ²(1 − Δ)²/dx, F″ = 60Δ(1 − Δ)(1 − 2Δ)/dx², Δ = (x − x0)/dx); checked before,
+/// in and after the fade, during and after the sweep.
+#[test]
+fn second_derivative_of_sweep() {
+    let (a, x0, f0, x1, f1, dx): (f64, f64, f64, f64, f64, f64) = (1.5, 0.2, 1.0, 2.0, 3.0, 0.5);
+    let c = (f1 - f0) / (2.0 * (x1 - x0));
+    for x in [-0.3, 0.35, 0.6, 1.1, 1.7, 2.4] {
+        let (phase, slope, curve) = if x <= x0 {
+            (f0 * x, f0, 0.0)
+        } else if x >= x1 {
+            (f1 * x - (f1 - f0) / 2.0 * (x1 + x0), f1, 0.0)
+        } else {
+            let u = x - x0;
+            (f0 * u + c * u * u + f0 * x0, f0 + 2.0 * c * u, 2.0 * c)
+        };
+        let (fade, fd, fdd) = if x <= x0 {
+            (0.0, 0.0, 0.0)
+        } else if x >= x0 + dx {
+            (1.0, 0.0, 0.0)
+        } else {
+            let d = (x - x0) / dx;
+            (
+                d.powi(3) * (10.0 - 15.0 * d + 6.0 * d * d),
+                30.0 * d * d * (1.0 - d).powi(2) / dx,
+                60.0 * d * (1.0 - d) * (1.0 - 2.0 * d) / (dx * dx),
+            )
+        };
+        let w = 2.0 * PI;
+        let (s, co) = ((w * phase).sin(), (w * phase).cos());
+        let sd = w * slope * co;
+        let sdd = w * curve * co - (w * slope).powi(2) * s;
+        let want = a * (fdd * s + 2.0 * fd * sd + fade * sdd);
+        let got = hess("SWEEP(x, 1.5, 0.2, 1, 2, 3, 0.5)", &[X], x, 0.0, 0.0)[0][0];
+        close(got, want, &format!("SWEEP at {x}"));
+        // In (x, amplitude): ∂²/∂x∂a = f′/a.
+        let h = hess("SWEEP(x, y, 0.2, 1, 2, 3, 0.5)", &[X, Y], x, a, 0.0);
+        close(h[0][1], fd * s + fade * sd, &format!("SWEEP x, a at {x}"));
+        close(h[1][1], 0.0, &format!("SWEEP a, a at {x}"));
+    }
+}
+
 #[test]
 fn functions_without_a_second_derivative_are_named() {
-    let err = hessian(&ir("SWEEP(x, 1, 0, 1, 5, 10, 0.5)"), &[X]).unwrap_err();
+    let err = hessian(&ir("SWEEP(x, 1, 0, y, 5, 10, 0.5)"), &[X, Y]).unwrap_err();
     assert_eq!(err, DerivError::SecondOrder(Func::Sweep));
     assert_eq!(err.to_string(), "mbfx has no second derivative of SWEEP");
     // IMPACT whose stiffness varies stays a call.
