@@ -284,3 +284,60 @@ impl ExprFn for Integrated {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn closure(f: fn(f64) -> f64) -> Box<dyn ExprFn> {
+        Box::new(Closure {
+            slots: Vec::new(),
+            f: move |t: f64, _: &[f64]| f(t),
+            g: |_: f64, _: &[f64], _: &mut [f64]| f64::NAN,
+        })
+    }
+
+    /// g(t) against closed forms, at times visited forward, backward and repeated (the
+    /// checkpoints must not change the answer).
+    #[test]
+    fn integrals_match_closed_forms() {
+        let times = [0.0, 0.013, 0.4, 1.7, 0.9, 3.2, 3.2, 2.5, 6.0];
+        // f = cos 3t: ∫ = sin 3t / 3; ∫∫ = (1 − cos 3t)/9.
+        let once = Integrated::new(closure(|t| (3.0 * t).cos()), Integration::Once, 0.2, 0.0);
+        let twice = Integrated::new(closure(|t| (3.0 * t).cos()), Integration::Twice, 0.2, -1.0);
+        for t in times {
+            let g1 = once.value(t, &[]).unwrap();
+            assert!(
+                (g1 - (0.2 + (3.0 * t).sin() / 3.0)).abs() < 1e-15,
+                "once at {t}"
+            );
+            let g2 = twice.value(t, &[]).unwrap();
+            let want = 0.2 - t + (1.0 - (3.0 * t).cos()) / 9.0;
+            assert!((g2 - want).abs() < 1e-14, "twice at {t}: {g2} vs {want}");
+            let v2 = twice.gradient(t, &[], &mut []).unwrap();
+            assert!(
+                (v2 - (-1.0 + (3.0 * t).sin() / 3.0)).abs() < 1e-15,
+                "ġ at {t}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_jump_in_the_function_is_integrated_to_rounding() {
+        // f = 1 from t = 0.3 on: ∫₀ᵗ f = t − 0.3, ∫₀ᵗ (t − s) f = (t − 0.3)²/2.
+        let jump = |t: f64| if t < 0.3 { 0.0 } else { 1.0 };
+        let once = Integrated::new(closure(jump), Integration::Once, 0.0, 0.0);
+        let twice = Integrated::new(closure(jump), Integration::Twice, 0.0, 0.0);
+        for t in [0.1, 0.5, 1.25] {
+            let d = (t - 0.3f64).max(0.0);
+            assert!(
+                (once.value(t, &[]).unwrap() - d).abs() < 1e-12,
+                "once at {t}"
+            );
+            assert!(
+                (twice.value(t, &[]).unwrap() - d * d / 2.0).abs() < 1e-12,
+                "twice at {t}"
+            );
+        }
+    }
+}
