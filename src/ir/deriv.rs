@@ -12,11 +12,20 @@
 //! the tangent of the value it picks, and MIN, MAX, ABS, DIM, SIGN, STEP's ends, IMPACT's
 //! and BISTOP's contact edges follow the companions' documented branch choices. An IF
 //! whose test is NaN gives NaN for the value and every partial.
+//!
+//! Second derivatives ([`hessian`]): the function is lowered first (STEP, MIN, … become
+//! arithmetic), then differentiated with the companions' partials written out as IR
+//! (`expand`), and differentiated again.
+
+mod expand;
+#[cfg(test)]
+mod tests;
 
 use super::builder::{Arith, Builder};
 use super::rebuild::{constants, copy, UNSET};
 use super::{Function, Inst, Value};
 use crate::diag::Span;
+use crate::vocab::func::Func;
 use rustc_hash::FxHashMap;
 
 /// What a partial derivative is taken with respect to.
@@ -34,22 +43,43 @@ pub enum Input {
 /// Why a derivative could not be generated.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum DerivError {
-    /// The function already holds derivative code ([`Inst::Partial`]): second derivatives
-    /// of library functions have no companions.
-    SecondOrder,
-    /// A spline's second derivative in x, or its derivative in z, is needed.
+    /// A second derivative of this library function is needed: of an [`Inst::Partial`]
+    /// (which [`gradient`] cannot differentiate), or in [`hessian`], where mbfx has no
+    /// formula for its partials.
+    SecondOrder(Func),
+    /// A spline's third derivative in x, or its derivative in z, is needed.
     Spline,
 }
 
 impl std::fmt::Display for DerivError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            DerivError::SecondOrder => "second derivatives of library functions are not available",
-            DerivError::Spline => {
-                "a spline is differentiated only once, and only in x (AKISPL/CUBSPL iord 0 or 1)"
+        match self {
+            DerivError::SecondOrder(func) => {
+                write!(f, "mbfx has no second derivative of {}", func_name(*func))
             }
-        })
+            DerivError::Spline => f.write_str(
+                "a spline is differentiated at most twice, and only in x (AKISPL/CUBSPL iord 0 to 2)",
+            ),
+        }
     }
+}
+
+/// The Adams name of a library function (`**` for the power operator).
+pub fn func_name(func: Func) -> String {
+    match func {
+        Func::Pow | Func::PowLibm => "**".into(),
+        _ => func.symbol().trim_start_matches("mbfx_").to_uppercase(),
+    }
+}
+
+/// `f`'s second partials with respect to `wrt` (k inputs): the outputs of
+/// [`gradient`]`(gradient(f))`, so for a scalar f, ∂²f/∂xᵢ∂xⱼ is output
+/// `(1 + k) + (1 + i)·k + j`. Fails naming the library function whose second derivative
+/// mbfx does not have (IMPACT and BISTOP with varying parameters, SWEEP in arguments
+/// other than x and its amplitude).
+pub fn hessian(f: &Function, wrt: &[Input]) -> Result<Function, DerivError> {
+    let g = differentiate(&super::lower::lower(f), wrt, true)?;
+    gradient(&g, wrt)
 }
 
 /// A tangent known to be zero (never emitted).
@@ -58,6 +88,12 @@ const ZERO: Value = Value::MAX - 1;
 /// `f` and its partials with respect to `wrt`: outputs are f's outputs, then for each
 /// output in order its partials in `wrt` order (`n + n·k` outputs).
 pub fn gradient(f: &Function, wrt: &[Input]) -> Result<Function, DerivError> {
+    differentiate(f, wrt, false)
+}
+
+/// [`gradient`], with library partials from the companions ([`Inst::Partial`]) or, when
+/// `written_out`, as IR that can be differentiated again.
+fn differentiate(f: &Function, wrt: &[Input], written_out: bool) -> Result<Function, DerivError> {
     let mut b = Builder::new();
     let m = constants(f, &mut b, None);
     let k = wrt.len();
@@ -69,6 +105,7 @@ pub fn gradient(f: &Function, wrt: &[Input]) -> Result<Function, DerivError> {
         t: vec![ZERO; f.insts.len() * k],
         ifs: FxHashMap::default(),
         b,
+        written_out,
     };
     d.list(&f.body)?;
     let mut outputs: Vec<Value> = f.outputs.iter().map(|&o| d.m[o as usize]).collect();
@@ -92,6 +129,8 @@ struct Diff<'f> {
     /// New results of each old IF: value, extras, then tangents of each (see `if_`).
     ifs: FxHashMap<Value, Vec<Value>>,
     b: Builder,
+    /// Library partials as IR (`expand`) rather than [`Inst::Partial`].
+    written_out: bool,
 }
 
 impl Diff<'_> {
@@ -131,7 +170,7 @@ impl Diff<'_> {
                 }
                 return Ok(());
             }
-            Inst::Partial { .. } => return Err(DerivError::SecondOrder),
+            Inst::Partial { func, .. } => return Err(DerivError::SecondOrder(*func)),
             _ => {}
         }
         let new = copy(&mut self.b, inst, span.clone(), &self.m);
@@ -201,7 +240,12 @@ impl Diff<'_> {
                     for (j, a) in args.iter().enumerate() {
                         let ta = g(self, a, i);
                         if ta != ZERO {
-                            let p = self.b.partial(*func, j as u32, &new_args, span.clone());
+                            let p = if self.written_out {
+                                let (b, at) = (&mut self.b, span.clone());
+                                expand::partial(b, *func, j as u32, &new_args, at)?
+                            } else {
+                                self.b.partial(*func, j as u32, &new_args, span.clone())
+                            };
                             let term = self.scale(ta, p, &span);
                             sum = self.add(sum, term, &span);
                         }
@@ -216,7 +260,7 @@ impl Diff<'_> {
                     iord,
                 } => {
                     let (tx, tz) = (g(self, x, i), g(self, z, i));
-                    if tz != ZERO || (tx != ZERO && *iord >= 1) {
+                    if tz != ZERO || (tx != ZERO && *iord >= 2) {
                         return Err(DerivError::Spline);
                     }
                     if tx == ZERO {

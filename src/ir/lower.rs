@@ -274,39 +274,40 @@ enum Side {
     Above,
 }
 
-/// Emits instructions at one span.
-struct Lower<'b> {
-    b: &'b mut Builder,
-    span: Span,
+/// Emits instructions at one span (also the second derivative's expansion,
+/// `deriv::expand`, which adds its own methods).
+pub(super) struct Lower<'b> {
+    pub(super) b: &'b mut Builder,
+    pub(super) span: Span,
 }
 
 impl Lower<'_> {
-    fn c(&mut self, x: f64) -> Value {
+    pub(super) fn c(&mut self, x: f64) -> Value {
         self.b.constant(x, self.span.clone())
     }
-    fn op(&mut self, op: Arith, a: Value, b: Value) -> Value {
+    pub(super) fn op(&mut self, op: Arith, a: Value, b: Value) -> Value {
         self.b.arith(op, a, b, self.span.clone())
     }
-    fn add(&mut self, a: Value, b: Value) -> Value {
+    pub(super) fn add(&mut self, a: Value, b: Value) -> Value {
         self.op(Arith::Add, a, b)
     }
-    fn sub(&mut self, a: Value, b: Value) -> Value {
+    pub(super) fn sub(&mut self, a: Value, b: Value) -> Value {
         self.op(Arith::Sub, a, b)
     }
-    fn mul(&mut self, a: Value, b: Value) -> Value {
+    pub(super) fn mul(&mut self, a: Value, b: Value) -> Value {
         self.op(Arith::Mul, a, b)
     }
-    fn div(&mut self, a: Value, b: Value) -> Value {
+    pub(super) fn div(&mut self, a: Value, b: Value) -> Value {
         self.op(Arith::Div, a, b)
     }
-    fn neg(&mut self, a: Value) -> Value {
+    pub(super) fn neg(&mut self, a: Value) -> Value {
         self.b.neg(a, self.span.clone())
     }
-    fn call(&mut self, func: Func, args: &[Value]) -> Value {
+    pub(super) fn call(&mut self, func: Func, args: &[Value]) -> Value {
         self.b.call(func, args.to_vec(), self.span.clone())
     }
-    fn sel(&mut self, cmp: Cmp, a: Value, b: Value, then: Value, otherwise: Value) -> Value {
-        self.b.select(cmp, a, b, then, otherwise, self.span.clone())
+    pub(super) fn sel(&mut self, cmp: Cmp, a: Value, b: Value, t: Value, o: Value) -> Value {
+        self.b.select(cmp, a, b, t, o, self.span.clone())
     }
 
     /// The values of `vs` when all are constants.

@@ -4,7 +4,7 @@
 //! derivative; [`InterpretOnly`] evaluates values alone.
 
 use super::error::MbdError;
-use super::expr::{ExprFn, Interpreted};
+use super::expr::{ExprFn, Integrated, Integration::*, Interpreted};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar};
 use super::inertia::mass_properties;
 use super::measures::Measure;
@@ -34,51 +34,6 @@ fn elref(kind: ElementKind, n: &Named) -> ElementRef {
         kind,
         id: n.id,
         name: n.name.clone(),
-    }
-}
-
-/// The drive of a VELOCITY or ACCELERATION MOTION at time 0 (spec §4.5):
-/// g = ICDISP + ∫f dt, or g = ICDISP + ICVEL·t + ∫∫f dt², so g(0) = ICDISP and
-/// ġ(0) = f(0) or ICVEL; an absent ICDISP or ICVEL counts as 0, as the formula reads
-/// (decision). Later times need the integrals, which the integrator keeps; here they are
-/// an error. Only the value of f is needed, never its derivative.
-struct InitialDrive {
-    f: Box<dyn ExprFn>,
-    level: MotionLevel,
-    icdisp: f64,
-    icvel: f64,
-}
-
-impl InitialDrive {
-    fn at_start(&self, t: f64) -> Result<(), String> {
-        if t == 0.0 {
-            Ok(())
-        } else {
-            Err(format!(
-                "a {:?} MOTION is known at time 0 only until the integrator keeps its integral",
-                self.level
-            ))
-        }
-    }
-}
-
-impl ExprFn for InitialDrive {
-    fn slots(&self) -> &[u32] {
-        self.f.slots()
-    }
-
-    fn value(&self, t: f64, _: &[f64]) -> Result<f64, String> {
-        self.at_start(t)?;
-        Ok(self.icdisp)
-    }
-
-    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String> {
-        self.at_start(t)?;
-        grad.fill(0.0);
-        match self.level {
-            MotionLevel::Velocity => self.f.value(t, measures),
-            _ => Ok(self.icvel),
-        }
     }
 }
 
@@ -237,14 +192,13 @@ impl System {
                 .inline_variables(&m.function)
                 .map_err(|s| MbdError::Expression(r.clone(), s))?;
             let f = exprs.compile(&e);
+            // VELOCITY and ACCELERATION: the displacement is f integrated from the
+            // initial conditions (`expr::Integrated` says why at position level).
+            let (icdisp, icvel) = (m.icdisp.unwrap_or(0.0), m.icvel.unwrap_or(0.0));
             let drive: Box<dyn ExprFn> = match m.level {
                 MotionLevel::Displacement => f,
-                level => Box::new(InitialDrive {
-                    f,
-                    level,
-                    icdisp: m.icdisp.unwrap_or(0.0),
-                    icvel: m.icvel.unwrap_or(0.0),
-                }),
+                MotionLevel::Velocity => Box::new(Integrated::new(f, Once, icdisp, icvel)),
+                MotionLevel::Acceleration => Box::new(Integrated::new(f, Twice, icdisp, icvel)),
             };
             sys.motion(r, measure, drive)?;
         }

@@ -15,7 +15,7 @@ use super::build::ExprCompiler;
 use super::expr::ExprFn;
 use crate::context::Context;
 use crate::interp::Program;
-use crate::ir::deriv::{gradient, Input};
+use crate::ir::deriv::{gradient, hessian, Input};
 use crate::jit::{CompiledExpr, Jit};
 use crate::model::elements::Expr;
 use mbfx_runtime::Spline;
@@ -159,11 +159,9 @@ impl ExprCompiler for CompiledExprs {
                 })
             }
         };
-        // The Hessian comes from the function with its piecewise library calls (STEP,
-        // STEP5, MIN, MAX, …) lowered to arithmetic and selects, which differentiate
-        // twice; other library calls have first-derivative companions only.
-        let hessian = gradient(&crate::ir::lower::lower(&e.function), &wrt)
-            .and_then(|g1| gradient(&g1, &wrt))
+        // The Hessian: lowered, differentiated, the library partials written out as IR
+        // and differentiated again (`ir::deriv::hessian`).
+        let hessian = hessian(&e.function, &wrt)
             .map(|h| Box::new(Program::new(h)))
             .map_err(|err| {
                 format!("the second derivative of its FUNCTION is not available: {err}")

@@ -13,6 +13,7 @@ mod adams;
 mod contact;
 mod exact;
 mod failures;
+mod motions;
 mod reference;
 mod run;
 mod springs;

@@ -11,9 +11,10 @@
 //! A non-holonomic GCON f(q, v, t) = 0 is differentiated once: γ = −(f_q·v + f_t).
 //! Rows built on measures (GCON, MOTION, RACKPIN, SCREW, CONVEL) take the measures'
 //! second time derivatives from jets ([`crate::mbd::measures::MeasureSet::jet`]) and the
-//! expression's Hessian from the IR derivative applied twice; where the IR has no second
-//! derivative (library functions other than the arithmetic ones), that is an error naming
-//! the element, never a silently wrong γ.
+//! expression's Hessian from the IR derivative applied twice (`ir::deriv::hessian`); where
+//! mbfx has no second derivative (IMPACT or BISTOP with varying parameters), that
+//! is an error naming the element and the function, never a silently wrong γ. A VELOCITY
+//! or ACCELERATION MOTION's drive is the integral of its function, so its g̈ is ḟ or f.
 
 use super::Dynamics;
 use crate::mbd::constraints::Row;

@@ -295,13 +295,19 @@ fn motion_function_is_evaluated_by_the_interpreter() {
 }
 
 #[test]
-fn velocity_and_acceleration_motions_assemble_at_time_zero() {
+fn velocity_and_acceleration_motions_integrate_their_function() {
     // spec §4.5: g(0) = ICDISP; ġ(0) = f(0) for VELOCITY, ICVEL for ACCELERATION.
     // The FUNCTION goes through the interpreter: 2 + TIME, so f(0) = 2.
     let f = time_expr("2 + TIME");
-    for (level, rate) in [
-        (el::MotionLevel::Velocity, 2.0),
-        (el::MotionLevel::Acceleration, -0.7),
+    // g(0.5) by hand: 0.4 + ∫₀^0.5 (2 + s) ds = 1.525; 0.4 − 0.7·0.5 +
+    // ∫₀^0.5 (0.5 − s)(2 + s) ds = 0.05 + 0.5 − 0.1875 − 0.125/3.
+    for (level, rate, later) in [
+        (el::MotionLevel::Velocity, 2.0, 1.525),
+        (
+            el::MotionLevel::Acceleration,
+            -0.7,
+            0.05 + 0.5 - 0.1875 - 0.125 / 3.0,
+        ),
     ] {
         let mut model = pendulum();
         model.motions.push(el::Motion {
@@ -315,8 +321,10 @@ fn velocity_and_acceleration_motions_assemble_at_time_zero() {
         let x = p.rot * Vec3::x();
         assert!((x.y.atan2(x.x) - 0.4).abs() < 1e-10, "{level:?}");
         assert!((p.w.z - rate).abs() < 1e-10, "{level:?}: {}", p.w.z);
-        // Later times need the integrator.
+        // Later, the row is AZ − g(t) with g the integral of f.
         sys.time = 0.5;
-        assert!(sys.residual().is_err());
+        let last = sys.labels().len() - 1;
+        let r = sys.residual().unwrap()[last];
+        assert!((r - (0.4 - later)).abs() < 1e-14, "{level:?}: {r}");
     }
 }
