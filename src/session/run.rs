@@ -254,7 +254,13 @@ impl Simulation {
         let exprs = engine_compiler(interpret, analysis.splines.clone());
         let mut system = analysis.system;
         let forces = system.forces_from_model(&read.model, &exprs)?;
-        let conservative = forces.elements.is_empty() && read.model.motions.is_empty();
+        // Energy is conserved only without force elements and without rows that move
+        // with time (MOTIONs, time-dependent GCONs) or do work through velocities
+        // (non-holonomic GCONs).
+        let conservative = forces.elements.is_empty()
+            && system
+                .rows()
+                .all(|(e, q)| !system.row_reads_time(e, q) && !system.row_reads_velocity(e, q));
         // Every slot the columns read, resolved for the dynamics. A probe that reads what
         // the dynamics cannot give is an error; a REQUEST column, a note.
         let mut slots: Vec<(u32, OutputSlot)> = Vec::new();
