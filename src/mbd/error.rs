@@ -24,6 +24,9 @@ pub enum MbdError {
     Unsupported(String),
     /// An expression's value or derivative could not be computed.
     Expression(ElementRef, String),
+    /// Consistent accelerations need a second derivative the row's equation does not
+    /// have: the element, the equation's label and why.
+    NoSecondDerivative(ElementRef, &'static str, String),
 }
 
 /// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the
@@ -66,6 +69,11 @@ impl fmt::Display for MbdError {
             ),
             MbdError::Unsupported(s) => write!(f, "{s}"),
             MbdError::Expression(e, s) => write!(f, "{}: {s}", element_name(e)),
+            MbdError::NoSecondDerivative(e, equation, why) => write!(
+                f,
+                "{}: consistent accelerations need the second derivative of its {equation} equation: {why}",
+                element_name(e)
+            ),
         }
     }
 }

@@ -184,4 +184,9 @@ fn motion_without_a_second_derivative_names_the_element_and_the_function() {
     for needle in ["E0801", "MOTION/1", "IMPACT"] {
         assert!(stderr.contains(needle), "{needle} in:\n{stderr}");
     }
+    // The caret is at the MOTION statement (line 21 of the dataset), not the title.
+    assert!(
+        stderr.contains("impact_with_varying_stiffness.adm:21:"),
+        "the MOTION statement's line in:\n{stderr}"
+    );
 }

@@ -18,7 +18,7 @@
 
 use super::Dynamics;
 use crate::mbd::constraints::Row;
-use crate::mbd::error::{element_name, MbdError};
+use crate::mbd::error::MbdError;
 use crate::mbd::system::{MarkerHandle, System};
 use crate::vocab::math::{DVec, Vec3};
 
@@ -46,11 +46,11 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
     let mut out = DVec::zeros(d.m);
     for (r, &(e, q)) in d.rows.iter().enumerate() {
         let name = |why: String| {
-            MbdError::Unsupported(format!(
-                "{}: consistent accelerations need the second derivative of its {} equation: {why}",
-                element_name(&sys.elements[e].elref),
-                sys.elements[e].eqs[q].label.label()
-            ))
+            MbdError::NoSecondDerivative(
+                sys.elements[e].elref.clone(),
+                sys.elements[e].eqs[q].label.label(),
+                why,
+            )
         };
         out[r] = match &sys.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {

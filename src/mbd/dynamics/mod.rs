@@ -146,6 +146,7 @@ impl DynError {
                 ..
             } => Some(e),
             DynError::Model(MbdError::Expression(e, _))
+            | DynError::Model(MbdError::NoSecondDerivative(e, _, _))
             | DynError::Model(MbdError::SamePart(e))
             | DynError::Model(MbdError::Floating(e, _)) => Some(e),
             _ => None,
