@@ -7,6 +7,9 @@
 //! `check_cli` runs the whole `mbfx check` command; here it runs the `mbfx` binary (its
 //! output captured, not printed), so it gets few mutations: each costs a process.
 
+#[path = "../fuzz/fuzz_targets/spans.rs"]
+mod spans;
+
 #[path = "../fuzz/fuzz_targets/parse_check_body.rs"]
 mod parse_check;
 

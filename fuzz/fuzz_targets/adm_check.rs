@@ -4,6 +4,9 @@
 
 #![no_main]
 
+#[path = "spans.rs"]
+mod spans;
+
 #[path = "adm_check_body.rs"]
 mod body;
 

@@ -15,13 +15,10 @@
 //!   section;
 //! - the report and the diagnostics render.
 
-#[path = "spans.rs"]
-mod spans;
-
+use crate::spans::check_spans;
 use mbfx::diag::{has_errors, render, Diagnostic, SourceFile};
 use mbfx::model::{decode, read_model};
 use mbfx::session::{self, report, DimRequest};
-use spans::check_spans;
 
 /// Runs every check on raw fuzzer bytes.
 pub fn check_bytes(data: &[u8]) {

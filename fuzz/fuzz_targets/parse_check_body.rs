@@ -19,9 +19,7 @@
 //! with a scope in which every measure and SPLINE exists, so measure and vector
 //! expressions reach lowering and evaluation too.
 
-#[path = "spans.rs"]
-mod spans;
-
+use crate::spans::check_spans;
 use mbfx::check::{
     compile, EveryIdExists, Expect, MeasureCall, MeasureValue, Scope, SplineInfo, Variables,
 };
@@ -29,7 +27,6 @@ use mbfx::context::Context;
 use mbfx::diag::{has_errors, render, Diagnostic, SourceFile};
 use mbfx::interp::Program;
 use mbfx::syntax::parser::Session;
-use spans::check_spans;
 use std::cell::RefCell;
 
 /// Points (x, v, t) at which an accepted expression is evaluated; t is also the time.

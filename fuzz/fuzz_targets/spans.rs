@@ -1,5 +1,6 @@
-//! The span invariant every fuzz target checks, shared by the target bodies (each
-//! includes this file with `#[path]`).
+//! The span invariant the fuzz targets check, shared by their bodies as
+//! `crate::spans`: every crate that includes a body (the targets, `tests/fuzz_seeds.rs`,
+//! `examples/profile.rs`) includes this file once at its root with `#[path]`.
 
 use mbfx::diag::Diagnostic;
 
