@@ -28,20 +28,20 @@ pub fn command(b: u8) -> (&'static str, &'static [&'static str]) {
     }
 }
 
-/// Writes `data` (after its selector byte) to a fresh file in the temporary folder and
-/// runs `run` with the full command line (`mbfx check --color never ... FILE`), then
-/// checks the exit code `run` returns.
+/// Writes `data` (after its selector byte) to a file in the temporary folder named after
+/// this process, runs `run` with the full command line (`mbfx check --color never ...
+/// FILE`), removes the file and checks the exit code `run` returned.
 pub fn check_with(data: &[u8], run: impl FnOnce(&[String]) -> i32) {
     let Some((&selector, body)) = data.split_first() else {
         return;
     };
     let (ext, options) = command(selector);
-    let dir = std::env::temp_dir().join(format!("mbfx-check-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a temporary folder");
-    let path = dir.join(format!("input.{ext}"));
+    let name = format!("mbfx-check-cli-{}.{ext}", std::process::id());
+    let path = std::env::temp_dir().join(name);
     std::fs::write(&path, body).expect("the input written");
     let args = arguments(options, &path);
     let code = run(&args);
+    let _ = std::fs::remove_file(&path);
     check_exit(code, &args);
 }
 
