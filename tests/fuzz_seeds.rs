@@ -3,6 +3,12 @@
 //! seed also yields a fixed set of deterministic mutations (byte flips, insertions of
 //! dictionary tokens, deletions, truncations, duplications, splices with other seeds).
 //! A missing or empty corpus folder fails the test: nothing passes silently.
+//!
+//! `check_cli` runs the whole `mbfx check` command; here it runs the `mbfx` binary (its
+//! output captured, not printed), so it gets few mutations: each costs a process.
+
+#[path = "../fuzz/fuzz_targets/spans.rs"]
+mod spans;
 
 #[path = "../fuzz/fuzz_targets/parse_check_body.rs"]
 mod parse_check;
@@ -10,24 +16,65 @@ mod parse_check;
 #[path = "../fuzz/fuzz_targets/interp_vs_jit_body.rs"]
 mod interp_vs_jit;
 
+#[path = "../fuzz/fuzz_targets/adm_check_body.rs"]
+mod adm_check;
+
+#[path = "../fuzz/fuzz_targets/check_cli_body.rs"]
+mod check_cli;
+
 use std::path::{Path, PathBuf};
 
-/// Mutations replayed per seed.
-const MUTATIONS_PER_SEED: usize = 300;
+/// How one corpus folder is replayed.
+struct Target {
+    check: fn(&[u8]),
+    /// The libFuzzer dictionary its mutations insert tokens from (`fuzz/<dict>.dict`).
+    dict: &'static str,
+    /// Mutations replayed per seed.
+    mutations: usize,
+    /// Mutations per seed larger than [`LARGE_SEED`] bytes: the 1000-deep parentheses of
+    /// spec case I9 cost milliseconds per parse once mutated (error recovery over a deep
+    /// parser stack), so they get fewer.
+    mutations_large: usize,
+}
 
-/// Mutations replayed per seed larger than [`LARGE_SEED`] bytes: the 1000-deep parentheses
-/// of spec case I9 cost milliseconds per parse once mutated (error recovery over a deep
-/// parser stack), so they get fewer.
-const MUTATIONS_PER_LARGE_SEED: usize = 30;
 const LARGE_SEED: usize = 512;
 
-/// The checking function of each fuzz target, by corpus folder name.
-fn target(name: &str) -> Option<fn(&[u8])> {
+/// The replay of each fuzz target, by corpus folder name.
+fn target(name: &str) -> Option<Target> {
+    let t = |check, dict, mutations, mutations_large| Target {
+        check,
+        dict,
+        mutations,
+        mutations_large,
+    };
     match name {
-        "parse_check" => Some(parse_check::check_bytes),
-        "interp_vs_jit" => Some(interp_vs_jit::check_bytes),
+        "parse_check" => Some(t(parse_check::check_bytes, "parse_check", 300, 30)),
+        "interp_vs_jit" => Some(t(interp_vs_jit::check_bytes, "interp_vs_jit", 300, 30)),
+        // A dataset read, built, assembled and analysed: tens of microseconds each.
+        "adm_check" => Some(t(adm_check::check_bytes, "adm_check", 40, 40)),
+        "check_cli" => Some(t(check_cli_binary, "adm_check", 2, 2)),
         _ => None,
     }
+}
+
+/// The `check_cli` checks with the command run as a process of the `mbfx` binary.
+fn check_cli_binary(data: &[u8]) {
+    check_cli::check_with(data, |args| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_mbfx"))
+            .args(&args[1..])
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run mbfx: {e}"));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        let code = out.status.code().unwrap_or(-1);
+        // A check that ran to its end says so in a summary line.
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            code != 0 || stdout.contains(" errors, "),
+            "{args:?}: exit 0 without a summary: {stdout}"
+        );
+        code
+    });
 }
 
 fn fuzz_dir() -> PathBuf {
@@ -202,15 +249,17 @@ fn seed_corpora_and_mutations_pass_the_fuzz_checks() {
                 .into_owned()
         })
         .collect();
-    assert!(
-        names.iter().any(|n| n == "parse_check"),
-        "no fuzz/corpus/parse_check in {}: {names:?}",
-        root.display()
-    );
+    for expected in ["adm_check", "check_cli", "interp_vs_jit", "parse_check"] {
+        assert!(
+            names.iter().any(|n| n == expected),
+            "no fuzz/corpus/{expected} in {}: {names:?}",
+            root.display()
+        );
+    }
     for (dir, name) in dirs.iter().zip(&names) {
-        let check = target(name)
+        let t = target(name)
             .unwrap_or_else(|| panic!("fuzz/corpus/{name}: no replay for this target here"));
-        let dict_path = fuzz_dir().join(format!("{name}.dict"));
+        let dict_path = fuzz_dir().join(format!("{}.dict", t.dict));
         let dict = dictionary(&dict_path);
         assert!(
             dict.len() > 100,
@@ -222,15 +271,15 @@ fn seed_corpora_and_mutations_pass_the_fuzz_checks() {
         assert!(!seeds.is_empty(), "{}: no seed files", dir.display());
         let mut rng = Rng(0x6d62_6678_5eed_0001);
         for (file, bytes) in &seeds {
-            replay(check, bytes, &format!("fuzz/corpus/{name}/{file}"));
+            replay(t.check, bytes, &format!("fuzz/corpus/{name}/{file}"));
             let count = if bytes.len() > LARGE_SEED {
-                MUTATIONS_PER_LARGE_SEED
+                t.mutations_large
             } else {
-                MUTATIONS_PER_SEED
+                t.mutations
             };
             for m in 0..count {
                 let input = mutate(bytes, &mut rng, &dict, &seeds);
-                replay(check, &input, &format!("mutation {m} of {name}/{file}"));
+                replay(t.check, &input, &format!("mutation {m} of {name}/{file}"));
             }
         }
     }

@@ -4,6 +4,9 @@
 
 #![no_main]
 
+#[path = "spans.rs"]
+mod spans;
+
 #[path = "parse_check_body.rs"]
 mod body;
 
