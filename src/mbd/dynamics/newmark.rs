@@ -335,9 +335,6 @@ impl Integrator for Newmark {
                 lambda[k] += rhs[n + k];
             }
             let rate = norm / prev_norm;
-            if std::env::var("MBFX_TRACE").is_ok() {
-                eprintln!("t={t1:.4} it={iter} refac={refactor} norm={norm:.3e} rate={rate:.3e} atol={a_tol:.3e}");
-            }
             // Linear convergence: the error left is about rate/(1 − rate) of this step.
             let left = if rate < 1.0 {
                 norm * rate / (1.0 - rate)
