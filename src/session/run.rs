@@ -359,6 +359,7 @@ impl Outputs {
             d.reconcile()?;
             d.refresh_outputs()?;
         } else {
+            // Φ at this state, for the summary's largest constraint residual.
             d.eval_constraints(false)?;
         }
         for &(s, slot) in &self.slots {

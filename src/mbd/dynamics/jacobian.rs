@@ -51,6 +51,15 @@ impl Jacobian {
         self.slot_part.len()
     }
 
+    /// The slots of each of `parts` parts.
+    pub fn part_slots(&self, parts: usize) -> Vec<Vec<usize>> {
+        let mut out = vec![Vec::new(); parts];
+        for (k, &p) in self.slot_part.iter().enumerate() {
+            out[p].push(k);
+        }
+        out
+    }
+
     /// The slots of row `r`.
     pub fn row_slots(&self, r: usize) -> Range<usize> {
         self.row_start[r]..self.row_start[r + 1]

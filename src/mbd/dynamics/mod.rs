@@ -293,7 +293,6 @@ impl Dynamics {
             }
         }
         let (n, m) = (sys.ncols(), rows.len());
-        let pattern = Self::pattern(&sys, &forces, &rows);
         let index = |p: PartHandle| sys.part(p).index;
         let row_parts: Vec<Vec<usize>> = rows
             .iter()
@@ -304,6 +303,7 @@ impl Dynamics {
                     .collect()
             })
             .collect();
+        let pattern = Self::pattern(&sys, &forces, &row_parts);
         let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
         let prims: Vec<Option<(Primitive, [Option<usize>; 2])>> = rows
             .iter()
@@ -362,8 +362,9 @@ impl Dynamics {
     }
 
     /// The Newton matrix's pattern: each part's mass block, the blocks force elements
-    /// couple, and the constraint rows over the columns of every part they read.
-    fn pattern(sys: &System, forces: &ForceSet, rows: &[(usize, usize)]) -> Pattern {
+    /// couple, and the constraint rows over the columns of every part they read
+    /// (`row_parts`, velocity-layout part indices).
+    fn pattern(sys: &System, forces: &ForceSet, row_parts: &[Vec<usize>]) -> Pattern {
         let n = sys.ncols();
         let bs = sys.dim.cols();
         let block = |p: PartHandle| sys.part(p).index.map(|i| i * bs);
@@ -386,17 +387,17 @@ impl Dynamics {
                 }
             }
         }
-        for (r, &(e, q)) in rows.iter().enumerate() {
+        for (r, parts) in row_parts.iter().enumerate() {
             // The multiplier's diagonal holds the regularisation (Dynamics::factor).
             pos.push((n + r, n + r));
-            for p in row_parts(sys, e, q).into_iter().filter_map(block) {
-                for c in p..p + bs {
+            for &i in parts {
+                for c in i * bs..(i + 1) * bs {
                     pos.push((n + r, c));
                     pos.push((c, n + r));
                 }
             }
         }
-        Pattern::new(n + rows.len(), pos)
+        Pattern::new(n + row_parts.len(), pos)
     }
 
     /// The Schur-complement solver, when the effective mass is block diagonal: no force
@@ -425,10 +426,7 @@ impl Dynamics {
         self.eval_constraints(true)?;
         let bs = self.sys.dim.cols();
         let blocks = self.mass_blocks();
-        let mut part_slots = vec![Vec::new(); self.sys.moving_parts()];
-        for k in 0..self.jac.slots() {
-            part_slots[self.jac.slot_part(k)].push(k);
-        }
+        let part_slots = self.jac.part_slots(self.sys.moving_parts());
         for (h, p) in self.sys.parts.iter().enumerate() {
             let Some(i) = p.index else { continue };
             // Mass in every direction (relative to the largest): nothing to check.
@@ -674,22 +672,15 @@ impl Dynamics {
         }
         let f = &mut self.factors[which as usize];
         f.via_schur = false;
+        // A NaN or infinity in the matrix makes the Schur path decline (its block
+        // inverses and factorizations check); the full LU then reports it.
         if let Some(schur) = &mut f.schur {
-            let all_finite = self
-                .gen
-                .dq
-                .iter()
-                .chain(&self.gen.dv)
-                .all(|e| e.2.is_finite());
-            if all_finite && top.is_finite() {
-                if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, w, eps) {
-                    f.via_schur = true;
-                    return Ok(());
-                }
+            if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, w, eps) {
+                f.via_schur = true;
+                return Ok(());
             }
         }
-        drop(blocks);
-        self.fill_full(which, w, eps);
+        self.fill_full(which, &blocks, w, eps);
         let f = &mut self.factors[which as usize];
         let factored = f.lu.factor(&f.values);
         let culprit = if factored.is_err() {
@@ -727,8 +718,7 @@ impl Dynamics {
     }
 
     /// Fills the full saddle-point matrix with weights `w` and regularisation `eps`.
-    fn fill_full(&mut self, which: Which, w: Weights, eps: f64) {
-        let blocks = self.mass_blocks().into_owned();
+    fn fill_full(&mut self, which: Which, blocks: &[Mat3Block], w: Weights, eps: f64) {
         let f = &mut self.factors[which as usize];
         let values = &mut f.values;
         values.fill(0.0);

@@ -284,14 +284,14 @@ impl Integrator for Newmark {
             d.eval_forces(refactor)?;
             d.check_forces()?;
             d.stats.newton_iterations += 1;
-            if !refactor {
-                d.check_rows()?;
-            }
             if refactor {
                 d.stats.jacobian_evaluations += 1;
                 d.factor(self.weights(h))?;
                 self.factored_h = Some(h);
                 self.generation = d.factor_generation;
+            } else {
+                // Factoring checks for vanished rows; an old factorization would not see one.
+                d.check_rows()?;
             }
             // −R₁ = −(M a/UCF + s(Φ_qᵀλ − Q) − r f₀), −R₂ = −Φ/scale.
             let r1 = &mut self.res;

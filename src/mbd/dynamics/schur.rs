@@ -53,10 +53,7 @@ impl Schur {
     /// The structure for `parts` moving parts and the rows of `jac`.
     pub fn new(jac: &Jacobian, parts: usize) -> Result<Schur, FactorError> {
         let (bs, m) = (jac.bs, jac.rows());
-        let mut part_slots = vec![Vec::new(); parts];
-        for k in 0..jac.slots() {
-            part_slots[jac.slot_part(k)].push(k);
-        }
+        let part_slots = jac.part_slots(parts);
         let pairs = || {
             part_slots.iter().flat_map(|slots| {
                 slots.iter().flat_map(|&a| {
