@@ -496,6 +496,19 @@ mod tests {
         d.gen.q.clone()
     }
 
+    /// Column `c` of the Jacobian `k` against the central difference of Q from the
+    /// states `up` and `down`, ±h apart in coordinate `what` c.
+    fn column_matches(k: &[Vec<f64>], c: usize, up: &DVec, down: &DVec, h: f64, what: &str) {
+        for (r, row) in k.iter().enumerate() {
+            let fd = (up[r] - down[r]) / (2.0 * h);
+            assert!(
+                (row[c] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
+                "dQ{r}/d{what}{c}: {} vs {fd}",
+                row[c]
+            );
+        }
+    }
+
     #[test]
     fn force_jacobians_match_central_differences() {
         let mut d = dynamics();
@@ -519,14 +532,7 @@ mod tests {
                 q_of(d)
             };
             let (up, down) = (at(1.0, &mut d), at(-1.0, &mut d));
-            for r in 0..n {
-                let fd = (up[r] - down[r]) / (2.0 * h);
-                assert!(
-                    (kq[r][c] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
-                    "dQ{r}/dq{c}: {} vs {fd}",
-                    kq[r][c]
-                );
-            }
+            column_matches(&kq, c, &up, &down, h, "q");
             let mut v = v0.clone();
             v[c] += h;
             d.set_state(&base, &vec![0.0; n], &v, 0.3);
@@ -534,14 +540,7 @@ mod tests {
             v[c] -= 2.0 * h;
             d.set_state(&base, &vec![0.0; n], &v, 0.3);
             let down = q_of(&mut d);
-            for r in 0..n {
-                let fd = (up[r] - down[r]) / (2.0 * h);
-                assert!(
-                    (kv[r][c] - fd).abs() < 1e-5 * (1.0 + fd.abs()),
-                    "dQ{r}/dv{c}: {} vs {fd}",
-                    kv[r][c]
-                );
-            }
+            column_matches(&kv, c, &up, &down, h, "v");
         }
     }
 
