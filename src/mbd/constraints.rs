@@ -17,19 +17,27 @@ use std::f64::consts::PI;
 /// A row's derivative over one part: δr x y z, δθ x y z (global).
 pub type PartDerivative = (PartHandle, [f64; 6]);
 
+/// A marker pair's offsets on their parts (part coordinates) and an axis: the data of a
+/// row (r_I − r_J)·axis.
+#[derive(Clone, Copy, Debug)]
+pub struct PointAxis {
+    pub pi: PartHandle,
+    pub si: Vec3,
+    pub pj: PartHandle,
+    pub sj: Vec3,
+    pub axis: Vec3,
+}
+
 /// A primitive equation with its markers resolved to their parts: offsets and axes in
 /// part coordinates, so an evaluation reads only the two parts' poses.
 #[derive(Clone, Copy, Debug)]
 pub enum Primitive {
-    /// (r_I − r_J)·(R_J·axis): the marker offsets `si`, `sj` and J's axis (times the
-    /// row's sign) in part coordinates.
-    Along {
-        pi: PartHandle,
-        si: Vec3,
-        pj: PartHandle,
-        sj: Vec3,
-        axis: Vec3,
-    },
+    /// (r_I − r_J)·(R_J·axis): J's axis (times the row's sign) in part coordinates.
+    Along(PointAxis),
+    /// (r_I − r_J)·axis with a constant global axis: one row of a point coincidence
+    /// whose basis stays put instead of turning with J (the dynamics freezes it so the
+    /// geometric stiffness falls on each part alone: `dynamics::stiffness`).
+    Fixed(PointAxis),
     /// (R_I·u)·(R_J·w), u and w in part coordinates.
     Dot {
         pi: PartHandle,
@@ -37,6 +45,17 @@ pub enum Primitive {
         pj: PartHandle,
         w: Vec3,
     },
+}
+
+impl Primitive {
+    /// The I and the J part.
+    pub fn parts(&self) -> (PartHandle, PartHandle) {
+        match *self {
+            Primitive::Along(PointAxis { pi, pj, .. })
+            | Primitive::Fixed(PointAxis { pi, pj, .. })
+            | Primitive::Dot { pi, pj, .. } => (pi, pj),
+        }
+    }
 }
 
 /// How one scalar equation is computed.
@@ -469,13 +488,13 @@ impl System {
         match &self.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {
                 let (mi, mj) = (self.marker(*i), self.marker(*j));
-                Some(Primitive::Along {
+                Some(Primitive::Along(PointAxis {
                     pi: mi.part,
                     si: mi.s,
                     pj: mj.part,
                     sj: mj.s,
                     axis: (mj.rot * dir) * *sign,
-                })
+                }))
             }
             Row::Dot { i, j, a, b } => {
                 let (mi, mj) = (self.marker(*i), self.marker(*j));
@@ -493,27 +512,8 @@ impl System {
     /// The value of a primitive and its derivative over each of its two parts.
     pub fn eval_primitive(&self, p: &Primitive) -> (f64, [PartDerivative; 2]) {
         match *p {
-            Primitive::Along {
-                pi,
-                si,
-                pj,
-                sj,
-                axis,
-            } => {
-                let (bi, bj) = (self.part(pi), self.part(pj));
-                let (ai, aj) = (bi.rotation() * si, bj.rotation() * sj);
-                let ev = bj.rotation() * axis;
-                let d = (bi.r + ai) - (bj.r + aj);
-                let ti = ai.cross(&ev);
-                let tj = -(aj + d).cross(&ev);
-                (
-                    d.dot(&ev),
-                    [
-                        (pi, [ev.x, ev.y, ev.z, ti.x, ti.y, ti.z]),
-                        (pj, [-ev.x, -ev.y, -ev.z, tj.x, tj.y, tj.z]),
-                    ],
-                )
-            }
+            Primitive::Along(ref p) => self.eval_point_axis(p, true),
+            Primitive::Fixed(ref p) => self.eval_point_axis(p, false),
             Primitive::Dot { pi, u, pj, w } => {
                 let (u, w) = (self.part(pi).rotation() * u, self.part(pj).rotation() * w);
                 let c = u.cross(&w);
@@ -526,6 +526,26 @@ impl System {
                 )
             }
         }
+    }
+
+    /// (r_I − r_J)·e with e = R_J·axis (`turning`) or e = axis, and its derivatives.
+    fn eval_point_axis(&self, p: &PointAxis, turning: bool) -> (f64, [PartDerivative; 2]) {
+        let (bi, bj) = (self.part(p.pi), self.part(p.pj));
+        let (ai, aj) = (bi.rotation() * p.si, bj.rotation() * p.sj);
+        let d = (bi.r + ai) - (bj.r + aj);
+        // A turning axis adds d × e to J's rotational derivative.
+        let (e, arm_j) = match turning {
+            true => (bj.rotation() * p.axis, aj + d),
+            false => (p.axis, aj),
+        };
+        let (ti, tj) = (ai.cross(&e), -arm_j.cross(&e));
+        (
+            d.dot(&e),
+            [
+                (p.pi, [e.x, e.y, e.z, ti.x, ti.y, ti.z]),
+                (p.pj, [-e.x, -e.y, -e.z, tj.x, tj.y, tj.z]),
+            ],
+        )
     }
 
     /// The components of a 3D derivative (δr x y z, δθ x y z) a part's columns hold, in

@@ -354,9 +354,11 @@ fn dim_2_and_dim_3_agree_on_planar_scenes() {
             let runs: Vec<Csv> = ["2", "3"]
                 .iter()
                 .map(|dim| {
-                    // Fixed steps with a tight corrector (ERROR sets the Newton tolerance):
-                    // both builds take the same steps, so they must agree to rounding, not
-                    // merely to the integration error.
+                    // Fixed steps with a corrector converged to its floor (ERROR sets the
+                    // Newton tolerance): both builds take the same steps, so they must agree
+                    // to rounding, not merely to the integration error. The two Newton
+                    // matrices differ (the 3D one lacks the stiffness of the rows that are
+                    // out of plane), so a looser corrector stops them at different points.
                     let mut args = vec![
                         "--end",
                         "5",
@@ -367,7 +369,7 @@ fn dim_2_and_dim_3_agree_on_planar_scenes() {
                         "--fixed-step",
                         "1e-3",
                         "--error",
-                        "1e-6",
+                        "1e-8",
                     ];
                     args.extend(["--dim", dim]);
                     run_probed(&model, &args, &probes)

@@ -5,7 +5,8 @@
 //! The primitive rows are differentiated twice by hand. For a marker point r = r_P + a
 //! on a part moving with (v, ω) and no acceleration, r̈ = ω × (ω × a); a unit axis u
 //! fixed on it has u̇ = ω × u, ü = ω × (ω × u). So
-//! - `Along`, d·e with d = r_I − r_J, e an axis of J: Φ̈ = d̈·e + 2ḋ·ė + d·ë;
+//! - `Along`, d·e with d = r_I − r_J, e an axis of J: Φ̈ = d̈·e + 2ḋ·ė + d·ë (d̈·e when
+//!   the dynamics froze e, `dynamics::stiffness`);
 //! - `Dot`, u·w with u on I and w on J: Φ̈ = ü·w + 2u̇·ẇ + u·ẅ.
 //!
 //! A non-holonomic GCON f(q, v, t) = 0 is differentiated once: γ = −(f_q·v + f_t).
@@ -17,7 +18,7 @@
 //! or ACCELERATION MOTION's drive is the integral of its function, so its g̈ is ḟ or f.
 
 use super::Dynamics;
-use crate::mbd::constraints::Row;
+use crate::mbd::constraints::{Primitive, Row};
 use crate::mbd::error::MbdError;
 use crate::mbd::system::{MarkerHandle, System};
 use crate::vocab::math::{DVec, Vec3};
@@ -52,6 +53,14 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
                 why,
             )
         };
+        // A frozen point row (`dynamics::stiffness`): d·e with e constant.
+        if let (Row::Along { i, j, .. }, Some((Primitive::Fixed(p), _))) =
+            (&sys.elements[e].eqs[q].row, &d.prims[r])
+        {
+            let (ai, aj) = (point(sys, *i).2, point(sys, *j).2);
+            out[r] = -(ai - aj).dot(&p.axis);
+            continue;
+        }
         out[r] = match &sys.elements[e].eqs[q].row {
             Row::Along { i, j, dir, sign } => {
                 let (ri, vi, ai, _) = point(sys, *i);

@@ -75,6 +75,11 @@ impl Jacobian {
         self.slot_row[k]
     }
 
+    /// Copies the values of `other`, a Jacobian of the same structure.
+    pub fn copy_values_from(&mut self, other: &Jacobian) {
+        self.vals.copy_from_slice(&other.vals);
+    }
+
     /// The values of slot `k` over its part's columns.
     pub fn block(&self, k: usize) -> &[f64] {
         &self.vals[k * self.bs..(k + 1) * self.bs]

@@ -18,6 +18,7 @@ pub mod jacobian;
 pub mod newmark;
 pub mod outputs;
 pub mod schur;
+mod stiffness;
 
 use super::constraints::{Primitive, Row};
 use super::error::{element_name, MbdError};
@@ -248,7 +249,11 @@ pub struct Dynamics {
     pub(crate) jac: jacobian::Jacobian,
     /// Per kept row, its primitive equation resolved, with the Jacobian slots of its I
     /// and J parts (None for ground): the rows evaluated without looking anything up.
-    prims: Vec<Option<(Primitive, [Option<usize>; 2])>>,
+    prims: Vec<stiffness::ResolvedRow>,
+    /// The geometric stiffness of the last Newton factorization ([`stiffness`]).
+    geo: Vec<(usize, usize, f64)>,
+    /// Scratch of the geometric stiffness: one rotational block per moving part.
+    geo_blocks: Vec<Mat3>,
     /// The rows whose Jacobian can vanish (all but the `Along` primitives, whose
     /// direction is a unit vector), and the Jacobian's largest entry at the last
     /// factorization, their scale.
@@ -305,18 +310,17 @@ impl Dynamics {
             .collect();
         let pattern = Self::pattern(&sys, &forces, &row_parts);
         let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
-        let prims: Vec<Option<(Primitive, [Option<usize>; 2])>> = rows
+        let mut prims: Vec<stiffness::ResolvedRow> = rows
             .iter()
             .enumerate()
             .map(|(r, &(e, q))| {
                 let p = sys.resolved_primitive(e, q)?;
-                let (pi, pj) = match p {
-                    Primitive::Along { pi, pj, .. } | Primitive::Dot { pi, pj, .. } => (pi, pj),
-                };
+                let (pi, pj) = p.parts();
                 let slot = |h: PartHandle| index(h).and_then(|i| jac.slot_of(r, i));
                 Some((p, [slot(pi), slot(pj)]))
             })
             .collect();
+        stiffness::freeze_point_rows(&sys, &rows, &mut prims);
         let factors = |pattern: Pattern| -> Result<Factors, DynError> {
             Ok(Factors {
                 values: vec![0.0; pattern.nnz()],
@@ -343,11 +347,18 @@ impl Dynamics {
             gen: Generalized::new(n),
             phi: DVec::zeros(m),
             may_vanish: (0..m)
-                .filter(|&r| !matches!(prims[r], Some((Primitive::Along { .. }, _))))
+                .filter(|&r| {
+                    !matches!(
+                        prims[r],
+                        Some((Primitive::Along(_) | Primitive::Fixed(_), _))
+                    )
+                })
                 .collect(),
             jac_top: 0.0,
             jac,
             prims,
+            geo: Vec::new(),
+            geo_blocks: Vec::new(),
             row_scratch: Default::default(),
             planar_mass: None,
         };
@@ -642,7 +653,14 @@ impl Dynamics {
 
     /// Fills and factors the Newton matrix with weights `w` from the last evaluations of
     /// constraints (with Jacobian) and forces (with Jacobians).
-    pub fn factor(&mut self, w: Weights) -> Result<(), DynError> {
+    /// Factors the Newton matrix with weights `w` at the current state and multipliers
+    /// `lambda` (their geometric stiffness enters with w_k).
+    pub fn factor(&mut self, w: Weights, lambda: &DVec) -> Result<(), DynError> {
+        if w.w_k != 0.0 {
+            self.geometric_stiffness(lambda);
+        } else {
+            self.geo.clear();
+        }
         self.factor_into(Which::Newton, w)
     }
 
@@ -675,7 +693,7 @@ impl Dynamics {
         // A NaN or infinity in the matrix makes the Schur path decline (its block
         // inverses and factorizations check); the full LU then reports it.
         if let Some(schur) = &mut f.schur {
-            if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, w, eps) {
+            if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, &self.geo, w, eps) {
                 f.via_schur = true;
                 return Ok(());
             }
@@ -752,6 +770,9 @@ impl Dynamics {
             for &(r, c, x) in &self.gen.dq {
                 add(values, r, c, -w.w_k * x);
             }
+            for &(r, c, x) in &self.geo {
+                add(values, r, c, w.w_k * x);
+            }
         }
         if w.w_c != 0.0 {
             for &(r, c, x) in &self.gen.dv {
@@ -776,7 +797,7 @@ impl Dynamics {
         let time = self.sys.time;
         let f = &mut self.factors[which as usize];
         let solved = match (&mut f.schur, f.via_schur) {
-            (Some(schur), true) => schur.solve(&self.jac, rhs),
+            (Some(schur), true) => schur.solve(rhs),
             _ => f.lu.solve(rhs),
         };
         let solved = solved.and_then(|()| match rhs.iter().all(|x| x.is_finite()) {

@@ -286,7 +286,7 @@ impl Integrator for Newmark {
             d.stats.newton_iterations += 1;
             if refactor {
                 d.stats.jacobian_evaluations += 1;
-                d.factor(self.weights(h))?;
+                d.factor(self.weights(h), &lambda)?;
                 self.factored_h = Some(h);
                 self.generation = d.factor_generation;
             } else {

@@ -47,6 +47,10 @@ pub struct Schur {
     llt: Option<SparseLlt>,
     via_llt: bool,
     w_l: f64,
+    /// Φ_q as it was factored: a reused factorization solves with it, not with the
+    /// Jacobian of the current iterate, so each solve applies one fixed matrix (mixing
+    /// the two costs Newton its contraction).
+    frozen: Jacobian,
 }
 
 impl Schur {
@@ -83,6 +87,7 @@ impl Schur {
             via_llt: false,
             lu: SparseLu::new(pattern)?,
             w_l: 1.0,
+            frozen: jac.clone(),
         })
     }
 
@@ -96,10 +101,12 @@ impl Schur {
         jac: &Jacobian,
         blocks: &[Mat3Block],
         gen: &Generalized,
+        geo: &[(usize, usize, f64)],
         w: super::Weights,
         eps: f64,
     ) -> Result<bool, FactorError> {
         let bs = self.bs;
+        self.frozen.copy_values_from(jac);
         let a = &mut self.a;
         a.fill(0.0);
         for (i, blk) in blocks.iter().enumerate() {
@@ -120,7 +127,8 @@ impl Schur {
                 }
             }
         }
-        for (list, wt) in [(&gen.dq, w.w_k), (&gen.dv, w.w_c)] {
+        // A = M − w_k·∂Q/∂q − w_c·∂Q/∂v + w_k·(geometric stiffness).
+        for (list, wt) in [(&gen.dq[..], w.w_k), (&gen.dv[..], w.w_c), (geo, -w.w_k)] {
             if wt == 0.0 {
                 continue;
             }
@@ -180,19 +188,16 @@ impl Schur {
     }
 
     /// Solves the factored matrix in place: `rhs` = [r₁ (parts × bs); r₂ (rows)].
-    pub fn solve(&mut self, jac: &Jacobian, rhs: &mut [f64]) -> Result<(), FactorError> {
+    pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), FactorError> {
         match self.bs {
-            3 => self.solve_blocks::<3>(jac, rhs),
-            _ => self.solve_blocks::<6>(jac, rhs),
+            3 => self.solve_blocks::<3>(rhs),
+            _ => self.solve_blocks::<6>(rhs),
         }
     }
 
     /// [`Schur::solve`] with the block size known to the compiler.
-    fn solve_blocks<const BS: usize>(
-        &mut self,
-        jac: &Jacobian,
-        rhs: &mut [f64],
-    ) -> Result<(), FactorError> {
+    fn solve_blocks<const BS: usize>(&mut self, rhs: &mut [f64]) -> Result<(), FactorError> {
+        let jac = &self.frozen;
         let n = self.parts * BS;
         let (top, bottom) = rhs.split_at_mut(n);
         debug_assert_eq!(bottom.len(), self.m);
@@ -385,10 +390,10 @@ mod tests {
         };
         let eps = 1e-3;
         let mut schur = Schur::new(&jac, 2).unwrap();
-        assert!(schur.factor(&jac, &blocks, &gen, w, eps).unwrap());
+        assert!(schur.factor(&jac, &blocks, &gen, &[], w, eps).unwrap());
         let b = [1.0, -2.0, 0.5, 3.0, 0.25, -1.0, 0.1, 0.2, -0.3];
         let mut x = b;
-        schur.solve(&jac, &mut x).unwrap();
+        schur.solve(&mut x).unwrap();
         // The same matrix, dense: [[A, w_l·Bᵀ], [B, −ε·I]].
         let mut k = DMat::zeros(9, 9);
         for (i, m, j) in [(0, 2.0, 0.5), (1, 3.0, 0.25)] {
