@@ -469,7 +469,11 @@ impl System {
             return;
         };
         let bs = self.dim.cols();
-        for (c, &x) in self.local_components(&g)[..bs].iter().enumerate() {
+        for (c, x) in self.column_components()[..bs]
+            .iter()
+            .map(|&k| g[k])
+            .enumerate()
+        {
             if x != 0.0 {
                 out.push((i * bs + c, x));
             }
@@ -548,15 +552,15 @@ impl System {
         )
     }
 
-    /// The components of a 3D derivative (δr x y z, δθ x y z) a part's columns hold, in
-    /// column order: all six in 3D, the in-plane translations and the rotation about the
-    /// normal in 2D.
-    pub fn local_components(&self, g: &[f64; 6]) -> [f64; 6] {
+    /// Which component of a 3D derivative (δr x y z, δθ x y z) each of a part's columns
+    /// holds, in column order: all six in 3D; the in-plane translations and the rotation
+    /// about the normal in 2D (the first three entries).
+    pub fn column_components(&self) -> [usize; 6] {
         match self.dim {
-            Dimension::Three => *g,
+            Dimension::Three => [0, 1, 2, 3, 4, 5],
             Dimension::Two => {
                 let (a, b, n) = self.plane_axes();
-                [g[a], g[b], g[3 + n], 0.0, 0.0, 0.0]
+                [a, b, 3 + n, 3 + n, 3 + n, 3 + n]
             }
         }
     }

@@ -481,9 +481,19 @@ impl Part {
         self.r - self.rot * self.cm_offset
     }
 
-    /// The inertia tensor about the CM in global axes: R·J·Rᵀ.
+    /// The inertia tensor about the CM in global axes: R·J·Rᵀ (J itself when it is
+    /// isotropic, as for a sphere or a cube: no rotation changes it).
     pub fn inertia_global(&self) -> Mat3 {
+        if self.isotropic() {
+            return self.inertia;
+        }
         let r = self.rotation();
         r * self.inertia * r.transpose()
+    }
+
+    /// Whether the inertia tensor is a multiple of the identity (then it has no
+    /// gyroscopic moment and the same components in every frame).
+    pub fn isotropic(&self) -> bool {
+        self.inertia == Mat3::from_diagonal_element(self.inertia[(0, 0)])
     }
 }

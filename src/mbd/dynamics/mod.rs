@@ -498,6 +498,7 @@ impl Dynamics {
     /// `self.jac`; a non-holonomic row holds ∂f/∂v).
     pub fn eval_constraints(&mut self, jacobian: bool) -> Result<(), MbdError> {
         let bs = self.sys.dim.cols();
+        let comps = self.sys.column_components();
         for (r, &(e, q)) in self.rows.iter().enumerate() {
             // The primitives (nearly every row of a jointed model) write their blocks
             // directly.
@@ -505,12 +506,12 @@ impl Dynamics {
                 let (value, sides) = self.sys.eval_primitive(p);
                 self.phi[r] = value;
                 if jacobian {
-                    self.jac.clear_row(r);
+                    // The two slots are distinct parts (a row within one part reads it
+                    // once): each block is written whole.
                     for ((_, g), k) in sides.iter().zip(slots) {
                         let Some(k) = *k else { continue };
-                        let local = self.sys.local_components(g);
-                        for (b, x) in self.jac.block_at_mut(k).iter_mut().zip(&local[..bs]) {
-                            *b += x;
+                        for (b, &c) in self.jac.block_at_mut(k).iter_mut().zip(&comps[..bs]) {
+                            *b = g[c];
                         }
                     }
                 }
@@ -556,7 +557,11 @@ impl Dynamics {
                         self.gen.q[b + c] += p.mass * g[c];
                     }
                     // −ω × (J ω), with ∂/∂ω = −([ω]× J − [J ω]×) and, through J = R J Rᵀ
-                    // turning with δR = [δθ]× R, ∂/∂θ = [ω]× ([J ω]× − J [ω]×).
+                    // turning with δR = [δθ]× R, ∂/∂θ = [ω]× ([J ω]× − J [ω]×). All
+                    // three vanish when J is isotropic.
+                    if p.isotropic() {
+                        continue;
+                    }
                     let j = p.inertia_global() / self.sys.ucf;
                     let jw = j * p.w;
                     let gyro = -p.w.cross(&jw);

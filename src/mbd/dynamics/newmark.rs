@@ -38,6 +38,10 @@ const NEWTON_PER_ERROR: f64 = 1e-2;
 const NEWTON_TOL_MIN: f64 = 1e-10;
 const NEWTON_TOL_MAX: f64 = 1e-4;
 
+/// The predicted size after two iterations (in tolerances) above which a step refactors
+/// before its first iteration rather than risk a third and a refactor mid-step.
+const PROACTIVE_REFACTOR: f64 = 0.25;
+
 /// Which member of the family.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
@@ -84,6 +88,11 @@ pub struct Newmark {
     /// this integrator made (None: none valid).
     factored_h: Option<f64>,
     generation: u64,
+    /// The last accepted step's first Newton correction and its contraction with the
+    /// factorization it reused ([`Newmark::attempt`] refactors ahead when they predict a
+    /// third iteration).
+    last_first: f64,
+    last_rate: f64,
 }
 
 impl Newmark {
@@ -125,6 +134,8 @@ impl Newmark {
             res: DVec::zeros(0),
             factored_h: None,
             generation: 0,
+            last_first: 0.0,
+            last_rate: 0.0,
         }
     }
 
@@ -256,8 +267,17 @@ impl Integrator for Newmark {
             _ => self.lambda0.clone(),
         };
         if let Some(fh) = self.factored_h {
-            // Refactor when the step moved or someone else factored since.
-            if !(0.8..=1.25).contains(&(h / fh)) || d.factor_generation != self.generation {
+            // Refactor when the step moved or someone else factored since; or when the
+            // last step predicts that this one needs a third iteration. A first correction
+            // of size n contracted by ρ leaves about n·ρ² after the second, so that must
+            // stay below the tolerance (norm 1); ρ grows as the factorization ages (about
+            // √2 a step on a swinging chain), hence the margin. A refactor costs about
+            // one and a half iterations, and a fresh matrix converges in two.
+            let third_likely = self.last_first * self.last_rate.powi(2) > PROACTIVE_REFACTOR;
+            if !(0.8..=1.25).contains(&(h / fh))
+                || d.factor_generation != self.generation
+                || third_likely
+            {
                 self.factored_h = None;
             }
         }
@@ -275,6 +295,7 @@ impl Integrator for Newmark {
             self.res = DVec::zeros(n);
         }
         let mut fresh_tries = 0;
+        let mut first = 0.0;
         let mut iter = 0;
         while iter < st.maxit {
             iter += 1;
@@ -335,6 +356,9 @@ impl Integrator for Newmark {
                 lambda[k] += rhs[n + k];
             }
             let rate = norm / prev_norm;
+            if iter == 1 {
+                first = norm;
+            }
             // Linear convergence: the error left is about rate/(1 − rate) of this step.
             let left = if rate < 1.0 {
                 norm * rate / (1.0 - rate)
@@ -345,6 +369,7 @@ impl Integrator for Newmark {
             // contraction is gone while the correction is already below 1e-6 relative).
             let stalled = iter > 2 && rate > 0.5 && norm * newton_tol <= 1e-6;
             if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 || stalled {
+                (self.last_first, self.last_rate) = (first, if iter > 1 { rate } else { 0.0 });
                 self.place(d, &a1, h, t1);
                 d.a = a1;
                 d.lambda = lambda;

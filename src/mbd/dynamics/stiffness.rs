@@ -72,6 +72,7 @@ impl Dynamics {
         let blocks = &mut self.geo_blocks;
         blocks.clear();
         blocks.resize(sys.moving_parts(), Mat3::zeros());
+        let planar_normal = (sys.dim == Dimension::Two).then(|| sys.plane_axes().2);
         for (r, prim) in self.prims.iter().enumerate() {
             let Some((Primitive::Fixed(row), _)) = prim else {
                 continue;
@@ -79,8 +80,12 @@ impl Dynamics {
             let mut add = |part: PartHandle, s: &Vec3, sign: f64| {
                 let p = sys.part(part);
                 if let Some(i) = p.index {
-                    let u = p.rotation() * s;
-                    blocks[i] += offset_hessian(&u, &row.axis) * (sign * lambda[r]);
+                    let (u, w) = (p.rotation() * s, sign * lambda[r]);
+                    match planar_normal {
+                        // Only the entry about the normal is read: u·e is in-plane.
+                        Some(n) => blocks[i][(n, n)] += w * (u[n] * row.axis[n] - u.dot(&row.axis)),
+                        None => blocks[i] += offset_hessian(&u, &row.axis) * w,
+                    }
                 }
             };
             add(row.pi, &row.si, 1.0);
