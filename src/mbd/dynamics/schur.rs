@@ -151,24 +151,9 @@ impl Schur {
                 return Ok(false);
             }
         }
-        for k in 0..jac.slots() {
-            let i = jac.slot_part(k);
-            let (inv, bk) = (&self.ainv[i * bs * bs..(i + 1) * bs * bs], jac.block(k));
-            for r in 0..bs {
-                self.ainv_bt[k * bs + r] = dot(&inv[r * bs..(r + 1) * bs], bk);
-            }
-        }
-        self.values.fill(0.0);
-        let mut next = 0;
-        for slots in &self.part_slots {
-            for &sa in slots {
-                let ba = jac.block(sa);
-                for &sb in slots {
-                    let y = &self.ainv_bt[sb * bs..(sb + 1) * bs];
-                    self.values[self.pair_slot[next]] += w.w_l * dot(ba, y);
-                    next += 1;
-                }
-            }
+        match bs {
+            3 => self.fill_complement::<3>(jac, w.w_l),
+            _ => self.fill_complement::<6>(jac, w.w_l),
         }
         for &d in &self.diag_slot {
             self.values[d] += eps;
@@ -185,6 +170,32 @@ impl Schur {
         }
         self.lu.factor(&self.values)?;
         Ok(true)
+    }
+
+    /// A⁻¹·Bᵀ per Jacobian slot, and the complement w·Φ_q·A⁻¹·Φ_qᵀ into `values` (with
+    /// the block size known to the compiler: this is most of a factorization's time).
+    fn fill_complement<const BS: usize>(&mut self, jac: &Jacobian, w_l: f64) {
+        for k in 0..jac.slots() {
+            let i = jac.slot_part(k);
+            let inv = &self.ainv[i * BS * BS..(i + 1) * BS * BS];
+            let bk: &[f64; BS] = jac.block(k).try_into().expect("blocks of BS columns");
+            let out = &mut self.ainv_bt[k * BS..(k + 1) * BS];
+            for (r, o) in out.iter_mut().enumerate() {
+                *o = dot_n::<BS>(&inv[r * BS..(r + 1) * BS], bk);
+            }
+        }
+        self.values.fill(0.0);
+        let mut next = 0;
+        for slots in &self.part_slots {
+            for &sa in slots {
+                let ba: &[f64; BS] = jac.block(sa).try_into().expect("blocks of BS columns");
+                for &sb in slots {
+                    let y = &self.ainv_bt[sb * BS..(sb + 1) * BS];
+                    self.values[self.pair_slot[next]] += w_l * dot_n::<BS>(y, ba);
+                    next += 1;
+                }
+            }
+        }
     }
 
     /// Solves the factored matrix in place: `rhs` = [r₁ (parts × bs); r₂ (rows)].
@@ -226,6 +237,12 @@ impl Schur {
         }
         Ok(())
     }
+}
+
+/// A dot product of `N` entries (`a` holds at least N).
+fn dot_n<const N: usize>(a: &[f64], b: &[f64; N]) -> f64 {
+    let a: &[f64; N] = a[..N].try_into().expect("N entries");
+    (0..N).map(|k| a[k] * b[k]).sum()
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
