@@ -296,6 +296,7 @@ impl Integrator for Newmark {
         }
         let mut fresh_tries = 0;
         let mut first = 0.0;
+        let tightest = tol.iter().fold(f64::INFINITY, |x, &y| x.min(y));
         let mut iter = 0;
         while iter < st.maxit {
             iter += 1;
@@ -328,8 +329,9 @@ impl Integrator for Newmark {
             for k in 0..n {
                 rhs[k] = -r1[k];
             }
+            let inv_scale = 1.0 / scale;
             for k in 0..m {
-                rhs[n + k] = -d.phi[k] / scale;
+                rhs[n + k] = -d.phi[k] * inv_scale;
             }
             d.solve(&mut rhs)?;
             // The index-3 Newton matrix has condition O(h⁻²): positions converged to a
@@ -339,13 +341,13 @@ impl Integrator for Newmark {
             // Positions carry rounding of ε·|q|; over β·h²·c that is an acceleration
             // Newton cannot resolve below. `norm` ≤ 1 is converged.
             let bh2 = h * h * self.beta * self.c();
-            let a_scale = a1.amax() + 1e-3 * tol.iter().fold(f64::INFINITY, |x, &y| x.min(y)) / bh2;
+            let a_scale = largest_magnitude(a1.as_slice()) + 1e-3 * tightest / bh2;
             let a_noise = 10.0 * f64::EPSILON * reach / bh2;
-            let a_tol = newton_tol * a_scale + a_noise;
+            let inv_tol = 1.0 / (newton_tol * a_scale + a_noise);
             // The test is on the accelerations: the multipliers follow them (and where the
             // constraints lose rank, at a four-bar's dead centre, part of them is not
             // determined at all). Reactions are reconciled at the outputs anyway.
-            let norm = (0..n).map(|k| rhs[k].abs() / a_tol).fold(0.0, f64::max);
+            let norm = largest_magnitude(&rhs[..n]) * inv_tol;
             if !norm.is_finite() {
                 return Ok(Attempt::Diverged);
             }
@@ -423,4 +425,16 @@ impl Integrator for Newmark {
         d.a = self.a0.clone();
         d.lambda = self.lambda0.clone();
     }
+}
+
+/// max |xₖ| (NaN when any is: the caller's divergence test sees it).
+fn largest_magnitude(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |m: f64, v| {
+        let a = v.abs();
+        if a > m || a.is_nan() {
+            a
+        } else {
+            m
+        }
+    })
 }
