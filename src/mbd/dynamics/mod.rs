@@ -259,8 +259,9 @@ pub struct Dynamics {
     /// factorization, their scale.
     may_vanish: Vec<usize>,
     jac_top: f64,
-    /// The mass blocks of a 2D system (constant).
-    planar_mass: Option<Vec<Mat3Block>>,
+    /// The mass blocks when they never change: in 2D, and in 3D when every moving
+    /// part's inertia is isotropic.
+    constant_mass: Option<Vec<Mat3Block>>,
     /// Buffers of one row's evaluation, reused.
     row_scratch: super::constraints::RowEval,
 }
@@ -360,13 +361,18 @@ impl Dynamics {
             geo: Vec::new(),
             geo_blocks: Vec::new(),
             row_scratch: Default::default(),
-            planar_mass: None,
+            constant_mass: None,
         };
         for f in 0..2 {
             d.factors[f].schur = d.schur_solver();
         }
-        if d.sys.dim == Dimension::Two {
-            d.planar_mass = Some(d.mass_blocks().into_owned());
+        let isotropic = d
+            .sys
+            .parts
+            .iter()
+            .all(|p| p.index.is_none() || p.isotropic());
+        if d.sys.dim == Dimension::Two || isotropic {
+            d.constant_mass = Some(d.mass_blocks().into_owned());
         }
         d.check_massless()?;
         Ok(d)
@@ -607,9 +613,9 @@ impl Dynamics {
     }
 
     /// Every moving part's mass block (divided by UCF) at the current state, in part
-    /// order. In 2D they never change and are computed once.
+    /// order. In 2D (and for isotropic parts) they never change and are computed once.
     pub fn mass_blocks(&self) -> std::borrow::Cow<'_, [Mat3Block]> {
-        if let Some(b) = &self.planar_mass {
+        if let Some(b) = &self.constant_mass {
             return std::borrow::Cow::Borrowed(b);
         }
         std::borrow::Cow::Owned(
