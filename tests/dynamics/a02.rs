@@ -380,13 +380,13 @@ fn a02_matches_exact(n: usize, end: &str) {
 }
 
 #[test]
-#[ignore = "fails: passes every dead centre on the right branch (to 1e-13), but ends 1.6e-4 m (HHT) / 2.5e-5 m (galpha) off at ERROR 1e-10 (bound 1e-5), and ERROR 1e-12 stops below HMIN at the first dead centre: index-3 rounding grows near the rank loss"]
+#[ignore = "fails: passes every dead centre on the right branch (to 1e-13), but ends 1.6e-4 m (HHT) / 2.9e-5 m (galpha) off at ERROR 1e-10 (bound 1e-5; second-order global error), and ERROR 1e-12 stops below HMIN at the first dead centre: Newton stalls at the index-3 rounding floor there (SI2, issue 9)"]
 fn a02_n1_ten_seconds_on_the_exact_solution_through_the_singular_positions() {
     a02_matches_exact(1, "10");
 }
 
 #[test]
-#[ignore = "fails: passes every dead centre on the right branch (to 1e-13), but ends 1.6e-4 m (HHT) / 2.5e-5 m (galpha) off at ERROR 1e-10 (bound 1e-5), and ERROR 1e-12 stops below HMIN at the first dead centre: index-3 rounding grows near the rank loss"]
+#[ignore = "fails: passes every dead centre on the right branch (to 1e-13), but ends 1.6e-4 m (HHT) / 2.9e-5 m (galpha) off at ERROR 1e-10 (bound 1e-5; second-order global error), and ERROR 1e-12 stops below HMIN at the first dead centre: Newton stalls at the index-3 rounding floor there (SI2, issue 9)"]
 fn a02_n4_ten_seconds_on_the_exact_solution_through_the_singular_positions() {
     a02_matches_exact(4, "10");
 }
