@@ -10,6 +10,7 @@ use super::Dim;
 use crate::diag::{Code, Diagnostic, SourceFile};
 use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
+use crate::mbd::expr::ExprError;
 use crate::session::files::read_dataset;
 use crate::session::run::{Method, RunFailure, RunSpec, Simulation, Summary};
 use crate::session::{report, DimRequest};
@@ -87,8 +88,7 @@ fn code_of(e: &DynError) -> Code {
     match e {
         DynError::DroppedViolated { .. } => Code::Conflicting,
         DynError::NotFinite { .. } => Code::NonFiniteForce,
-        // compiled.rs words a NaN or infinite value "evaluates to".
-        DynError::Model(MbdError::Expression(_, why)) if why.contains("evaluates to") => {
+        DynError::Model(MbdError::Expression(_, ExprError::NotFinite { .. })) => {
             Code::NonFiniteForce
         }
         DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {

@@ -4,7 +4,7 @@
 //! derivative; [`InterpretOnly`] evaluates values alone.
 
 use super::error::MbdError;
-use super::expr::{ExprFn, Integrated, Integration::*, Interpreted};
+use super::expr::{ExprError, ExprFn, Integrated, Integration::*, Interpreted};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar};
 use super::inertia::mass_properties;
 use super::measures::Measure;
@@ -128,9 +128,9 @@ impl System {
             )?;
         }
         for g in &model.gcons {
-            let e = model
-                .inline_variables(&g.function)
-                .map_err(|s| MbdError::Expression(elref(ElementKind::Gcon, &g.el), s))?;
+            let e = model.inline_variables(&g.function).map_err(|s| {
+                MbdError::Expression(elref(ElementKind::Gcon, &g.el), ExprError::Other(s))
+            })?;
             let f = exprs.compile(&e);
             let map = sys.resolve_slots(model, f.slots())?;
             sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
@@ -190,7 +190,7 @@ impl System {
             };
             let e = model
                 .inline_variables(&m.function)
-                .map_err(|s| MbdError::Expression(r.clone(), s))?;
+                .map_err(|s| MbdError::Expression(r.clone(), ExprError::Other(s)))?;
             let f = exprs.compile(&e);
             // VELOCITY and ACCELERATION: the displacement is f integrated from the
             // initial conditions (`expr::Integrated` says why at position level).
@@ -321,17 +321,20 @@ impl System {
     ) -> Result<Scalar, MbdError> {
         let e = model
             .inline_variables(e)
-            .map_err(|s| MbdError::Expression(r.clone(), s))?;
+            .map_err(|s| MbdError::Expression(r.clone(), ExprError::Other(s)))?;
         let f = exprs.compile(&e);
-        let map = self.resolve_slots(model, f.slots()).map_err(|err| match err {
-            MbdError::NeedsDynamics(name, what) => MbdError::Expression(
-                r.clone(),
-                format!(
-                    "its FUNCTION reads {name} ({what}); a force that depends on reactions or accelerations needs them solved with the motion, which mbfx does not do yet"
+        let map = self
+            .resolve_slots(model, f.slots())
+            .map_err(|err| match err {
+                MbdError::NeedsDynamics(name, what) => MbdError::Expression(
+                    r.clone(),
+                    ExprError::ReadsSolution {
+                        name,
+                        what: what.to_string(),
+                    },
                 ),
-            ),
-            err => MbdError::Expression(r.clone(), err.to_string()),
-        })?;
+                err => MbdError::Expression(r.clone(), ExprError::Other(err.to_string())),
+            })?;
         Ok(Scalar::new(f, map))
     }
 }

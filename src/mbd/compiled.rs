@@ -12,7 +12,7 @@
 //! ([`CompiledExprs::jit_error`]) and the interpreter runs those functions instead.
 
 use super::build::ExprCompiler;
-use super::expr::ExprFn;
+use super::expr::{ExprError, ExprFn};
 use crate::context::Context;
 use crate::interp::Program;
 use crate::ir::deriv::{gradient, hessian, Input};
@@ -184,18 +184,18 @@ impl ExprCompiler for CompiledExprs {
 
 /// From the outputs (f, ∂f/∂slot for `n` slots, ∂f/∂t): writes the slot partials into
 /// `grad` and returns ∂f/∂t, each checked finite.
-fn partials(out: &[f64], n: usize, t: f64, grad: &mut [f64]) -> Result<f64, String> {
+fn partials(out: &[f64], n: usize, t: f64, grad: &mut [f64]) -> Result<f64, ExprError> {
     for (g, &d) in grad.iter_mut().zip(&out[1..=n]) {
         *g = finite(d, t)?;
     }
     finite(out[n + 1], t)
 }
 
-fn finite(x: f64, t: f64) -> Result<f64, String> {
+fn finite(x: f64, t: f64) -> Result<f64, ExprError> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err(format!("the FUNCTION evaluates to {x} at time {t}"))
+        Err(ExprError::NotFinite { value: x, time: t })
     }
 }
 
@@ -226,11 +226,11 @@ impl ExprFn for WithGradient {
         self.reads_time
     }
 
-    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {
+    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, ExprError> {
         finite(self.run(t, measures)[0], t)
     }
 
-    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String> {
+    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, ExprError> {
         partials(&self.run(t, measures), self.slots.len(), t, grad)
     }
 
@@ -239,14 +239,14 @@ impl ExprFn for WithGradient {
         t: f64,
         measures: &[f64],
         grad: &mut [f64],
-    ) -> Result<(f64, f64), String> {
+    ) -> Result<(f64, f64), ExprError> {
         let out = self.run(t, measures);
         let dt = partials(&out, self.slots.len(), t, grad)?;
         Ok((finite(out[0], t)?, dt))
     }
 
-    fn second(&self, t: f64, measures: &[f64], dir: &[f64]) -> Result<f64, String> {
-        let h = self.hessian.as_ref().map_err(Clone::clone)?;
+    fn second(&self, t: f64, measures: &[f64], dir: &[f64]) -> Result<f64, ExprError> {
+        let h = (self.hessian.as_ref()).map_err(|why| ExprError::NoDerivative(why.clone()))?;
         // Inputs x = (slots…, t), k of them; the gradient function has 1 + k outputs and
         // its gradient appends k partials of each: ∂²f/∂xᵢ∂xⱼ at (1 + k) + (1 + i)·k + j.
         let k = self.slots.len() + 1;
@@ -271,7 +271,7 @@ impl ExprFn for ValueOnly {
         &self.slots
     }
 
-    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {
+    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, ExprError> {
         finite(
             self.program.eval(
                 &Context::new(t, &[])
@@ -282,8 +282,8 @@ impl ExprFn for ValueOnly {
         )
     }
 
-    fn gradient(&self, _: f64, _: &[f64], _: &mut [f64]) -> Result<f64, String> {
-        Err(self.why.clone())
+    fn gradient(&self, _: f64, _: &[f64], _: &mut [f64]) -> Result<f64, ExprError> {
+        Err(ExprError::NoDerivative(self.why.clone()))
     }
 }
 

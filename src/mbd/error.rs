@@ -1,6 +1,7 @@
 //! Errors of the multibody core, in the user's words: elements are named the Adams way
 //! (`JOINT/3 'crank_pin'`), equations by their Adams labels.
 
+use super::expr::ExprError;
 use crate::vocab::elements::ElementRef;
 use std::fmt;
 
@@ -23,7 +24,7 @@ pub enum MbdError {
     /// A construct the core does not support yet.
     Unsupported(String),
     /// An expression's value or derivative could not be computed.
-    Expression(ElementRef, String),
+    Expression(ElementRef, ExprError),
     /// Consistent accelerations need a second derivative the row's equation does not
     /// have: the element, the equation's label and why.
     NoSecondDerivative(ElementRef, &'static str, String),

@@ -9,15 +9,45 @@ use crate::context::Context;
 use crate::interp::Program;
 use crate::ir::Function;
 
+/// Why an expression of the model gives no usable value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExprError {
+    /// It (or one of its derivatives) is NaN or infinite at time `time`.
+    NotFinite { value: f64, time: f64 },
+    /// A derivative mbfx cannot form, and why.
+    NoDerivative(String),
+    /// It reads a reaction or an acceleration (`name`, `what` it measures): that needs
+    /// them solved with the motion.
+    ReadsSolution { name: String, what: String },
+    /// Anything else (an undefined VARIABLE, a slot that resolves to nothing), worded.
+    Other(String),
+}
+
+impl std::fmt::Display for ExprError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExprError::NotFinite { value, time } => {
+                write!(f, "the FUNCTION evaluates to {value} at time {time}")
+            }
+            ExprError::NoDerivative(why) | ExprError::Other(why) => f.write_str(why),
+            ExprError::ReadsSolution { name, what } => write!(
+                f,
+                "its FUNCTION reads {name} ({what}); a force that depends on reactions or \
+                 accelerations needs them solved with the motion, which mbfx does not do yet"
+            ),
+        }
+    }
+}
+
 /// An expression f(t, m) of time and measure slots m.
 pub trait ExprFn {
     /// Measure slots read, sorted (the model's slot numbers).
     fn slots(&self) -> &[u32];
     /// f at time `t`; `measures[s]` holds slot s (only the slots read are filled).
-    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String>;
+    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, ExprError>;
     /// Writes ∂f/∂m for each slot of [`ExprFn::slots`] (same order) into `grad` and
     /// returns ∂f/∂t.
-    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String>;
+    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, ExprError>;
     /// (f, ∂f/∂t), with ∂f/∂slot written into `grad` (one evaluation where the
     /// implementation computes them together).
     fn value_gradient(
@@ -25,7 +55,7 @@ pub trait ExprFn {
         t: f64,
         measures: &[f64],
         grad: &mut [f64],
-    ) -> Result<(f64, f64), String> {
+    ) -> Result<(f64, f64), ExprError> {
         let dt = self.gradient(t, measures, grad)?;
         Ok((self.value(t, measures)?, dt))
     }
@@ -38,8 +68,10 @@ pub trait ExprFn {
     /// The second derivative along the direction `dir` (one entry per slot, in the
     /// order of [`ExprFn::slots`]) with time advancing at rate 1: dᵀ·H·d with
     /// d = (dir, 1) and H the Hessian in (slots, t).
-    fn second(&self, _t: f64, _measures: &[f64], _dir: &[f64]) -> Result<f64, String> {
-        Err("the second derivative of its FUNCTION is not available".into())
+    fn second(&self, _t: f64, _measures: &[f64], _dir: &[f64]) -> Result<f64, ExprError> {
+        Err(ExprError::NoDerivative(
+            "the second derivative of its FUNCTION is not available".into(),
+        ))
     }
 }
 
@@ -72,23 +104,23 @@ impl ExprFn for Interpreted {
         self.reads_time
     }
 
-    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {
+    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, ExprError> {
         let x = self
             .program
             .eval(&Context::new(t, &[]).with_measures(measures));
         if x.is_finite() {
             Ok(x)
         } else {
-            Err(format!("the FUNCTION evaluates to {x} at time {t}"))
+            Err(ExprError::NotFinite { value: x, time: t })
         }
     }
 
-    fn gradient(&self, _: f64, _: &[f64], _: &mut [f64]) -> Result<f64, String> {
-        Err(
+    fn gradient(&self, _: f64, _: &[f64], _: &mut [f64]) -> Result<f64, ExprError> {
+        Err(ExprError::NoDerivative(
             "the derivative of its FUNCTION is not available: it needs the compiled IR \
              derivative, which this build does not plug in yet"
                 .into(),
-        )
+        ))
     }
 }
 
@@ -109,12 +141,12 @@ where
         &self.slots
     }
 
-    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, String> {
+    fn value(&self, t: f64, measures: &[f64]) -> Result<f64, ExprError> {
         let m: Vec<f64> = self.slots.iter().map(|&s| measures[s as usize]).collect();
         Ok((self.f)(t, &m))
     }
 
-    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, String> {
+    fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, ExprError> {
         let m: Vec<f64> = self.slots.iter().map(|&s| measures[s as usize]).collect();
         Ok((self.g)(t, &m, grad))
     }
@@ -165,9 +197,9 @@ impl Integrated {
     }
 
     /// (∫₀ᵗ f, ∫₀ᵗ (t − s)·f(s) ds).
-    fn integrals(&self, t: f64) -> Result<(f64, f64), String> {
+    fn integrals(&self, t: f64) -> Result<(f64, f64), ExprError> {
         if !t.is_finite() {
-            return Err(format!("the MOTION is integrated to time {t}"));
+            return Err(ExprError::NotFinite { value: t, time: t });
         }
         let mut marks = self.marks.borrow_mut();
         // The last checkpoint at or below t (the first, at 0, for t < 0).
@@ -220,12 +252,12 @@ const G7_W: [f64; 4] = [
 /// 15- and 7-point results agree to 1e-14 of ∫|f| over it (or after 40 halvings, where
 /// only a jump of f is left), else halved.
 fn gauss_kronrod(
-    f: &dyn Fn(f64) -> Result<f64, String>,
+    f: &dyn Fn(f64) -> Result<f64, ExprError>,
     a: f64,
     b: f64,
     t: f64,
     depth: u32,
-) -> Result<(f64, f64), String> {
+) -> Result<(f64, f64), ExprError> {
     let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
     let (mut k, mut kt, mut g, mut gt, mut abs) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for (n, (&x, &w)) in GK_X.iter().zip(&GK_W).enumerate() {
@@ -261,7 +293,7 @@ impl ExprFn for Integrated {
         &[]
     }
 
-    fn value(&self, t: f64, _: &[f64]) -> Result<f64, String> {
+    fn value(&self, t: f64, _: &[f64]) -> Result<f64, ExprError> {
         let (i, j) = self.integrals(t)?;
         Ok(match self.times {
             Integration::Once => self.icdisp + i,
@@ -269,7 +301,7 @@ impl ExprFn for Integrated {
         })
     }
 
-    fn gradient(&self, t: f64, _: &[f64], grad: &mut [f64]) -> Result<f64, String> {
+    fn gradient(&self, t: f64, _: &[f64], grad: &mut [f64]) -> Result<f64, ExprError> {
         grad.fill(0.0);
         match self.times {
             Integration::Once => self.f.value(t, &[]),
@@ -277,7 +309,7 @@ impl ExprFn for Integrated {
         }
     }
 
-    fn second(&self, t: f64, _: &[f64], _: &[f64]) -> Result<f64, String> {
+    fn second(&self, t: f64, _: &[f64], _: &[f64]) -> Result<f64, ExprError> {
         match self.times {
             Integration::Once => self.f.gradient(t, &[], &mut []),
             Integration::Twice => self.f.value(t, &[]),

@@ -276,7 +276,7 @@ impl ForceElement {
             vals[slot as usize] = d.v;
             duals.push(d);
         }
-        let err = |why: String| MbdError::Expression(self.elref.clone(), why);
+        let err = |why| MbdError::Expression(self.elref.clone(), why);
         let (v, _) = s.f.value_gradient(sys.time, vals, grad).map_err(err)?;
         let mut g = [0.0; N];
         for (d, &c) in duals.iter().zip(grad.iter()) {

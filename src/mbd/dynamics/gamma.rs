@@ -20,6 +20,7 @@
 use super::Dynamics;
 use crate::mbd::constraints::{Primitive, Row};
 use crate::mbd::error::MbdError;
+use crate::mbd::expr::ExprError;
 use crate::mbd::system::{MarkerHandle, System};
 use crate::vocab::math::{DVec, Vec3};
 
@@ -46,12 +47,13 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
     let sys = &d.sys;
     let mut out = DVec::zeros(d.m);
     for (r, &(e, q)) in d.rows.iter().enumerate() {
-        let name = |why: String| {
-            MbdError::NoSecondDerivative(
+        let name = |why: ExprError| match why {
+            ExprError::NoDerivative(why) => MbdError::NoSecondDerivative(
                 sys.elements[e].elref.clone(),
                 sys.elements[e].eqs[q].label.label(),
                 why,
-            )
+            ),
+            other => MbdError::Expression(sys.elements[e].elref.clone(), other),
         };
         // A frozen point row (`dynamics::stiffness`): d·e with e constant.
         if let (Row::Along { i, j, .. }, Some((Primitive::Fixed(p), _))) =
