@@ -51,6 +51,9 @@ pub struct Schur {
     /// Jacobian of the current iterate, so each solve applies one fixed matrix (mixing
     /// the two costs Newton its contraction).
     frozen: Jacobian,
+    /// Every 6 × 6 block (and so its inverse) is two 3 × 3 diagonal blocks: products
+    /// with A⁻¹ skip the zero quarters.
+    split: bool,
 }
 
 impl Schur {
@@ -88,6 +91,7 @@ impl Schur {
             lu: SparseLu::new(pattern)?,
             w_l: 1.0,
             frozen: jac.clone(),
+            split: false,
         })
     }
 
@@ -138,6 +142,7 @@ impl Schur {
                 a[i * bs * bs + (r % bs) * bs + c % bs] -= wt * x;
             }
         }
+        self.split = bs == 6 && a.chunks_exact(36).all(decoupled6);
         let symmetric = a.chunks_exact(bs * bs).all(|blk| {
             let top = blk.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             (0..bs)
@@ -179,10 +184,7 @@ impl Schur {
             let i = jac.slot_part(k);
             let inv = &self.ainv[i * BS * BS..(i + 1) * BS * BS];
             let bk: &[f64; BS] = jac.block(k).try_into().expect("blocks of BS columns");
-            let out = &mut self.ainv_bt[k * BS..(k + 1) * BS];
-            for (r, o) in out.iter_mut().enumerate() {
-                *o = dot_n::<BS>(&inv[r * BS..(r + 1) * BS], bk);
-            }
+            self.ainv_bt[k * BS..(k + 1) * BS].copy_from_slice(&apply(inv, bk, self.split));
         }
         self.values.fill(0.0);
         let mut next = 0;
@@ -216,8 +218,8 @@ impl Schur {
             .chunks_exact_mut(BS)
             .zip(self.ainv.chunks_exact(BS * BS))
         {
-            let z: [f64; BS] = std::array::from_fn(|r| dot(&inv[r * BS..(r + 1) * BS], x));
-            x.copy_from_slice(&z);
+            let x: &mut [f64; BS] = x.try_into().expect("blocks of BS columns");
+            *x = apply(inv, x, self.split);
         }
         for t in bottom.iter_mut() {
             *t = -*t;
@@ -239,14 +241,24 @@ impl Schur {
     }
 }
 
+/// `inv`·`x` for one part's N × N row-major inverse; with `split` (N = 6) the inverse is
+/// two 3 × 3 diagonal blocks and only those are read.
+fn apply<const N: usize>(inv: &[f64], x: &[f64; N], split: bool) -> [f64; N] {
+    std::array::from_fn(|r| {
+        let row = &inv[r * N..(r + 1) * N];
+        if split {
+            let o = if r < 3 { 0 } else { 3 };
+            (o..o + 3).map(|k| row[k] * x[k]).sum()
+        } else {
+            dot_n::<N>(row, x)
+        }
+    })
+}
+
 /// A dot product of `N` entries (`a` holds at least N).
 fn dot_n<const N: usize>(a: &[f64], b: &[f64; N]) -> f64 {
     let a: &[f64; N] = a[..N].try_into().expect("N entries");
     (0..N).map(|k| a[k] * b[k]).sum()
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// Writes into `out` the inverse of the 3 × 3 or 6 × 6 row-major block `a`; false
