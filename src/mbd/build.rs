@@ -332,6 +332,6 @@ impl System {
             ),
             err => MbdError::Expression(r.clone(), err.to_string()),
         })?;
-        Ok(Scalar::new(f, map))
+        Ok(Scalar::new(f, map).watching(&e.function))
     }
 }
