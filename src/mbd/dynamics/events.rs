@@ -43,7 +43,9 @@ const LOCATE_REL: f64 = 1e-3;
 /// long (a safeguard: bisection alone needs log2(1/LOCATE_REL) ≈ 10).
 const MAX_TRIES: usize = 40;
 
-/// The switching values of a run and the switch being located.
+/// The switching values of a run and the switch being located (the default watches
+/// nothing).
+#[derive(Default)]
 pub struct Events {
     /// At the last accepted state (NaN: not defined there).
     at: Vec<f64>,

@@ -76,7 +76,11 @@ pub fn simulate(
     output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
 ) -> Result<(), DynError> {
     integrator.start(d)?;
-    let mut events = Events::new(d);
+    // Fixed steps are the user's to choose: no switch moves them.
+    let mut events = match s.fixed_step {
+        None => Events::new(d),
+        Some(_) => Events::default(),
+    };
     let drift_tol = (s.error * 10.0).max(1e-6);
     // The step error control wants; the step taken may be shorter to land on an output.
     let mut want = s.fixed_step.unwrap_or(s.hinit).min(s.hmax);
@@ -96,7 +100,7 @@ pub fn simulate(
             }
             let mut end = if h == left { t_out } else { t + h };
             // Aiming at a switch being located only ever shortens the step.
-            if let Some(aim) = events.aim(t).filter(|&a| a < h && s.fixed_step.is_none()) {
+            if let Some(aim) = events.aim(t).filter(|&a| a < h) {
                 (h, end) = (aim, t + aim);
             }
             let clipped = h < want;
@@ -133,10 +137,7 @@ pub fn simulate(
                 }
                 Attempt::Converged { err, .. } => {
                     d.sys.time = end;
-                    let verdict = match s.fixed_step {
-                        Some(_) => Verdict::Accept { event: false },
-                        None => events.check(d, h, s.hmin),
-                    };
+                    let verdict = events.check(d, h, s.hmin);
                     if verdict == Verdict::Locate {
                         integrator.reject(d);
                         d.stats.rejected += 1;
