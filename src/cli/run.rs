@@ -290,7 +290,7 @@ fn report_failure(
 pub fn summary_text(s: &Summary) -> String {
     let st = &s.stats;
     let mut out = format!(
-        "{}: {} steps ({} rejected), {} Newton iterations, {} Jacobian evaluations, {} factorizations, {} expression evaluations, {:.3} s CPU\nlargest constraint residual {:.3e}\n",
+        "{}: {} steps ({} rejected), {} Newton iterations, {} Jacobian evaluations, {} factorizations, {} expression evaluations, {:.3} s CPU{}\nlargest constraint residual {:.3e}\n",
         s.integrator,
         st.steps,
         st.rejected,
@@ -299,6 +299,11 @@ pub fn summary_text(s: &Summary) -> String {
         st.factorizations,
         st.expression_evaluations,
         s.cpu_seconds,
+        // Runs with contact switches say how many were located; others print as before.
+        match st.events {
+            0 => String::new(),
+            n => format!(", {n} force switches located"),
+        },
         s.max_residual
     );
     if let Some((e0, e1)) = s.energy {

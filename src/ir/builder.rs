@@ -358,7 +358,7 @@ impl Arith {
 }
 
 /// What a finished function reads, walking only reachable instructions.
-fn collect_uses(f: &Function) -> Uses {
+pub(crate) fn collect_uses(f: &Function) -> Uses {
     let mut uses = Uses::default();
     // Arms of IFs still to walk; most functions have none, so this rarely allocates.
     let mut stack: Vec<&[Value]> = Vec::new();

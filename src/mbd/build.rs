@@ -335,6 +335,6 @@ impl System {
                 ),
                 err => MbdError::Expression(r.clone(), ExprError::Other(err.to_string())),
             })?;
-        Ok(Scalar::new(f, map))
+        Ok(Scalar::new(f, map).watching(&e.function))
     }
 }

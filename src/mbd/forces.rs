@@ -10,8 +10,12 @@
 //! Generalized forces are per moving part at its reference point (the CM): the force F
 //! and the moment about the CM, global axes; a force applied at a marker adds the moment
 //! of its arm.
+//!
+//! An expression that calls IMPACT or BISTOP also carries their switching functions
+//! ([`ContactProbe`]), which the step control watches ([`ForceSet::switches`]).
 
 use super::dual::{Scalar as _, D, N, PER_PART, V};
+use super::dynamics::events::contact::ContactProbe;
 use super::error::{element_name, MbdError};
 use super::expr::ExprFn;
 use super::measures::{dual_frame, DFrame, Measure, PartSlots, M};
@@ -25,6 +29,8 @@ pub struct Scalar {
     pub map: Vec<usize>,
     /// Buffers of an evaluation (slot values, measure duals, gradient), reused.
     scratch: std::cell::RefCell<(Vec<f64>, Vec<D>, Vec<f64>)>,
+    /// The switching functions of its contact calls, when it has any.
+    probe: Option<ContactProbe>,
 }
 
 impl Scalar {
@@ -35,7 +41,34 @@ impl Scalar {
             f,
             map,
             scratch: std::cell::RefCell::new((vec![0.0; len], Vec::with_capacity(n), vec![0.0; n])),
+            probe: None,
         }
+    }
+
+    /// The same expression with the switching functions of the IMPACT and BISTOP calls
+    /// in `function`, its IR.
+    pub fn watching(mut self, function: &crate::ir::Function) -> Scalar {
+        self.probe = ContactProbe::of(function);
+        self
+    }
+
+    /// Appends the switching values at the state of `sys` (nothing without contact
+    /// calls).
+    fn switches(&self, sys: &System, out: &mut Vec<f64>) {
+        let Some(probe) = &self.probe else { return };
+        let mut scratch = self.scratch.borrow_mut();
+        let vals = &mut scratch.0;
+        let ms = &sys.measures;
+        for (&m, &slot) in self.map.iter().zip(self.f.slots()) {
+            // Values alone: the jet is a few scalars where the dual carries a gradient
+            // over four parts; only an unwrapped angle needs the dual's unwrapping.
+            vals[slot as usize] = if ms.list[m].unwrapped() {
+                ms.eval(sys, m).value()
+            } else {
+                ms.jet(sys, m).v
+            };
+        }
+        probe.eval(sys.time, vals, out);
     }
 }
 
@@ -197,6 +230,23 @@ impl ForceSet {
                 _ => 0,
             })
             .sum()
+    }
+
+    /// Appends the switching values of every expression's contact calls at the state of
+    /// `sys`, in a fixed order (positive where a branch acts, NaN where a switch means
+    /// nothing there).
+    pub fn switches(&self, sys: &System, out: &mut Vec<f64>) {
+        for el in &self.elements {
+            match &el.law {
+                ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => f.switches(sys, out),
+                ForceLaw::Vector { force, torque, .. } => {
+                    for s in force.iter().chain(torque.iter()).flat_map(|b| b.iter()) {
+                        s.switches(sys, out);
+                    }
+                }
+                _ => {}
+            }
+        }
     }
 
     /// Records the parts each element reads: its markers and its measures' markers.

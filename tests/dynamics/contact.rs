@@ -624,7 +624,6 @@ fn impact_block_dropped_0_1_m_matches_the_reference() {
 /// §6.5's warning case: after the clamp switches the force off during the rebound, the
 /// spring term takes over again near zero penetration for about 0.3 ms (up to 0.17 N).
 #[test]
-#[ignore = "fails: steps over the clamp's re-engagement pulse at a 1e-3 output step: first rebound 3.5e-5 m/s slow, 9e-6 m low (fine at 1e-4)"]
 fn impact_bouncing_ball_matches_the_reference() {
     damped_case("bounce.adm");
 }

@@ -1,9 +1,11 @@
 //! What every integrator implements ([`Integrator`]) and the driver that runs one over a
 //! time span ([`simulate`]): step-size selection from the local error estimate (ERROR,
-//! HMAX, HINIT, HMIN), rejection and retry, landing exactly on output times, the check
-//! that dropped redundant rows stay satisfied, and the output callback. Fixed-step runs
-//! divide each output interval into equal steps no longer than the step asked for.
+//! HMAX, HINIT, HMIN), rejection and retry, landing exactly on output times, locating the
+//! force laws' switches ([`super::events`]), the check that dropped redundant rows stay
+//! satisfied, and the output callback. Fixed-step runs divide each output interval into
+//! equal steps no longer than the step asked for (and do not locate switches).
 
+use super::events::{Events, Verdict};
 use super::{DynError, Dynamics};
 
 /// Integrator settings (spec §6.2 names).
@@ -74,6 +76,11 @@ pub fn simulate(
     output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
 ) -> Result<(), DynError> {
     integrator.start(d)?;
+    // Fixed steps are the user's to choose: no switch moves them.
+    let mut events = match s.fixed_step {
+        None => Events::new(d),
+        Some(_) => Events::default(),
+    };
     let drift_tol = (s.error * 10.0).max(1e-6);
     // The step error control wants; the step taken may be shorter to land on an output.
     let mut want = s.fixed_step.unwrap_or(s.hinit).min(s.hmax);
@@ -91,8 +98,12 @@ pub fn simulate(
                 // Two even steps rather than a long one and a sliver.
                 h = left / 2.0;
             }
+            let mut end = if h == left { t_out } else { t + h };
+            // Aiming at a switch being located only ever shortens the step.
+            if let Some(aim) = events.aim(t).filter(|&a| a < h) {
+                (h, end) = (aim, t + aim);
+            }
             let clipped = h < want;
-            let end = if h == left { t_out } else { t + h };
             let attempt = integrator.attempt(d, end - t, s)?;
             match attempt {
                 Attempt::Diverged => {
@@ -126,6 +137,14 @@ pub fn simulate(
                 }
                 Attempt::Converged { err, .. } => {
                     d.sys.time = end;
+                    let verdict = events.check(d, h, s.hmin);
+                    if verdict == Verdict::Locate {
+                        integrator.reject(d);
+                        d.stats.rejected += 1;
+                        continue;
+                    }
+                    events.accept();
+                    d.stats.events += (verdict == Verdict::Accept { event: true }) as usize;
                     integrator.accept(d);
                     d.stats.steps += 1;
                     d.check_dropped(drift_tol)?;
@@ -139,8 +158,8 @@ pub fn simulate(
                             2.0
                         };
                         let next = (h * grow).min(s.hmax);
-                        // A step cut short to land on an output says little about a longer one
-                        // unless its error was large.
+                        // A step cut short to land on an output or a switch says little about
+                        // a longer one unless its error was large.
                         want = if clipped && err < 0.5 {
                             want.max(next)
                         } else {

@@ -12,6 +12,7 @@
 //! drift), the Newton matrix on one sparse pattern with a sparse LU, and the state's
 //! accelerations and multipliers. Integrators ([`integrator`]) drive it.
 
+pub mod events;
 pub mod gamma;
 pub mod integrator;
 pub mod jacobian;
@@ -40,6 +41,9 @@ pub struct Stats {
     /// Evaluations of compiled expressions (force magnitudes, GCON and MOTION
     /// functions), values and gradients alike.
     pub expression_evaluations: usize,
+    /// Force-law switches (contact on or off, clamp on or off) located by the step
+    /// control ([`events`]).
+    pub events: usize,
 }
 
 /// What a failure points at: an element, or a part (by Adams id).
