@@ -82,8 +82,11 @@ pub struct Newmark {
     /// Scratch of [`Newmark::place`]: the position increment and the velocities.
     dx: Vec<f64>,
     v1: DVec,
-    /// Scratch: the residual of the force balance.
+    /// Scratch: the residual of the force balance, and the Newton right-hand side.
     res: DVec,
+    rhs: Vec<f64>,
+    /// Per-column tolerance scales ([`Newmark::tolerances`]) and the ERROR they are for.
+    tol: (f64, Vec<f64>),
     /// Step size and generation ([`Dynamics::factor_generation`]) of the factorization
     /// this integrator made (None: none valid).
     factored_h: Option<f64>,
@@ -132,6 +135,8 @@ impl Newmark {
             dx: Vec::new(),
             v1: DVec::zeros(0),
             res: DVec::zeros(0),
+            rhs: Vec::new(),
+            tol: (f64::NAN, Vec::new()),
             factored_h: None,
             generation: 0,
             last_first: 0.0,
@@ -218,42 +223,19 @@ impl Newmark {
             w_l: self.s,
         }
     }
-}
 
-impl Integrator for Newmark {
-    fn name(&self) -> &'static str {
-        match self.method {
-            Method::Hht { .. } => "hht",
-            Method::GeneralizedAlpha { .. } => "galpha",
-        }
-    }
-
-    fn error_order(&self) -> f64 {
-        3.0
-    }
-
-    fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
-        self.base = Some(d.snapshot());
-        self.v0 = d.sys.v();
-        self.a0 = d.a.clone();
-        self.at0 = d.a.clone();
-        self.lambda0 = d.lambda.clone();
-        // (Φ_qᵀλ − Q)₀ = −M·a₀/UCF for consistent initial accelerations.
-        let mut f0 = DVec::zeros(d.n);
-        d.add_mass_times(&self.a0, &mut f0);
-        self.f0 = -f0;
-        self.m0 = d.mass_blocks().into_owned();
-        self.a_prev = DVec::zeros(0);
-        self.h0 = None;
-        self.factored_h = None;
-        Ok(())
-    }
-
-    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+    /// Newton on the step `h` to `t1` with the per-column tolerance scales `tol`; `rhs`
+    /// is scratch of n + m.
+    fn iterate(
+        &mut self,
+        d: &mut Dynamics,
+        h: f64,
+        t1: f64,
+        st: &Settings,
+        tol: &[f64],
+        rhs: &mut [f64],
+    ) -> Result<Attempt, DynError> {
         let (n, m) = (d.n, d.m);
-        let t1 = self.base.as_ref().expect("started").time + h;
-        self.h1 = h;
-        let tol = Self::tolerances(d, st.error);
         let scale = self.beta * h * h * self.c();
         // Predictor: the accelerations extrapolated linearly from the last two steps.
         let mut a1 = match self.h0 {
@@ -286,11 +268,10 @@ impl Integrator for Newmark {
             .sys
             .parts
             .iter()
-            .map(|p| p.r.amax())
+            .map(|p| largest_magnitude(p.r.as_slice()))
             .fold(d.sys.length, f64::max);
         let newton_tol = (NEWTON_PER_ERROR * st.error).clamp(NEWTON_TOL_MIN, NEWTON_TOL_MAX);
         let mut prev_norm = f64::INFINITY;
-        let mut rhs = vec![0.0; n + m];
         if self.res.len() != n {
             self.res = DVec::zeros(n);
         }
@@ -333,7 +314,7 @@ impl Integrator for Newmark {
             for k in 0..m {
                 rhs[n + k] = -d.phi[k] * inv_scale;
             }
-            d.solve(&mut rhs)?;
+            d.solve(rhs)?;
             // The index-3 Newton matrix has condition O(h⁻²): positions converged to a
             // tolerance still leave accelerations and multipliers (reactions) off by
             // that over β·h². So the test is on the accelerations and multipliers
@@ -375,12 +356,11 @@ impl Integrator for Newmark {
                 self.place(d, &a1, h, t1);
                 d.a = a1;
                 d.lambda = lambda;
-                let diff = &self.at1 - &self.at0;
                 let coef = ((self.beta - 1.0 / 6.0) * h * h).abs();
                 let (mut err, mut worst) = (0.0, 0);
                 if st.fixed_step.is_none() {
                     for k in 0..n {
-                        let e = coef * diff[k].abs() / tol[k];
+                        let e = coef * (self.at1[k] - self.at0[k]).abs() / tol[k];
                         if e > err {
                             (err, worst) = (e, k);
                         }
@@ -401,21 +381,78 @@ impl Integrator for Newmark {
         self.factored_h = None;
         Ok(Attempt::Diverged)
     }
+}
+
+impl Integrator for Newmark {
+    fn name(&self) -> &'static str {
+        match self.method {
+            Method::Hht { .. } => "hht",
+            Method::GeneralizedAlpha { .. } => "galpha",
+        }
+    }
+
+    fn error_order(&self) -> f64 {
+        3.0
+    }
+
+    fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        self.base = Some(d.snapshot());
+        self.v0 = d.sys.v();
+        self.a0 = d.a.clone();
+        self.at0 = d.a.clone();
+        self.lambda0 = d.lambda.clone();
+        // (Φ_qᵀλ − Q)₀ = −M·a₀/UCF for consistent initial accelerations.
+        let mut f0 = DVec::zeros(d.n);
+        d.add_mass_times(&self.a0, &mut f0);
+        self.f0 = -f0;
+        self.m0 = d.mass_blocks().into_owned();
+        self.a_prev = DVec::zeros(0);
+        self.h0 = None;
+        self.factored_h = None;
+        Ok(())
+    }
+
+    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        let n = d.n;
+        let t1 = self.base.as_ref().expect("started").time + h;
+        self.h1 = h;
+        if self.tol.0 != st.error || self.tol.1.len() != n {
+            self.tol = (st.error, Self::tolerances(d, st.error));
+        }
+        // Scratch lent to the iteration (it borrows `self` whole).
+        let (tol, mut rhs) = (
+            std::mem::take(&mut self.tol.1),
+            std::mem::take(&mut self.rhs),
+        );
+        rhs.resize(n + d.m, 0.0);
+        let outcome = self.iterate(d, h, t1, st, &tol, &mut rhs);
+        (self.tol.1, self.rhs) = (tol, rhs);
+        outcome
+    }
 
     fn accept(&mut self, d: &mut Dynamics) {
         // (Φ_qᵀλ − Q)₁ from the converged residual: s·f₁ = r·f₀ − (s·M₁ − r·M₀)·a₁/UCF.
-        let m1 = d.mass_blocks().into_owned();
-        let mut ma = DVec::zeros(d.n);
-        d.add_blocks_times(&m1, self.s, &d.a, &mut ma);
-        d.add_blocks_times(&self.m0, -self.r, &d.a, &mut ma);
-        self.f0 = (&self.f0 * self.r - ma) / self.s;
-        self.m0 = m1;
+        let m1 = d.mass_blocks();
+        let ma = &mut self.res;
+        ma.fill(0.0);
+        d.add_blocks_times(&m1, self.s, &d.a, ma);
+        d.add_blocks_times(&self.m0, -self.r, &d.a, ma);
+        for (f, x) in self.f0.iter_mut().zip(ma.iter()) {
+            *f = (*f * self.r - x) / self.s;
+        }
+        // Constant mass blocks (2D, isotropic parts) are already m0.
+        if let std::borrow::Cow::Owned(m1) = m1 {
+            self.m0 = m1;
+        }
         self.base = Some(d.snapshot());
         self.v0 = d.sys.v();
-        self.a_prev = std::mem::replace(&mut self.a0, d.a.clone());
+        // The previous values move back a slot; their buffers are reused.
+        std::mem::swap(&mut self.a_prev, &mut self.a0);
+        std::mem::swap(&mut self.lambda_prev, &mut self.lambda0);
+        copy_into(&mut self.a0, &d.a);
+        copy_into(&mut self.lambda0, &d.lambda);
+        copy_into(&mut self.at0, &self.at1);
         self.h0 = Some(self.h1);
-        self.at0 = self.at1.clone();
-        self.lambda_prev = std::mem::replace(&mut self.lambda0, d.lambda.clone());
         d.store_accelerations();
     }
 
@@ -437,4 +474,13 @@ fn largest_magnitude(x: &[f64]) -> f64 {
             m
         }
     })
+}
+
+/// `dst` = `src`, reusing `dst`'s buffer when the sizes agree.
+fn copy_into(dst: &mut DVec, src: &DVec) {
+    if dst.len() == src.len() {
+        dst.copy_from(src);
+    } else {
+        *dst = src.clone();
+    }
 }
