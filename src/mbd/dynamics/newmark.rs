@@ -359,8 +359,9 @@ impl Newmark {
                 let coef = ((self.beta - 1.0 / 6.0) * h * h).abs();
                 let (mut err, mut worst) = (0.0, 0);
                 if st.fixed_step.is_none() {
-                    for k in 0..n {
-                        let e = coef * (self.at1[k] - self.at0[k]).abs() / tol[k];
+                    let columns = self.at1.iter().zip(self.at0.iter()).zip(tol);
+                    for (k, ((a1, a0), tol)) in columns.enumerate() {
+                        let e = coef * (a1 - a0).abs() / tol;
                         if e > err {
                             (err, worst) = (e, k);
                         }
