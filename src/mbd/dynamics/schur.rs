@@ -156,30 +156,40 @@ impl Schur {
                 return Ok(false);
             }
         }
-        match bs {
-            3 => self.fill_complement::<3>(jac, w.w_l),
-            _ => self.fill_complement::<6>(jac, w.w_l),
-        }
-        for &d in &self.diag_slot {
-            self.values[d] += eps;
-        }
         self.w_l = w.w_l;
         // Symmetric blocks make the complement symmetric positive definite (A positive
-        // definite, ε > 0): Cholesky, unless it finds otherwise.
+        // definite, ε > 0): Cholesky, which reads the lower half only, unless it finds
+        // otherwise; then LU on the whole.
         self.via_llt = false;
-        if let (true, Some(llt)) = (symmetric, &mut self.llt) {
-            if llt.factor(&self.values).is_ok() {
-                self.via_llt = true;
-                return Ok(true);
+        if symmetric && self.llt.is_some() {
+            self.fill(jac, w.w_l, eps, true);
+            if let Some(llt) = &mut self.llt {
+                if llt.factor(&self.values).is_ok() {
+                    self.via_llt = true;
+                    return Ok(true);
+                }
             }
         }
+        self.fill(jac, w.w_l, eps, false);
         self.lu.factor(&self.values)?;
         Ok(true)
     }
 
+    /// The complement w·Φ_q·A⁻¹·Φ_qᵀ + ε·I into `values`, its lower half only when
+    /// `lower` (rows ≥ columns).
+    fn fill(&mut self, jac: &Jacobian, w_l: f64, eps: f64, lower: bool) {
+        match self.bs {
+            3 => self.fill_complement::<3>(jac, w_l, lower),
+            _ => self.fill_complement::<6>(jac, w_l, lower),
+        }
+        for &d in &self.diag_slot {
+            self.values[d] += eps;
+        }
+    }
+
     /// A⁻¹·Bᵀ per Jacobian slot, and the complement w·Φ_q·A⁻¹·Φ_qᵀ into `values` (with
     /// the block size known to the compiler: this is most of a factorization's time).
-    fn fill_complement<const BS: usize>(&mut self, jac: &Jacobian, w_l: f64) {
+    fn fill_complement<const BS: usize>(&mut self, jac: &Jacobian, w_l: f64, lower: bool) {
         for k in 0..jac.slots() {
             let i = jac.slot_part(k);
             let inv = &self.ainv[i * BS * BS..(i + 1) * BS * BS];
@@ -191,9 +201,12 @@ impl Schur {
         for slots in &self.part_slots {
             for &sa in slots {
                 let ba: &[f64; BS] = jac.block(sa).try_into().expect("blocks of BS columns");
+                let row = jac.slot_row(sa);
                 for &sb in slots {
-                    let y = &self.ainv_bt[sb * BS..(sb + 1) * BS];
-                    self.values[self.pair_slot[next]] += w_l * dot_n::<BS>(y, ba);
+                    if !lower || row >= jac.slot_row(sb) {
+                        let y = &self.ainv_bt[sb * BS..(sb + 1) * BS];
+                        self.values[self.pair_slot[next]] += w_l * dot_n::<BS>(y, ba);
+                    }
                     next += 1;
                 }
             }
@@ -390,6 +403,14 @@ mod tests {
 
     #[test]
     fn the_complement_solves_the_same_system_as_a_dense_lu() {
+        // Symmetric blocks go through Cholesky on the complement's lower half, an
+        // unsymmetric one through LU on the whole.
+        for damped in [false, true] {
+            complement_matches_dense_lu(damped);
+        }
+    }
+
+    fn complement_matches_dense_lu(damped: bool) {
         // Two planar parts, three rows: row 0 reads part 0, rows 1 and 2 both parts.
         let jac_rows = [vec![0], vec![0, 1], vec![1, 0]];
         let mut jac = Jacobian::new(3, &jac_rows);
@@ -409,8 +430,12 @@ mod tests {
         let blocks = [Mat3Block::Two(2.0, 0.5), Mat3Block::Two(3.0, 0.25)];
         // A force Jacobian within part 1's block (unsymmetric, as damping may be).
         let mut gen = Generalized::new(6);
-        gen.dv.push((3, 4, 0.6));
-        gen.dv.push((5, 3, -0.2));
+        let damping = if damped {
+            vec![(3, 4, 0.6), (5, 3, -0.2)]
+        } else {
+            vec![]
+        };
+        gen.dv.extend(damping.iter().copied());
         let w = Weights {
             w_m: 1.0,
             w_k: 0.0,
@@ -420,6 +445,7 @@ mod tests {
         let eps = 1e-3;
         let mut schur = Schur::new(&jac, 2).unwrap();
         assert!(schur.factor(&jac, &blocks, &gen, &[], w, eps).unwrap());
+        assert_eq!(schur.via_llt, !damped);
         let b = [1.0, -2.0, 0.5, 3.0, 0.25, -1.0, 0.1, 0.2, -0.3];
         let mut x = b;
         schur.solve(&mut x).unwrap();
@@ -430,8 +456,9 @@ mod tests {
             k[(3 * i + 1, 3 * i + 1)] = m;
             k[(3 * i + 2, 3 * i + 2)] = j;
         }
-        k[(3, 4)] -= 0.5 * 0.6;
-        k[(5, 3)] -= 0.5 * -0.2;
+        for &(r, c, v) in &damping {
+            k[(r, c)] -= 0.5 * v;
+        }
         for &(r, c, v) in &entries {
             k[(6 + r, c)] = v;
             k[(c, 6 + r)] = 0.8 * v;
@@ -441,7 +468,10 @@ mod tests {
         }
         let want = k.lu().solve(&DVec::from_column_slice(&b)).unwrap();
         for (got, want) in x.iter().zip(want.iter()) {
-            assert!((got - want).abs() < 1e-12, "{x:?} vs {want}");
+            assert!(
+                (got - want).abs() < 1e-12,
+                "damped {damped}: {x:?} vs {want}"
+            );
         }
     }
 }
