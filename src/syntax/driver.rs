@@ -20,7 +20,10 @@
 //!   that reaches a point another one already left without accepting stops there;
 //! - recovery works within a budget proportional to the number of tokens: past it the
 //!   parse stops at the error at hand (reported like any other) instead of searching on.
-//!   Real expressions use a small fraction of it; garbage stays linear.
+//!   Real expressions use a small fraction of it; garbage stays linear;
+//! - an error is reported as a [`SyntaxError`] (in LALRPOP's `ParseError::User`), whose
+//!   expected terminals are a bit set, not a list of strings: one allocation per expected
+//!   terminal per error was the next largest cost.
 //!
 //! It relies on lalrpop-util's `state_machine` interface (hidden in the docs, but the one
 //! the generated code is written against); `Cargo.lock` pins its version.
@@ -41,36 +44,91 @@ use std::hash::Hash;
 /// and is cut short.
 const WORK_PER_TOKEN: usize = 128;
 
-/// The grammar's terminals with the names LALRPOP gives them in expected-token lists, in
-/// the grammar's order (`terminal_names_match_the_grammar` checks them against
-/// `grammar/function.lalrpop`). Each is looked up through the tables, so the order is only
-/// the order of the list.
-const TERMINALS: [(Tok, &str); 18] = [
-    (Tok::Num(0.0), "\"number\""),
-    (Tok::Name(0), "\"name\""),
-    (Tok::Call(0), "\"function\""),
-    (Tok::If, "\"IF\""),
-    (Tok::Plus, "\"+\""),
-    (Tok::Minus, "\"-\""),
-    (Tok::Star, "\"*\""),
-    (Tok::Pow, "\"**\""),
-    (Tok::Slash, "\"/\""),
-    (Tok::Percent, "\"%\""),
-    (Tok::LParen, "\"(\""),
-    (Tok::RParen, "\")\""),
-    (Tok::LBracket, "\"[\""),
-    (Tok::RBracket, "\"]\""),
-    (Tok::Comma, "\",\""),
-    (Tok::Colon, "\":\""),
-    (Tok::Relational, "\"relational\""),
-    (Tok::Invalid, "\"invalid\""),
+/// One token of each of the grammar's terminals, in the order of its `extern` block
+/// (`terminals_match_the_grammar` checks them against `grammar/function.lalrpop`). Each
+/// is looked up through the tables, so the order only numbers the bits of [`Expected`].
+const TERMINALS: [Tok; 18] = [
+    Tok::Num(0.0),
+    Tok::Name(0),
+    Tok::Call(0),
+    Tok::If,
+    Tok::Plus,
+    Tok::Minus,
+    Tok::Star,
+    Tok::Pow,
+    Tok::Slash,
+    Tok::Percent,
+    Tok::LParen,
+    Tok::RParen,
+    Tok::LBracket,
+    Tok::RBracket,
+    Tok::Comma,
+    Tok::Colon,
+    Tok::Relational,
+    Tok::Invalid,
 ];
+
+/// The terminals a parser state would take, as a set over [`TERMINALS`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Expected(u32);
+
+impl Expected {
+    /// Whether a token of the same kind as `tok` (whatever its value) is expected.
+    pub fn contains(self, tok: Tok) -> bool {
+        let kind = std::mem::discriminant(&tok);
+        TERMINALS
+            .iter()
+            .position(|t| std::mem::discriminant(t) == kind)
+            .is_some_and(|i| self.0 & (1 << i) != 0)
+    }
+
+    /// The set named by LALRPOP's expected-token list (terminals as the grammar writes
+    /// them, quoted).
+    pub fn from_names(names: &[String]) -> Self {
+        let declared = declared_terminals();
+        let mut bits = 0;
+        for name in names {
+            if let Some(i) = declared
+                .iter()
+                .position(|&(n, _)| n == name.trim_matches('"'))
+            {
+                bits |= 1 << i;
+            }
+        }
+        Expected(bits)
+    }
+}
+
+/// The syntax errors the driver reports.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SyntaxError {
+    /// `token` cannot come here; `expected` could.
+    Unexpected {
+        token: (usize, Tok, usize),
+        expected: Expected,
+    },
+    /// The input ends at `location`, where `expected` could come.
+    End { location: usize, expected: Expected },
+}
+
+/// The `"name" => Tok::Variant` pairs of the grammar's `extern` block, in order.
+fn declared_terminals() -> Vec<(&'static str, &'static str)> {
+    let grammar = include_str!("../../grammar/function.lalrpop");
+    let mut declared = Vec::new();
+    for line in grammar.lines() {
+        if let Some((name, tok)) = line.trim().split_once(" => Tok::") {
+            let variant = tok.split(['(', ',']).next().unwrap_or_default();
+            declared.push((name.trim_matches('"'), variant));
+        }
+    }
+    declared
+}
 
 /// Parses `tokens` with the tables of `definition`: the generated `ExprParser::parse`
 /// calls this in place of `lalrpop_util::state_machine::Parser::drive`.
 pub fn drive<D, I>(definition: D, tokens: I) -> ParseResult<D>
 where
-    D: ParserDefinition<Token = Tok, TokenIndex = usize>,
+    D: ParserDefinition<Token = Tok, TokenIndex = usize, Location = usize, Error = SyntaxError>,
     D::StateIndex: Eq + Hash,
     I: Iterator<Item = Result<TokenTriple<D>, ParseError<D>>>,
 {
@@ -99,7 +157,7 @@ struct Driver<D: ParserDefinition, I> {
     tokens: I,
     states: Vec<D::StateIndex>,
     symbols: Vec<SymbolTriple<D>>,
-    last_location: D::Location,
+    last_location: usize,
     /// States pushed by a simulation above the part of `states` it still stands on.
     overlay: Vec<D::StateIndex>,
     /// The points (stack depth below the overlay, the overlay's one state) a simulation
@@ -120,7 +178,7 @@ enum Next<D: ParserDefinition> {
 
 impl<D, I> Driver<D, I>
 where
-    D: ParserDefinition<Token = Tok, TokenIndex = usize>,
+    D: ParserDefinition<Token = Tok, TokenIndex = usize, Location = usize, Error = SyntaxError>,
     D::StateIndex: Eq + Hash,
     I: Iterator<Item = Result<TokenTriple<D>, ParseError<D>>>,
 {
@@ -182,7 +240,7 @@ where
     fn reduce(
         &mut self,
         reduction: D::ReduceIndex,
-        lookahead_start: Option<&D::Location>,
+        lookahead_start: Option<&usize>,
     ) -> Option<ParseResult<D>> {
         self.definition.reduce(
             reduction,
@@ -198,7 +256,7 @@ where
             Some(Err(e)) => return Next::Done(Err(e)),
             None => return Next::Eof,
         };
-        self.last_location = token.2.clone();
+        self.last_location = token.2;
         match self.definition.token_to_index(&token.1) {
             Some(i) => Next::Token(token, i),
             None => Next::Done(Err(self.unrecognized(Some(token)))),
@@ -208,28 +266,30 @@ where
     /// The error for `token` (`None`: the end of the input) on the current stack.
     fn unrecognized(&mut self, token: Option<TokenTriple<D>>) -> ParseError<D> {
         let expected = self.expected();
-        match token {
-            Some(token) => Error::UnrecognizedToken { token, expected },
-            None => Error::UnrecognizedEof {
-                location: self.last_location.clone(),
-                expected,
+        Error::User {
+            error: match token {
+                Some(token) => SyntaxError::Unexpected { token, expected },
+                None => SyntaxError::End {
+                    location: self.last_location,
+                    expected,
+                },
             },
         }
     }
 
-    /// The terminals that the current stack would shift (after reductions), by name.
-    fn expected(&mut self) -> Vec<String> {
+    /// The terminals that the current stack would shift (after reductions).
+    fn expected(&mut self) -> Expected {
         let depth = self.states.len();
-        let mut names = Vec::new();
-        for (tok, name) in TERMINALS {
-            let Some(index) = self.definition.token_to_index(&tok) else {
+        let mut bits = 0;
+        for (bit, tok) in TERMINALS.iter().enumerate() {
+            let Some(index) = self.definition.token_to_index(tok) else {
                 continue;
             };
             if self.accepts(depth, None, Some(index), false) {
-                names.push(name.to_string());
+                bits |= 1 << bit;
             }
         }
-        names
+        Expected(bits)
     }
 
     /// Error recovery, as lalrpop-util does it: reduce what the error token lets us reduce;
@@ -237,7 +297,7 @@ where
     /// with the lookahead; if none can, drop the lookahead and try with the next token.
     /// The recovered error replaces the popped symbols and dropped tokens.
     fn recover(&mut self, mut lookahead: Option<(TokenTriple<D>, usize)>) -> Next<D> {
-        let error = self.unrecognized(lookahead.as_ref().map(|(t, _)| t.clone()));
+        let error = self.unrecognized(lookahead.as_ref().map(|(t, _)| *t));
         if self.work > self.budget {
             return Next::Done(Err(error));
         }
@@ -257,7 +317,7 @@ where
         // accepts: the stack does not change while tokens are dropped, so neither does the
         // answer.
         let mut refused: u64 = 0;
-        let mut dropped: Option<(D::Location, D::Location)> = None;
+        let mut dropped: Option<(usize, usize)> = None;
         let top = 'find: loop {
             let index = lookahead.as_ref().map(|&(_, i)| i);
             let bit = match index {
@@ -302,22 +362,22 @@ where
         // else the end of what stays; to the last dropped token, else the last popped
         // symbol, else the lookahead's start.
         let start = if let Some(popped) = self.symbols.get(top) {
-            popped.0.clone()
+            popped.0
         } else if let Some((first, _)) = &dropped {
-            first.clone()
+            *first
         } else if top > 0 {
-            self.symbols[top - 1].2.clone()
+            self.symbols[top - 1].2
         } else {
             self.definition.start_location()
         };
         let end = if let Some((_, last)) = &dropped {
-            last.clone()
+            *last
         } else if depth - 1 > top {
-            self.symbols[self.symbols.len() - 1].2.clone()
+            self.symbols[self.symbols.len() - 1].2
         } else if let Some((token, _)) = &lookahead {
-            token.0.clone()
+            token.0
         } else {
-            start.clone()
+            start
         };
 
         self.states.truncate(top + 1);
@@ -355,6 +415,9 @@ where
         overlay.clear();
         overlay.extend(pushed);
         self.path.clear();
+        // The search goes down the stack, so later simulations start below `depth` and
+        // can only meet this one at points below it.
+        let start = depth;
         let mut depth = depth;
         let states = &self.states[..];
         let top = |overlay: &Vec<D::StateIndex>, depth: usize| {
@@ -364,11 +427,13 @@ where
             let state = top(overlay, depth);
             if remember && overlay.len() == 1 {
                 // Where the simulation goes from here depends on this point alone.
-                if self.refused.contains(&(depth, state)) {
-                    self.refused.extend(self.path.drain(..));
-                    return false;
+                if depth < start {
+                    if self.refused.contains(&(depth, state)) {
+                        self.refused.extend(self.path.drain(..));
+                        return false;
+                    }
+                    self.path.push((depth, state));
                 }
-                self.path.push((depth, state));
             }
             let action = match token {
                 None => self.definition.eof_action(state),
@@ -405,28 +470,32 @@ where
 
 #[cfg(test)]
 mod tests {
-    use super::TERMINALS;
+    use super::{declared_terminals, Expected, TERMINALS};
+    use crate::syntax::lexer::Tok;
 
-    /// The names match the `extern` block of the grammar: `"name" => Tok::Variant`.
+    /// One token per terminal of the grammar's `extern` block, in its order.
     #[test]
-    fn terminal_names_match_the_grammar() {
-        let grammar = include_str!("../../grammar/function.lalrpop");
-        let mut declared = Vec::new();
-        for line in grammar.lines() {
-            let line = line.trim();
-            if let Some((name, tok)) = line.split_once(" => Tok::") {
-                let variant = tok.split(['(', ',']).next().unwrap_or_default();
-                declared.push((name.to_string(), variant.to_string()));
-            }
-        }
-        let ours: Vec<(String, String)> = TERMINALS
+    fn terminals_match_the_grammar() {
+        let declared: Vec<&str> = declared_terminals().iter().map(|&(_, v)| v).collect();
+        let ours: Vec<String> = TERMINALS
             .iter()
-            .map(|(tok, name)| {
-                let debug = format!("{tok:?}");
-                let variant = debug.split('(').next().unwrap_or_default().to_string();
-                (name.to_string(), variant)
+            .map(|tok| {
+                format!("{tok:?}")
+                    .split('(')
+                    .next()
+                    .unwrap_or_default()
+                    .to_string()
             })
             .collect();
         assert_eq!(ours, declared);
+    }
+
+    #[test]
+    fn expected_sets_read_lalrpop_names() {
+        let set = Expected::from_names(&["\"number\"".to_string(), "\")\"".to_string()]);
+        assert!(set.contains(Tok::Num(2.5)));
+        assert!(set.contains(Tok::RParen));
+        assert!(!set.contains(Tok::Name(0)));
+        assert!(!set.contains(Tok::Plus));
     }
 }
