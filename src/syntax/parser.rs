@@ -146,6 +146,8 @@ fn finish(ast: &Ast, root: NodeId, src: &str, diagnostics: &mut Vec<Diagnostic>)
             )
             .with_help("split the expression, e.g. into VARIABLE statements"),
         );
+        // Recovered errors may stand beside it (thousands, in a long line of garbage).
+        tidy(diagnostics);
         return None;
     }
     tidy(diagnostics);
