@@ -193,13 +193,26 @@ fn describe(tok: Tok) -> &'static str {
     }
 }
 
-/// A token as the user wrote it, for messages: the power operator also stands for `^` and
-/// `* *` (already diagnosed by the lexer), which a message must not call `**`.
-fn written(tok: Tok, src: &str, span: std::ops::Range<usize>) -> String {
+/// Appends a token as the user wrote it, for messages: the power operator also stands for
+/// `^` and `* *` (already diagnosed by the lexer), which a message must not call `**`.
+fn push_written(out: &mut String, tok: Tok, src: &str, span: std::ops::Range<usize>) {
     match (tok, src.get(span)) {
-        (Tok::Pow, Some(text)) if text != "**" => format!("`{text}`"),
-        _ => describe(tok).to_string(),
+        (Tok::Pow, Some(text)) if text != "**" => {
+            out.push('`');
+            out.push_str(text);
+            out.push('`');
+        }
+        _ => out.push_str(describe(tok)),
     }
+}
+
+/// A message made of `head`, the token as written, then `tail`: one allocation (every
+/// error builds one, and garbage has hundreds).
+fn message_with_token(head: &str, tok: Tok, src: &str, span: std::ops::Range<usize>) -> String {
+    let mut out = String::with_capacity(96);
+    out.push_str(head);
+    push_written(&mut out, tok, src, span);
+    out
 }
 
 /// True for tokens that can begin a value.
@@ -224,13 +237,12 @@ fn ends_value(tok: Tok) -> bool {
     )
 }
 
-/// Summarises the expected terminals in words.
-fn expected_words(expected: Expected) -> String {
-    let mut words: Vec<&str> = Vec::new();
-    if expected.contains(Tok::Num(0.0)) {
-        words.push("a value");
-    }
+/// Appends the expected terminals in words ("; expected a value, an operator or `)`").
+fn push_expected_words(out: &mut String, expected: Expected) {
+    let mut words = [""; 7];
+    let mut n = 0;
     for (t, w) in [
+        (Tok::Num(0.0), "a value"),
         (Tok::Plus, "an operator"),
         (Tok::RParen, "`)`"),
         (Tok::RBracket, "`]`"),
@@ -238,17 +250,18 @@ fn expected_words(expected: Expected) -> String {
         (Tok::Colon, "`:`"),
         (Tok::LParen, "`(`"),
     ] {
-        if expected.contains(t) && !words.contains(&w) {
-            words.push(w);
+        if expected.contains(t) {
+            words[n] = w;
+            n += 1;
         }
     }
-    match words.len() {
-        0 => String::new(),
-        1 => format!("; expected {}", words[0]),
-        _ => {
-            let last = words.pop().unwrap_or_default();
-            format!("; expected {} or {last}", words.join(", "))
-        }
+    for (i, w) in words[..n].iter().enumerate() {
+        out.push_str(match i {
+            0 => "; expected ",
+            _ if i + 1 == n => " or ",
+            _ => ", ",
+        });
+        out.push_str(w);
     }
 }
 
@@ -333,18 +346,19 @@ impl<'a> Diagnoser<'a> {
     fn end(&mut self, location: usize, expected: Expected) -> Diagnostic {
         let src = self.src;
         let at = location.min(src.len());
-        let mut d = Diagnostic::error(
-            Code::UnexpectedEnd,
-            at..at,
-            format!("expression ends too early{}", expected_words(expected)),
-        );
         if let Some((s, e)) = self.open_bracket_before(usize::MAX) {
             let close = if src[s..e].starts_with('[') { "]" } else { ")" };
-            d.message = format!("missing `{close}`: a bracket is still open at the end");
-            d = d.with_label(s..e, "opened here");
-            d = d.with_help(format!("add `{close}`"));
+            return Diagnostic::error(
+                Code::UnexpectedEnd,
+                at..at,
+                format!("missing `{close}`: a bracket is still open at the end"),
+            )
+            .with_label(s..e, "opened here")
+            .with_help(format!("add `{close}`"));
         }
-        d
+        let mut message = String::from("expression ends too early");
+        push_expected_words(&mut message, expected);
+        Diagnostic::error(Code::UnexpectedEnd, at..at, message)
     }
 
     /// A closing bracket with no bracket open, whether unexpected or extra.
@@ -366,14 +380,9 @@ impl<'a> Diagnoser<'a> {
             return d;
         }
         let (s, tok, e) = token;
-        Diagnostic::error(
-            Code::UnexpectedToken,
-            s..e,
-            format!(
-                "unexpected {} after the end of the expression",
-                written(tok, self.src, s..e)
-            ),
-        )
+        let mut message = message_with_token("unexpected ", tok, self.src, s..e);
+        message.push_str(" after the end of the expression");
+        Diagnostic::error(Code::UnexpectedToken, s..e, message)
     }
 
     fn unexpected(&mut self, token: (usize, Tok, usize), expected: Expected) -> Diagnostic {
@@ -401,15 +410,9 @@ impl<'a> Diagnoser<'a> {
             Diagnostic::error(Code::UnexpectedToken, s..e, "IF needs `:` after its test")
                 .with_help("write IF(test: negative, zero, positive)")
         } else {
-            Diagnostic::error(
-                Code::UnexpectedToken,
-                s..e,
-                format!(
-                    "unexpected {}{}",
-                    written(tok, self.src, s..e),
-                    expected_words(expected)
-                ),
-            )
+            let mut message = message_with_token("unexpected ", tok, self.src, s..e);
+            push_expected_words(&mut message, expected);
+            Diagnostic::error(Code::UnexpectedToken, s..e, message)
         }
     }
 }
