@@ -316,7 +316,7 @@ where
         // Token kinds (bit i for index i < 63, bit 63 for the end of input) that no state
         // accepts: the stack does not change while tokens are dropped, so neither does the
         // answer.
-        let mut refused: u64 = 0;
+        let mut refused_kinds: u64 = 0;
         let mut dropped: Option<(usize, usize)> = None;
         let top = 'find: loop {
             let index = lookahead.as_ref().map(|&(_, i)| i);
@@ -325,7 +325,7 @@ where
                 Some(i) if i < 63 => 1 << i,
                 Some(_) => 0,
             };
-            if bit == 0 || refused & bit == 0 {
+            if bit == 0 || refused_kinds & bit == 0 {
                 self.refused.clear();
                 for top in (0..depth).rev() {
                     self.work += 1;
@@ -341,7 +341,7 @@ where
                         break 'find top;
                     }
                 }
-                refused |= bit;
+                refused_kinds |= bit;
             }
             // No state takes the lookahead after an error: drop it, or give up at the end.
             let Some((token, _)) = lookahead.take() else {
