@@ -2,6 +2,7 @@
 //! text ([`mod@print`]).
 
 pub mod ast;
+pub(crate) mod driver;
 pub mod fast;
 pub mod lexer;
 pub mod parser;

@@ -1,12 +1,14 @@
 //! Parser glue: lexes, then parses valid input with the hand-written fast path
 //! ([`fast`]) and anything it rejects with the LALRPOP grammar (`grammar/function.lalrpop`,
-//! generated at build time), the grammar of record. LALRPOP's errors are converted into
-//! diagnostics in exactly one function, [`to_diagnostic`]. The LALRPOP parser recovers
-//! from errors, so one run reports every syntax error it finds; neither parser panics.
+//! generated at build time and run by [`driver`](crate::syntax::driver)), the grammar of
+//! record. LALRPOP's errors are converted into diagnostics in exactly one function,
+//! `Diagnoser::diagnose`. The LALRPOP parser recovers from errors, so one run reports
+//! every syntax error it finds; neither parser panics.
 //! A [`Session`] keeps the buffers between expressions.
 
 use crate::diag::{Code, Diagnostic};
 use crate::syntax::ast::{Ast, Builder, NodeId};
+use crate::syntax::driver::{Expected, SyntaxError};
 use crate::syntax::fast;
 use crate::syntax::lexer::{self, Lexed, Tok};
 use lalrpop_util::{lalrpop_mod, ErrorRecovery, ParseError};
@@ -22,12 +24,8 @@ lalrpop_mod!(
 /// memory in proportion (decision 11).
 pub const MAX_TREE_DEPTH: u32 = 20_000;
 
-/// The lexer hands the parser no errors (it reports them itself), so this is never built.
-#[derive(Clone, Debug, PartialEq)]
-pub enum NoLexError {}
-
 /// An error the parser recovered from.
-pub type Recovered = ErrorRecovery<usize, Tok, NoLexError>;
+pub type Recovered = ErrorRecovery<usize, Tok, SyntaxError>;
 
 /// A parsed expression with every lexical and syntax diagnostic found.
 pub struct Parsed {
@@ -56,6 +54,7 @@ pub struct Session {
     lexed: Lexed,
     builder: Builder,
     frames: Vec<fast::Frame>,
+    open: Vec<u32>,
 }
 
 /// The outcome of [`Session::parse`]: the tree stays in the session.
@@ -114,13 +113,14 @@ impl Session {
             b.clear();
             b.ast.names = names;
             let result = grammar::ExprParser::new().parse(b, tokens.iter().copied());
+            let mut diagnoser = Diagnoser::new(src, tokens, &mut self.open);
             for r in b.recovered.drain(..) {
-                diagnostics.push(to_diagnostic(r.error, src, tokens));
+                diagnostics.push(diagnoser.diagnose(r.error));
             }
             match result {
                 Ok(root) => finish(&b.ast, root, src, &mut diagnostics),
                 Err(e) => {
-                    diagnostics.push(to_diagnostic(e, src, tokens));
+                    diagnostics.push(diagnoser.diagnose(e));
                     tidy(&mut diagnostics);
                     None
                 }
@@ -146,6 +146,8 @@ fn finish(ast: &Ast, root: NodeId, src: &str, diagnostics: &mut Vec<Diagnostic>)
             )
             .with_help("split the expression, e.g. into VARIABLE statements"),
         );
+        // Recovered errors may stand beside it (thousands, in a long line of garbage).
+        tidy(diagnostics);
         return None;
     }
     tidy(diagnostics);
@@ -191,13 +193,26 @@ fn describe(tok: Tok) -> &'static str {
     }
 }
 
-/// A token as the user wrote it, for messages: the power operator also stands for `^` and
-/// `* *` (already diagnosed by the lexer), which a message must not call `**`.
-fn written(tok: Tok, src: &str, span: std::ops::Range<usize>) -> String {
+/// Appends a token as the user wrote it, for messages: the power operator also stands for
+/// `^` and `* *` (already diagnosed by the lexer), which a message must not call `**`.
+fn push_written(out: &mut String, tok: Tok, src: &str, span: std::ops::Range<usize>) {
     match (tok, src.get(span)) {
-        (Tok::Pow, Some(text)) if text != "**" => format!("`{text}`"),
-        _ => describe(tok).to_string(),
+        (Tok::Pow, Some(text)) if text != "**" => {
+            out.push('`');
+            out.push_str(text);
+            out.push('`');
+        }
+        _ => out.push_str(describe(tok)),
     }
+}
+
+/// A message made of `head`, the token as written, then `tail`: one allocation (every
+/// error builds one, and garbage has hundreds).
+fn message_with_token(head: &str, tok: Tok, src: &str, span: std::ops::Range<usize>) -> String {
+    let mut out = String::with_capacity(96);
+    out.push_str(head);
+    push_written(&mut out, tok, src, span);
+    out
 }
 
 /// True for tokens that can begin a value.
@@ -222,139 +237,182 @@ fn ends_value(tok: Tok) -> bool {
     )
 }
 
-/// Summarises LALRPOP's expected-terminal list in words.
-fn expected_words(expected: &[String]) -> String {
-    let has = |t: &str| expected.iter().any(|e| e.trim_matches('"') == t);
-    let mut words: Vec<&str> = Vec::new();
-    if has("number") {
-        words.push("a value");
-    }
+/// Appends the expected terminals in words ("; expected a value, an operator or `)`").
+fn push_expected_words(out: &mut String, expected: Expected) {
+    let mut words = [""; 7];
+    let mut n = 0;
     for (t, w) in [
-        ("+", "an operator"),
-        (")", "`)`"),
-        ("]", "`]`"),
-        (",", "`,`"),
-        (":", "`:`"),
-        ("(", "`(`"),
+        (Tok::Num(0.0), "a value"),
+        (Tok::Plus, "an operator"),
+        (Tok::RParen, "`)`"),
+        (Tok::RBracket, "`]`"),
+        (Tok::Comma, "`,`"),
+        (Tok::Colon, "`:`"),
+        (Tok::LParen, "`(`"),
     ] {
-        if has(t) && !words.contains(&w) {
-            words.push(w);
+        if expected.contains(t) {
+            words[n] = w;
+            n += 1;
         }
     }
-    match words.len() {
-        0 => String::new(),
-        1 => format!("; expected {}", words[0]),
-        _ => {
-            let last = words.pop().unwrap_or_default();
-            format!("; expected {} or {last}", words.join(", "))
-        }
+    for (i, w) in words[..n].iter().enumerate() {
+        out.push_str(match i {
+            0 => "; expected ",
+            _ if i + 1 == n => " or ",
+            _ => ", ",
+        });
+        out.push_str(w);
     }
 }
 
-/// Position of the innermost bracket still open at byte `at`, if any.
-fn open_bracket_before(tokens: &[(usize, Tok, usize)], at: usize) -> Option<(usize, usize)> {
-    let mut stack = Vec::new();
-    for &(s, t, e) in tokens.iter().take_while(|(s, _, _)| *s < at) {
-        match t {
-            Tok::LParen | Tok::LBracket => stack.push((s, e)),
-            Tok::RParen | Tok::RBracket => {
-                stack.pop();
+/// No bracket open (in [`Diagnoser::open`]).
+const NONE: u32 = u32::MAX;
+
+/// Turns the parser's errors for one input into diagnostics. What an error needs to know
+/// of the tokens around it (the one before, the innermost open bracket) is looked up, not
+/// scanned for, so an input with an error every few tokens stays linear.
+struct Diagnoser<'a> {
+    src: &'a str,
+    tokens: &'a [(usize, Tok, usize)],
+    /// For each token index `i` (and `tokens.len()`), the index of the innermost bracket
+    /// still open before token `i`, or [`NONE`]; filled on first use.
+    open: &'a mut Vec<u32>,
+}
+
+impl<'a> Diagnoser<'a> {
+    fn new(src: &'a str, tokens: &'a [(usize, Tok, usize)], open: &'a mut Vec<u32>) -> Self {
+        open.clear();
+        Diagnoser { src, tokens, open }
+    }
+
+    /// Position of the innermost bracket still open at byte `at`, if any.
+    fn open_bracket_before(&mut self, at: usize) -> Option<(usize, usize)> {
+        if self.open.is_empty() {
+            // A bracket's entry is the one enclosing it: popping follows those links.
+            let mut top = NONE;
+            for (i, &(_, t, _)) in self.tokens.iter().enumerate() {
+                self.open.push(top);
+                match t {
+                    Tok::LParen | Tok::LBracket => top = i as u32,
+                    Tok::RParen | Tok::RBracket if top != NONE => top = self.open[top as usize],
+                    _ => {}
+                }
             }
-            _ => {}
+            self.open.push(top);
+        }
+        let i = self.tokens.partition_point(|&(s, _, _)| s < at);
+        let open = self.open[i];
+        (open != NONE).then(|| {
+            let (s, _, e) = self.tokens[open as usize];
+            (s, e)
+        })
+    }
+
+    /// The token that ends at or before byte `at`, nearest to it.
+    fn token_before(&self, at: usize) -> Option<Tok> {
+        let i = self.tokens.partition_point(|&(_, _, e)| e <= at);
+        i.checked_sub(1).map(|i| self.tokens[i].1)
+    }
+
+    /// Converts one parser error into our diagnostic: the only place that knows LALRPOP's
+    /// error type. Our driver reports [`SyntaxError`]s and extra tokens; the other
+    /// variants are read the same way.
+    fn diagnose(&mut self, e: ParseError<usize, Tok, SyntaxError>) -> Diagnostic {
+        let error = match e {
+            ParseError::User { error } => error,
+            ParseError::UnrecognizedToken { token, expected } => SyntaxError::Unexpected {
+                token,
+                expected: Expected::from_names(&expected),
+            },
+            ParseError::UnrecognizedEof { location, expected } => SyntaxError::End {
+                location,
+                expected: Expected::from_names(&expected),
+            },
+            ParseError::ExtraToken { token } => return self.extra(token),
+            ParseError::InvalidToken { location } => {
+                return Diagnostic::error(
+                    Code::UnexpectedToken,
+                    location..location,
+                    "invalid token",
+                )
+            }
+        };
+        match error {
+            SyntaxError::End { location, expected } => self.end(location, expected),
+            SyntaxError::Unexpected { token, expected } => self.unexpected(token, expected),
         }
     }
-    stack.pop()
-}
 
-/// Converts one LALRPOP error into our diagnostic: the only place that knows LALRPOP's
-/// error type.
-pub fn to_diagnostic(
-    e: ParseError<usize, Tok, NoLexError>,
-    src: &str,
-    tokens: &[(usize, Tok, usize)],
-) -> Diagnostic {
-    match e {
-        ParseError::UnrecognizedEof { location, expected } => {
-            let at = location.min(src.len());
-            let mut d = Diagnostic::error(
+    fn end(&mut self, location: usize, expected: Expected) -> Diagnostic {
+        let src = self.src;
+        let at = location.min(src.len());
+        if let Some((s, e)) = self.open_bracket_before(usize::MAX) {
+            let close = if src[s..e].starts_with('[') { "]" } else { ")" };
+            return Diagnostic::error(
                 Code::UnexpectedEnd,
                 at..at,
-                format!("expression ends too early{}", expected_words(&expected)),
-            );
-            if let Some((s, e)) = open_bracket_before(tokens, usize::MAX) {
-                let close = if src[s..e].starts_with('[') { "]" } else { ")" };
-                d.message = format!("missing `{close}`: a bracket is still open at the end");
-                d = d.with_label(s..e, "opened here");
-                d = d.with_help(format!("add `{close}`"));
-            }
-            d
-        }
-        ParseError::UnrecognizedToken {
-            token: (s, tok, e), ..
-        }
-        | ParseError::ExtraToken { token: (s, tok, e) }
-            if matches!(tok, Tok::RParen | Tok::RBracket)
-                && open_bracket_before(tokens, s).is_none() =>
-        {
-            Diagnostic::error(
-                Code::Unmatched,
-                s..e,
-                format!("unmatched {}: no bracket is open here", describe(tok)),
+                format!("missing `{close}`: a bracket is still open at the end"),
             )
-            .with_help("remove it, or add the opening bracket")
+            .with_label(s..e, "opened here")
+            .with_help(format!("add `{close}`"));
         }
-        ParseError::UnrecognizedToken {
-            token: (s, tok, e),
-            expected,
-        } => {
-            let prev = tokens
-                .iter()
-                .rev()
-                .find(|(_, _, pe)| *pe <= s)
-                .map(|&(_, t, _)| t);
-            // An invalid token was already diagnosed by the lexer: no second error for it.
-            let invalid = tok == Tok::Invalid || prev == Some(Tok::Invalid);
-            if invalid {
+        let mut message = String::from("expression ends too early");
+        push_expected_words(&mut message, expected);
+        Diagnostic::error(Code::UnexpectedEnd, at..at, message)
+    }
+
+    /// A closing bracket with no bracket open, whether unexpected or extra.
+    fn unmatched(&mut self, (s, tok, e): (usize, Tok, usize)) -> Option<Diagnostic> {
+        (matches!(tok, Tok::RParen | Tok::RBracket) && self.open_bracket_before(s).is_none()).then(
+            || {
                 Diagnostic::error(
-                    Code::UnexpectedToken,
+                    Code::Unmatched,
                     s..e,
-                    "unexpected input after an earlier error",
+                    format!("unmatched {}: no bracket is open here", describe(tok)),
                 )
-            } else if starts_value(tok) && prev.is_some_and(ends_value) {
-                Diagnostic::error(
-                    Code::MissingOperator,
-                    s..e,
-                    format!("missing operator before {}", describe(tok)),
-                )
-                .with_help(
-                    "two values need an operator between them (a blank cannot split a number)",
-                )
-            } else if tok == Tok::Comma && expected.iter().any(|x| x.trim_matches('"') == ":") {
-                Diagnostic::error(Code::UnexpectedToken, s..e, "IF needs `:` after its test")
-                    .with_help("write IF(test: negative, zero, positive)")
-            } else {
-                Diagnostic::error(
-                    Code::UnexpectedToken,
-                    s..e,
-                    format!(
-                        "unexpected {}{}",
-                        written(tok, src, s..e),
-                        expected_words(&expected)
-                    ),
-                )
-            }
+                .with_help("remove it, or add the opening bracket")
+            },
+        )
+    }
+
+    fn extra(&mut self, token: (usize, Tok, usize)) -> Diagnostic {
+        if let Some(d) = self.unmatched(token) {
+            return d;
         }
-        ParseError::ExtraToken { token: (s, tok, e) } => Diagnostic::error(
-            Code::UnexpectedToken,
-            s..e,
-            format!(
-                "unexpected {} after the end of the expression",
-                written(tok, src, s..e)
-            ),
-        ),
-        ParseError::InvalidToken { location } => {
-            Diagnostic::error(Code::UnexpectedToken, location..location, "invalid token")
+        let (s, tok, e) = token;
+        let mut message = message_with_token("unexpected ", tok, self.src, s..e);
+        message.push_str(" after the end of the expression");
+        Diagnostic::error(Code::UnexpectedToken, s..e, message)
+    }
+
+    fn unexpected(&mut self, token: (usize, Tok, usize), expected: Expected) -> Diagnostic {
+        if let Some(d) = self.unmatched(token) {
+            return d;
         }
-        ParseError::User { error } => match error {},
+        let (s, tok, e) = token;
+        let prev = self.token_before(s);
+        // An invalid token was already diagnosed by the lexer: no second error for it.
+        let invalid = tok == Tok::Invalid || prev == Some(Tok::Invalid);
+        if invalid {
+            Diagnostic::error(
+                Code::UnexpectedToken,
+                s..e,
+                "unexpected input after an earlier error",
+            )
+        } else if starts_value(tok) && prev.is_some_and(ends_value) {
+            Diagnostic::error(
+                Code::MissingOperator,
+                s..e,
+                format!("missing operator before {}", describe(tok)),
+            )
+            .with_help("two values need an operator between them (a blank cannot split a number)")
+        } else if tok == Tok::Comma && expected.contains(Tok::Colon) {
+            Diagnostic::error(Code::UnexpectedToken, s..e, "IF needs `:` after its test")
+                .with_help("write IF(test: negative, zero, positive)")
+        } else {
+            let mut message = message_with_token("unexpected ", tok, self.src, s..e);
+            push_expected_words(&mut message, expected);
+            Diagnostic::error(Code::UnexpectedToken, s..e, message)
+        }
     }
 }

@@ -238,6 +238,14 @@ fn cases() -> Vec<Case> {
         e("blank_after_dot", "1. 5", "E0205", Text("5")),
         e("two_names", "x y", "E0205", Text("y")),
         e("number_broken_across_lines", "12\n,34", "E0205", Text("34")),
+        // Errors inside deep brackets and under long chains of signs: recovery takes time
+        // in proportion to the input (each of these took seconds while it copied the
+        // parser stack for every state it tried).
+        e("values_inside_1000_parens", format!("{}{}", repeat("(", 1000), repeat("1 ", 100_000)), "E0205", Bytes(1002, 1003)),
+        e("errors_inside_1000_parens", format!("{}{}", repeat("(", 1000), repeat("x y +", 20_000)), "E0205", Bytes(1002, 1003)),
+        e("errors_under_10000_signs", format!("{}x{}", repeat("-", 10_000), repeat(" y + x", 5_000)), "E0205", Bytes(10_002, 10_003)),
+        e("brackets_inside_500_signed_parens", format!("{}x{}", repeat("(-", 500), repeat(" ]", 100_000)), "E0201", Bytes(1002, 1003)),
+        e("commas_inside_1000_calls", format!("{}x{}", repeat("SIN(", 1000), repeat(" ,", 20_000)), "E0201", Bytes(4004, 4005)),
         e("number_then_call", "1 SIN(2)", "E0205", Text("SIN")),
         e("call_then_paren", "SIN(1)(2)", "E0205", Nth("(", 1)),
         e("if_without_parens", "IF 1", "E0205", Text("1")),
@@ -506,4 +514,11 @@ fn errors_per_expression_are_capped() {
     assert_eq!(diags.last().map(|d| d.code.as_str()), Some("E0207"));
     let text = render(&diags, &SourceFile::new("at", input.as_str()), false);
     assert!(text.len() < 20_000, "{} bytes of report", text.len());
+    // Too deep, and an error every few tokens: the depth error first, the rest counted
+    // (regression: all 20 001 were reported).
+    let input = format!("{}x{}", repeat("-", 100_000), repeat(" y + x", 20_000));
+    let diags = compile(&input, &xvt_scope(), Expect::Any).expect_err("too deep");
+    assert_eq!(diags.len(), mbfx::diag::MAX_DIAGNOSTICS);
+    assert_eq!(diags[0].code.as_str(), "E0206");
+    assert_eq!(diags.last().map(|d| d.code.as_str()), Some("E0207"));
 }
