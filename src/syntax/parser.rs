@@ -1,6 +1,6 @@
 //! Parser glue: lexes, then parses valid input with the hand-written fast path
 //! ([`fast`]) and anything it rejects with the LALRPOP grammar (`grammar/function.lalrpop`,
-//! generated at build time and run by [`driver`](crate::syntax::driver)), the grammar of
+//! generated at build time and run by `syntax::driver`), the grammar of
 //! record. LALRPOP's errors are converted into diagnostics in exactly one function,
 //! `Diagnoser::diagnose`. The LALRPOP parser recovers from errors, so one run reports
 //! every syntax error it finds; neither parser panics.
