@@ -96,17 +96,14 @@ impl Dynamics {
             if *h == Mat3::zeros() {
                 continue;
             }
-            match sys.dim {
-                Dimension::Three => {
+            match planar_normal {
+                Some(n) => self.geo.push((i * bs + 2, i * bs + 2, h[(n, n)])),
+                None => {
                     for r in 0..3 {
                         for c in 0..3 {
                             self.geo.push((i * bs + 3 + r, i * bs + 3 + c, h[(r, c)]));
                         }
                     }
-                }
-                Dimension::Two => {
-                    let n = sys.plane_axes().2;
-                    self.geo.push((i * bs + 2, i * bs + 2, h[(n, n)]));
                 }
             }
         }
