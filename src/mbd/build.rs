@@ -3,9 +3,10 @@
 //! [`ExprFn`]s through an [`ExprCompiler`]: the integration plugs in the compiled IR
 //! derivative; [`InterpretOnly`] evaluates values alone.
 
+use super::dynamics::outputs::OutputSlot;
 use super::error::MbdError;
 use super::expr::{ExprError, ExprFn, Integrated, Integration::*, Interpreted};
-use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar};
+use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar, Source};
 use super::inertia::mass_properties;
 use super::measures::Measure;
 use super::planar::Dim;
@@ -231,7 +232,13 @@ impl System {
         };
         for f in &model.sforces {
             let r = force_ref(ForceKind::Sforce, &f.el);
-            let s = self.scalar(model, exprs, &r, &f.function)?;
+            let s = self.scalar(
+                model,
+                exprs,
+                &r,
+                &f.function,
+                (&mut set.solution, &mut set.names),
+            )?;
             let law = if f.rotation {
                 ForceLaw::Torque {
                     f: s,
@@ -253,13 +260,14 @@ impl System {
                 VectorForceKind::Gforce => ForceKind::Gforce,
             };
             let r = force_ref(kind, &f.el);
+            let (solution, names) = (&mut set.solution, &mut set.names);
             let mut three = |xs: &Option<[Expr; 3]>| -> Result<Option<Box<[Scalar; 3]>>, MbdError> {
                 let Some(xs) = xs else { return Ok(None) };
                 let [a, b, c] = xs;
                 Ok(Some(Box::new([
-                    self.scalar(model, exprs, &r, a)?,
-                    self.scalar(model, exprs, &r, b)?,
-                    self.scalar(model, exprs, &r, c)?,
+                    self.scalar(model, exprs, &r, a, (solution, names))?,
+                    self.scalar(model, exprs, &r, b, (solution, names))?,
+                    self.scalar(model, exprs, &r, c, (solution, names))?,
                 ])))
             };
             let (force, torque) = (three(&f.force)?, three(&f.torque)?);
@@ -311,30 +319,41 @@ impl System {
         Ok(set)
     }
 
-    /// A force expression compiled with its derivative, its measures resolved.
+    /// A force expression compiled with its derivative, its measures resolved: marker
+    /// measures through the system's measure set, accelerations and forces appended to
+    /// `solution` (the dynamics fills them in).
     fn scalar(
         &mut self,
         model: &Model,
         exprs: &dyn ExprCompiler,
         r: &ElementRef,
         e: &Expr,
+        (solution, names): (&mut Vec<OutputSlot>, &mut Vec<String>),
     ) -> Result<Scalar, MbdError> {
         let e = model
             .inline_variables(e)
             .map_err(|s| MbdError::Expression(r.clone(), ExprError::Other(s)))?;
         let f = exprs.compile(&e);
-        let map = self
-            .resolve_slots(model, f.slots())
-            .map_err(|err| match err {
-                MbdError::NeedsDynamics(name, what) => MbdError::Expression(
-                    r.clone(),
-                    ExprError::ReadsSolution {
-                        name,
-                        what: what.to_string(),
-                    },
-                ),
-                err => MbdError::Expression(r.clone(), ExprError::Other(err.to_string())),
-            })?;
+        let other =
+            |err: MbdError| MbdError::Expression(r.clone(), ExprError::Other(err.to_string()));
+        let mut map = Vec::with_capacity(f.slots().len());
+        for &s in f.slots() {
+            match self.resolve_slots(model, &[s]) {
+                Ok(m) => map.push(Source::Measure(m[0])),
+                Err(MbdError::NeedsDynamics(..)) => {
+                    let o = OutputSlot::resolve(self, model, s).map_err(other)?;
+                    let k = solution.iter().position(|x| *x == o).unwrap_or_else(|| {
+                        solution.push(o);
+                        let ms = &model.measures[s as usize];
+                        let ids: Vec<String> = ms.ids.iter().map(|x| x.to_string()).collect();
+                        names.push(format!("{}({})", ms.name, ids.join(", ")));
+                        solution.len() - 1
+                    });
+                    map.push(Source::Solution(k));
+                }
+                Err(err) => return Err(other(err)),
+            }
+        }
         Ok(Scalar::new(f, map).watching(&e.function))
     }
 }

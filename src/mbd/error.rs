@@ -28,6 +28,12 @@ pub enum MbdError {
     /// Consistent accelerations need a second derivative the row's equation does not
     /// have: the element, the equation's label and why.
     NoSecondDerivative(ElementRef, &'static str, String),
+    /// Force elements whose expressions read each other's forces in a circle, in
+    /// reading order (each reads the next, the last the first).
+    ForceCycle(Vec<ElementRef>),
+    /// A force that reads accelerations or reactions (`reads`, as written) which depend
+    /// on it through the equations of motion, and the loop between them does not settle.
+    SolutionLoop { element: ElementRef, reads: String },
 }
 
 /// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the
@@ -74,6 +80,25 @@ impl fmt::Display for MbdError {
                 f,
                 "{}: consistent accelerations need the second derivative of its {equation} equation: {why}",
                 element_name(e)
+            ),
+            MbdError::ForceCycle(circle) => {
+                let mut names: Vec<String> = circle.iter().map(element_name).collect();
+                if let Some(first) = names.first().cloned() {
+                    names.push(first);
+                }
+                write!(
+                    f,
+                    "forces read each other in a circle ({}): no order evaluates them at one \
+                     state; break the circle (read a state measure instead of a force)",
+                    names.join(" reads ")
+                )
+            }
+            MbdError::SolutionLoop { element, reads } => write!(
+                f,
+                "{} reads {reads}, which depends on that force through the equations of \
+                 motion, and solving them together does not converge: the loop amplifies \
+                 (its gain is 1 or more)",
+                element_name(element)
             ),
         }
     }

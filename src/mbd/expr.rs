@@ -16,9 +16,6 @@ pub enum ExprError {
     NotFinite { value: f64, time: f64 },
     /// A derivative mbfx cannot form, and why.
     NoDerivative(String),
-    /// It reads a reaction or an acceleration (`name`, `what` it measures): that needs
-    /// them solved with the motion.
-    ReadsSolution { name: String, what: String },
     /// Anything else (an undefined VARIABLE, a slot that resolves to nothing), worded.
     Other(String),
 }
@@ -30,11 +27,6 @@ impl std::fmt::Display for ExprError {
                 write!(f, "the FUNCTION evaluates to {value} at time {time}")
             }
             ExprError::NoDerivative(why) | ExprError::Other(why) => f.write_str(why),
-            ExprError::ReadsSolution { name, what } => write!(
-                f,
-                "its FUNCTION reads {name} ({what}); a force that depends on reactions or \
-                 accelerations needs them solved with the motion, which mbfx does not do yet"
-            ),
         }
     }
 }

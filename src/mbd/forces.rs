@@ -13,9 +13,16 @@
 //!
 //! An expression that calls IMPACT or BISTOP also carries their switching functions
 //! ([`ContactProbe`]), which the step control watches ([`ForceSet::switches`]).
+//!
+//! An expression may also read what only the solution gives (Adams allows it): an
+//! acceleration, a reaction, another force's value ([`Source::Solution`]). Those values
+//! are filled in by the dynamics before each evaluation and held fixed within it (no
+//! derivative), so the equations of motion solve them by iteration; forces that read
+//! each other's values are evaluated in dependency order ([`ForceSet::order`]).
 
 use super::dual::{Scalar as _, D, N, PER_PART, V};
 use super::dynamics::events::contact::ContactProbe;
+use super::dynamics::outputs::OutputSlot;
 use super::error::{element_name, MbdError};
 use super::expr::ExprFn;
 use super::measures::{dual_frame, DFrame, Measure, PartSlots, M};
@@ -23,10 +30,20 @@ use super::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Vec3};
 
-/// An expression of the model: `map[k]` is the measure index of its k-th slot.
+/// Where the value of an expression's slot comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Source {
+    /// A kinematic measure (index into the system's measures): value and dual.
+    Measure(usize),
+    /// A value of the solution (index into [`ForceSet::solution`]): an acceleration, a
+    /// reaction or a force, fixed within one evaluation.
+    Solution(usize),
+}
+
+/// An expression of the model: `map[k]` is where its k-th slot is read from.
 pub struct Scalar {
     pub f: Box<dyn ExprFn>,
-    pub map: Vec<usize>,
+    pub map: Vec<Source>,
     /// Buffers of an evaluation (slot values, measure duals, gradient), reused.
     scratch: std::cell::RefCell<(Vec<f64>, Vec<D>, Vec<f64>)>,
     /// The switching functions of its contact calls, when it has any.
@@ -34,7 +51,7 @@ pub struct Scalar {
 }
 
 impl Scalar {
-    pub fn new(f: Box<dyn ExprFn>, map: Vec<usize>) -> Scalar {
+    pub fn new(f: Box<dyn ExprFn>, map: Vec<Source>) -> Scalar {
         let len = f.slots().last().map_or(0, |&x| x as usize + 1);
         let n = map.len();
         Scalar {
@@ -53,22 +70,30 @@ impl Scalar {
     }
 
     /// Appends the switching values at the state of `sys` (nothing without contact
-    /// calls).
-    fn switches(&self, sys: &System, out: &mut Vec<f64>) {
+    /// calls); solution values are those of the last evaluation, `solved`.
+    fn switches(&self, sys: &System, solved: &[f64], out: &mut Vec<f64>) {
         let Some(probe) = &self.probe else { return };
         let mut scratch = self.scratch.borrow_mut();
         let vals = &mut scratch.0;
         let ms = &sys.measures;
-        for (&m, &slot) in self.map.iter().zip(self.f.slots()) {
+        for (&src, &slot) in self.map.iter().zip(self.f.slots()) {
             // Values alone: the jet is a few scalars where the dual carries a gradient
             // over four parts; only an unwrapped angle needs the dual's unwrapping.
-            vals[slot as usize] = if ms.list[m].unwrapped() {
-                ms.eval(sys, m).value()
-            } else {
-                ms.jet(sys, m).v
+            vals[slot as usize] = match src {
+                Source::Measure(m) if ms.list[m].unwrapped() => ms.eval(sys, m).value(),
+                Source::Measure(m) => ms.jet(sys, m).v,
+                Source::Solution(k) => solved[k],
             };
         }
         probe.eval(sys.time, vals, out);
+    }
+
+    /// The solution values it reads (indices into [`ForceSet::solution`]).
+    fn solution_reads(&self) -> impl Iterator<Item = usize> + '_ {
+        self.map.iter().filter_map(|s| match s {
+            Source::Solution(k) => Some(*k),
+            Source::Measure(_) => None,
+        })
     }
 }
 
@@ -153,6 +178,16 @@ pub struct ForceSet {
     pub elements: Vec<ForceElement>,
     /// The loads of each element at the last evaluation.
     pub loads: Vec<Loads>,
+    /// The solution values the expressions read ([`Source::Solution`]), and their values
+    /// at the last evaluation.
+    pub solution: Vec<OutputSlot>,
+    pub solved: Vec<f64>,
+    /// Each solution value as the expression wrote it (`JOINT(1, 0, 2, 0)`).
+    pub names: Vec<String>,
+    /// Per element, the solution values its expressions read.
+    pub reads: Vec<Vec<usize>>,
+    /// The order of evaluation: an element reading another's force comes after it.
+    pub order: Vec<usize>,
 }
 
 /// Q and its Jacobians over velocity-level columns: `dq` holds ∂Q/∂q, `dv` ∂Q/∂v as
@@ -220,16 +255,7 @@ fn in_axes(axes: &[V; 3], x: [D; 3]) -> V {
 impl ForceSet {
     /// How many compiled expressions one evaluation of every element runs.
     pub fn expression_count(&self) -> usize {
-        self.elements
-            .iter()
-            .map(|e| match &e.law {
-                ForceLaw::Line { .. } | ForceLaw::Torque { .. } => 1,
-                ForceLaw::Vector { force, torque, .. } => {
-                    3 * (force.is_some() as usize + torque.is_some() as usize)
-                }
-                _ => 0,
-            })
-            .sum()
+        self.elements.iter().map(|e| e.expressions().count()).sum()
     }
 
     /// Appends the switching values of every expression's contact calls at the state of
@@ -237,16 +263,15 @@ impl ForceSet {
     /// nothing there).
     pub fn switches(&self, sys: &System, out: &mut Vec<f64>) {
         for el in &self.elements {
-            match &el.law {
-                ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => f.switches(sys, out),
-                ForceLaw::Vector { force, torque, .. } => {
-                    for s in force.iter().chain(torque.iter()).flat_map(|b| b.iter()) {
-                        s.switches(sys, out);
-                    }
-                }
-                _ => {}
+            for s in el.expressions() {
+                s.switches(sys, &self.solved, out);
             }
         }
+    }
+
+    /// Whether an expression reads the solution (accelerations, reactions, forces).
+    pub fn reads_solution(&self) -> bool {
+        !self.solution.is_empty()
     }
 
     /// Records the parts each element reads: its markers and its measures' markers.
@@ -272,57 +297,104 @@ impl ForceSet {
             el.slots = slots;
         }
         self.loads = vec![Loads::default(); self.elements.len()];
+        self.solved = vec![0.0; self.solution.len()];
+        self.reads = self
+            .elements
+            .iter()
+            .map(|el| {
+                let mut r: Vec<usize> = el.expressions().flat_map(|s| s.solution_reads()).collect();
+                r.sort_unstable();
+                r.dedup();
+                r
+            })
+            .collect();
+        self.order = super::force_order::order(self)?;
         Ok(())
     }
 
     /// Adds every element's generalized forces (and, with `jacobians`, their ∂/∂q and
-    /// ∂/∂v) to `out`; gravity is added by the caller (it has no Jacobian).
+    /// ∂/∂v) to `out`; gravity is added by the caller (it has no Jacobian). Solution
+    /// values are those in [`ForceSet::solved`].
     pub fn eval(
         &mut self,
         sys: &System,
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<(), MbdError> {
-        for (k, el) in self.elements.iter().enumerate() {
-            self.loads[k] = el.eval(sys, out, jacobians)?;
+        for k in 0..self.elements.len() {
+            self.eval_element(k, sys, out, jacobians)?;
         }
+        Ok(())
+    }
+
+    /// Element `k`'s share of [`ForceSet::eval`].
+    pub fn eval_element(
+        &mut self,
+        k: usize,
+        sys: &System,
+        out: &mut Generalized,
+        jacobians: bool,
+    ) -> Result<(), MbdError> {
+        self.loads[k] = self.elements[k].eval(sys, &self.solved, out, jacobians)?;
         Ok(())
     }
 }
 
 impl ForceElement {
+    /// The element's expressions.
+    pub fn expressions(&self) -> impl Iterator<Item = &Scalar> {
+        let (one, three) = match &self.law {
+            ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => (Some(f), None),
+            ForceLaw::Vector { force, torque, .. } => (None, Some((force, torque))),
+            _ => (None, None),
+        };
+        let three = three
+            .into_iter()
+            .flat_map(|(f, t)| f.iter().chain(t.iter()).flat_map(|b| b.iter()));
+        one.into_iter().chain(three)
+    }
+
     /// The measures the element's expressions and laws read.
     fn measures(&self) -> Vec<usize> {
-        let mut out = Vec::new();
-        let mut add = |s: &Scalar| out.extend_from_slice(&s.map);
+        let mut out: Vec<usize> = self
+            .expressions()
+            .flat_map(|s| s.map.iter())
+            .filter_map(|s| match s {
+                Source::Measure(m) => Some(*m),
+                Source::Solution(_) => None,
+            })
+            .collect();
         match &self.law {
-            ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => add(f),
-            ForceLaw::Vector { force, torque, .. } => {
-                for s in force.iter().chain(torque.iter()).flat_map(|b| b.iter()) {
-                    add(s);
-                }
-            }
-            ForceLaw::Spring { .. } => {}
             ForceLaw::RotSpring { angle_measure, .. } => out.push(*angle_measure),
             ForceLaw::Bushing { angles, .. } => out.extend_from_slice(angles),
+            _ => {}
         }
         out
     }
 
     /// An expression's value as a dual: f with ∂f/∂measure chained through the
-    /// measures' duals.
-    fn scalar(&self, sys: &System, s: &Scalar, slots: &mut PartSlots) -> Result<D, MbdError> {
+    /// measures' duals (solution values from `solved`, constant).
+    fn scalar(
+        &self,
+        sys: &System,
+        solved: &[f64],
+        s: &Scalar,
+        slots: &mut PartSlots,
+    ) -> Result<D, MbdError> {
         let slot_ids = s.f.slots();
         let mut scratch = s.scratch.borrow_mut();
         let (vals, duals, grad) = &mut *scratch;
         duals.clear();
-        for (&m, &slot) in s.map.iter().zip(slot_ids) {
-            let d = sys.measures.eval_in(sys, m, slots).ok_or_else(|| {
-                MbdError::Unsupported(format!(
-                    "{}: too many parts for the force Jacobian",
-                    element_name(&self.elref)
-                ))
-            })?;
+        for (&src, &slot) in s.map.iter().zip(slot_ids) {
+            let d = match src {
+                Source::Measure(m) => sys.measures.eval_in(sys, m, slots).ok_or_else(|| {
+                    MbdError::Unsupported(format!(
+                        "{}: too many parts for the force Jacobian",
+                        element_name(&self.elref)
+                    ))
+                })?,
+                Source::Solution(k) => D::c(solved[k]),
+            };
             vals[slot as usize] = d.v;
             duals.push(d);
         }
@@ -342,6 +414,7 @@ impl ForceElement {
     fn eval(
         &self,
         sys: &System,
+        solved: &[f64],
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<Loads, MbdError> {
@@ -353,7 +426,7 @@ impl ForceElement {
         // applied at I's origin except the line forces' reaction at J's.
         let (f_i, t_i, f_j, t_j, j_at_i) = match &self.law {
             ForceLaw::Line { f, action_only } => {
-                let f = self.scalar(sys, f, &mut slots)?;
+                let f = self.scalar(sys, solved, f, &mut slots)?;
                 if *action_only {
                     (scale_v(&fj.axes[2], f), zero, zero, zero, true)
                 } else {
@@ -364,7 +437,7 @@ impl ForceElement {
                 }
             }
             ForceLaw::Torque { f, action_only } => {
-                let f = self.scalar(sys, f, &mut slots)?;
+                let f = self.scalar(sys, solved, f, &mut slots)?;
                 let t = scale_v(&fj.axes[2], f);
                 let tj = if *action_only { zero } else { neg_v(&t) };
                 (zero, t, zero, tj, true)
@@ -376,7 +449,7 @@ impl ForceElement {
                     Some(xs) => {
                         let mut c = [D::c(0.0); 3];
                         for (k, x) in xs.iter().enumerate() {
-                            c[k] = self.scalar(sys, x, slots)?;
+                            c[k] = self.scalar(sys, solved, x, slots)?;
                         }
                         Ok::<V, MbdError>(in_axes(&frm.axes, c))
                     }

@@ -39,6 +39,7 @@ pub mod dynamics;
 pub mod equations;
 pub mod error;
 pub mod expr;
+mod force_order;
 pub mod forces;
 pub mod inertia;
 pub mod measures;

@@ -16,5 +16,6 @@ mod failures;
 mod motions;
 mod reference;
 mod run;
+mod solution_reads;
 mod springs;
 mod validate;

@@ -67,6 +67,11 @@ fn at(c: &Option<Culprit>) -> String {
     c.as_ref().map_or(String::new(), |c| format!(" (at {c})"))
 }
 
+/// Sweeps of the consistent accelerations when forces read them (or reactions), and the
+/// relative change at which they have settled.
+const SOLUTION_SWEEPS: usize = 200;
+const SOLUTION_TOL: f64 = 1e-14;
+
 /// Why the dynamics stopped.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DynError {
@@ -153,7 +158,9 @@ impl DynError {
             DynError::Model(MbdError::Expression(e, _))
             | DynError::Model(MbdError::NoSecondDerivative(e, _, _))
             | DynError::Model(MbdError::SamePart(e))
-            | DynError::Model(MbdError::Floating(e, _)) => Some(e),
+            | DynError::Model(MbdError::Floating(e, _))
+            | DynError::Model(MbdError::SolutionLoop { element: e, .. }) => Some(e),
+            DynError::Model(MbdError::ForceCycle(circle)) => circle.first(),
             _ => None,
         }
     }
@@ -598,7 +605,22 @@ impl Dynamics {
             }
         }
         self.stats.expression_evaluations += self.forces.expression_count();
-        self.forces.eval(&self.sys, &mut self.gen, jacobians)
+        if !self.forces.reads_solution() {
+            return self.forces.eval(&self.sys, &mut self.gen, jacobians);
+        }
+        // Each element after the forces it reads, its solution values read just before
+        // it: accelerations and multipliers as they stand (`a`, `lambda`, the parts'),
+        // forces as this pass left them.
+        for o in 0..self.forces.order.len() {
+            let k = self.forces.order[o];
+            for r in 0..self.forces.reads[k].len() {
+                let s = self.forces.reads[k][r];
+                self.forces.solved[s] = self.forces.solution[s].value(self);
+            }
+            self.forces
+                .eval_element(k, &self.sys, &mut self.gen, jacobians)?;
+        }
+        Ok(())
     }
 
     /// The mass matrix block of moving part `i` over its columns, divided by UCF.
@@ -987,23 +1009,74 @@ impl Dynamics {
         )
     }
 
-    /// The accelerations and multipliers with the saddle-point matrix factored.
+    /// The accelerations and multipliers with the saddle-point matrix factored. Forces
+    /// that read accelerations or reactions make this a fixed point: solved by repeating
+    /// the solve with the forces at the last accelerations and multipliers until they
+    /// settle (at the loop's gain per sweep).
     fn accelerations_factored(&mut self) -> Result<(), DynError> {
-        self.eval_forces(false)?;
-        self.check_forces()?;
         let gamma = gamma::gamma(self)?;
-        let mut rhs: Vec<f64> = self
-            .gen
-            .q
-            .iter()
-            .copied()
-            .chain(gamma.iter().copied())
-            .collect();
-        self.solve_saddle(&mut rhs)?;
-        self.a = DVec::from_column_slice(&rhs[..self.n]);
-        self.lambda = DVec::from_column_slice(&rhs[self.n..]);
-        self.store_accelerations();
-        Ok(())
+        let looped = self.forces.reads_solution();
+        let mut last_change = f64::INFINITY;
+        let mut stalled = 0;
+        for _ in 0..SOLUTION_SWEEPS {
+            self.eval_forces(false)?;
+            self.check_forces()?;
+            let mut rhs: Vec<f64> = self
+                .gen
+                .q
+                .iter()
+                .copied()
+                .chain(gamma.iter().copied())
+                .collect();
+            self.solve_saddle(&mut rhs)?;
+            let (a, lambda) = rhs.split_at(self.n);
+            let change = if looped && self.a.len() == self.n && self.lambda.len() == self.m {
+                let diff = |x: &[f64], y: &DVec| {
+                    x.iter()
+                        .zip(y.iter())
+                        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+                };
+                let size = rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                diff(a, &self.a).max(diff(lambda, &self.lambda)) / (size + f64::MIN_POSITIVE)
+            } else {
+                f64::INFINITY
+            };
+            self.a = DVec::from_column_slice(a);
+            self.lambda = DVec::from_column_slice(lambda);
+            self.store_accelerations();
+            if !looped || change <= SOLUTION_TOL {
+                return Ok(());
+            }
+            stalled = if change < 0.9 * last_change {
+                0
+            } else {
+                stalled + 1
+            };
+            if stalled >= 5 {
+                break;
+            }
+            last_change = change;
+        }
+        Err(self.solution_loop())
+    }
+
+    /// The failure of a force–solution loop that does not settle: names the first force
+    /// reading an acceleration or a reaction, and what it reads.
+    fn solution_loop(&self) -> DynError {
+        let f = &self.forces;
+        let found = f.reads.iter().enumerate().find_map(|(k, reads)| {
+            reads
+                .iter()
+                .find(|&&s| f.solution[s].reads_motion())
+                .map(|&s| (k, s))
+        });
+        match found {
+            Some((k, s)) => DynError::Model(MbdError::SolutionLoop {
+                element: f.elements[k].elref.clone(),
+                reads: f.names[s].clone(),
+            }),
+            None => DynError::Setup("the forces that read other forces do not settle".into()),
+        }
     }
 
     /// NaN or infinity in the generalized forces: names the element.

@@ -91,6 +91,9 @@ pub struct Newmark {
     /// this integrator made (None: none valid).
     factored_h: Option<f64>,
     generation: u64,
+    /// The physical accelerations at the last accepted state (kept only when forces read
+    /// accelerations: HHT's own are shifted in time).
+    a_phys0: DVec,
     /// The last accepted step's first Newton correction and its contraction with the
     /// factorization it reused ([`Newmark::attempt`] refactors ahead when they predict a
     /// third iteration).
@@ -139,6 +142,7 @@ impl Newmark {
             tol: (f64::NAN, Vec::new()),
             factored_h: None,
             generation: 0,
+            a_phys0: DVec::zeros(0),
             last_first: 0.0,
             last_rate: 0.0,
         }
@@ -284,6 +288,14 @@ impl Newmark {
             self.place(d, &a1, h, t1);
             let refactor = self.factored_h.is_none();
             d.eval_constraints(true)?;
+            if d.forces.reads_solution() {
+                // Forces that read accelerations or reactions see this iterate's: Newton
+                // then solves them with the motion (the loop converges at its gain's rate,
+                // which the contraction test watches).
+                self.physical_accelerations(&a1, &mut d.a);
+                copy_into(&mut d.lambda, &lambda);
+                d.store_accelerations();
+            }
             d.eval_forces(refactor)?;
             d.check_forces()?;
             d.stats.newton_iterations += 1;
@@ -384,6 +396,22 @@ impl Newmark {
     }
 }
 
+impl Newmark {
+    /// The physical accelerations at t₁ from the method's a₁ into `out`. HHT's a₁ solves
+    /// (s·M₁ − r·M₀)·a₁ = s·F₁ − r·F₀ with F = M·a at each end, so a₁ is the blend
+    /// s·a(t₁) − r·a(t₀) (exactly where the mass is constant, to O(h) where 3D inertia
+    /// turns): forces that read accelerations must see a(t₁) = (a₁ + r·a(t₀))/s, or
+    /// they would act at t₁ + α·h. Generalized-α's a₁ is physical (s = 1, r = 0).
+    fn physical_accelerations(&self, a1: &DVec, out: &mut DVec) {
+        copy_into(out, a1);
+        if self.r != 0.0 && self.a_phys0.len() == a1.len() {
+            for (x, p) in out.iter_mut().zip(self.a_phys0.iter()) {
+                *x = (*x + self.r * p) / self.s;
+            }
+        }
+    }
+}
+
 impl Integrator for Newmark {
     fn name(&self) -> &'static str {
         match self.method {
@@ -402,6 +430,7 @@ impl Integrator for Newmark {
         self.a0 = d.a.clone();
         self.at0 = d.a.clone();
         self.lambda0 = d.lambda.clone();
+        self.a_phys0 = d.a.clone();
         // (Φ_qᵀλ − Q)₀ = −M·a₀/UCF for consistent initial accelerations.
         let mut f0 = DVec::zeros(d.n);
         d.add_mass_times(&self.a0, &mut f0);
@@ -455,6 +484,11 @@ impl Integrator for Newmark {
         copy_into(&mut self.at0, &self.at1);
         self.h0 = Some(self.h1);
         d.store_accelerations();
+        if d.forces.reads_solution() {
+            let mut a = DVec::zeros(d.n);
+            self.physical_accelerations(&d.a, &mut a);
+            self.a_phys0 = a;
+        }
     }
 
     fn reject(&mut self, d: &mut Dynamics) {

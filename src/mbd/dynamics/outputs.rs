@@ -16,7 +16,7 @@ use crate::vocab::elements::{ElementKind, ForceKind};
 use crate::vocab::math::Vec3;
 
 /// A measure slot an output expression reads.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum OutputSlot {
     /// A kinematic measure (index into the system's measures).
     Kinematic(usize),
@@ -64,6 +64,23 @@ impl OutputSlot {
             OutputSlot::Kinematic(m) => sys.measures.list[*m].reads_velocity(),
             OutputSlot::EulerParameter { .. } => false,
             _ => true,
+        }
+    }
+
+    /// True when the value follows the accelerations or the multipliers (an
+    /// acceleration, a reaction, a net load that may include one), not only the state
+    /// and the applied forces.
+    pub fn reads_motion(&self) -> bool {
+        match self {
+            OutputSlot::Kinematic(_)
+            | OutputSlot::EulerParameter { .. }
+            | OutputSlot::ElementForce {
+                constraint: false, ..
+            } => false,
+            OutputSlot::Acc { .. }
+            | OutputSlot::AngAcc { .. }
+            | OutputSlot::ElementForce { .. }
+            | OutputSlot::MarkerForce { .. } => true,
         }
     }
 
