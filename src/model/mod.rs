@@ -29,18 +29,8 @@ pub mod statement;
 mod stmt_args;
 pub mod units;
 
-/// The corpus lister the integration tests use too (one walk of `../shared/corpus`).
 #[cfg(test)]
-#[path = "../../tests/common/mod.rs"]
-mod corpus_files;
-#[cfg(test)]
-mod corpus_tests;
-#[cfg(test)]
-mod model_corpus_tests;
-#[cfg(test)]
-mod model_tests;
-#[cfg(test)]
-mod statement_tests;
+mod tests;
 
 pub use elements::Model;
 pub use expressions::{expression_arguments, ExprArgument};

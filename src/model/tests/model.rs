@@ -3,9 +3,9 @@
 //! a catalogue of bad datasets, each pinned to its diagnostic code and the text its span
 //! covers.
 
-use super::elements::{MeasureSlot, Model, MotionLevel, MotionTarget, RequestKind};
-use super::{read_model, ModelRead};
 use crate::diag::{Code, Severity};
+use crate::model::elements::{MeasureSlot, Model, MotionLevel, MotionTarget, RequestKind};
+use crate::model::{read_model, ModelRead};
 use crate::vocab::elements::{ElementKind, ForceKind, JointType, ELEMENT_NAMES};
 use crate::vocab::math::{Mat3, Vec3};
 use nalgebra::{Rotation3, Unit};
@@ -696,12 +696,12 @@ fn abbreviated_and_lower_case_keywords_read_the_same() {
 #[test]
 fn the_report_lists_counts_units_and_gravity_in_sections() {
     let m = clean(&with("ACCGRAV/KGRAV = -9.80665\nUNITS/LENGTH = MILLIMETER"));
-    let summary = super::report::summary(&m);
-    let extra = super::report::ReportSection {
+    let summary = crate::model::report::summary(&m);
+    let extra = crate::model::report::ReportSection {
         title: "degrees of freedom".into(),
         lines: vec!["6".into()],
     };
-    let text = super::report::format_report("m.adm", &[summary, extra]);
+    let text = crate::model::report::format_report("m.adm", &[summary, extra]);
     let want = "m.adm\n  model:\n    title: title\n    elements: PART 2, MARKER 5\n    \
                 units: force (SI), mass (SI), length MILLIMETER, time (SI); UCF = 1000\n    \
                 gravity: (0, 0, -9.80665)\n    measures read by expressions: 0\n  \

@@ -5,7 +5,7 @@
 //! disagree on purpose, [`KNOWN_DIFFERENCES`] lists each row with its reason.
 
 use super::corpus_files::adm_files;
-use super::{decode, expression_arguments, read_statements};
+use crate::model::{decode, expression_arguments, read_statements};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 

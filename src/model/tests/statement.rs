@@ -2,8 +2,8 @@
 //! expressions (continuation lines, `\`, comments, abbreviations), line endings, NUL
 //! bytes, view names, value lists, malformed statements and inputs that must not panic.
 
-use super::statement::{read_statements, ArgValue, ItemKind, Statement};
 use crate::diag::{Code, Diagnostic, Severity};
+use crate::model::statement::{read_statements, ArgValue, ItemKind, Statement};
 
 /// Reads `text`, asserting no diagnostics.
 fn clean(text: &str) -> Vec<Statement> {

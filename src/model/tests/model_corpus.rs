@@ -4,7 +4,7 @@
 //! raw text (statement heads at the start of a line, up to `END`).
 
 use super::corpus_files::adm_files;
-use super::{decode, read_model};
+use crate::model::{decode, read_model};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
@@ -264,7 +264,7 @@ fn generic_model_matches_the_spec() {
     let motion = m.motions.iter().find(|mo| mo.el.id == 1).expect("MOTION/1");
     assert!(matches!(
         motion.target,
-        super::elements::MotionTarget::Joint {
+        crate::model::elements::MotionTarget::Joint {
             joint: 1,
             rotation: true
         }
