@@ -94,7 +94,10 @@ fn code_of(e: &DynError) -> Code {
         DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {
             Code::Integration
         }
-        DynError::Model(_) | DynError::Setup(_) => Code::CannotSimulate,
+        DynError::Model(_)
+        | DynError::Massless { .. }
+        | DynError::Structure
+        | DynError::Output(_) => Code::CannotSimulate,
     }
 }
 

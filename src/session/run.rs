@@ -467,7 +467,7 @@ impl Simulation {
             let last = d.sys.time >= end;
             let row = outputs.row(d, last)?;
             max_residual = max_residual.max(residual(d));
-            out(&row).map_err(|e| DynError::Setup(format!("the output could not be written: {e}")))
+            out(&row).map_err(|e| DynError::Output(e.to_string()))
         };
         let result = dynamics
             .solve_accelerations()

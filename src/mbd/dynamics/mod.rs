@@ -77,17 +77,17 @@ const SOLUTION_TOL: f64 = 1e-14;
 pub enum DynError {
     /// An element or expression could not be evaluated.
     Model(MbdError),
-    /// The Newton matrix is singular: `what` names the likely cause.
+    /// The Newton matrix is singular, for the reason `why`.
     Singular {
         time: f64,
-        what: String,
+        why: Singularity,
         culprit: Option<Culprit>,
     },
-    /// A force or state became NaN or infinite; `element` is the force element when one
-    /// is to blame.
+    /// A force or the Newton matrix became NaN or infinite; `element` is the force
+    /// element when one is to blame.
     NotFinite {
         time: f64,
-        what: String,
+        what: NonFinite,
         element: Option<ElementRef>,
     },
     /// The corrector did not converge even at the smallest step.
@@ -111,8 +111,35 @@ pub enum DynError {
         equation: &'static str,
         residual: f64,
     },
-    /// The model cannot be simulated as built (a massless part free to move, …).
-    Setup(String),
+    /// A part free to move in `directions` directions that have no mass or inertia.
+    Massless { part: String, directions: usize },
+    /// The Newton matrix's pattern is not one faer can factor.
+    Structure,
+    /// An output row could not be written (the I/O error, worded).
+    Output(String),
+}
+
+/// Why the Newton matrix is singular.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Singularity {
+    /// The factorization broke down: dependent constraints, or no mass along a free
+    /// direction.
+    Dependent,
+    /// A kept row's Jacobian vanished: it constrains nothing any more.
+    VanishedRow,
+    /// The solve gave non-finite values: numerically singular (a lock-up position).
+    Numerical,
+}
+
+/// What became NaN or infinite.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NonFinite {
+    /// A force element's load (the element is the error's).
+    Force,
+    /// A gyroscopic or gravity term (no element to blame).
+    Inertial,
+    /// An entry of the Newton matrix (a force Jacobian or the mass matrix).
+    NewtonMatrix,
 }
 
 impl DynError {
@@ -124,7 +151,10 @@ impl DynError {
             | DynError::Newton { time, .. }
             | DynError::StepTooSmall { time, .. }
             | DynError::DroppedViolated { time, .. } => Some(*time),
-            DynError::Model(_) | DynError::Setup(_) => None,
+            DynError::Model(_)
+            | DynError::Massless { .. }
+            | DynError::Structure
+            | DynError::Output(_) => None,
         }
     }
 
@@ -176,12 +206,33 @@ impl fmt::Display for DynError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             DynError::Model(e) => write!(f, "{e}"),
-            DynError::Singular { time, what, culprit } => write!(
+            DynError::Singular { time, why, culprit } => write!(
                 f,
-                "at time {time}: the equations of motion are singular{}: {what}",
-                at(culprit)
+                "at time {time}: the equations of motion are singular{}: {}",
+                at(culprit),
+                match why {
+                    Singularity::Dependent => "the constraints are dependent here, or a part has no mass along a free direction",
+                    Singularity::VanishedRow => "this constraint's Jacobian vanishes: it no longer constrains anything",
+                    Singularity::Numerical => "the Newton matrix is numerically singular (dependent constraints or a lock-up position)",
+                }
             ),
-            DynError::NotFinite { time, what, .. } => write!(f, "at time {time}: {what}"),
+            DynError::NotFinite {
+                time,
+                what,
+                element,
+            } => match (what, element) {
+                (NonFinite::Force, Some(e)) => {
+                    write!(f, "at time {time}: the force of {} is not finite", element_name(e))
+                }
+                (NonFinite::Force | NonFinite::Inertial, _) => write!(
+                    f,
+                    "at time {time}: the force of a gyroscopic or gravity term is not finite"
+                ),
+                (NonFinite::NewtonMatrix, _) => write!(
+                    f,
+                    "at time {time}: the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)"
+                ),
+            },
             DynError::Newton { time, step, culprit } => write!(
                 f,
                 "at time {time}: the corrector does not converge (Newton diverges even at step {step:e}){}",
@@ -207,7 +258,12 @@ impl fmt::Display for DynError {
                 "at time {time}: conflicting, not redundant: {equation} of {}, dropped as redundant at assembly, is off by {residual:.3e}",
                 element_name(element)
             ),
-            DynError::Setup(s) => write!(f, "{s}"),
+            DynError::Massless { part, directions } => write!(
+                f,
+                "{part} can move in {directions} direction(s) that have no mass or inertia and that no constraint holds: give it MASS and IP, or constrain it"
+            ),
+            DynError::Structure => f.write_str("the Newton matrix has no valid structure"),
+            DynError::Output(why) => write!(f, "the output could not be written: {why}"),
         }
     }
 }
@@ -336,9 +392,7 @@ impl Dynamics {
         let factors = |pattern: Pattern| -> Result<Factors, DynError> {
             Ok(Factors {
                 values: vec![0.0; pattern.nnz()],
-                lu: SparseLu::new(pattern).map_err(|_| {
-                    DynError::Setup("the Newton matrix has no valid structure".into())
-                })?,
+                lu: SparseLu::new(pattern).map_err(|_| DynError::Structure)?,
                 schur: None,
                 via_schur: false,
             })
@@ -502,10 +556,10 @@ impl Dynamics {
             let rank = sv.iter().filter(|&&s| s > 1e-9).count();
             if rank < bs {
                 let name = p.id.map_or(format!("part {h}"), |id| format!("PART/{id}"));
-                return Err(DynError::Setup(format!(
-                    "{name} can move in {} direction(s) that have no mass or inertia and that no constraint holds: give it MASS and IP, or constrain it",
-                    bs - rank
-                )));
+                return Err(DynError::Massless {
+                    part: name,
+                    directions: bs - rank,
+                });
             }
         }
         Ok(())
@@ -746,12 +800,12 @@ impl Dynamics {
         factored.map_err(|e| match e {
             FactorError::NotFinite => DynError::NotFinite {
                 time,
-                what: "the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)".into(),
+                what: NonFinite::NewtonMatrix,
                 element: None,
             },
             FactorError::Singular => DynError::Singular {
                 time,
-                what: "the constraints are dependent here, or a part has no mass along a free direction".into(),
+                why: Singularity::Dependent,
                 culprit,
             },
         })
@@ -764,8 +818,7 @@ impl Dynamics {
         match self.vanished_row() {
             Some(r) => Err(DynError::Singular {
                 time: self.sys.time,
-                what: "this constraint's Jacobian vanishes: it no longer constrains anything"
-                    .into(),
+                why: Singularity::VanishedRow,
                 culprit: Some(self.row_culprit(r)),
             }),
             None => Ok(()),
@@ -848,7 +901,7 @@ impl Dynamics {
         };
         solved.map_err(|_| DynError::Singular {
             time,
-            what: "the Newton matrix is numerically singular (dependent constraints or a lock-up position)".into(),
+            why: Singularity::Numerical,
             culprit,
         })
     }
@@ -1064,19 +1117,21 @@ impl Dynamics {
     /// reading an acceleration or a reaction, and what it reads.
     fn solution_loop(&self) -> DynError {
         let f = &self.forces;
-        let found = f.reads.iter().enumerate().find_map(|(k, reads)| {
-            reads
-                .iter()
-                .find(|&&s| f.solution[s].reads_motion())
-                .map(|&s| (k, s))
-        });
-        match found {
-            Some((k, s)) => DynError::Model(MbdError::SolutionLoop {
-                element: f.elements[k].elref.clone(),
-                reads: f.names[s].clone(),
-            }),
-            None => DynError::Setup("the forces that read other forces do not settle".into()),
-        }
+        // Forces that read only forces settle in one ordered pass: the loop that did not
+        // runs through an acceleration or a reaction (any read, should that ever not be).
+        let reads = |motion: bool| {
+            f.reads.iter().enumerate().find_map(|(k, reads)| {
+                reads
+                    .iter()
+                    .find(|&&s| !motion || f.solution[s].reads_motion())
+                    .map(|&s| (k, s))
+            })
+        };
+        let (k, s) = reads(true).or_else(|| reads(false)).unwrap_or((0, 0));
+        DynError::Model(MbdError::SolutionLoop {
+            element: f.elements[k].elref.clone(),
+            reads: f.names.get(s).cloned().unwrap_or_default(),
+        })
     }
 
     /// NaN or infinity in the generalized forces: names the element.
@@ -1095,12 +1150,12 @@ impl Dynamics {
                     .all(|v| v.iter().all(|x| x.is_finite()))
             })
             .map(|(_, e)| e.elref.clone());
-        let what = element
-            .as_ref()
-            .map_or("a gyroscopic or gravity term".into(), element_name);
         Err(DynError::NotFinite {
             time: self.sys.time,
-            what: format!("the force of {what} is not finite"),
+            what: match element {
+                Some(_) => NonFinite::Force,
+                None => NonFinite::Inertial,
+            },
             element,
         })
     }
