@@ -127,6 +127,11 @@ impl CompiledExpr {
         self.outputs
     }
 
+    /// Identifies the module holding the code: equal for functions compiled together.
+    pub fn module_id(&self) -> *const () {
+        Arc::as_ptr(&self._owner).cast()
+    }
+
     /// Whether this is a leaf function whose frame was elided (see `jit/frame.rs`).
     pub fn is_frameless(&self) -> bool {
         self.frameless

@@ -6,10 +6,13 @@
 //! anywhere.
 //!
 //! Compilation is batched: [`CompiledExprs::compile`] only records the function, and the
-//! first evaluation compiles everything recorded so far into one JIT module (so the
-//! constraints of a model share one module, its forces another). Evaluations write into
-//! buffers the function keeps: no allocation per call. A JIT failure is kept
-//! ([`CompiledExprs::jit_error`]) and the interpreter runs those functions instead.
+//! first evaluation compiles everything recorded so far into one JIT module (assembly
+//! needs the constraints' code before a run records its forces). Once a run has recorded
+//! every expression of the model (constraints, forces, output columns:
+//! [`CompiledExprs::output`]), [`CompiledExprs::unify`] compiles all of them again into
+//! one module, which the run then uses alone. Evaluations write into buffers the function
+//! keeps: no allocation per call. A JIT failure is kept ([`CompiledExprs::jit_error`])
+//! and the interpreter runs those functions instead.
 
 use super::build::ExprCompiler;
 use super::expr::{ExprError, ExprFn};
@@ -26,11 +29,16 @@ use std::sync::Arc;
 /// The functions recorded for compilation and the code compiled so far.
 struct Batch {
     jit: RefCell<Option<Jit>>,
-    /// Recorded, not yet compiled: (index, function).
-    pending: RefCell<Vec<(usize, crate::ir::Function)>>,
+    /// Every function recorded, by index (kept for [`CompiledExprs::unify`]; empty
+    /// without a JIT).
+    functions: RefCell<Vec<crate::ir::Function>>,
+    /// The indices recorded since the last compilation.
+    pending: RefCell<Vec<usize>>,
     /// Machine code by index (None: not compiled, or the JIT failed on its batch).
     code: RefCell<Vec<Option<CompiledExpr>>>,
     error: RefCell<Option<crate::jit::JitError>>,
+    /// How many modules the functions in `code` live in.
+    modules: std::cell::Cell<usize>,
 }
 
 impl Batch {
@@ -40,33 +48,46 @@ impl Batch {
         code.push(None);
         let index = code.len() - 1;
         if self.jit.borrow().is_some() {
-            self.pending.borrow_mut().push((index, g));
+            self.functions.borrow_mut().push(g);
+            self.pending.borrow_mut().push(index);
         }
         index
     }
 
     /// Compiles every pending function in one module.
     fn flush(&self) {
-        let pending = std::mem::take(&mut *self.pending.borrow_mut());
-        if pending.is_empty() {
+        if self.pending.borrow().is_empty() {
             return;
         }
+        let pending = std::mem::take(&mut *self.pending.borrow_mut());
+        self.compile(&pending);
+    }
+
+    /// Compiles the functions `indices` into one new module and points their code at it.
+    fn compile(&self, indices: &[usize]) {
         let mut jit = self.jit.borrow_mut();
         let Some(jit) = jit.as_mut() else { return };
-        let fs: Vec<&crate::ir::Function> = pending.iter().map(|(_, f)| f).collect();
+        let functions = self.functions.borrow();
+        let fs: Vec<&crate::ir::Function> = indices.iter().map(|&i| &functions[i]).collect();
         match jit.compile_batch(&fs) {
             Ok(compiled) => {
                 let mut code = self.code.borrow_mut();
-                for ((i, _), c) in pending.iter().zip(compiled) {
-                    code[*i] = Some(c);
+                for (&i, c) in indices.iter().zip(compiled) {
+                    code[i] = Some(c);
                 }
+                // A module lives while one of its functions does.
+                let live: std::collections::HashSet<*const ()> =
+                    code.iter().flatten().map(CompiledExpr::module_id).collect();
+                self.modules.set(live.len());
             }
             Err(e) => *self.error.borrow_mut() = Some(e),
         }
     }
 }
 
-/// Compiles expressions with their derivatives; one JIT serves them all.
+/// Compiles expressions with their derivatives; one JIT serves them all. A clone shares
+/// the batch.
+#[derive(Clone)]
 pub struct CompiledExprs {
     batch: Rc<Batch>,
     /// The model's SPLINE data, which AKISPL and CUBSPL calls read by slot.
@@ -88,9 +109,11 @@ impl CompiledExprs {
         CompiledExprs {
             batch: Rc::new(Batch {
                 jit: RefCell::new(jit),
+                functions: RefCell::new(Vec::new()),
                 pending: RefCell::new(Vec::new()),
                 code: RefCell::new(Vec::new()),
                 error: RefCell::new(None),
+                modules: std::cell::Cell::new(0),
             }),
             splines: Arc::new([]),
         }
@@ -99,6 +122,32 @@ impl CompiledExprs {
     /// Why the JIT could not compile a batch (its functions run in the interpreter).
     pub fn jit_error(&self) -> Option<String> {
         self.batch.error.borrow().as_ref().map(ToString::to_string)
+    }
+
+    /// Compiles every function recorded so far into one JIT module, replacing the code
+    /// of earlier batches (whose modules are freed with their last function).
+    pub fn unify(&self) {
+        let all: Vec<usize> = (0..self.batch.functions.borrow().len()).collect();
+        self.batch.pending.borrow_mut().clear();
+        if !all.is_empty() {
+            self.batch.compile(&all);
+        }
+    }
+
+    /// How many JIT modules hold the compiled functions (0 without a JIT).
+    pub fn modules(&self) -> usize {
+        self.batch.modules.get()
+    }
+
+    /// Records a value-only function (an output column) in the batch.
+    pub fn output(&self, function: crate::ir::Function) -> OutputFn {
+        let program = Program::new(function.clone());
+        OutputFn {
+            batch: self.batch.clone(),
+            index: self.batch.record(function),
+            program,
+            splines: self.splines.clone(),
+        }
     }
 
     /// The same compiler with the model's splines (`Model::runtime_splines`) for the
@@ -130,6 +179,30 @@ struct WithGradient {
     /// The gradient of the gradient (interpreted: it runs only where consistent
     /// accelerations are solved), or why there is none.
     hessian: Result<Box<Program>, String>,
+}
+
+/// A value-only function of the batch: an output column.
+pub struct OutputFn {
+    batch: Rc<Batch>,
+    index: usize,
+    /// The interpreter's form (the interpreted engine, or a JIT failure).
+    program: Program,
+    splines: Arc<[Spline]>,
+}
+
+impl OutputFn {
+    /// The value at time `t` with model measure slots `measures` (NaN and infinity
+    /// pass through: an output prints what the expression gives).
+    pub fn eval(&self, t: f64, measures: &[f64]) -> f64 {
+        let ctx = Context::new(t, &[])
+            .with_measures(measures)
+            .with_splines(&self.splines);
+        self.batch.flush();
+        match &self.batch.code.borrow()[self.index] {
+            Some(c) => c.eval(&ctx),
+            None => self.program.eval(&ctx),
+        }
+    }
 }
 
 /// An expression whose derivative cannot be generated: values only, and the reason.

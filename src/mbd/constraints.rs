@@ -624,18 +624,26 @@ impl System {
             Row::Gcon { f, map } => {
                 let el = &self.elements[e].elref;
                 let slots = f.slots();
-                let len = slots.last().map_or(0, |&s| s as usize + 1);
-                let mut vals = vec![0.0; len];
-                let evs = self.fill_slots(map, slots, &mut vals);
+                let mut guard = self.scratch.borrow_mut();
+                let sc = &mut *guard;
+                sc.slots_to(slots.last().copied());
+                sc.evs.clear();
+                for (&m, &s) in map.iter().zip(slots) {
+                    let ev = self.measures.eval(self, m);
+                    sc.slots[s as usize] = ev.value();
+                    sc.evs.push(ev);
+                }
                 let err = |s| MbdError::Expression(el.clone(), s);
                 if !derivs {
-                    out.value = f.value(self.time, &vals).map_err(err)?;
+                    out.value = f.value(self.time, &sc.slots).map_err(err)?;
                     return Ok(());
                 }
-                let mut grad = vec![0.0; slots.len()];
-                (out.value, out.dt) = f.value_gradient(self.time, &vals, &mut grad).map_err(err)?;
-                for (k, ev) in evs.iter().enumerate() {
-                    let c = grad[k];
+                sc.grad.clear();
+                sc.grad.resize(slots.len(), 0.0);
+                (out.value, out.dt) = f
+                    .value_gradient(self.time, &sc.slots, &mut sc.grad)
+                    .map_err(err)?;
+                for (ev, &c) in sc.evs.iter().zip(&sc.grad) {
                     if c != 0.0 {
                         ev.scatter(
                             self,

@@ -44,20 +44,20 @@ pub enum Source {
 pub struct Scalar {
     pub f: Box<dyn ExprFn>,
     pub map: Vec<Source>,
-    /// Buffers of an evaluation (slot values, measure duals, gradient), reused.
-    scratch: std::cell::RefCell<(Vec<f64>, Vec<D>, Vec<f64>)>,
+    /// Buffers of an evaluation (measure duals, gradient), reused; the slot values live
+    /// in the system's one array ([`crate::mbd::system::ExprScratch`]).
+    scratch: std::cell::RefCell<(Vec<D>, Vec<f64>)>,
     /// The switching functions of its contact calls, when it has any.
     probe: Option<ContactProbe>,
 }
 
 impl Scalar {
     pub fn new(f: Box<dyn ExprFn>, map: Vec<Source>) -> Scalar {
-        let len = f.slots().last().map_or(0, |&x| x as usize + 1);
         let n = map.len();
         Scalar {
             f,
             map,
-            scratch: std::cell::RefCell::new((vec![0.0; len], Vec::with_capacity(n), vec![0.0; n])),
+            scratch: std::cell::RefCell::new((Vec::with_capacity(n), vec![0.0; n])),
             probe: None,
         }
     }
@@ -73,15 +73,11 @@ impl Scalar {
     /// calls); solution values are those of the last evaluation, `solved`.
     fn switches(&self, sys: &System, solved: &[f64], out: &mut Vec<f64>) {
         let Some(probe) = &self.probe else { return };
-        let mut scratch = self.scratch.borrow_mut();
-        let vals = &mut scratch.0;
-        let ms = &sys.measures;
+        let mut scratch = sys.scratch.borrow_mut();
+        let vals = scratch.slots_to(self.f.slots().last().copied());
         for (&src, &slot) in self.map.iter().zip(self.f.slots()) {
-            // Values alone: the jet is a few scalars where the dual carries a gradient
-            // over four parts; only an unwrapped angle needs the dual's unwrapping.
             vals[slot as usize] = match src {
-                Source::Measure(m) if ms.list[m].unwrapped() => ms.eval(sys, m).value(),
-                Source::Measure(m) => ms.jet(sys, m).v,
+                Source::Measure(m) => measure_value(sys, m),
                 Source::Solution(k) => solved[k],
             };
         }
@@ -94,6 +90,17 @@ impl Scalar {
             Source::Solution(k) => Some(*k),
             Source::Measure(_) => None,
         })
+    }
+}
+
+/// Measure `m`'s value alone: the jet is a few scalars where the dual carries a gradient
+/// over four parts; only an unwrapped angle needs the dual's unwrapping.
+fn measure_value(sys: &System, m: usize) -> f64 {
+    let ms = &sys.measures;
+    if ms.list[m].unwrapped() {
+        ms.eval(sys, m).value()
+    } else {
+        ms.jet(sys, m).v
     }
 }
 
@@ -373,17 +380,31 @@ impl ForceElement {
     }
 
     /// An expression's value as a dual: f with ∂f/∂measure chained through the
-    /// measures' duals (solution values from `solved`, constant).
+    /// measures' duals (solution values from `solved`, constant). Without `jacobians`
+    /// the value alone, from the measures' values (no duals, no gradient).
     fn scalar(
         &self,
         sys: &System,
         solved: &[f64],
         s: &Scalar,
         slots: &mut PartSlots,
+        jacobians: bool,
     ) -> Result<D, MbdError> {
         let slot_ids = s.f.slots();
+        let mut shared = sys.scratch.borrow_mut();
+        let vals = shared.slots_to(slot_ids.last().copied());
+        let err = |why| MbdError::Expression(self.elref.clone(), why);
+        if !jacobians {
+            for (&src, &slot) in s.map.iter().zip(slot_ids) {
+                vals[slot as usize] = match src {
+                    Source::Measure(m) => measure_value(sys, m),
+                    Source::Solution(k) => solved[k],
+                };
+            }
+            return Ok(D::c(s.f.value(sys.time, vals).map_err(err)?));
+        }
         let mut scratch = s.scratch.borrow_mut();
-        let (vals, duals, grad) = &mut *scratch;
+        let (duals, grad) = &mut *scratch;
         duals.clear();
         for (&src, &slot) in s.map.iter().zip(slot_ids) {
             let d = match src {
@@ -398,7 +419,6 @@ impl ForceElement {
             vals[slot as usize] = d.v;
             duals.push(d);
         }
-        let err = |why| MbdError::Expression(self.elref.clone(), why);
         let (v, _) = s.f.value_gradient(sys.time, vals, grad).map_err(err)?;
         let mut g = [0.0; N];
         for (d, &c) in duals.iter().zip(grad.iter()) {
@@ -426,7 +446,7 @@ impl ForceElement {
         // applied at I's origin except the line forces' reaction at J's.
         let (f_i, t_i, f_j, t_j, j_at_i) = match &self.law {
             ForceLaw::Line { f, action_only } => {
-                let f = self.scalar(sys, solved, f, &mut slots)?;
+                let f = self.scalar(sys, solved, f, &mut slots, jacobians)?;
                 if *action_only {
                     (scale_v(&fj.axes[2], f), zero, zero, zero, true)
                 } else {
@@ -437,7 +457,7 @@ impl ForceElement {
                 }
             }
             ForceLaw::Torque { f, action_only } => {
-                let f = self.scalar(sys, solved, f, &mut slots)?;
+                let f = self.scalar(sys, solved, f, &mut slots, jacobians)?;
                 let t = scale_v(&fj.axes[2], f);
                 let tj = if *action_only { zero } else { neg_v(&t) };
                 (zero, t, zero, tj, true)
@@ -449,7 +469,7 @@ impl ForceElement {
                     Some(xs) => {
                         let mut c = [D::c(0.0); 3];
                         for (k, x) in xs.iter().enumerate() {
-                            c[k] = self.scalar(sys, solved, x, slots)?;
+                            c[k] = self.scalar(sys, solved, x, slots, jacobians)?;
                         }
                         Ok::<V, MbdError>(in_axes(&frm.axes, c))
                     }

@@ -110,6 +110,27 @@ pub struct Frame {
     pub part: PartHandle,
 }
 
+/// Buffers the system's expressions share: the model's measure slot values (one array
+/// for every GCON and force expression, each writing the slots it reads before it runs)
+/// and a GCON row's partials and measure duals. Reused: no allocation per evaluation.
+#[derive(Default)]
+pub struct ExprScratch {
+    pub slots: Vec<f64>,
+    pub grad: Vec<f64>,
+    pub evs: Vec<super::measures::Evaluated>,
+}
+
+impl ExprScratch {
+    /// The slot array, grown to hold slot `last` (the first time only).
+    pub fn slots_to(&mut self, last: Option<u32>) -> &mut [f64] {
+        let len = last.map_or(0, |s| s as usize + 1);
+        if self.slots.len() < len {
+            self.slots.resize(len, 0.0);
+        }
+        &mut self.slots
+    }
+}
+
 /// The multibody system.
 pub struct System {
     pub parts: Vec<Part>,
@@ -131,6 +152,8 @@ pub struct System {
     pub time: f64,
     moving: usize,
     marker_ids: HashMap<Id, MarkerHandle>,
+    /// What the expressions share ([`ExprScratch`]).
+    pub(crate) scratch: std::cell::RefCell<ExprScratch>,
 }
 
 impl Default for System {
@@ -159,6 +182,7 @@ impl System {
             time: 0.0,
             moving: 0,
             marker_ids: HashMap::new(),
+            scratch: Default::default(),
         }
     }
 

@@ -65,6 +65,9 @@ pub struct Analysis {
     /// The dataset's SPLINE data, fitted once (`Model::runtime_splines`): what AKISPL and
     /// CUBSPL read, in the GCON/MOTION functions and in expressions typed later.
     pub splines: Arc<[Spline]>,
+    /// The compiler that holds the GCON and MOTION functions: a run records its forces
+    /// and outputs in it too, for one module ([`CompiledExprs::unify`]).
+    pub exprs: CompiledExprs,
 }
 
 /// Where the pipeline stopped, with what it had built so far.
@@ -202,6 +205,7 @@ pub fn analyze_model_with(
             assembly,
             redundancy,
             splines,
+            exprs,
         }),
         Err(error) => Err(Failure::Redundancy {
             system: Box::new(system),

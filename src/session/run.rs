@@ -7,12 +7,9 @@
 
 use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
-use crate::context::Context;
 use crate::diag::{Code, Diagnostic};
-use crate::interp::Program;
 use crate::ir::Function;
-use crate::jit::{CompiledExpr, Jit};
-use crate::mbd::compiled::CompiledExprs;
+use crate::mbd::compiled::OutputFn;
 use crate::mbd::dynamics::integrator::{simulate, Integrator, Settings};
 use crate::mbd::dynamics::newmark::Newmark;
 use crate::mbd::dynamics::outputs::OutputSlot;
@@ -20,8 +17,6 @@ use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::model::elements::{Expr, RequestKind};
 use crate::model::{read_model, ModelRead};
-use mbfx_runtime::Spline;
-use std::sync::Arc;
 use std::time::Instant;
 
 /// Which back end evaluates the model's expressions.
@@ -110,11 +105,6 @@ struct Column {
     function: Function,
 }
 
-enum Code_ {
-    Jit(Vec<CompiledExpr>),
-    Interp(Vec<Program>),
-}
-
 /// The summary `mbfx run` prints.
 #[derive(Clone, Debug)]
 pub struct Summary {
@@ -137,9 +127,10 @@ struct Outputs {
     slots: Vec<(u32, OutputSlot)>,
     /// Some column reads velocities, accelerations or forces: each row reconciles.
     reconcile: bool,
-    code: Code_,
-    splines: Arc<[Spline]>,
+    code: Vec<OutputFn>,
     measures: Vec<f64>,
+    /// The compiler all of the model's expressions went through.
+    exprs: crate::mbd::compiled::CompiledExprs,
 }
 
 /// A model ready to run.
@@ -251,7 +242,7 @@ impl Simulation {
                 }
             }
         }
-        let exprs = engine_compiler(interpret, analysis.splines.clone());
+        let exprs = analysis.exprs;
         let mut system = analysis.system;
         let forces = system.forces_from_model(&read.model, &exprs)?;
         // Energy is conserved only without force elements and without rows that move
@@ -303,21 +294,17 @@ impl Simulation {
             .map(|r| r.row)
             .collect();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
-        let fs: Vec<&Function> = columns.iter().map(|c| &c.function).collect();
-        let code = if interpret {
-            Code_::Interp(fs.iter().map(|f| Program::new((*f).clone())).collect())
-        } else {
-            let compiled = Jit::new().and_then(|mut j| j.compile_batch(&fs));
-            match compiled {
-                Ok(c) => Code_::Jit(c),
-                Err(e) => {
-                    notes.push(format!(
-                        "the JIT is not available ({e}); the interpreter runs the outputs"
-                    ));
-                    Code_::Interp(fs.iter().map(|f| Program::new((*f).clone())).collect())
-                }
-            }
-        };
+        // Every expression of the model is recorded now: constraints, forces, outputs.
+        let code: Vec<OutputFn> = columns
+            .iter()
+            .map(|c| exprs.output(c.function.clone()))
+            .collect();
+        exprs.unify();
+        if let Some(e) = exprs.jit_error() {
+            notes.push(format!(
+                "the JIT could not compile the model ({e}); the interpreter runs it"
+            ));
+        }
         let measures = vec![0.0; read.model.measures.len()];
         let reconcile = slots.iter().any(|(_, s)| s.reads_reconciled(&dynamics.sys));
         Ok(Simulation {
@@ -328,13 +315,19 @@ impl Simulation {
                 slots,
                 reconcile,
                 code,
-                splines: analysis.splines,
                 measures,
+                exprs,
             },
             spec,
             notes,
             conservative,
         })
+    }
+
+    /// How many JIT modules hold the model's compiled expressions: 1 with the JIT (every
+    /// GCON, MOTION, force component and output column in one), 0 interpreted.
+    pub fn jit_modules(&self) -> usize {
+        self.outputs.exprs.modules()
     }
 
     /// The column headers: `time`, then the probes, then the request components.
@@ -366,15 +359,9 @@ impl Outputs {
             self.measures[s as usize] = slot.value(d);
         }
         let t = d.sys.time;
-        let ctx = Context::new(t, &[])
-            .with_measures(&self.measures)
-            .with_splines(&self.splines);
         let mut row = Vec::with_capacity(self.columns.len() + 1);
         row.push(t);
-        match &self.code {
-            Code_::Jit(cs) => row.extend(cs.iter().map(|c| c.eval(&ctx))),
-            Code_::Interp(ps) => row.extend(ps.iter().map(|p| p.eval(&ctx))),
-        }
+        row.extend(self.code.iter().map(|c| c.eval(t, &self.measures)));
         Ok(row)
     }
 }
@@ -492,16 +479,6 @@ fn residual(d: &Dynamics) -> f64 {
     (0..d.m).map(|r| d.scaled_residual(r)).fold(0.0, f64::max)
 }
 
-/// The expression compiler of `engine`.
-fn engine_compiler(interpret: bool, splines: Arc<[Spline]>) -> CompiledExprs {
-    let c = if interpret {
-        CompiledExprs::interpreted()
-    } else {
-        CompiledExprs::new()
-    };
-    c.with_splines(splines)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -514,6 +491,38 @@ mod tests {
         MARKER/20, PART = 2\nMARKER/21, PART = 2, REULER = 90D, 90D, 0\n\
         JOINT/1, TRANSLATIONAL, I = 21, J = 11\n\
         SPRINGDAMPER/1, TRANSLATION, I = 20, J = 10, K = 100, C = 4, LENGTH = 1\nEND\n";
+
+    #[test]
+    fn every_expression_of_a_model_lands_in_one_module() {
+        // A GCON (compiled for assembly first), a MOTION, an SFORCE, a GFORCE's six
+        // components, a VARIABLE read by a force, a REQUEST's F1..F2 and a probe.
+        let model = "one module\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+            PART/2, MASS = 1, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+            MARKER/22, PART = 2, FLOATING\n\
+            PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, 0, 1\nMARKER/30, PART = 3\n\
+            MARKER/31, PART = 3\nMARKER/11, PART = 1, QP = 0, 0, 1\n\
+            JOINT/1, SPHERICAL, I = 20, J = 10\nJOINT/2, TRANSLATIONAL, I = 31, J = 11\n\
+            GCON/1, I = 20, FUNCTION = AX(20, 10)\n\
+            GCON/2, I = 20, FUNCTION = AY(20, 10) - 0.1*SIN(TIME)\n\
+            MOTION/1, JOINT = 2, FUNCTION = 0.1*TIME\n\
+            VARIABLE/1, FUNCTION = -2*WZ(20, 10)\n\
+            SFORCE/1, ROTATION, I = 20, J = 10, FUNCTION = VARVAL(1)\n\
+            GFORCE/1, I = 20, JFLOAT = 22, RM = 10, FX = 0\\ FY = 0\\ FZ = 1\\ TX = 0\\ TY = 0\\ TZ = 0.1\n\
+            REQUEST/1, F1 = DZ(31, 11)\\ F2 = WZ(20, 10)\nEND\n";
+        let probes = [("z".to_string(), "DZ(30)".to_string())];
+        let build = |engine| {
+            let mut spec = RunSpec::new(0.1, 0.05);
+            spec.engine = engine;
+            match Simulation::new(model, spec, &probes) {
+                Ok(sim) => sim,
+                Err(_) => panic!("the model builds"),
+            }
+        };
+        if crate::jit::Jit::new().is_ok() {
+            assert_eq!(build(Engine::Jit).jit_modules(), 1);
+        }
+        assert_eq!(build(Engine::Interp).jit_modules(), 0);
+    }
 
     #[test]
     fn a_damped_spring_follows_its_closed_form() {
