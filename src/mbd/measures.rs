@@ -341,6 +341,17 @@ impl MeasureSet {
     }
 
     /// Moves the unwrapping references to the current values (after an accepted state).
+    /// Takes the unwrapping references of `other` (another system's measures over the
+    /// same markers): measure n adopts `other`'s measure `same[n]` where it has one.
+    pub fn adopt_unwrapping(&mut self, other: &MeasureSet, same: &[Option<usize>]) {
+        for (n, k) in same.iter().enumerate() {
+            if let (Some(k), true) = (k, n < self.refs.len()) {
+                self.refs[n] = other.refs[*k];
+                self.axes[n] = other.axes[*k];
+            }
+        }
+    }
+
     pub fn commit(&mut self, sys: &System) {
         for n in 0..self.list.len() {
             if self.list[n].unwrapped() {

@@ -27,6 +27,7 @@
 
 pub mod evaluate;
 pub mod files;
+pub mod lifted;
 pub mod loaded;
 pub mod report;
 pub mod run;

@@ -5,6 +5,7 @@
 //! expressions, then each REQUEST's components (`REQ<id>.F<k>`, k = 1..8), all compiled
 //! in one batch by the chosen engine; interpreter and JIT give the same bits.
 
+use super::lifted::Lifted;
 use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
@@ -131,6 +132,8 @@ struct Outputs {
     measures: Vec<f64>,
     /// The compiler all of the model's expressions went through.
     exprs: crate::mbd::compiled::CompiledExprs,
+    /// A 2D run's 3D shadow for the reactions ([`Lifted`]).
+    lifted: Option<Lifted>,
 }
 
 /// A model ready to run.
@@ -294,6 +297,25 @@ impl Simulation {
             .map(|r| r.row)
             .collect();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
+        // A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads.
+        let reactions: Vec<u32> = slots
+            .iter()
+            .filter(|(_, o)| o.reads_reaction())
+            .map(|&(s, _)| s)
+            .collect();
+        let lifted = if dynamics.sys.dim == crate::mbd::Dimension::Two && !reactions.is_empty() {
+            match Lifted::new(&read.model, &exprs, &dynamics, &reactions) {
+                Ok(l) => Some(l),
+                Err(why) => {
+                    notes.push(format!(
+                        "out-of-plane reaction components are left at 0: the 3D system that gives them cannot be built ({why})"
+                    ));
+                    None
+                }
+            }
+        } else {
+            None
+        };
         // Every expression of the model is recorded now: constraints, forces, outputs.
         let code: Vec<OutputFn> = columns
             .iter()
@@ -317,6 +339,7 @@ impl Simulation {
                 code,
                 measures,
                 exprs,
+                lifted,
             },
             spec,
             notes,
@@ -357,6 +380,9 @@ impl Outputs {
         }
         for &(s, slot) in &self.slots {
             self.measures[s as usize] = slot.value(d);
+        }
+        if let Some(lifted) = &mut self.lifted {
+            lifted.fill(d, &mut self.measures)?;
         }
         let t = d.sys.time;
         let mut row = Vec::with_capacity(self.columns.len() + 1);

@@ -14,6 +14,7 @@ mod contact;
 mod exact;
 mod failures;
 mod motions;
+mod planar_reactions;
 mod reference;
 mod run;
 mod solution_reads;

@@ -84,6 +84,17 @@ impl OutputSlot {
         }
     }
 
+    /// True when the value is a constraint's reaction or may include one (a net load).
+    pub fn reads_reaction(&self) -> bool {
+        matches!(
+            self,
+            OutputSlot::ElementForce {
+                constraint: true,
+                ..
+            } | OutputSlot::MarkerForce { .. }
+        )
+    }
+
     /// Resolves model slot `slot` for the dynamics: kinematic measures through the
     /// system's measure set, the rest here.
     pub fn resolve(sys: &mut System, model: &Model, slot: u32) -> Result<OutputSlot, MbdError> {
