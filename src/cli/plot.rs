@@ -105,11 +105,86 @@ fn chart<DB: DrawingBackend>(
             .label(header[c].clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
     }
+    let corner = quiet_corner(rows, cols, (t0, t1), (lo - pad, hi + pad));
     chart
         .configure_series_labels()
+        .position(corner)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
         .map_err(err)?;
     root.present().map_err(err)
+}
+
+/// The corner of the plot where the legend hides the fewest points: each corner's box
+/// (a third of the width, a tenth of the height per line plus a margin) counts the
+/// points of the drawn columns inside it; ties go in the order upper right, upper left,
+/// lower right, lower left.
+fn quiet_corner(
+    rows: &[Vec<f64>],
+    cols: &[usize],
+    (t0, t1): (f64, f64),
+    (lo, hi): (f64, f64),
+) -> SeriesLabelPosition {
+    let height = (0.1 * cols.len() as f64 + 0.05).min(0.9);
+    let width = 1.0 / 3.0;
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let mut counts = [0usize; 4];
+    for r in rows {
+        let x = (r[0] - t0) / (t1 - t0);
+        for &c in cols {
+            let y = (r[c] - lo) / (hi - lo);
+            if !y.is_finite() {
+                continue;
+            }
+            for (n, &(_, right, upper)) in corners.iter().enumerate() {
+                let in_x = if right { x >= 1.0 - width } else { x <= width };
+                let in_y = if upper {
+                    y >= 1.0 - height
+                } else {
+                    y <= height
+                };
+                counts[n] += (in_x && in_y) as usize;
+            }
+        }
+    }
+    let best = (0..4).min_by_key(|&n| counts[n]).unwrap_or(0);
+    corners[best].0.clone()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn corner_of(ys: impl Fn(f64) -> f64) -> SeriesLabelPosition {
+        let rows: Vec<Vec<f64>> = (0..=100)
+            .map(|k| {
+                let t = k as f64 / 100.0;
+                vec![t, ys(t)]
+            })
+            .collect();
+        quiet_corner(&rows, &[1], (0.0, 1.0), (0.0, 1.0))
+    }
+
+    #[test]
+    fn the_legend_goes_where_the_curve_is_not() {
+        let name = |p: SeriesLabelPosition| format!("{p:?}");
+        // A rising line leaves the upper left and the lower right empty.
+        assert_eq!(name(corner_of(|t| t)), name(SeriesLabelPosition::UpperLeft));
+        // A curve high on the left and falling leaves the upper right empty.
+        assert_eq!(
+            name(corner_of(|t| 1.0 - t)),
+            name(SeriesLabelPosition::UpperRight)
+        );
+        // A curve along the top leaves the lower corners: lower right first.
+        assert_eq!(
+            name(corner_of(|_| 0.98)),
+            name(SeriesLabelPosition::LowerRight)
+        );
+    }
 }
