@@ -99,6 +99,11 @@ pub struct Newmark {
     /// third iteration).
     last_first: f64,
     last_rate: f64,
+    /// The contraction right after the last fresh factorization: what refactoring can
+    /// achieve. About 1e-5 (Newton is quadratic) unless forces read accelerations or
+    /// reactions, whose loop Newton does not differentiate: then refactoring cannot beat
+    /// the loop's gain, and is not tried for it.
+    fresh_rate: f64,
 }
 
 impl Newmark {
@@ -145,6 +150,7 @@ impl Newmark {
             a_phys0: DVec::zeros(0),
             last_first: 0.0,
             last_rate: 0.0,
+            fresh_rate: 0.0,
         }
     }
 
@@ -259,7 +265,8 @@ impl Newmark {
             // stay below the tolerance (norm 1); ρ grows as the factorization ages (about
             // √2 a step on a swinging chain), hence the margin. A refactor costs about
             // one and a half iterations, and a fresh matrix converges in two.
-            let third_likely = self.last_first * self.last_rate.powi(2) > PROACTIVE_REFACTOR;
+            let third_likely = self.last_first * self.last_rate.powi(2) > PROACTIVE_REFACTOR
+                && self.last_rate > 2.0 * self.fresh_rate;
             if !(0.8..=1.25).contains(&(h / fh))
                 || d.factor_generation != self.generation
                 || third_likely
@@ -280,6 +287,8 @@ impl Newmark {
             self.res = DVec::zeros(n);
         }
         let mut fresh_tries = 0;
+        // The iteration that factored afresh, if one did in this step.
+        let mut fresh_at = None;
         let mut first = 0.0;
         let tightest = tol.iter().fold(f64::INFINITY, |x, &y| x.min(y));
         let mut iter = 0;
@@ -302,6 +311,7 @@ impl Newmark {
             if refactor {
                 d.stats.jacobian_evaluations += 1;
                 d.factor(self.weights(h), &lambda)?;
+                fresh_at = Some(iter);
                 self.factored_h = Some(h);
                 self.generation = d.factor_generation;
             } else {
@@ -384,7 +394,11 @@ impl Newmark {
             // Slow or diverging with an old factorization: refactor here and go on.
             prev_norm = norm;
             // A contraction worse than this leaves too many iterations to the tolerance.
-            if rate > 0.15 && iter > 1 && !refactor && fresh_tries < 2 {
+            if fresh_at == Some(iter - 1) {
+                self.fresh_rate = rate;
+            }
+            if rate > 0.15f64.max(2.0 * self.fresh_rate) && iter > 1 && !refactor && fresh_tries < 2
+            {
                 self.factored_h = None;
                 fresh_tries += 1;
             } else if rate > 2.0 && iter > 2 {
