@@ -16,6 +16,7 @@ pub mod elements;
 pub mod expressions;
 pub mod frames;
 mod inertia;
+pub mod integrator_settings;
 pub mod keywords;
 mod lines;
 mod read_bodies;
