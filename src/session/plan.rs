@@ -4,10 +4,13 @@
 //! [`Settings`]. [`Plan::integrator`] is the one place a scheme becomes an integrator:
 //! the BDF statements (GSTIFF, WSTIFF, CONSTANT_BDF, HASTIFF) keep their family, KMAX and
 //! formulation in [`Scheme::Bdf`] and run HHT until mbfx has a BDF integrator.
+//! [`segments`] turns a command file's INTEGRATOR and SIMULATE commands into the run's
+//! segments.
 
-use super::run::{Method, RunSpec};
+use super::run::{Method, RunSpec, Segment};
 use crate::mbd::dynamics::integrator::{Integrator, Settings};
 use crate::mbd::dynamics::newmark::{self, Newmark};
+use crate::model::commands::Step;
 use crate::model::integrator_settings::{
     Family, Formulation, IntegratorStatement, NEWMARK_BETA, NEWMARK_GAMMA,
 };
@@ -108,6 +111,29 @@ impl Plan {
             ),
         }
     }
+}
+
+/// The segments of a command file's `steps`: each SIMULATE runs under the dataset's
+/// INTEGRATOR statement with every INTEGRATOR command before it put over it.
+pub fn segments(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Vec<Segment> {
+    let mut current = dataset.cloned();
+    let mut out = Vec::new();
+    for step in steps {
+        match step {
+            Step::Integrator(s) => {
+                current = Some(match current {
+                    Some(c) => c.merged(s),
+                    None => s.clone(),
+                });
+            }
+            Step::Simulate(sim) => out.push(Segment {
+                end: sim.end,
+                output_step: sim.output_step,
+                integrator: current.clone(),
+            }),
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -211,5 +237,22 @@ mod tests {
         let (i, note) = p.integrator();
         assert_eq!(i.name(), "hht");
         assert!(note.is_some_and(|n| n.contains("GSTIFF")));
+    }
+
+    #[test]
+    fn integrator_commands_apply_to_the_simulations_after_them() {
+        let f = crate::model::commands::read_commands(
+            "m.adm\nout\nsim/dyn, end=1, dtout=0.1\nint/hht, err=1e-6\nsim/dyn, end=2, steps=5\n",
+        );
+        let dataset = statement("GSTIFF, HMAX = 1e-3");
+        let segs = segments(Some(&dataset), &f.steps);
+        assert_eq!(segs.len(), 2);
+        assert_eq!((segs[1].end, segs[1].output_step), (2.0, 0.2));
+        let first = segs[0].integrator.as_ref().expect("the dataset's");
+        assert_eq!(first.family.as_ref().map(|f| f.value), Some(Family::Gstiff));
+        let second = segs[1].integrator.as_ref().expect("merged");
+        assert_eq!(second.family.as_ref().map(|f| f.value), Some(Family::Hht));
+        assert_eq!(second.error.as_ref().map(|e| e.value), Some(1e-6));
+        assert_eq!(second.hmax.as_ref().map(|e| e.value), Some(1e-3));
     }
 }
