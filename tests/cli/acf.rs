@@ -107,24 +107,13 @@ fn corpus() -> PathBuf {
 
 /// Every `.acf` file below `dir`, relative to it, sorted.
 fn acf_files(dir: &Path) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display())) {
-            let path = e.expect("directory entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path
-                .extension()
-                .is_some_and(|x| x.eq_ignore_ascii_case("acf"))
-            {
-                let rel = path.strip_prefix(dir).expect("below the corpus");
-                out.push(rel.to_string_lossy().replace('\\', "/"));
-            }
-        }
-    }
-    out.sort();
-    out
+    super::common::files_with_extension(dir, "acf")
+        .iter()
+        .map(|p| {
+            let rel = p.strip_prefix(dir).expect("below the corpus");
+            rel.to_string_lossy().replace('\\', "/")
+        })
+        .collect()
 }
 
 fn run_acf(path: &Path, extra: &[&str]) -> (Run, PathBuf) {
