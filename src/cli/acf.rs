@@ -128,7 +128,7 @@ fn merged(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Option<Integ
         .iter()
         .fold(dataset.cloned(), |acc, s| match (acc, s) {
             (Some(a), Step::Integrator(s)) => Some(a.merged(s)),
-            (None, Step::Integrator(s)) => Some(s.clone()),
+            (None, Step::Integrator(s)) => Some((**s).clone()),
             (acc, Step::Simulate(_)) => acc,
         })
 }

@@ -1,6 +1,6 @@
 //! The command-file (`.acf`) reader: what `mbfx run ANALYSIS.acf` runs. An Adams command
 //! file starts with a header, then holds commands, one per line or continued with `&`
-//! ([`super::command_lines`]), until `STOP`:
+//! (`command_lines`), until `STOP`:
 //!
 //! - line 1 names the dataset (`test_Revolute_Case01.adm`, or `Test02_ADAMS`, to which
 //!   `.adm` is added) and line 2 the base name of Adams' output files; or line 1 is blank
@@ -29,7 +29,7 @@ use crate::diag::{has_errors, Code, Diagnostic, Span};
 #[derive(Clone, Debug, PartialEq)]
 pub enum Step {
     /// An INTEGRATOR command: it changes what it names for the SIMULATE commands after it.
-    Integrator(IntegratorStatement),
+    Integrator(Box<IntegratorStatement>),
     /// A stretch of dynamics.
     Simulate(Simulate),
 }
@@ -356,7 +356,7 @@ impl Reader {
             Kind::File => self.file_command(&mut a),
             Kind::Integrator => {
                 let s = read_integrator(&mut a);
-                self.file.steps.push(Step::Integrator(s));
+                self.file.steps.push(Step::Integrator(Box::new(s)));
             }
             Kind::Simulate => self.simulate(&mut a),
             Kind::Ignored(why) => {

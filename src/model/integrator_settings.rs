@@ -120,7 +120,7 @@ const FORMULATIONS: [(&str, usize, Formulation); 3] = [
 ];
 
 /// Reads the arguments of an INTEGRATOR statement or command; errors and warnings go to
-/// `a.diags` (unknown arguments are left for [`Args::finish`] to report).
+/// `a.diags` (unknown arguments are left for `Args::finish` to report).
 pub fn read_integrator(a: &mut Args) -> IntegratorStatement {
     let mut s = IntegratorStatement {
         family: flag_choice(a, &FAMILIES),

@@ -123,7 +123,7 @@ pub fn segments(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Vec<Se
             Step::Integrator(s) => {
                 current = Some(match current {
                     Some(c) => c.merged(s),
-                    None => s.clone(),
+                    None => (**s).clone(),
                 });
             }
             Step::Simulate(sim) => out.push(Segment {
