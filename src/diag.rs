@@ -103,6 +103,9 @@ pub enum Code {
     ImplausibleInertia,
     /// More errors than are worth showing for one expression.
     TooManyErrors,
+    /// A command-file (`.acf`) command mbfx cannot carry out: it changes the model during
+    /// the run or asks for an analysis mbfx does not have. The run does not start.
+    UnsupportedCommand,
     /// A model whose constraints cannot all be satisfied at assembly.
     Assembly,
     /// Constraints that contradict each other (conflicting, not redundant).
@@ -161,6 +164,7 @@ impl Code {
             NonFiniteNumber => "E0607",
             MassProperties => "E0608",
             ImplausibleInertia => "W0609",
+            UnsupportedCommand => "E0610",
             TooManyErrors => "E0207",
             Assembly => "E0701",
             Conflicting => "E0702",

@@ -6,6 +6,10 @@
 
 mod common;
 
+/// `mbfx run ANALYSIS.acf`.
+#[path = "cli/acf.rs"]
+mod acf;
+
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

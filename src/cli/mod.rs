@@ -6,6 +6,7 @@
 //! outcome becomes the exit code in one place ([`output::finish`]), so no write can
 //! panic and a closed pipe ends the program quietly.
 
+mod acf;
 mod check_file;
 mod eval;
 pub mod output;
@@ -101,7 +102,8 @@ enum Command {
     Eval(eval::EvalArgs),
     /// Check a file of expressions (one per line) or an .adm dataset.
     Check(check_file::CheckArgs),
-    /// Simulate a dataset: CSV of probes and requests over time, a summary, a plot.
+    /// Simulate a dataset (or an Adams command file naming one): CSV of probes and
+    /// requests over time, a summary, a plot.
     Run(Box<run::RunArgs>),
     /// Interactive evaluation.
     Repl,

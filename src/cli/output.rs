@@ -127,6 +127,12 @@ impl<'a> Output<'a> {
         &mut self.err
     }
 
+    /// Standard output and standard error at once (a run writes its CSV to one and its
+    /// step table to the other).
+    pub fn both(&mut self) -> (&mut dyn Write, &mut dyn Write) {
+        (&mut self.out, &mut self.err)
+    }
+
     /// Renders diagnostics about `source` to standard error.
     pub fn diagnostics(&mut self, diags: &[Diagnostic], source: &SourceFile) -> io::Result<()> {
         if diags.is_empty() {

@@ -1,9 +1,10 @@
-//! `mbfx run MODEL.adm --end T …`: simulates a dataset ([`crate::session::run`]) and
-//! writes the output rows as CSV (header `time`, the probes in the order given, then the
+//! `mbfx run MODEL.adm --end T …` and `mbfx run ANALYSIS.acf` ([`super::acf`]): simulates
+//! a dataset ([`crate::session::run`]) and writes the output rows as CSV (header `time`, the probes in the order given, then the
 //! REQUEST components; numbers as `{:?}` prints an f64), a progress bar on stderr when
 //! it is a terminal, a summary at the end, and `--plot` draws the columns against time.
-//! A failure is a diagnostic at the statement of the element it names, with the time and
-//! the cause; the rows before it are written; the exit code is 1.
+//! `--verbose` adds an Adams-like step table on stderr at each output time. A failure is
+//! a diagnostic at the statement of the element it names, with the time and the cause;
+//! the rows before it are written; the exit code is 1.
 
 use super::output::{Named, Output, Stop};
 use super::Dim;
@@ -12,7 +13,7 @@ use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;
 use crate::session::files::read_dataset;
-use crate::session::run::{Method, RunFailure, RunSpec, Simulation, Summary};
+use crate::session::run::{Method, RunFailure, RunSpec, Segment, Simulation, Summary, TableRow};
 use crate::session::{report, DimRequest};
 use std::io::Write;
 use std::path::PathBuf;
@@ -24,16 +25,20 @@ pub enum IntegratorArg {
     Hht,
     /// Generalized-α on the index-3 DAE (ρ∞ 0.9 unless --rho-inf, as Exudyn).
     Galpha,
+    /// Plain Newmark (the dataset's BETA and GAMMA, else 0.36 and 0.7), error-controlled.
+    Newmark,
 }
 
 #[derive(clap::Args)]
 pub struct RunArgs {
-    /// The dataset (.adm).
+    /// The dataset (.adm), or an Adams command file (.acf) naming one.
     model: PathBuf,
-    /// End time.
+    /// End time [required for a dataset; for a command file, it replaces its SIMULATE
+    /// commands].
     #[arg(long)]
-    end: f64,
-    /// Output step DT: one row at every k·DT and at the end time [default: END/100].
+    end: Option<f64>,
+    /// Output step DT: one row at every k·DT and at the end time [default: the command
+    /// file's DTOUT, else END/100].
     #[arg(long = "output-step", value_name = "DT")]
     output_step: Option<f64>,
     /// The integrator [default: the dataset's INTEGRATOR, else hht].
@@ -75,6 +80,10 @@ pub struct RunArgs {
     /// Draw the probes (or the request columns) against time: FILE.svg or FILE.png.
     #[arg(long, value_name = "FILE")]
     plot: Option<PathBuf>,
+    /// Print a step table on stderr at each output time (time, step size, cumulative
+    /// steps, Newton iterations, integration order, CPU time), as Adams does.
+    #[arg(long, short)]
+    verbose: bool,
 }
 
 fn command_line_error(msg: String, o: &mut Output) -> Result<i32, Stop> {
@@ -102,14 +111,13 @@ fn code_of(e: &DynError) -> Code {
 }
 
 pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
-    let dt = a.output_step.unwrap_or(a.end / 100.0);
-    if !(a.end.is_finite() && a.end > 0.0) {
-        return command_line_error(format!("--end {} must be a positive time", a.end), o);
-    }
-    if !(dt.is_finite() && dt > 0.0) {
-        return command_line_error(format!("--output-step {dt} must be a positive time"), o);
+    if let Some(end) = a.end {
+        if !(end.is_finite() && end > 0.0) {
+            return command_line_error(format!("--end {end} must be a positive time"), o);
+        }
     }
     for (name, x) in [
+        ("--output-step", a.output_step),
         ("--error", a.error),
         ("--hmax", a.hmax),
         ("--hinit", a.hinit),
@@ -132,6 +140,32 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
             return command_line_error(format!("--rho-inf {rho} must lie in [0, 1]"), o);
         }
     }
+    // A command file names the dataset and says how long to run; a dataset needs --end.
+    let commands = if super::acf::is_command_file(&a.model) {
+        Some(super::acf::read(&a.model, o)?)
+    } else if a.end.is_none() {
+        return command_line_error(
+            format!(
+                "--end is required to run a dataset ({}); a command file (.acf) may give it instead",
+                a.model.display()
+            ),
+            o,
+        );
+    } else {
+        None
+    };
+    if let Some(c) = commands.as_ref().filter(|_| a.end.is_none()) {
+        if c.file.simulations().next().is_none() {
+            let msg =
+                "the command file has no SIMULATE/DYNAMIC command: give --end (and --output-step)";
+            let d = Diagnostic::error(Code::MissingArgument, 0..0, msg);
+            o.diagnostics(&[d], &c.source)?;
+            return Err(Stop::Failed);
+        }
+    }
+    let model_path = commands
+        .as_ref()
+        .map_or(a.model.clone(), |c| c.model.clone());
     let mut probes = Vec::new();
     for p in &a.probes {
         match p.split_once('=') {
@@ -146,18 +180,20 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
             }
         }
     }
-    let name = a.model.display().to_string();
-    let (text, warnings) = match read_dataset(&a.model) {
+    let name = model_path.display().to_string();
+    let (text, warnings) = match read_dataset(&model_path) {
         Ok(t) => t,
         Err(u) => {
             o.diagnostics(&[u.diagnostic], &u.source)?;
             return Err(Stop::Failed);
         }
     };
-    let mut spec = RunSpec::new(a.end, dt);
+    // Replaced by the segments' own end and output step below.
+    let mut spec = RunSpec::new(a.end.unwrap_or(1.0), a.output_step.unwrap_or(1.0));
     spec.method = a.integrator.map(|m| match m {
         IntegratorArg::Hht => Method::Hht,
         IntegratorArg::Galpha => Method::Galpha,
+        IntegratorArg::Newmark => Method::Newmark,
     });
     (spec.error, spec.hmax, spec.hinit, spec.hmin) = (a.error, a.hmax, a.hinit, a.hmin);
     (spec.fixed_step, spec.alpha, spec.rho_inf) = (a.fixed_step, a.alpha, a.rho_inf);
@@ -201,6 +237,31 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     if a.dim.is_none() && sim.spec.dim == DimRequest::Auto {
         writeln!(o.err(), "{}", sim.dynamics.sys.dim_reason)?;
     }
+    let dataset_integrator = sim.read.model.integrator.clone();
+    if let Some(i) = &dataset_integrator {
+        o.diagnostics(&i.warnings, &source)?;
+    }
+    let segments = match &commands {
+        None => {
+            let end = a.end.unwrap_or_default();
+            vec![Segment {
+                end,
+                output_step: a.output_step.unwrap_or(end / 100.0),
+                integrator: dataset_integrator,
+            }]
+        }
+        Some(c) => {
+            match super::acf::segments(&c.file, dataset_integrator.as_ref(), a.end, a.output_step) {
+                Ok(s) => s,
+                Err(msg) => {
+                    let d = Diagnostic::error(Code::MissingArgument, 0..0, msg);
+                    o.diagnostics(&[d], &c.source)?;
+                    return Err(Stop::Failed);
+                }
+            }
+        }
+    };
+    let end = segments.last().map_or(0.0, |s| s.end);
     let header = sim.header();
     let mut file = match a.csv.as_deref() {
         None | Some("-") => None,
@@ -210,13 +271,33 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         },
     };
     let (mut rows, keep_rows) = (Vec::new(), a.plot.is_some());
-    let progress = super::progress::Progress::new(a.end);
+    let progress = super::progress::Progress::new(end);
     // The first write error: a closed pipe ends the run quietly, others fail it.
     let mut io_error: Option<std::io::Error> = None;
     let (summary, failed) = {
+        let (stdout, stderr) = o.both();
         let writer: &mut dyn Write = match &mut file {
             Some(f) => f,
-            None => o.out(),
+            None => stdout,
+        };
+        // The step table's write errors end the run the way the CSV's do.
+        let mut table_error: Option<std::io::Error> = None;
+        if a.verbose {
+            if let Err(e) = stderr.write_all(TABLE_HEADER.as_bytes()) {
+                table_error = Some(e);
+            }
+        }
+        let mut table_row = |r: &TableRow| {
+            if table_error.is_none() {
+                if let Err(e) = stderr.write_all(table_line(r).as_bytes()) {
+                    table_error = Some(e);
+                }
+            }
+        };
+        let table: Option<&mut dyn FnMut(&TableRow)> = if a.verbose {
+            Some(&mut table_row)
+        } else {
+            None
         };
         let mut csv = csv::Writer::from_writer(writer);
         let result = match csv.write_record(&header) {
@@ -225,23 +306,30 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
                 (None, None)
             }
             Ok(()) => {
-                let (s, f) = sim.run(&mut |row| {
-                    progress.at(row[0]);
-                    if keep_rows {
-                        rows.push(row.to_vec());
-                    }
-                    let w = csv.write_record(row.iter().map(|x| format!("{x:?}")));
-                    w.map_err(|e| {
-                        let e = std::io::Error::from(e);
-                        let copy = std::io::Error::new(e.kind(), e.to_string());
-                        io_error.get_or_insert(e);
-                        copy
-                    })
-                });
+                let (s, f) = sim.run_segments(
+                    &segments,
+                    &mut |row| {
+                        progress.at(row[0]);
+                        if keep_rows {
+                            rows.push(row.to_vec());
+                        }
+                        let w = csv.write_record(row.iter().map(|x| format!("{x:?}")));
+                        w.map_err(|e| {
+                            let e = std::io::Error::from(e);
+                            let copy = std::io::Error::new(e.kind(), e.to_string());
+                            io_error.get_or_insert(e);
+                            copy
+                        })
+                    },
+                    table,
+                );
                 (Some(s), f)
             }
         };
         if let Err(e) = csv.flush() {
+            io_error.get_or_insert(e);
+        }
+        if let Some(e) = table_error {
             io_error.get_or_insert(e);
         }
         result
@@ -255,8 +343,14 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     if let Some(e) = io_error {
         return Err(Stop::Io(e));
     }
-    if let Some(s) = &summary {
-        write!(o.err(), "{}", summary_text(s))?;
+    if let Some(mut s) = summary {
+        if let Some(out) = commands.as_ref().and_then(|c| c.file.output.as_ref()) {
+            s.notes.push(format!(
+                "the command file's output files ({}.req, .res, …) are not written; the CSV goes to --csv (standard output by default)",
+                out.value
+            ));
+        }
+        write!(o.err(), "{}", summary_text(&s))?;
     }
     if let (Some(path), false) = (&a.plot, rows.is_empty()) {
         if let Err(e) = super::plot::draw(path, &header, &rows, probes.len()) {
@@ -289,6 +383,36 @@ fn report_failure(
     o.diagnostics(&[d], source)
 }
 
+/// The step table's header (`mbfx run --verbose`), Adams' columns without the function
+/// evaluations.
+const TABLE_HEADER: &str = "   Simulation       Step    Cumulative     Newton  Integration        CPU\n         Time       Size         Steps Iterations        Order   time (s)\n";
+
+/// One line of the step table.
+fn table_line(r: &TableRow) -> String {
+    let order = r.order.map_or("-".to_string(), |k| k.to_string());
+    format!(
+        "{:>13} {:>10} {:>13} {:>10} {:>12} {:>10.3}\n",
+        fortran_e(r.time, 6),
+        fortran_e(r.step, 3),
+        r.steps,
+        r.newton_iterations,
+        order,
+        r.cpu_seconds
+    )
+}
+
+/// `x` as Adams prints reals: `1.000000E-02` (a sign and two exponent digits at least).
+fn fortran_e(x: f64, digits: usize) -> String {
+    let s = format!("{x:.digits$E}");
+    match s.split_once('E') {
+        Some((m, e)) => {
+            let (sign, e) = e.strip_prefix('-').map_or(("+", e), |e| ("-", e));
+            format!("{m}E{sign}{e:0>2}")
+        }
+        None => s,
+    }
+}
+
 /// The end-of-run summary.
 pub fn summary_text(s: &Summary) -> String {
     let st = &s.stats;
@@ -319,4 +443,14 @@ pub fn summary_text(s: &Summary) -> String {
         out += &format!("note: {n}\n");
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn reals_print_as_adams_prints_them() {
+        assert_eq!(super::fortran_e(0.01, 6), "1.000000E-02");
+        assert_eq!(super::fortran_e(5.0, 3), "5.000E+00");
+        assert_eq!(super::fortran_e(-1.5e-123, 2), "-1.50E-123");
+    }
 }

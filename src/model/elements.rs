@@ -52,6 +52,8 @@ pub struct Model {
     pub requests: Vec<Request>,
     /// INTEGRATOR, OUTPUT, RESULTS and similar settings statements, kept as written.
     pub settings: Vec<Setting>,
+    /// The INTEGRATOR statement, typed (several merge in file order).
+    pub integrator: Option<super::integrator_settings::IntegratorStatement>,
     /// The measure every expression slot reads (index = slot of [`crate::ir::Inst::Measure`]).
     pub measures: Vec<MeasureSlot>,
 }

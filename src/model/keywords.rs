@@ -89,6 +89,9 @@ pub const TEXT_ARGUMENTS: &[(&str, Keyword)] = &[
     ("MREQUEST", Keyword::new("COMMENT", 1)),
     ("RESULTS", Keyword::new("COMMENT", 4)),
     ("STRING", Keyword::new("STRING", 3)),
+    // Command files (`.acf`): `file/model=C:\Users\…\test` is a path, `\` and all.
+    ("FILE", Keyword::new("MODEL", 1)),
+    ("FILE", Keyword::new("COMMAND", 1)),
 ];
 
 /// True when argument `name` of a statement `canonical` holds free text.

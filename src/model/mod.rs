@@ -9,13 +9,19 @@
 //! constraints, forces, data, outputs) from the statements, checking references and
 //! lowering every expression with the model as its [`scope`]; [`report`] formats what
 //! `mbfx check` prints about a model.
+//!
+//! Beside them: [`commands`] reads an Adams command file (`.acf`) with the same statement
+//! parser, and [`integrator_settings`] types the INTEGRATOR statement for both.
 
 mod args;
+mod command_lines;
+pub mod commands;
 mod cursor;
 pub mod elements;
 pub mod expressions;
 pub mod frames;
 mod inertia;
+pub mod integrator_settings;
 pub mod keywords;
 mod lines;
 mod read_bodies;

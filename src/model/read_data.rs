@@ -161,10 +161,32 @@ pub fn request(r: &mut Reader, a: &mut Args) {
 
 /// A settings statement, its arguments kept as written.
 pub fn setting(r: &mut Reader, a: &mut Args) {
+    for arg in &a.stmt.args {
+        a.find(&arg.name, arg.name.len());
+    }
+    keep_setting(r, a);
+}
+
+/// INTEGRATOR: typed ([`super::integrator_settings`]), and kept as written for the
+/// report. A second statement overrides what it writes, as a command would.
+pub fn integrator(r: &mut Reader, a: &mut Args) {
+    let typed = super::integrator_settings::read_integrator(a);
+    r.model.integrator = Some(match r.model.integrator.take() {
+        Some(first) => {
+            let mut m = first.merged(&typed);
+            m.warnings = first.warnings.into_iter().chain(typed.warnings).collect();
+            m
+        }
+        None => typed,
+    });
+    keep_setting(r, a);
+}
+
+/// Records a settings statement's arguments as written.
+fn keep_setting(r: &mut Reader, a: &Args) {
     let stmt = a.stmt;
     let mut args = Vec::with_capacity(stmt.args.len());
     for arg in &stmt.args {
-        a.find(&arg.name, arg.name.len());
         let value = match &arg.value {
             ArgValue::Flag => String::new(),
             _ => {

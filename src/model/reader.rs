@@ -210,7 +210,8 @@ impl<'a> Reader<'a> {
             "SPLINE" => read_data::spline(self, &mut a),
             "ARRAY" => read_data::array(self, &mut a),
             "REQUEST" => read_data::request(self, &mut a),
-            "OUTPUT" | "RESULTS" | "INTEGRATOR" | "EQUILIBRIUM" | "KINEMATICS" | "IC" => {
+            "INTEGRATOR" => read_data::integrator(self, &mut a),
+            "OUTPUT" | "RESULTS" | "EQUILIBRIUM" | "KINEMATICS" | "IC" => {
                 read_data::setting(self, &mut a)
             }
             "END" => {}

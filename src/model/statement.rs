@@ -329,7 +329,7 @@ fn parse_statement(
 }
 
 /// Reads the integer id after `KEYWORD/` and checks that a separator follows it.
-fn read_id(c: &mut Cursor, stmt: &mut Statement, diags: &mut Vec<Diagnostic>) {
+pub(super) fn read_id(c: &mut Cursor, stmt: &mut Statement, diags: &mut Vec<Diagnostic>) {
     let start = c.pos;
     while c
         .peek()

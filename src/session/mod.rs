@@ -23,12 +23,14 @@
 //!
 //! Beside it: [`files`] reads input files as text, [`loaded`] keeps a dataset loaded for
 //! questions, [`evaluate`] takes one expression from text to value (`mbfx eval` and the
-//! REPL) and [`run`] simulates a dataset (`mbfx run`).
+//! REPL), [`run`] simulates a dataset (`mbfx run`) and [`plan`] decides which integrator and
+//! settings each stretch of a run gets.
 
 pub mod evaluate;
 pub mod files;
 pub mod lifted;
 pub mod loaded;
+pub mod plan;
 pub mod report;
 pub mod run;
 

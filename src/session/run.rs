@@ -6,17 +6,18 @@
 //! in one batch by the chosen engine; interpreter and JIT give the same bits.
 
 use super::lifted::Lifted;
+use super::plan::Plan;
 use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
 use crate::mbd::compiled::OutputFn;
-use crate::mbd::dynamics::integrator::{simulate, Integrator, Settings};
-use crate::mbd::dynamics::newmark::Newmark;
+use crate::mbd::dynamics::integrator::simulate;
 use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::model::elements::{Expr, RequestKind};
+use crate::model::integrator_settings::IntegratorStatement;
 use crate::model::{read_model, ModelRead};
 use std::time::Instant;
 
@@ -35,6 +36,31 @@ pub enum Method {
     Hht,
     /// Generalized-α with ρ∞ (default 0.9, as Exudyn).
     Galpha,
+    /// Plain Newmark with the INTEGRATOR statement's BETA and GAMMA (default 0.36, 0.7).
+    Newmark,
+}
+
+/// One stretch of a run (a `SIMULATE/DYNAMIC` command of a command file): from where the
+/// last one stopped to `end`, a row every `output_step` from its start and one at `end`,
+/// under the INTEGRATOR statement `integrator` (None: Adams' defaults).
+#[derive(Clone, Debug)]
+pub struct Segment {
+    pub end: f64,
+    pub output_step: f64,
+    pub integrator: Option<IntegratorStatement>,
+}
+
+/// One line of the step table `mbfx run --verbose` prints at each output time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableRow {
+    pub time: f64,
+    /// The last accepted step (0 before the first).
+    pub step: f64,
+    pub steps: usize,
+    pub newton_iterations: usize,
+    /// The integrator's order on its last step, when it has one.
+    pub order: Option<u32>,
+    pub cpu_seconds: f64,
 }
 
 /// What to run.
@@ -393,57 +419,6 @@ impl Outputs {
 }
 
 impl Simulation {
-    /// The integrator and settings: the command line's, else the dataset's INTEGRATOR
-    /// statement, else Adams' defaults (with HHT standing in for GSTIFF).
-    fn integrator(&mut self) -> (Box<dyn Integrator>, Settings) {
-        let mut s = Settings::for_output_step(self.spec.output_step);
-        let mut method = None;
-        let mut alpha = -0.3;
-        for set in self
-            .read
-            .model
-            .settings
-            .iter()
-            .filter(|s| s.statement == "INTEGRATOR")
-        {
-            for (k, v) in &set.args {
-                let num = v.trim().parse::<f64>().ok();
-                match (k.as_str(), num) {
-                    ("HHT", _) => method = Some(Method::Hht),
-                    ("GSTIFF" | "WSTIFF" | "SI2" | "I3", _) => self.notes.push(format!(
-                        "INTEGRATOR/{k}: GSTIFF and its formulations arrive with dynamics part 2; HHT runs instead"
-                    )),
-                    ("ERROR", Some(x)) => s.error = x,
-                    ("HMAX", Some(x)) => s.hmax = x,
-                    ("HINIT", Some(x)) => s.hinit = x,
-                    ("HMIN", Some(x)) => s.hmin = x,
-                    ("MAXIT", Some(x)) if x >= 1.0 => s.maxit = x as usize,
-                    ("ALPHA", Some(x)) => alpha = x,
-                    (k, _) => self.notes.push(format!("INTEGRATOR: {k} is not honoured")),
-                }
-            }
-        }
-        let sp = &self.spec;
-        s.error = sp.error.unwrap_or(s.error);
-        s.hmax = sp.hmax.unwrap_or(s.hmax).min(sp.output_step);
-        s.hinit = sp.hinit.unwrap_or(s.hinit).min(s.hmax);
-        s.hmin = sp.hmin.unwrap_or(s.hmin);
-        s.fixed_step = sp.fixed_step;
-        alpha = sp.alpha.unwrap_or(alpha);
-        if !(-1.0 / 3.0..=0.0).contains(&alpha) {
-            let clamped = alpha.clamp(-1.0 / 3.0, 0.0);
-            self.notes.push(format!(
-                "INTEGRATOR ALPHA = {alpha} is outside [-1/3, 0]; HHT runs with {clamped}"
-            ));
-            alpha = clamped;
-        }
-        let integrator: Box<dyn Integrator> = match sp.method.or(method).unwrap_or(Method::Hht) {
-            Method::Hht => Box::new(Newmark::hht(alpha)),
-            Method::Galpha => Box::new(Newmark::generalized_alpha(sp.rho_inf.unwrap_or(0.9))),
-        };
-        (integrator, s)
-    }
-
     /// Kinetic plus gravitational potential energy (model units, /UCF).
     fn energy(&self) -> f64 {
         let sys = &self.dynamics.sys;
@@ -467,32 +442,79 @@ impl Simulation {
         &mut self,
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
     ) -> (Summary, Option<DynError>) {
+        let segment = Segment {
+            end: self.spec.end,
+            output_step: self.spec.output_step,
+            integrator: self.read.model.integrator.clone(),
+        };
+        self.run_segments(&[segment], out, None)
+    }
+
+    /// Runs the segments one after the other from t = 0, handing each output row to
+    /// `out` (the first at t = 0, none twice where two segments meet) and, when `table`
+    /// is given, a step-table line at each. The integrator starts afresh at each segment
+    /// from the reconciled state where the last one ended, as Adams restarts at each
+    /// SIMULATE command. The command line's `spec` overrides each segment's statement.
+    pub fn run_segments(
+        &mut self,
+        segments: &[Segment],
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+        mut table: Option<&mut dyn FnMut(&TableRow)>,
+    ) -> (Summary, Option<DynError>) {
         let clock = Instant::now();
-        let (mut integrator, settings) = self.integrator();
-        let dt = self.spec.output_step;
-        let end = self.spec.end;
-        let count = (end / dt - 1e-9).ceil().max(0.0) as usize;
-        let times: Vec<f64> = (1..=count).map(|k| (k as f64 * dt).min(end)).collect();
         let e0 = self.conservative.then(|| self.energy());
         let mut max_residual: f64 = 0.0;
+        let mut name = "hht";
+        let mut notes = self.notes.clone();
         let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
-        let mut emit = |d: &mut Dynamics| -> Result<(), DynError> {
-            let last = d.sys.time >= end;
+        let mut emit = |d: &mut Dynamics, last: bool| -> Result<(), DynError> {
             let row = outputs.row(d, last)?;
             max_residual = max_residual.max(residual(d));
+            if let Some(table) = table.as_mut() {
+                table(&TableRow {
+                    time: d.sys.time,
+                    step: d.stats.last_step,
+                    steps: d.stats.steps,
+                    newton_iterations: d.stats.newton_iterations,
+                    order: d.stats.order,
+                    cpu_seconds: clock.elapsed().as_secs_f64(),
+                });
+            }
             out(&row).map_err(|e| DynError::Output(e.to_string()))
         };
-        let result = dynamics
+        let mut result = dynamics
             .solve_accelerations()
-            .and_then(|()| emit(dynamics))
-            .and_then(|()| simulate(dynamics, integrator.as_mut(), &settings, &times, &mut emit));
+            .and_then(|()| emit(dynamics, segments.is_empty()));
+        for seg in segments {
+            if result.is_err() {
+                break;
+            }
+            let plan = Plan::new(seg.integrator.as_ref(), &self.spec, seg.output_step);
+            let (mut integrator, note) = plan.integrator();
+            name = integrator.name();
+            if let Some(n) = note.filter(|n| !notes.contains(n)) {
+                notes.push(n);
+            }
+            let (t0, dt, end) = (dynamics.sys.time, seg.output_step, seg.end);
+            let count = ((end - t0) / dt - 1e-9).ceil().max(0.0) as usize;
+            let times: Vec<f64> = (1..=count).map(|k| (t0 + k as f64 * dt).min(end)).collect();
+            // Each segment's last row reconciles: the next segment starts from it.
+            let mut segment_emit = |d: &mut Dynamics| emit(d, d.sys.time >= end);
+            result = simulate(
+                dynamics,
+                integrator.as_mut(),
+                &plan.settings,
+                &times,
+                &mut segment_emit,
+            );
+        }
         let summary = Summary {
-            integrator: integrator.name(),
+            integrator: name,
             stats: self.dynamics.stats,
             cpu_seconds: clock.elapsed().as_secs_f64(),
             max_residual,
             energy: e0.map(|e| (e, self.energy())),
-            notes: self.notes.clone(),
+            notes,
             dim: self.dynamics.sys.dim_reason.clone(),
         };
         (summary, result.err())
@@ -590,6 +612,57 @@ mod tests {
                     (r[2] - f).abs() < 1e-4,
                     "{method:?} t = {t}: force {} vs {f}",
                     r[2]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn plain_newmark_follows_its_amplification_matrix() {
+        // Undamped x'' = −ω²x (ω = 10) in fixed steps h: Newmark's two-step recurrence
+        // x_{n+1} − 2A₁x_n + A₂x_{n−1} = 0, Ω = ωh, D = 1 + βΩ²,
+        // A₁ = 1 − Ω²(γ + ½)/(2D), A₂ = 1 − Ω²(γ − ½)/D (Hughes, The Finite Element
+        // Method, §9.1), so x_n = ρⁿ(x₀ cos nθ + c sin nθ) with ρ = √A₂,
+        // cos θ = A₁/ρ, and x₁ = x₀(1 − (½ − β)Ω²)/D from rest. β = ¼, γ = ½ keeps the
+        // amplitude (ρ = 1) and only lengthens the period; Adams' defaults damp.
+        let undamped = OSCILLATOR.replace("C = 4", "C = 0");
+        let probes = [("x".to_string(), "DX(20,10)".to_string())];
+        let h = 0.02;
+        for (beta, gamma) in [(0.25, 0.5), (0.36, 0.7)] {
+            let text = undamped.replace(
+                "END\n",
+                &format!("INTEGRATOR/NEWMARK, BETA = {beta}, GAMMA = {gamma}\nEND\n"),
+            );
+            let mut spec = RunSpec::new(2.0, h);
+            (spec.fixed_step, spec.error) = (Some(h), Some(1e-10));
+            let Ok(mut sim) = Simulation::new(&text, spec, &probes) else {
+                panic!("the oscillator builds");
+            };
+            let mut rows = Vec::new();
+            let (summary, failed) = sim.run(&mut |r| {
+                rows.push(r.to_vec());
+                Ok(())
+            });
+            assert!(failed.is_none(), "{failed:?}");
+            assert_eq!(summary.integrator, "newmark");
+            assert_eq!(summary.stats.order, Some(if gamma == 0.5 { 2 } else { 1 }));
+            let big_omega = 10.0 * h;
+            let d = 1.0 + beta * big_omega * big_omega;
+            let a1 = 1.0 - big_omega * big_omega * (gamma + 0.5) / (2.0 * d);
+            let a2 = 1.0 - big_omega * big_omega * (gamma - 0.5) / d;
+            let rho = a2.sqrt();
+            let theta = (a2 - a1 * a1).sqrt().atan2(a1);
+            let x0 = 0.2;
+            let x1 = x0 * (1.0 - (0.5 - beta) * big_omega * big_omega) / d;
+            let c = (x1 / rho - x0 * theta.cos()) / theta.sin();
+            assert_eq!(rows.len(), 101);
+            for (n, r) in rows.iter().enumerate() {
+                let nf = n as f64;
+                let x = rho.powf(nf) * (x0 * (nf * theta).cos() + c * (nf * theta).sin());
+                assert!(
+                    (r[1] - 1.0 - x).abs() < 1e-9,
+                    "β {beta} γ {gamma} step {n}: {} vs {x}",
+                    r[1] - 1.0
                 );
             }
         }

@@ -55,6 +55,11 @@ pub trait Integrator {
     fn name(&self) -> &'static str;
     /// The power of h in the local error estimate (3 for a second-order method).
     fn error_order(&self) -> f64;
+    /// The order of accuracy of the last step, for the step table of `mbfx run
+    /// --verbose` (Adams' "Integration Order" column); `None` when it has none to say.
+    fn order(&self) -> Option<u32> {
+        None
+    }
     /// Starts from the consistent state of `d` (accelerations and multipliers solved).
     fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError>;
     /// Tries a step of `h` from the last accepted state, leaving `d` at the candidate.
@@ -147,6 +152,7 @@ pub fn simulate(
                     d.stats.events += (verdict == Verdict::Accept { event: true }) as usize;
                     integrator.accept(d);
                     d.stats.steps += 1;
+                    (d.stats.last_step, d.stats.order) = (h, integrator.order());
                     d.check_dropped(drift_tol)?;
                     let mut measures = std::mem::take(&mut d.sys.measures);
                     measures.commit(&d.sys);

@@ -44,6 +44,10 @@ pub struct Stats {
     /// Force-law switches (contact on or off, clamp on or off) located by the step
     /// control ([`events`]).
     pub events: usize,
+    /// The size of the last accepted step, and the integrator's order on it (the step
+    /// table of `mbfx run --verbose`).
+    pub last_step: f64,
+    pub order: Option<u32>,
 }
 
 /// What a failure points at: an element, or a part (by Adams id).

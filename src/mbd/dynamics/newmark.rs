@@ -1,7 +1,7 @@
 //! The Newmark family on the index-3 DAE: Adams' HHT (Hilber–Hughes–Taylor, as Negrut et
-//! al. 2007 and Chrono's `ChTimestepperHHT` state it for index-3 constraints) and
+//! al. 2007 and Chrono's `ChTimestepperHHT` state it for index-3 constraints),
 //! generalized-α with algorithmic accelerations (Arnold & Brüls 2007, as Exudyn runs it,
-//! spec §6.3). Both update positions and velocities from an acceleration-like ã:
+//! spec §6.3) and Adams' plain NEWMARK (β, γ). All update positions and velocities from an acceleration-like ã:
 //!
 //! ```text
 //! q₁ = q₀ ⊕ (h·v₀ + h²·((½ − β)·ã₀ + β·ã₁)),   v₁ = v₀ + h·((1 − γ)·ã₀ + γ·ã₁)
@@ -19,6 +19,8 @@
 //! M₁·a₁ alone leaves angular velocities first-order accurate.
 //!
 //! HHT: ã = a, s = 1 + α, r = α, γ = ½ − α, β = (1 − α)²/4, α ∈ [−⅓, 0].
+//! Newmark: ã = a, s = 1, r = 0, β and γ as given (HHT with α = 0 when γ = ½, β = ¼);
+//! γ > ½ damps, and makes the method first-order accurate.
 //! Generalized-α: (1 − α_m)·ã₁ + α_m·ã₀ = (1 − α_f)·a₁ + α_f·a₀, s = 1, r = 0,
 //! c = (1 − α_f)/(1 − α_m), all four from ρ∞.
 //!
@@ -49,6 +51,8 @@ pub enum Method {
     Hht { alpha: f64 },
     /// Generalized-α with spectral radius ρ∞ ∈ [0, 1].
     GeneralizedAlpha { rho_inf: f64 },
+    /// Plain Newmark with β > 0, γ ≥ ½ (unconditionally stable for β ≥ γ/2).
+    Newmark { beta: f64, gamma: f64 },
 }
 
 /// An HHT or generalized-α integrator.
@@ -119,6 +123,7 @@ impl Newmark {
                 let g = 0.5 - am + af;
                 (am, af, g, 0.25 * (1.0 - am + af).powi(2), 1.0, 0.0)
             }
+            Method::Newmark { beta, gamma } => (0.0, 0.0, gamma, beta, 1.0, 0.0),
         };
         Newmark {
             method,
@@ -175,7 +180,7 @@ impl Newmark {
             self.at1 = DVec::zeros(a1.len());
         }
         match self.method {
-            Method::Hht { .. } => self.at1.copy_from(a1),
+            Method::Hht { .. } | Method::Newmark { .. } => self.at1.copy_from(a1),
             Method::GeneralizedAlpha { .. } => {
                 let (af, am) = (self.alpha_f, self.alpha_m);
                 for k in 0..a1.len() {
@@ -431,7 +436,17 @@ impl Integrator for Newmark {
         match self.method {
             Method::Hht { .. } => "hht",
             Method::GeneralizedAlpha { .. } => "galpha",
+            Method::Newmark { .. } => "newmark",
         }
+    }
+
+    fn order(&self) -> Option<u32> {
+        // HHT and generalized-α are second order by construction (γ = ½ − α, resp.
+        // ½ − α_m + α_f); a plain Newmark only with γ = ½.
+        Some(match self.method {
+            Method::Newmark { gamma, .. } if gamma != 0.5 => 1,
+            _ => 2,
+        })
     }
 
     fn error_order(&self) -> f64 {

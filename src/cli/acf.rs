@@ -1,0 +1,185 @@
+//! `mbfx run ANALYSIS.acf`: reads the command file ([`crate::model::commands`]), prints
+//! its diagnostics, finds the dataset it names (beside the command file unless the path
+//! is absolute, `.adm` added when the name has no extension) and turns its SIMULATE
+//! commands into the run's segments, or the command line's `--end` and `--output-step`
+//! when given. The run itself is `mbfx run`'s, in [`super::run`].
+
+use super::output::{Output, Stop};
+use crate::diag::{Code, Diagnostic, SourceFile};
+use crate::model::commands::{read_commands, CommandFile, Step};
+use crate::model::integrator_settings::IntegratorStatement;
+use crate::session::files::read_dataset;
+use crate::session::plan;
+use crate::session::run::Segment;
+use std::path::{Path, PathBuf};
+
+/// A command file read, and where its dataset is.
+pub struct Commands {
+    pub source: SourceFile,
+    pub file: CommandFile,
+    pub model: PathBuf,
+}
+
+/// True when `path` names a command file (`.acf`, any case).
+pub fn is_command_file(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("acf"))
+}
+
+/// `name` with `.adm` added when its last component (after `/` or `\`) has no extension.
+fn with_extension(name: &str) -> String {
+    let last = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    if last.contains('.') {
+        name.to_string()
+    } else {
+        format!("{name}.adm")
+    }
+}
+
+/// Reads the command file at `path` and prints its diagnostics; stops on errors.
+pub fn read(path: &Path, o: &mut Output) -> Result<Commands, Stop> {
+    let (text, warnings) = match read_dataset(path) {
+        Ok(t) => t,
+        Err(u) => {
+            o.diagnostics(&[u.diagnostic], &u.source)?;
+            return Err(Stop::Failed);
+        }
+    };
+    let source = SourceFile::new(path.display().to_string(), text);
+    let mut file = read_commands(&source.text);
+    file.diagnostics.splice(0..0, warnings);
+    o.diagnostics(&file.diagnostics, &source)?;
+    if file.has_errors() {
+        return Err(Stop::Failed);
+    }
+    let Some(name) = &file.model else {
+        let d = Diagnostic::error(Code::MissingArgument, 0..0, "the command file names no model")
+            .with_help("put the dataset's file name on line 1 (and the output name on line 2), or write FILE/MODEL = NAME");
+        o.diagnostics(&[d], &source)?;
+        return Err(Stop::Failed);
+    };
+    let written = PathBuf::from(with_extension(&name.value));
+    let model = match path.parent() {
+        Some(dir) if written.is_relative() => dir.join(&written),
+        _ => written,
+    };
+    if !model.is_file() {
+        let d = Diagnostic::error(
+            Code::Io,
+            name.span.clone(),
+            format!("the model {} does not exist", model.display()),
+        )
+        .with_help("the dataset's name is read relative to the command file's folder");
+        o.diagnostics(&[d], &source)?;
+        return Err(Stop::Failed);
+    }
+    Ok(Commands {
+        source,
+        file,
+        model,
+    })
+}
+
+/// The segments of the run: the command file's SIMULATE commands under the INTEGRATOR in
+/// force at each (the dataset's, then the file's commands), or one segment to `--end`
+/// when given (its output step `--output-step`, else the first SIMULATE's, else END/100);
+/// `--output-step` alone replaces every SIMULATE's. An error message when neither the
+/// file nor the command line says when to end.
+pub fn segments(
+    file: &CommandFile,
+    dataset: Option<&IntegratorStatement>,
+    end: Option<f64>,
+    output_step: Option<f64>,
+) -> Result<Vec<Segment>, String> {
+    let mut segments = plan::segments(dataset, &file.steps);
+    if let Some(end) = end {
+        // The INTEGRATOR in force at the first SIMULATE (or after every command).
+        let first = file
+            .steps
+            .iter()
+            .position(|s| matches!(s, Step::Simulate(_)))
+            .unwrap_or(file.steps.len());
+        let integrator = merged(dataset, &file.steps[..first]);
+        let dt = output_step
+            .or(segments.first().map(|s| s.output_step))
+            .unwrap_or(end / 100.0);
+        segments = vec![Segment {
+            end,
+            output_step: dt,
+            integrator,
+        }];
+    } else if let Some(dt) = output_step {
+        for s in &mut segments {
+            s.output_step = dt;
+        }
+    }
+    if segments.is_empty() {
+        return Err(
+            "the command file has no SIMULATE/DYNAMIC command: give --end (and --output-step)"
+                .into(),
+        );
+    }
+    Ok(segments)
+}
+
+/// The dataset's INTEGRATOR with the INTEGRATOR commands of `steps` put over it.
+fn merged(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Option<IntegratorStatement> {
+    steps
+        .iter()
+        .fold(dataset.cloned(), |acc, s| match (acc, s) {
+            (Some(a), Step::Integrator(s)) => Some(a.merged(s)),
+            (None, Step::Integrator(s)) => Some((**s).clone()),
+            (acc, Step::Simulate(_)) => acc,
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_extension_is_added_only_when_absent() {
+        assert_eq!(with_extension("Test02_ADAMS"), "Test02_ADAMS.adm");
+        assert_eq!(
+            with_extension("test_Revolute_Case01.adm"),
+            "test_Revolute_Case01.adm"
+        );
+        assert_eq!(
+            with_extension(r"C:\Users\ben.thornton\code\test"),
+            r"C:\Users\ben.thornton\code\test.adm"
+        );
+        assert_eq!(with_extension("../m.v2/model"), "../m.v2/model.adm");
+    }
+
+    #[test]
+    fn the_command_line_end_replaces_the_simulations() {
+        let f = read_commands(
+            "m.adm\nout\nint/hht, err=1e-6\nsim/dyn, end=1, dtout=0.1\nsim/dyn, end=2, dtout=0.5\n",
+        );
+        let s = segments(&f, None, None, None).expect("segments");
+        assert_eq!(
+            s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
+            [(1.0, 0.1), (2.0, 0.5)]
+        );
+        let s = segments(&f, None, Some(3.0), None).expect("segments");
+        assert_eq!(
+            s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
+            [(3.0, 0.1)]
+        );
+        let e = s[0]
+            .integrator
+            .as_ref()
+            .and_then(|i| i.error.as_ref())
+            .map(|e| e.value);
+        assert_eq!(e, Some(1e-6));
+        let s = segments(&f, None, None, Some(0.05)).expect("segments");
+        assert!(s.iter().all(|s| s.output_step == 0.05));
+        let none = read_commands("m.adm\nout\nSTOP\n");
+        assert!(segments(&none, None, None, None).is_err());
+        let s = segments(&none, None, Some(2.0), None).expect("segments");
+        assert_eq!(
+            s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
+            [(2.0, 0.02)]
+        );
+    }
+}

@@ -1,0 +1,664 @@
+//! The command-file (`.acf`) reader: what `mbfx run ANALYSIS.acf` runs. An Adams command
+//! file starts with a header, then holds commands, one per line or continued with `&`
+//! (`command_lines`), until `STOP`:
+//!
+//! - line 1 names the dataset (`test_Revolute_Case01.adm`, or `Test02_ADAMS`, to which
+//!   `.adm` is added) and line 2 the base name of Adams' output files; or line 1 is blank
+//!   (or already a command) and a `FILE/MODEL = NAME` command names the dataset;
+//! - `INTEGRATOR/…` is read as the dataset statement is
+//!   ([`super::integrator_settings`]);
+//! - `SIMULATE/DYNAMIC` (or TRANSIENT), `END = t` or `DURATION = d`, and `DTOUT = dt` or
+//!   `STEPS = n`: a stretch of dynamics from where the last one stopped;
+//! - commands that only set what mbfx does not have (OUTPUT, EQUILIBRIUM, IC, …) are
+//!   warnings; commands that change the model during the run (DEACTIVATE, VARIABLE, …) or
+//!   run an analysis mbfx does not have (SIMULATE/STATICS, LINEAR) are `E0610` errors at
+//!   the command, so such a file does not run at all.
+//!
+//! Every malformed line is a diagnostic at its place; the reader never stops at the first.
+
+use super::command_lines::{command_groups, lines, readable};
+use super::cursor::Cursor;
+use super::integrator_settings::{read_integrator, Given, IntegratorStatement};
+use super::keywords::Keyword;
+use super::lines::Piece;
+use super::statement::{read_id, ItemKind, Statement};
+use super::stmt_args::Args;
+use crate::diag::{has_errors, Code, Diagnostic, Span};
+
+/// One step of a command file that the run carries out, in order.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// An INTEGRATOR command: it changes what it names for the SIMULATE commands after it.
+    Integrator(Box<IntegratorStatement>),
+    /// A stretch of dynamics.
+    Simulate(Simulate),
+}
+
+/// `SIMULATE/DYNAMIC`: from where the last one stopped to `end`, a row every
+/// `output_step`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Simulate {
+    pub end: f64,
+    pub output_step: f64,
+    /// The command.
+    pub span: Span,
+}
+
+/// A command file read.
+#[derive(Clone, Debug, Default)]
+pub struct CommandFile {
+    /// The dataset as the file names it (no extension added), where it names it.
+    pub model: Option<Given<String>>,
+    /// The base name of Adams' output files (line 2), which mbfx does not write.
+    pub output: Option<Given<String>>,
+    pub steps: Vec<Step>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl CommandFile {
+    pub fn has_errors(&self) -> bool {
+        has_errors(&self.diagnostics)
+    }
+
+    /// The SIMULATE commands.
+    pub fn simulations(&self) -> impl Iterator<Item = &Simulate> {
+        self.steps.iter().filter_map(|s| match s {
+            Step::Simulate(s) => Some(s),
+            Step::Integrator(_) => None,
+        })
+    }
+}
+
+/// What mbfx does with a command.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    File,
+    Integrator,
+    Simulate,
+    Stop,
+    /// Sets something the run does not use: a warning saying why.
+    Ignored(&'static str),
+    /// Changes the model or runs another analysis: an error saying why.
+    Refused(&'static str),
+}
+
+const CHANGES_MODEL: &str = "changes the model during the run, which mbfx does not support";
+
+/// The commands of the Adams Solver command language (three letters abbreviate any).
+const COMMANDS: &[(&str, Kind)] = &[
+    ("ACCGRAV", Kind::Refused(CHANGES_MODEL)),
+    ("ACTIVATE", Kind::Refused(CHANGES_MODEL)),
+    ("ARRAY", Kind::Refused(CHANGES_MODEL)),
+    ("BEAM", Kind::Refused(CHANGES_MODEL)),
+    ("BUSHING", Kind::Refused(CHANGES_MODEL)),
+    (
+        "CONTROL",
+        Kind::Refused("hands control to a user subroutine, which mbfx does not run"),
+    ),
+    ("DEACTIVATE", Kind::Refused(CHANGES_MODEL)),
+    (
+        "DEBUG",
+        Kind::Ignored("it sets Adams Solver's debugging output"),
+    ),
+    (
+        "ENVIRONMENT",
+        Kind::Ignored("it sets Adams Solver environment variables"),
+    ),
+    (
+        "EQUILIBRIUM",
+        Kind::Ignored("it sets static equilibrium analyses, which mbfx does not run"),
+    ),
+    ("FIELD", Kind::Refused(CHANGES_MODEL)),
+    ("FILE", Kind::File),
+    ("FLEX_BODY", Kind::Refused(CHANGES_MODEL)),
+    ("FRICTION", Kind::Refused(CHANGES_MODEL)),
+    ("GCON", Kind::Refused(CHANGES_MODEL)),
+    ("GFORCE", Kind::Refused(CHANGES_MODEL)),
+    ("HELP", Kind::Ignored("it is interactive")),
+    (
+        "IC",
+        Kind::Ignored("mbfx assembles the initial conditions with its own tolerances"),
+    ),
+    ("INFO", Kind::Ignored("it is interactive")),
+    ("INTEGRATOR", Kind::Integrator),
+    ("JOINT", Kind::Refused(CHANGES_MODEL)),
+    ("JPRIM", Kind::Refused(CHANGES_MODEL)),
+    (
+        "KINEMATICS",
+        Kind::Ignored("it sets kinematic analyses, which mbfx does not run"),
+    ),
+    (
+        "LINEAR",
+        Kind::Refused(
+            "runs a linear (eigenvalue or state-matrix) analysis, which mbfx does not have",
+        ),
+    ),
+    (
+        "LSOLVER",
+        Kind::Ignored("mbfx chooses its own linear solver"),
+    ),
+    ("MARKER", Kind::Refused(CHANGES_MODEL)),
+    ("MENU", Kind::Ignored("it is interactive")),
+    ("MOTION", Kind::Refused(CHANGES_MODEL)),
+    (
+        "OUTPUT",
+        Kind::Ignored("it sets Adams' result files; mbfx writes the CSV of --csv"),
+    ),
+    ("PART", Kind::Refused(CHANGES_MODEL)),
+    (
+        "PREFERENCES",
+        Kind::Ignored("it sets Adams Solver preferences"),
+    ),
+    (
+        "RELOAD",
+        Kind::Refused("reloads a saved state, which mbfx does not support"),
+    ),
+    ("REQUEST", Kind::Refused(CHANGES_MODEL)),
+    (
+        "RESULTS",
+        Kind::Ignored("it sets Adams' result files; mbfx writes the CSV of --csv"),
+    ),
+    (
+        "SAVE",
+        Kind::Refused("saves the state for a later RELOAD, which mbfx does not support"),
+    ),
+    ("SENSOR", Kind::Refused(CHANGES_MODEL)),
+    ("SFORCE", Kind::Refused(CHANGES_MODEL)),
+    ("SHOW", Kind::Ignored("it is interactive")),
+    ("SIMULATE", Kind::Simulate),
+    ("SPLINE", Kind::Refused(CHANGES_MODEL)),
+    ("SPRINGDAMPER", Kind::Refused(CHANGES_MODEL)),
+    ("STOP", Kind::Stop),
+    ("STRING", Kind::Refused(CHANGES_MODEL)),
+    ("VARIABLE", Kind::Refused(CHANGES_MODEL)),
+    ("VFORCE", Kind::Refused(CHANGES_MODEL)),
+    ("VTORQUE", Kind::Refused(CHANGES_MODEL)),
+];
+
+/// The command a written keyword names: an exact spelling, or a unique prefix of at
+/// least three letters.
+fn lookup(written: &str) -> Result<(&'static str, Kind), Vec<&'static str>> {
+    if let Some(&(name, kind)) = COMMANDS
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(written))
+    {
+        return Ok((name, kind));
+    }
+    let hits: Vec<&(&str, Kind)> = COMMANDS
+        .iter()
+        .filter(|(n, _)| {
+            Keyword {
+                name: n,
+                min_len: 3,
+            }
+            .matches(written)
+        })
+        .collect();
+    match hits.as_slice() {
+        [&(name, kind)] => Ok((name, kind)),
+        many => Err(many.iter().map(|(n, _)| *n).collect()),
+    }
+}
+
+/// The kinds of SIMULATE, with their shortest abbreviations.
+const SIMULATIONS: [(&str, usize); 5] = [
+    ("DYNAMICS", 3),
+    ("TRANSIENT", 3),
+    ("STATICS", 3),
+    ("KINEMATICS", 3),
+    ("INITIAL_CONDITIONS", 3),
+];
+
+/// Reads a command file's text (decoded as a dataset is, see [`super::decode`]).
+pub fn read_commands(text: &str) -> CommandFile {
+    let mut file = CommandFile::default();
+    let all = lines(text, 0, 1);
+    // Where the commands start: after the header, or at line 1 when it is blank or
+    // already a command (`file/model=…` written first).
+    let mut from = (0, 1);
+    if let Some((first, _)) = all.first() {
+        let r = readable(text, first.clone());
+        let head = &text[r.clone()];
+        let is_command = head
+            .split_once('/')
+            .is_some_and(|(k, _)| lookup(k.trim()).is_ok())
+            || lookup(head).is_ok_and(|(n, _)| n == "STOP");
+        if r.is_empty() {
+            from = all.get(1).map_or((text.len(), 2), |(l, n)| (l.start, *n));
+        } else if !is_command {
+            file.model = Some(Given {
+                value: head.to_string(),
+                span: r,
+            });
+            from = match all.get(1) {
+                Some((second, _)) => {
+                    let r = readable(text, second.clone());
+                    if !r.is_empty() {
+                        file.output = Some(Given {
+                            value: text[r.clone()].to_string(),
+                            span: r,
+                        });
+                    }
+                    all.get(2).map_or((text.len(), 3), |(l, n)| (l.start, *n))
+                }
+                None => (text.len(), 2),
+            };
+        }
+    }
+    let mut reader = Reader {
+        file,
+        time: 0.0,
+        stopped: None,
+    };
+    for group in command_groups(text, from.0, from.1) {
+        if let Some(stop) = &reader.stopped {
+            let span = group[0].range.clone();
+            reader.file.diagnostics.push(
+                Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    span,
+                    "commands after STOP are not read",
+                )
+                .with_label(stop.clone(), "the command file stops here"),
+            );
+            break;
+        }
+        reader.command(text, &group);
+    }
+    reader.file.diagnostics.sort_by_key(|d| d.span.start);
+    reader.file
+}
+
+/// The state of one read.
+struct Reader {
+    file: CommandFile,
+    /// Where the last SIMULATE ended.
+    time: f64,
+    /// The STOP command, once read.
+    stopped: Option<Span>,
+}
+
+impl Reader {
+    fn command(&mut self, text: &str, group: &[Piece]) {
+        let diags = &mut self.file.diagnostics;
+        let mut c = Cursor::new(text, group);
+        c.skip_blanks();
+        let start = c.pos;
+        let line = c.line();
+        let written = c.read_name();
+        if written.is_empty() {
+            diags.push(Diagnostic::error(
+                Code::Statement,
+                c.char_span(),
+                format!("expected a command, found {}", c.describe()),
+            ));
+            return;
+        }
+        let keyword_span = start..c.pos;
+        let (name, kind) = match lookup(written) {
+            Ok(hit) => hit,
+            Err(names) => {
+                let d = Diagnostic::error(
+                    Code::Statement,
+                    keyword_span,
+                    format!("unknown command `{written}`"),
+                );
+                diags.push(if names.is_empty() {
+                    d.with_help("mbfx reads the Adams Solver commands (SIMULATE, INTEGRATOR, FILE, STOP, …)")
+                } else {
+                    d.with_note(format!("it abbreviates {}", names.join(", ")))
+                });
+                return;
+            }
+        };
+        let end = group.last().map_or(c.pos, |p| {
+            super::cursor::trim_end(text.as_bytes(), p.range.clone())
+        });
+        let mut stmt = Statement {
+            keyword: written.to_ascii_uppercase(),
+            keyword_span,
+            canonical: Some(name),
+            id: None,
+            id_span: None,
+            args: Vec::new(),
+            span: start..end.max(c.pos),
+            line,
+            view_name: None,
+        };
+        c.skip_blanks();
+        if c.peek() == Some(b'/') {
+            c.bump();
+            c.skip_blanks();
+            if c.peek().is_some_and(|b| b.is_ascii_digit()) {
+                read_id(&mut c, &mut stmt, diags);
+            }
+            stmt.args = super::args::parse_arguments(&mut c, Some(name), diags);
+        } else if kind != Kind::Stop {
+            diags.push(
+                Diagnostic::error(
+                    Code::Statement,
+                    c.char_span(),
+                    format!("expected `/` after `{}`", stmt.keyword),
+                )
+                .with_label(stmt.keyword_span.clone(), "command"),
+            );
+            return;
+        } else if c.peek().is_some() {
+            diags.push(Diagnostic::error(
+                Code::Statement,
+                c.char_span(),
+                format!("unexpected {} after STOP", c.describe()),
+            ));
+        }
+        let mut a = Args::new(&stmt);
+        match kind {
+            Kind::Stop => self.stopped = Some(stmt.keyword_span.clone()),
+            Kind::File => self.file_command(&mut a),
+            Kind::Integrator => {
+                let s = read_integrator(&mut a);
+                self.file.steps.push(Step::Integrator(Box::new(s)));
+            }
+            Kind::Simulate => self.simulate(&mut a),
+            Kind::Ignored(why) => {
+                for arg in &stmt.args {
+                    a.find(&arg.name, arg.name.len());
+                }
+                a.diags.push(Diagnostic::warning(
+                    Code::UnsupportedStatement,
+                    stmt.span.clone(),
+                    format!("{name} is not honoured: {why}"),
+                ));
+            }
+            Kind::Refused(why) => {
+                for arg in &stmt.args {
+                    a.find(&arg.name, arg.name.len());
+                }
+                a.error(
+                    Code::UnsupportedCommand,
+                    stmt.span.clone(),
+                    format!("{name} {why}"),
+                );
+            }
+        }
+        let found = a.finish();
+        self.file.diagnostics.extend(found);
+    }
+
+    /// `FILE/MODEL = NAME`: the dataset, when the header did not name one. FILE/COMMAND
+    /// (another command file) is refused.
+    fn file_command(&mut self, a: &mut Args) {
+        if let Some(arg) = a.find("COMMAND", 1) {
+            let span = arg.span.clone();
+            a.error(
+                Code::UnsupportedCommand,
+                span,
+                "FILE/COMMAND reads another command file, which mbfx does not support".into(),
+            );
+        }
+        let Some(arg) = a.find("MODEL", 1) else {
+            return;
+        };
+        let Some(item) = arg.items().first().filter(|i| i.kind == ItemKind::Text) else {
+            return;
+        };
+        let given = Given {
+            value: item.text.clone(),
+            span: item.span.clone(),
+        };
+        if let Some(first) = &self.file.model {
+            let d = Diagnostic::error(
+                Code::UnsupportedCommand,
+                given.span,
+                "a second model: mbfx runs the one dataset the command file names first",
+            )
+            .with_label(first.span.clone(), "first named here");
+            a.diags.push(d);
+        } else if self.file.simulations().next().is_some() {
+            a.error(
+                Code::UnsupportedCommand,
+                given.span,
+                "FILE/MODEL after a SIMULATE command changes the model during the run, which mbfx does not support".into(),
+            );
+        } else {
+            self.file.model = Some(given);
+        }
+    }
+
+    /// `SIMULATE/kind, END | DURATION, DTOUT | STEPS`.
+    fn simulate(&mut self, a: &mut Args) {
+        let kind = a.choice(&SIMULATIONS);
+        let at = a.stmt.keyword_span.clone();
+        let refuse = |a: &mut Args, what: &str| {
+            let span = a.stmt.span.clone();
+            a.error(Code::UnsupportedCommand, span, what.to_string());
+        };
+        match kind.map(|k| SIMULATIONS[k].0) {
+            Some("DYNAMICS" | "TRANSIENT") => {}
+            Some("STATICS") => refuse(
+                a,
+                "SIMULATE/STATICS: static equilibrium analysis is not supported by mbfx (its dynamics start from the assembled configuration)",
+            ),
+            Some("KINEMATICS") => refuse(
+                a,
+                "SIMULATE/KINEMATICS: kinematic analysis is not supported by mbfx (SIMULATE/DYNAMIC runs a model without degrees of freedom too)",
+            ),
+            Some(_) => refuse(
+                a,
+                "SIMULATE/INITIAL_CONDITIONS: an initial-conditions analysis alone is not supported by mbfx (SIMULATE/DYNAMIC solves them first)",
+            ),
+            None => {
+                let d = Diagnostic::error(
+                    Code::MissingArgument,
+                    at,
+                    "SIMULATE needs DYNAMIC, TRANSIENT, STATICS, KINEMATICS or INITIAL_CONDITIONS",
+                );
+                a.diags.push(d);
+            }
+        }
+        let end = number(a, "END", 3);
+        let duration = number(a, "DURATION", 3);
+        let dtout = number(a, "DTOUT", 3);
+        let steps = number(a, "STEPS", 3);
+        let dynamic = matches!(
+            kind.map(|k| SIMULATIONS[k].0),
+            Some("DYNAMICS" | "TRANSIENT")
+        );
+        if has_errors(&a.diags) || !dynamic {
+            return;
+        }
+        let t0 = self.time;
+        let end = match (end, duration) {
+            (Some((_, s1)), Some((_, s2))) => return exclusive(a, s1, s2, "END", "DURATION"),
+            (Some((t, span)), None) if t <= t0 || !t.is_finite() => {
+                let msg = format!("END = {t} must lie after the time the run has reached, {t0}");
+                return a.error(Code::BadArgument, span, msg);
+            }
+            (Some((t, _)), None) => t,
+            (None, Some((d, span))) if d <= 0.0 || !d.is_finite() => {
+                return a.error(
+                    Code::BadArgument,
+                    span,
+                    format!("DURATION = {d} must be positive"),
+                );
+            }
+            (None, Some((d, _))) => t0 + d,
+            (None, None) => return a.missing("END = time or DURATION = time"),
+        };
+        let output_step = match (dtout, steps) {
+            (Some((_, s1)), Some((_, s2))) => return exclusive(a, s1, s2, "DTOUT", "STEPS"),
+            (Some((dt, span)), None) if dt <= 0.0 || !dt.is_finite() => {
+                return a.error(
+                    Code::BadArgument,
+                    span,
+                    format!("DTOUT = {dt} must be positive"),
+                );
+            }
+            (Some((dt, _)), None) => dt,
+            (None, Some((n, span))) if n < 1.0 || n.fract() != 0.0 || n > 1e9 => {
+                let msg = format!("STEPS = {n} must be a whole number of output steps, at least 1");
+                return a.error(Code::BadArgument, span, msg);
+            }
+            (None, Some((n, _))) => (end - t0) / n,
+            (None, None) => return a.missing("DTOUT = step or STEPS = count"),
+        };
+        self.time = end;
+        self.file.steps.push(Step::Simulate(Simulate {
+            end,
+            output_step,
+            span: a.stmt.span.clone(),
+        }));
+    }
+}
+
+/// A one-number argument with the span of its value.
+fn number(a: &mut Args, full: &str, min: usize) -> Option<(f64, Span)> {
+    let arg = a.find(full, min)?;
+    let span = arg
+        .items()
+        .first()
+        .map_or(arg.span.clone(), |i| i.span.clone());
+    let values = a.numbers_of(arg)?;
+    if values.len() != 1 {
+        let msg = format!("{full} takes one number");
+        a.error(Code::BadArgument, arg.span.clone(), msg);
+        return None;
+    }
+    Some((values[0], span))
+}
+
+fn exclusive(a: &mut Args, first: Span, second: Span, x: &str, y: &str) {
+    let d = Diagnostic::error(
+        Code::BadArgument,
+        second,
+        format!("{x} and {y} exclude each other"),
+    )
+    .with_label(first, format!("{x} given here"));
+    a.diags.push(d);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn errors(f: &CommandFile) -> Vec<(&str, Code)> {
+        f.diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .map(|d| (d.message.as_str(), d.code))
+            .collect()
+    }
+
+    #[test]
+    fn chrono_header_integrator_and_transient() {
+        // projectchrono/chrono data/adams/test_Revolute_Case01.acf, as written (CRLF, tab,
+        // no line end after stop).
+        let text = "test_Revolute_Case01.adm\r\ntest_Revolute_Case01_ADAMS\r\noutput/noseparator\r\nintegrator/gstiff, &\r\n\terror = 1.0e-4, hmax=1e-5\r\nsimulate/transient, &\r\n\tend=5.0, dtout=1.0E-002\r\nstop";
+        let f = read_commands(text);
+        assert!(errors(&f).is_empty(), "{:?}", f.diagnostics);
+        assert_eq!(
+            f.model.as_ref().map(|m| m.value.as_str()),
+            Some("test_Revolute_Case01.adm")
+        );
+        assert_eq!(
+            f.output.as_ref().map(|m| m.value.as_str()),
+            Some("test_Revolute_Case01_ADAMS")
+        );
+        let [Step::Integrator(i), Step::Simulate(s)] = f.steps.as_slice() else {
+            panic!("{:?}", f.steps);
+        };
+        assert_eq!(i.error.as_ref().map(|e| e.value), Some(1e-4));
+        assert_eq!(i.hmax.as_ref().map(|e| e.value), Some(1e-5));
+        assert_eq!((s.end, s.output_step), (5.0, 0.01));
+        // OUTPUT and GSTIFF are warned about.
+        let warned: Vec<&str> = f
+            .diagnostics
+            .iter()
+            .map(|d| &text[d.span.clone()])
+            .collect();
+        assert!(warned.contains(&"output/noseparator"), "{warned:?}");
+        assert!(warned.contains(&"gstiff"), "{warned:?}");
+    }
+
+    #[test]
+    fn file_model_and_continuing_simulations() {
+        // bthornton191 files: a blank line 1, FILE/MODEL, then commands; abbreviations
+        // as in adamspy's FRS5 analyses.
+        let text = "\nfile/model=generic_model\n! Insert ACF commands here:\nint/hht, err=1E-7, hmax=2.5E-4\nsim/dyn, end=1.5, dtout=.005\nsim/dyn, duration=0.5, steps=10\nSIMULATE/DYNAMICS, END = 3, DTOUT = 0.1\nstop\n";
+        let f = read_commands(text);
+        assert!(errors(&f).is_empty(), "{:?}", f.diagnostics);
+        assert_eq!(
+            f.model.as_ref().map(|m| m.value.as_str()),
+            Some("generic_model")
+        );
+        assert!(f.output.is_none());
+        let sims: Vec<(f64, f64)> = f.simulations().map(|s| (s.end, s.output_step)).collect();
+        assert_eq!(sims, [(1.5, 0.005), (2.0, 0.05), (3.0, 0.1)]);
+    }
+
+    #[test]
+    fn fast_header_without_extension() {
+        let f = read_commands("Test02_ADAMS\r\nTest02_ADAMS\r\nSIMULATE/DYNAMICS, END = 4.0E-03, DTOUT = 4.0E-02\r\nSTOP\r\n");
+        assert_eq!(
+            f.model.as_ref().map(|m| m.value.as_str()),
+            Some("Test02_ADAMS")
+        );
+        assert_eq!(f.simulations().count(), 1);
+    }
+
+    #[test]
+    fn unsupported_commands_are_errors_at_the_command() {
+        for (text, what, bad) in [
+            ("m.adm\nout\nSIMULATE/STATIC\nSTOP\n", "static equilibrium", "SIMULATE/STATIC"),
+            ("m.adm\nout\nsim/kin, end=1, dtout=0.1\n", "kinematic", "sim/kin, end=1, dtout=0.1"),
+            ("m.adm\nout\nDEACTIVATE/JOINT, ID=12\n", "DEACTIVATE changes the model", "DEACTIVATE/JOINT, ID=12"),
+            ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 1, 25\n", "linear", "LINEAR/EIGENSOL, COORDS = 1, 25"),
+            ("m.adm\nout\nVARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)\n", "VARIABLE changes", "VARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)"),
+            ("\nfile/command=other.acf\n", "another command file", "command=other.acf"),
+        ] {
+            let f = read_commands(text);
+            let e = f
+                .diagnostics
+                .iter()
+                .find(|d| d.is_error())
+                .unwrap_or_else(|| panic!("{text}: no error"));
+            assert_eq!(e.code, Code::UnsupportedCommand, "{text}");
+            assert!(e.message.contains(what), "{text}: {}", e.message);
+            assert_eq!(&text[e.span.clone()], bad, "{text}");
+        }
+    }
+
+    #[test]
+    fn malformed_lines_are_errors_at_their_place() {
+        for (text, bad, code) in [
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 0, DTOUT = 0.1\n", "0", Code::BadArgument),
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 1, DTOUT = -1\n", "-1", Code::BadArgument),
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 1, STEPS = 2.5\n", "2.5", Code::BadArgument),
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 1\n", "SIMULATE", Code::MissingArgument),
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 1, DURATION = 1, DTOUT = 1\n", "1", Code::BadArgument),
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 2, DTOUT = 1\nSIMULATE/DYNAMIC, END = 1, DTOUT = 1\n", "1", Code::BadArgument),
+            ("m.adm\nout\nFROBNICATE/1\n", "FROBNICATE", Code::Statement),
+            ("m.adm\nout\nSIMULATE DYNAMIC\n", "D", Code::Statement),
+            ("m.adm\nout\nINTEGRATOR/HHT, ALPHA = 0.5\n", "0.5", Code::BadArgument),
+            ("m.adm\nout\nSIMULATE/DYNAMIC, END = 1, DTOUT = x\n", "x", Code::BadArgument),
+        ] {
+            let f = read_commands(text);
+            let e = f
+                .diagnostics
+                .iter()
+                .find(|d| d.is_error())
+                .unwrap_or_else(|| panic!("{text}: no error in {:?}", f.diagnostics));
+            assert_eq!(e.code, code, "{text}: {}", e.message);
+            assert_eq!(&text[e.span.clone()], bad, "{text}: {}", e.message);
+        }
+    }
+
+    #[test]
+    fn commands_after_stop_are_not_read() {
+        let f = read_commands("m.adm\nout\nSTOP\nSIMULATE/DYNAMIC, END = 1, DTOUT = 0.1\n");
+        assert_eq!(f.simulations().count(), 0);
+        assert!(f
+            .diagnostics
+            .iter()
+            .any(|d| d.message.contains("after STOP")));
+    }
+}
