@@ -1,5 +1,6 @@
-//! `mbfx run --plot FILE.svg|FILE.png`: the output columns against time, one line each,
-//! drawn with plotters. The probes are drawn when there are any, else the request
+//! `mbfx run --plot FILE.svg|FILE.png`: the output columns against time, drawn with
+//! plotters: up to six in stacked panels over one time axis (their scales differ), more
+//! in one chart with a legend. The probes are drawn when there are any, else the request
 //! columns. Text uses the DejaVu Sans font of the system (Debian's fonts-dejavu-core).
 
 use plotters::prelude::*;
@@ -51,24 +52,52 @@ pub fn draw(
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    let size = (960, 600);
+    // Up to PANELS columns get a panel each, stacked over one time axis: their scales
+    // differ (a position in metres, a force in newtons); more share one chart.
+    let panels = if cols.len() <= PANELS { cols.len() } else { 1 };
+    let size = (960, 600.max(220 * panels as u32));
     if svg {
         let root = SVGBackend::new(path, size).into_drawing_area();
-        chart(root, header, rows, &cols)
+        stacked(root, header, rows, &cols, panels)
     } else {
         let root = BitMapBackend::new(path, size).into_drawing_area();
-        chart(root, header, rows, &cols)
+        stacked(root, header, rows, &cols, panels)
     }
 }
 
-fn chart<DB: DrawingBackend>(
+/// Columns that get a panel of their own.
+const PANELS: usize = 6;
+
+/// One panel per column (`panels` of them), or all columns in one.
+fn stacked<DB: DrawingBackend>(
     root: DrawingArea<DB, plotters::coord::Shift>,
     header: &[String],
     rows: &[Vec<f64>],
     cols: &[usize],
+    panels: usize,
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     root.fill(&WHITE).map_err(err)?;
+    if panels <= 1 {
+        chart(&root, header, rows, cols, 0)?;
+    } else {
+        for (k, area) in root.split_evenly((panels, 1)).iter().enumerate() {
+            chart(area, header, rows, &cols[k..=k], k)?;
+        }
+    }
+    root.present().map_err(err)
+}
+
+/// Draws `cols` against time in `root`, colours from the palette's `first` on; a single
+/// column is named on its axis, several in a legend.
+fn chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    header: &[String],
+    rows: &[Vec<f64>],
+    cols: &[usize],
+    first: usize,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let t0 = rows.first().map_or(0.0, |r| r[0]);
     let t1 = rows.last().map_or(1.0, |r| r[0]).max(t0 + f64::EPSILON);
     let finite = |x: &f64| x.is_finite();
@@ -85,15 +114,20 @@ fn chart<DB: DrawingBackend>(
         (-1.0, 1.0)
     };
     let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .margin(12)
         .x_label_area_size(40)
-        .y_label_area_size(70)
+        .y_label_area_size(90)
         .build_cartesian_2d(t0..t1, (lo - pad)..(hi + pad))
         .map_err(err)?;
-    chart.configure_mesh().x_desc("time").draw().map_err(err)?;
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc("time");
+    if let [c] = cols {
+        mesh.y_desc(header[*c].as_str());
+    }
+    mesh.draw().map_err(err)?;
     for (k, &c) in cols.iter().enumerate() {
-        let color = Palette99::pick(k).to_rgba();
+        let color = Palette99::pick(first + k).to_rgba();
         chart
             .draw_series(LineSeries::new(
                 rows.iter()
@@ -105,15 +139,17 @@ fn chart<DB: DrawingBackend>(
             .label(header[c].clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
     }
-    let corner = quiet_corner(rows, cols, (t0, t1), (lo - pad, hi + pad));
-    chart
-        .configure_series_labels()
-        .position(corner)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(err)?;
-    root.present().map_err(err)
+    if cols.len() > 1 {
+        let corner = quiet_corner(rows, cols, (t0, t1), (lo - pad, hi + pad));
+        chart
+            .configure_series_labels()
+            .position(corner)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// The corner of the plot where the legend hides the fewest points: each corner's box

@@ -40,7 +40,19 @@ pub fn build(model: &Model, dim: Dim, exprs: &dyn ExprCompiler) -> Result<System
     let mut system = System::from_model(model, dim, exprs)?;
     if system.dim == Dimension::Two {
         let mut three = System::from_model(model, Dim::Three, exprs)?;
-        if let Some(why) = unlocked_out_of_plane(&three, system.normal) {
+        // A plane whose out-of-plane freedoms are free (a slide along its normal) may
+        // leave another plane that holds them: try the rest before 3D.
+        let mut skip = Vec::new();
+        let mut first_why = None;
+        while system.dim == Dimension::Two {
+            let Some(why) = unlocked_out_of_plane(&three, system.normal) else {
+                break;
+            };
+            first_why.get_or_insert(why);
+            skip.push(system.normal);
+            system.plan(Some(&skip));
+        }
+        if let (Dimension::Three, Some(why)) = (system.dim, first_why) {
             three.dim_reason = format!("3D: {why}");
             system = three;
         }
@@ -92,13 +104,26 @@ impl System {
     /// in. Call it at the input configuration, before assembly.
     pub fn prepare(&mut self, dim: Dim) {
         self.length = self.characteristic_length();
+        if dim == Dim::Three {
+            self.plan(None);
+        } else {
+            self.plan(Some(&[]));
+        }
+    }
+
+    /// Chooses the plane, skipping the normals in `skip` (None: 3D, forced).
+    fn plan(&mut self, skip: Option<&[usize]>) {
         self.dim = Dimension::Three;
         for el in &mut self.elements {
             for q in &mut el.eqs {
                 q.active = true;
             }
         }
-        match self.planar(dim) {
+        let planar = match skip {
+            None => Err("forced by the Dim option".to_string()),
+            Some(skip) => self.planar(skip),
+        };
+        match planar {
             Ok((normal, drop)) => {
                 let kept = self.rows().count() - drop.len();
                 for &(e, q) in &drop {
@@ -120,15 +145,12 @@ impl System {
     }
 
     /// The plane normal and the rows to drop in 2D, or why the scene is not planar. Tries
-    /// the plane normal to most joint axes first, then the others; when none fits, the
-    /// reason given is the one for the plane of the joint axes.
-    fn planar(&self, dim: Dim) -> Result<(usize, Vec<(usize, usize)>), String> {
-        if dim == Dim::Three {
-            return Err("forced by the Dim option".into());
-        }
+    /// the plane normal to most joint axes first, then the others (none in `skip`); when
+    /// none fits, the reason given is the one for the plane of the joint axes.
+    fn planar(&self, skip: &[usize]) -> Result<(usize, Vec<(usize, usize)>), String> {
         let first = self.joint_axis_normal();
         let mut why = String::new();
-        for normal in [first, 2, 1, 0] {
+        for normal in [first, 2, 1, 0].into_iter().filter(|n| !skip.contains(n)) {
             match self.planar_in(normal) {
                 Ok(drop) => return Ok((normal, drop)),
                 Err(w) if normal == first && why.is_empty() => why = w,

@@ -155,6 +155,23 @@ fn pendulum_model_builds_in_2d_and_assembles() {
 }
 
 #[test]
+fn a_slide_along_the_first_planes_normal_is_built_in_a_plane_that_contains_it() {
+    // A translational joint whose axis (global x) the plane vote takes for a normal: the
+    // YZ plane passes the row test but leaves the slide free along its normal; the XY
+    // (or ZX) plane holds every out-of-plane freedom and is the one built.
+    let read = crate::model::read_model(
+        "slide\nPART/1, GROUND\nMARKER/11, PART = 1, REULER = 90D, 90D, 0D\n\
+         PART/2, MASS = 2, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+         MARKER/21, PART = 2, REULER = 90D, 90D, 0D\n\
+         JOINT/1, TRANSLATIONAL, I = 21, J = 11\nEND\n",
+    );
+    assert!(!read.has_errors(), "{:?}", read.diagnostics);
+    let sys = crate::mbd::planar::build(&read.model, Dim::Auto, &InterpretOnly).unwrap();
+    assert_eq!(sys.dim, Dimension::Two, "{}", sys.dim_reason);
+    assert_ne!(sys.normal, 0, "{}", sys.dim_reason);
+}
+
+#[test]
 fn gcon_without_a_derivative_says_what_is_missing() {
     let scope = Slots::default();
     let f = check::compile("DM(20, 10) - 1", &scope, Expect::Scalar)
