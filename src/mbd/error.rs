@@ -56,12 +56,19 @@ impl fmt::Display for MbdError {
                 f,
                 "{name} measures {what}: it is available once dynamics exist, not during assembly"
             ),
-            MbdError::NotKinematic(name) => {
-                write!(
+            MbdError::NotKinematic(name) => match name.as_str() {
+                "ARYVAL" => f.write_str(
+                    "it reads ARYVAL, an ARRAY of control elements (LSE, GSE, TFSISO states or outputs), which mbfx does not simulate",
+                ),
+                "DIF" | "DIF1" => write!(
+                    f,
+                    "it reads {name}, a DIFF state (a user differential equation), which mbfx does not integrate"
+                ),
+                _ => write!(
                     f,
                     "{name} is not a marker measure the multibody core computes"
-                )
-            }
+                ),
+            },
             MbdError::UnknownMarker(id) => write!(f, "MARKER/{id} does not exist"),
             MbdError::UnknownPart(id) => write!(f, "PART/{id} does not exist"),
             MbdError::SamePart(e) => write!(

@@ -180,6 +180,14 @@ impl Measure {
             | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" => {
                 return Err(MbdError::NeedsDynamics(slot.name.clone(), "forces"))
             }
+            // VARIABLEs are inlined before measures resolve: one left is one mbfx holds no
+            // FUNCTION for.
+            "VARVAL" => {
+                let id = slot.ids.first().copied().unwrap_or(0);
+                return Err(MbdError::Unsupported(format!(
+                    "it reads VARVAL({id}), and VARIABLE/{id} has no FUNCTION mbfx can evaluate (a USER subroutine, or no such VARIABLE)"
+                )));
+            }
             _ => return Err(MbdError::NotKinematic(slot.name.clone())),
         })
     }

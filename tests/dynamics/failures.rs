@@ -198,3 +198,14 @@ fn integrator_parameters_out_of_range_are_refused() {
         );
     }
 }
+
+#[test]
+fn a_force_reading_a_user_variable_names_the_variable_and_why() {
+    let model = models_dir().join("failures/user_variable.adm");
+    let out = crate::run::run_raw(&model, &["--end", "1", "--output-step", "0.1"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    for needle in ["E0801", "SFORCE/1", "VARVAL(2)", "USER"] {
+        assert!(stderr.contains(needle), "no `{needle}` in\n{stderr}");
+    }
+}
