@@ -74,6 +74,7 @@ pub fn compile(function: Function, mode: Mode) -> Program {
         pending: vec![false; function.insts.len()],
     };
     e.list(&function.body);
+    thread_jumps(&mut e.ops);
     let outputs: Vec<u32> = function.outputs.iter().map(|&v| e.reg(v)).collect();
     let Emitter {
         ops,
@@ -160,7 +161,14 @@ impl Emitter<'_> {
         let op = match inst {
             Inst::Const(_) | Inst::IfExtra { .. } => return,
             Inst::If { test, arms } => {
-                let (test, d) = (self.reg(test), self.reg(v));
+                let test = match binary(self.f.inst(test)) {
+                    Some((Bin::Sub, a, b)) if self.pending[test as usize] => {
+                        self.pending[test as usize] = false;
+                        Test::Sub(self.reg(a), self.reg(b))
+                    }
+                    _ => Test::Reg(self.reg(test)),
+                };
+                let d = self.reg(v);
                 let extras = self.extras_of.get(&v).cloned().unwrap_or_default();
                 self.if_(d, test, &arms, &extras);
                 return;
@@ -421,7 +429,11 @@ impl Emitter<'_> {
     /// An IF: the arms one after another, each moving its results into the IF's registers
     /// and jumping to the end; a NaN test jumps to a tail that sets the extra results to
     /// NaN (the `If` op itself sets `d`).
-    fn if_(&mut self, d: u32, test: u32, arms: &[Block; 3], extras: &[Value]) {
+    ///
+    /// In fast mode an arm's result that an op of the arm computes and nothing else reads
+    /// is computed straight into the IF's register (the arms exclude each other, and nothing
+    /// inside them reads the IF's own value), which saves the move.
+    fn if_(&mut self, d: u32, test: Test, arms: &[Block; 3], extras: &[Value]) {
         let at = self.ops.len();
         self.ops.push(Op::Jump { to: 0 });
         let targets: Vec<u32> = extras.iter().map(|&x| self.reg(x)).collect();
@@ -429,9 +441,25 @@ impl Emitter<'_> {
         let mut jumps = Vec::new();
         for (i, arm) in arms.iter().enumerate() {
             starts[i] = self.here();
+            let r = arm.result as usize;
+            // Not an input (loaded before the first op, not in the arm) nor an IF's extra
+            // result (written by that IF's moves).
+            let computed = !matches!(
+                self.f.inst(arm.result),
+                Inst::Var(_) | Inst::Time | Inst::Mode | Inst::Measure(_) | Inst::IfExtra { .. }
+            );
+            if computed
+                && self.fusion.read_once(arm.result)
+                && self.reg_of[r] == UNASSIGNED
+                && arm.insts.iter().rev().any(|&x| x == arm.result)
+            {
+                self.reg_of[r] = d;
+            }
             self.list(&arm.insts);
             let a = self.reg(arm.result);
-            self.ops.push(Op::Move { d, a });
+            if a != d {
+                self.ops.push(Op::Move { d, a });
+            }
             for (&t, &x) in targets.iter().zip(&arm.extra) {
                 let a = self.reg(x);
                 self.ops.push(Op::Move { d: t, a });
@@ -453,11 +481,61 @@ impl Emitter<'_> {
         for j in jumps {
             self.ops[j] = Op::Jump { to: end };
         }
-        self.ops[at] = Op::If {
-            d,
-            test,
-            arms: starts,
-            end: nan_tail,
+        self.ops[at] = match test {
+            Test::Reg(test) => Op::If {
+                d,
+                test,
+                arms: starts,
+                end: nan_tail,
+            },
+            Test::Sub(a, b) => Op::IfSub {
+                d,
+                a,
+                b,
+                arms: starts,
+                end: nan_tail,
+            },
         };
+    }
+}
+
+/// The test of an IF: a register, or a difference computed by the IF op.
+#[derive(Clone, Copy)]
+enum Test {
+    Reg(u32),
+    Sub(u32, u32),
+}
+
+/// Points every jump and IF target that lands on a jump at that jump's own target, so a
+/// nested IF's arm leaves all its IFs at once.
+fn thread_jumps(ops: &mut [Op]) {
+    let resolve = |ops: &[Op], mut to: u32| {
+        // Jumps only go forward, so the chain ends.
+        while let Some(&Op::Jump { to: next }) = ops.get(to as usize) {
+            to = next;
+        }
+        to
+    };
+    for i in 0..ops.len() {
+        let new = match ops[i] {
+            Op::Jump { to } => Op::Jump {
+                to: resolve(ops, to),
+            },
+            Op::If { d, test, arms, end } => Op::If {
+                d,
+                test,
+                arms: arms.map(|a| resolve(ops, a)),
+                end: resolve(ops, end),
+            },
+            Op::IfSub { d, a, b, arms, end } => Op::IfSub {
+                d,
+                a,
+                b,
+                arms: arms.map(|t| resolve(ops, t)),
+                end: resolve(ops, end),
+            },
+            _ => continue,
+        };
+        ops[i] = new;
     }
 }

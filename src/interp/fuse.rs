@@ -2,7 +2,8 @@
 //! them (a fused pair, [`super::op::Tri`]).
 //!
 //! A binary operation folds when its value is read exactly once (outputs, IF tests and
-//! arm results count as reads), by a binary operation of the same block. Its value then
+//! arm results count as reads), by a binary operation of the same block; a subtraction
+//! also when that one read is the test of an IF of the same block. Its value then
 //! needs no register: the reader computes it. Staying in the block keeps the order of the
 //! remaining ops and lets the compiler settle every folded value before the block ends.
 
@@ -25,12 +26,17 @@ pub(super) fn binary(inst: &Inst) -> Option<(Bin, Value, Value)> {
 /// The folding decision for every value of a function.
 pub(super) struct Fusion {
     folds: Vec<bool>,
+    /// How many times each value is read.
+    reads: Vec<u32>,
 }
 
 impl Fusion {
     /// Nothing folds (the fault tracer's programs).
     pub(super) fn none() -> Self {
-        Fusion { folds: Vec::new() }
+        Fusion {
+            folds: Vec::new(),
+            reads: Vec::new(),
+        }
     }
 
     pub(super) fn new(f: &Function) -> Self {
@@ -61,14 +67,26 @@ impl Fusion {
         let folds = (0..n)
             .map(|v| {
                 let u = reader[v];
+                let Some(reader) = f.insts.get(u as usize) else {
+                    return false;
+                };
                 reads[v] == 1
-                    && u != NONE
                     && block[v] == block[u as usize]
-                    && binary(&f.insts[v]).is_some()
-                    && binary(&f.insts[u as usize]).is_some()
+                    && match binary(&f.insts[v]) {
+                        Some((Bin::Sub, ..)) => {
+                            binary(reader).is_some() || matches!(reader, Inst::If { .. })
+                        }
+                        Some(_) => binary(reader).is_some(),
+                        None => false,
+                    }
             })
             .collect();
-        Fusion { folds }
+        Fusion { folds, reads }
+    }
+
+    /// True when `v` is read exactly once (fast mode only; false when tracing).
+    pub(super) fn read_once(&self, v: Value) -> bool {
+        self.reads.get(v as usize) == Some(&1)
     }
 
     /// True when the binary operation `v` is computed by its reader.

@@ -92,12 +92,17 @@ impl Program {
             32 => self.eval_in::<32>(ctx, out),
             64 => self.eval_in::<64>(ctx, out),
             STACK_REGS => self.eval_in::<STACK_REGS>(ctx, out),
-            _ => {
-                let mut r = self.template.clone();
-                self.run(ctx, &mut r[..]);
-                self.read_outputs(&r, out);
-            }
+            _ => self.eval_on_heap(ctx, out),
         }
+    }
+
+    /// Runs in a register file on the heap (functions with more than [`STACK_REGS`]
+    /// registers). Not inlined, as [`Program::eval_in`].
+    #[inline(never)]
+    fn eval_on_heap(&self, ctx: &Context, out: &mut [f64]) {
+        let mut r = self.template.clone();
+        self.run(ctx, &mut r[..]);
+        self.read_outputs(&r, out);
     }
 
     /// Runs in a stack register file of `N` registers. The template is padded to one of

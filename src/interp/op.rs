@@ -5,7 +5,7 @@
 //! Besides the plain forms there are superinstructions the compiler picks in fast mode:
 //! a binary operation whose operand is a single-use binary operation ([`Tri`]: two
 //! dispatches and a store and reload fewer), and calls whose constant parameters were
-//! checked once (STEP, IMPACT, BISTOP, POLY). Each computes exactly the IEEE operations of
+//! checked once (STEP, IMPACT, BISTOP, POLY), and an IF on a difference. Each computes exactly the IEEE operations of
 //! the instructions it replaces, in the same order, so the bits do not change.
 
 use crate::ir::Cmp;
@@ -241,6 +241,14 @@ pub(super) enum Op {
         arms: [u32; 3],
         end: u32,
     },
+    /// [`Op::If`] on the test `a − b`, a subtraction no other op reads (fast mode).
+    IfSub {
+        d: u32,
+        a: u32,
+        b: u32,
+        arms: [u32; 3],
+        end: u32,
+    },
     Move {
         d: u32,
         a: u32,
@@ -300,7 +308,7 @@ impl Op {
             | DivMul(t) | AddSub(t) | SubSub(t) | MulSub(t) | DivSub(t) | AddRsub(t)
             | SubRsub(t) | MulRsub(t) | DivRsub(t) | AddDiv(t) | SubDiv(t) | MulDiv(t)
             | DivDiv(t) | AddRdiv(t) | SubRdiv(t) | MulRdiv(t) | DivRdiv(t) => t.d,
-            Move { .. } | If { .. } | Jump { .. } => return None,
+            Move { .. } | If { .. } | IfSub { .. } | Jump { .. } => return None,
         })
     }
 }

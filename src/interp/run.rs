@@ -96,6 +96,15 @@ impl Program {
                     }
                 } as usize;
             }
+            Op::IfSub { d, a, b, arms, end } => {
+                return match if_arm(r.get(a) - r.get(b)) {
+                    Some(arm) => arms[arm],
+                    None => {
+                        r.set(d, f64::NAN);
+                        end
+                    }
+                } as usize;
+            }
             Op::Jump { to } => return to as usize,
             Op::Move { d, a } => r.set(d, r.get(a)),
             Op::Load { d, from } => r.set(d, input(ctx, from)),

@@ -200,3 +200,42 @@ fn measures_are_loaded_up_front() {
     // A context without the measure gives NaN, as before.
     assert!(fast.eval(&Context::new(0.0, &[1.25])).is_nan());
 }
+
+#[test]
+fn ifs_test_differences_write_arm_results_in_place_and_leave_at_once() {
+    let mut jit = Jit::new().unwrap();
+    // if3 of the bench: every test is a difference or a variable, every computed arm
+    // result lands in its IF's register, so only constant or input arms move.
+    let p = agree(
+        &mut jit,
+        "IF(x - 1: -x*y, 0, IF(y: x + z, x, IF(z - 0.5: x*z, z, y*x - z)))",
+    );
+    let kinds: Vec<String> = p.ops.iter().map(kind).collect();
+    assert_eq!(
+        kinds.iter().filter(|k| *k == "IfSub").count(),
+        2,
+        "{kinds:?}"
+    );
+    assert_eq!(
+        kinds.iter().filter(|k| *k == "Move").count(),
+        3,
+        "{kinds:?}"
+    );
+    // No jump lands on a jump.
+    for op in &p.ops {
+        if let Op::Jump { to } = *op {
+            assert!(!matches!(p.ops.get(to as usize), Some(Op::Jump { .. })));
+        }
+    }
+    // Arms that yield inputs, constants, values read elsewhere, extra results.
+    for src in [
+        "IF(x: y, TIME, z)",
+        "IF(x - y: 1, y, -0)",
+        "IF(x - y: x*y, x*y + 1, z) + x*y",
+        "IF(x - y: IF(z: 1, x*y, 2), x + z, IF(y - 1: z, z*z, x - z))",
+        "[IF(x: y, z, x), IF(x - z: x/y, TIME, 2), 3]",
+        "IF(x*y - z: (x + y)*z, 0, x)",
+    ] {
+        agree(&mut jit, src);
+    }
+}
