@@ -448,10 +448,14 @@ impl Emitter<'_> {
                 self.f.inst(arm.result),
                 Inst::Var(_) | Inst::Time | Inst::Mode | Inst::Measure(_) | Inst::IfExtra { .. }
             );
+            let in_arm = arm
+                .insts
+                .first()
+                .is_some_and(|&first| self.fusion.same_block(first, arm.result));
             if computed
+                && in_arm
                 && self.fusion.read_once(arm.result)
                 && self.reg_of[r] == UNASSIGNED
-                && arm.insts.iter().rev().any(|&x| x == arm.result)
             {
                 self.reg_of[r] = d;
             }

@@ -28,6 +28,8 @@ pub(super) struct Fusion {
     folds: Vec<bool>,
     /// How many times each value is read.
     reads: Vec<u32>,
+    /// The block of each value (see [`blocks`]).
+    block: Vec<u32>,
 }
 
 impl Fusion {
@@ -36,6 +38,7 @@ impl Fusion {
         Fusion {
             folds: Vec::new(),
             reads: Vec::new(),
+            block: Vec::new(),
         }
     }
 
@@ -81,12 +84,24 @@ impl Fusion {
                     }
             })
             .collect();
-        Fusion { folds, reads }
+        Fusion {
+            folds,
+            reads,
+            block,
+        }
     }
 
     /// True when `v` is read exactly once (fast mode only; false when tracing).
     pub(super) fn read_once(&self, v: Value) -> bool {
         self.reads.get(v as usize) == Some(&1)
+    }
+
+    /// True when `a` and `b` are instructions of the same block (fast mode only).
+    pub(super) fn same_block(&self, a: Value, b: Value) -> bool {
+        match (self.block.get(a as usize), self.block.get(b as usize)) {
+            (Some(&x), Some(&y)) => x != NONE && x == y,
+            _ => false,
+        }
     }
 
     /// True when the binary operation `v` is computed by its reader.
