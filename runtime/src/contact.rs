@@ -93,13 +93,80 @@ fn lower_grad(x: f64, xd: f64, x1: f64, k: f64, e: f64, cmax: f64, d: f64) -> [f
 /// unclamped force −381.97 is clamped to 0.
 #[doc(alias = "IMPACT")]
 pub fn impact(x: f64, xd: f64, x1: f64, k: f64, e: f64, cmax: f64, d: f64) -> f64 {
-    if any_nan([x, xd, x1, k, e, cmax, d]) || !params_valid(k, e, cmax, d) {
-        return f64::NAN;
+    Impact::new(x1, k, e, cmax, d).map_or(f64::NAN, |c| c.force(x, xd))
+}
+
+/// The parameters `x1, k, e, cmax, d` of an IMPACT checked once, for a host that calls
+/// one IMPACT many times with the same parameters (the interpreter, for constant ones).
+///
+/// [`impact`] is `Impact::new(x1, k, e, cmax, d)` and then [`Impact::force`] at (x, ẋ)
+/// (NaN when `new` refuses), so both entry points run one code.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Impact {
+    x1: f64,
+    k: f64,
+    e: f64,
+    cmax: f64,
+    d: f64,
+}
+
+impl Impact {
+    /// The checked parameters, or `None` when IMPACT with them is NaN for every x, ẋ.
+    pub fn new(x1: f64, k: f64, e: f64, cmax: f64, d: f64) -> Option<Self> {
+        if any_nan([x1, k, e, cmax, d]) || !params_valid(k, e, cmax, d) {
+            return None;
+        }
+        Some(Impact { x1, k, e, cmax, d })
     }
-    if x >= x1 {
-        return 0.0;
+
+    /// [`impact`] at (x, ẋ).
+    #[inline]
+    pub fn force(&self, x: f64, xd: f64) -> f64 {
+        let Impact { x1, k, e, cmax, d } = *self;
+        if x.is_nan() || xd.is_nan() {
+            return f64::NAN;
+        }
+        if x >= x1 {
+            return 0.0;
+        }
+        push_only(lower_force(x, xd, x1, k, e, cmax, d))
     }
-    push_only(lower_force(x, xd, x1, k, e, cmax, d))
+}
+
+/// The parameters `x1, x2, k, e, cmax, d` of a BISTOP checked once, as [`Impact`]:
+/// [`bistop`] is `Bistop::new` and then [`Bistop::force`]. The lower stop's parameters
+/// are an [`Impact`]'s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bistop {
+    lower: Impact,
+    x2: f64,
+}
+
+impl Bistop {
+    /// The checked parameters, or `None` when BISTOP with them is NaN for every x, ẋ.
+    pub fn new(x1: f64, x2: f64, k: f64, e: f64, cmax: f64, d: f64) -> Option<Self> {
+        let lower = Impact::new(x1, k, e, cmax, d)?;
+        if x2.is_nan() || x1 >= x2 {
+            return None;
+        }
+        Some(Bistop { lower, x2 })
+    }
+
+    /// [`bistop`] at (x, ẋ).
+    #[inline]
+    pub fn force(&self, x: f64, xd: f64) -> f64 {
+        let Impact { x1, k, e, cmax, d } = self.lower;
+        if x.is_nan() || xd.is_nan() {
+            return f64::NAN;
+        }
+        if x < x1 {
+            push_only(lower_force(x, xd, x1, k, e, cmax, d))
+        } else if x > self.x2 {
+            pull_only(upper_force(x, xd, self.x2, k, e, cmax, d))
+        } else {
+            0.0
+        }
+    }
 }
 
 /// [`impact`] and its partials with respect to (x, ẋ, x1, k, e, cmax, d).
@@ -138,16 +205,7 @@ pub fn impact_grad(x: f64, xd: f64, x1: f64, k: f64, e: f64, cmax: f64, d: f64) 
 #[doc(alias = "BISTOP")]
 #[allow(clippy::too_many_arguments)] // the Adams signature has eight arguments
 pub fn bistop(x: f64, xd: f64, x1: f64, x2: f64, k: f64, e: f64, cmax: f64, d: f64) -> f64 {
-    if any_nan([x, xd, x1, x2, k, e, cmax, d]) || x1 >= x2 || !params_valid(k, e, cmax, d) {
-        return f64::NAN;
-    }
-    if x < x1 {
-        push_only(lower_force(x, xd, x1, k, e, cmax, d))
-    } else if x > x2 {
-        pull_only(upper_force(x, xd, x2, k, e, cmax, d))
-    } else {
-        0.0
-    }
+    Bistop::new(x1, x2, k, e, cmax, d).map_or(f64::NAN, |c| c.force(x, xd))
 }
 
 /// [`bistop`] and its partials with respect to (x, ẋ, x1, x2, k, e, cmax, d).

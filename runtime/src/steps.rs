@@ -68,10 +68,76 @@ pub(crate) fn step_rows_grad(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> (f64
 #[doc(alias = "STEP")]
 #[inline]
 pub fn step(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
-    if any_nan([x, x0, h0, x1, h1]) || x0 >= x1 {
-        return f64::NAN;
+    StepParams::new(x0, h0, x1, h1).map_or(f64::NAN, |p| p.step(x))
+}
+
+/// The parameters `x0, h0, x1, h1` of a STEP, STEP5 or HAVSIN checked once (none NaN,
+/// x0 < x1), for a host that calls one step many times with the same parameters (the
+/// interpreter, for constant parameters).
+///
+/// [`step`], [`step5`] and [`havsin`] are `StepParams::new(x0, h0, x1, h1)` and then the
+/// method of that name at x (NaN when `new` refuses), so the two entry points are one
+/// code. A NaN x needs no test of its own: it fails both end tests, and the interior row
+/// computes with it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepParams {
+    x0: f64,
+    h0: f64,
+    x1: f64,
+    h1: f64,
+}
+
+impl StepParams {
+    /// The checked parameters, or `None` when a step with them is NaN for every x.
+    pub fn new(x0: f64, h0: f64, x1: f64, h1: f64) -> Option<Self> {
+        if any_nan([x0, h0, x1, h1]) || x0 >= x1 {
+            return None;
+        }
+        Some(StepParams { x0, h0, x1, h1 })
     }
-    step_rows(x, x0, h0, x1, h1)
+
+    /// [`step`] at x, branch-free: every row is computed, then the end tests pick one (as
+    /// the JIT's lowering does). Unpredictable inputs cost no mispredicted branches, and
+    /// the rows are cheap arithmetic without side effects.
+    #[inline]
+    pub fn step(&self, x: f64) -> f64 {
+        let StepParams { x0, h0, x1, h1 } = *self;
+        let d = (x - x0) / (x1 - x0);
+        let mid = h0 + (h1 - h0) * d * d * (3.0 - 2.0 * d);
+        pick(x <= x0, h0, pick(x >= x1, h1, mid))
+    }
+
+    /// [`step5`] at x, branch-free as [`StepParams::step`].
+    #[inline]
+    pub fn step5(&self, x: f64) -> f64 {
+        let StepParams { x0, h0, x1, h1 } = *self;
+        let d = (x - x0) / (x1 - x0);
+        let mid = h0 + (h1 - h0) * d * d * d * (10.0 - 15.0 * d + 6.0 * d * d);
+        pick(x <= x0, h0, pick(x >= x1, h1, mid))
+    }
+
+    /// [`havsin`] at x. Its interior calls `sin`, so the rows stay branches here: a call
+    /// on every evaluation would cost more than a mispredicted branch.
+    #[inline]
+    pub fn havsin(&self, x: f64) -> f64 {
+        let StepParams { x0, h0, x1, h1 } = *self;
+        if x <= x0 {
+            h0
+        } else if x >= x1 {
+            h1
+        } else {
+            let d = (x - x0) / (x1 - x0);
+            (h0 + h1) / 2.0 + (h1 - h0) / 2.0 * (PI * d - FRAC_PI_2).sin()
+        }
+    }
+}
+
+/// `if c { a } else { b }` on values already computed, written as a bit mask so that the
+/// compiler emits a blend rather than a branch.
+#[inline(always)]
+pub(crate) fn pick(c: bool, a: f64, b: f64) -> f64 {
+    let mask = u64::from(c).wrapping_neg();
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
 
 /// [`step`] and its partials with respect to (x, x0, h0, x1, h1).
@@ -112,17 +178,7 @@ pub fn step_d2(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
 /// `STEP5(0.25,0,0,1,1)` = 0.103515625.
 #[doc(alias = "STEP5")]
 pub fn step5(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
-    if any_nan([x, x0, h0, x1, h1]) || x0 >= x1 {
-        return f64::NAN;
-    }
-    if x <= x0 {
-        h0
-    } else if x >= x1 {
-        h1
-    } else {
-        let d = (x - x0) / (x1 - x0);
-        h0 + (h1 - h0) * d * d * d * (10.0 - 15.0 * d + 6.0 * d * d)
-    }
+    StepParams::new(x0, h0, x1, h1).map_or(f64::NAN, |p| p.step5(x))
 }
 
 /// [`step5`] and its partials with respect to (x, x0, h0, x1, h1): as [`step_grad`] with
@@ -171,17 +227,7 @@ pub fn step5_d2(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
 /// `HAVSIN(0.25,0,0,1,1)` = 0.1464466094067263.
 #[doc(alias = "HAVSIN")]
 pub fn havsin(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
-    if any_nan([x, x0, h0, x1, h1]) || x0 >= x1 {
-        return f64::NAN;
-    }
-    if x <= x0 {
-        h0
-    } else if x >= x1 {
-        h1
-    } else {
-        let d = (x - x0) / (x1 - x0);
-        (h0 + h1) / 2.0 + (h1 - h0) / 2.0 * (PI * d - FRAC_PI_2).sin()
-    }
+    StepParams::new(x0, h0, x1, h1).map_or(f64::NAN, |p| p.havsin(x))
 }
 
 /// [`havsin`] and its partials with respect to (x, x0, h0, x1, h1): as [`step_grad`] with

@@ -3,20 +3,44 @@
 //! one after another with jumps to a common end; library calls get an op per arity so no
 //! argument buffer is built at run time, and constant coefficient lists of series are
 //! passed straight from a pool.
+//!
+//! In fast mode ([`Mode::Fast`], what [`Program::new`] builds) the compiler also picks
+//! superinstructions: the context's inputs are loaded before the first op (reads have no
+//! effects, so an input read only in an untaken IF arm may be loaded all the same); a
+//! binary operation whose value only one binary operation of the same block reads is
+//! fused into that one (see [`fuse`](super::fuse)); ABS and SQRT become single
+//! operations (the JIT's `fabs` and `sqrt`); STEP, STEP5, HAVSIN, IMPACT and BISTOP with
+//! constant parameters call the runtime's entry points whose parameters were checked
+//! once, and POLY with constant coefficients calls `poly` without gathering arguments.
+//! Trace mode keeps one op per IR value, each where the IR computes it, so the fault
+//! tracer sees every value.
 
-use super::{Coeffs, Op, Program, SeriesFn};
+use super::fuse::{binary, Fusion};
+use super::op::{Bin, Coeffs, Input, Inputs, Op, SeriesCall, SeriesFn, Tri};
+use super::Program;
 use crate::ir::{Block, Function, Inst, Value};
 use crate::vocab::builtins::SplineKind;
 use crate::vocab::func::{Callee, Func};
+use mbfx_runtime::{Bistop, Impact, StepParams};
 
 /// Most coefficients a series call takes (spec §5.6–5.8).
 pub const MAX_COEFFICIENTS: usize = 31;
 
 const UNASSIGNED: u32 = u32::MAX;
 
+/// What the compiled program is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Evaluation: superinstructions and inputs loaded up front.
+    Fast,
+    /// The fault tracer: one op per IR value, where the IR computes it.
+    Trace,
+}
+
 struct Emitter<'f> {
     f: &'f Function,
     ops: Vec<Op>,
+    inputs: Inputs,
     arg_regs: Vec<u32>,
     pool: Vec<f64>,
     /// Register of each IR value, or UNASSIGNED.
@@ -24,22 +48,37 @@ struct Emitter<'f> {
     template: Vec<f64>,
     /// The [`Inst::IfExtra`] values of each multi-result IF, by IF value, in index order.
     extras_of: rustc_hash::FxHashMap<Value, Vec<Value>>,
+    mode: Mode,
+    /// Which binary operations fold into their reader (fast mode only).
+    fusion: Fusion,
+    /// Binary operations left out so far because their reader will compute them.
+    pending: Vec<bool>,
 }
 
-pub fn compile(function: Function) -> Program {
+pub fn compile(function: Function, mode: Mode) -> Program {
+    let fusion = match mode {
+        Mode::Fast => Fusion::new(&function),
+        Mode::Trace => Fusion::none(),
+    };
     let mut e = Emitter {
         f: &function,
         ops: Vec::new(),
+        inputs: Inputs::default(),
         arg_regs: Vec::new(),
         pool: Vec::new(),
         reg_of: vec![UNASSIGNED; function.insts.len()],
         template: Vec::new(),
         extras_of: extras_of(&function),
+        mode,
+        fusion,
+        pending: vec![false; function.insts.len()],
     };
     e.list(&function.body);
+    thread_jumps(&mut e.ops);
     let outputs: Vec<u32> = function.outputs.iter().map(|&v| e.reg(v)).collect();
     let Emitter {
         ops,
+        inputs,
         arg_regs,
         pool,
         template,
@@ -48,15 +87,13 @@ pub fn compile(function: Function) -> Program {
     } = e;
     // Pad the register file to the size of a stack bucket (see Program::eval).
     let mut template = template;
-    if let Some(&size) = [8, 16, 32, 64, super::STACK_REGS]
-        .iter()
-        .find(|&&s| s >= template.len())
-    {
+    if let Some(&size) = super::STACK_SIZES.iter().find(|&&s| s >= template.len()) {
         template.resize(size, 0.0);
     }
     let uses = &function.uses;
     Program {
         ops,
+        inputs,
         template,
         arg_regs,
         pool,
@@ -117,10 +154,21 @@ impl Emitter<'_> {
 
     fn inst(&mut self, v: Value) {
         let inst = self.f.inst(v).clone();
+        if let Some((bin, a, b)) = binary(&inst) {
+            self.binary(v, bin, a, b);
+            return;
+        }
         let op = match inst {
             Inst::Const(_) | Inst::IfExtra { .. } => return,
             Inst::If { test, arms } => {
-                let (test, d) = (self.reg(test), self.reg(v));
+                let test = match binary(self.f.inst(test)) {
+                    Some((Bin::Sub, a, b)) if self.pending[test as usize] => {
+                        self.pending[test as usize] = false;
+                        Test::Sub(self.reg(a), self.reg(b))
+                    }
+                    _ => Test::Reg(self.reg(test)),
+                };
+                let d = self.reg(v);
                 let extras = self.extras_of.get(&v).cloned().unwrap_or_default();
                 self.if_(d, test, &arms, &extras);
                 return;
@@ -157,16 +205,10 @@ impl Emitter<'_> {
                     func,
                 }
             }
-            Inst::Var(slot) => Op::Var {
-                d: self.reg(v),
-                slot,
-            },
-            Inst::Time => Op::Time { d: self.reg(v) },
-            Inst::Mode => Op::Mode { d: self.reg(v) },
-            Inst::Measure(slot) => Op::Measure {
-                d: self.reg(v),
-                slot,
-            },
+            Inst::Var(slot) => return self.load(v, Input::Var(slot)),
+            Inst::Time => return self.load(v, Input::Time),
+            Inst::Mode => return self.load(v, Input::Mode),
+            Inst::Measure(slot) => return self.load(v, Input::Measure(slot)),
             Inst::Neg(a) => {
                 let a = self.reg(a);
                 Op::Neg { d: self.reg(v), a }
@@ -175,16 +217,8 @@ impl Emitter<'_> {
                 let a = self.reg(a);
                 Op::Sqrt { d: self.reg(v), a }
             }
-            Inst::Add(a, b) | Inst::Sub(a, b) | Inst::Mul(a, b) | Inst::Div(a, b) => {
-                let (a, b) = (self.reg(a), self.reg(b));
-                let d = self.reg(v);
-                match inst {
-                    Inst::Add(..) => Op::Add { d, a, b },
-                    Inst::Sub(..) => Op::Sub { d, a, b },
-                    Inst::Mul(..) => Op::Mul { d, a, b },
-                    _ => Op::Div { d, a, b },
-                }
-            }
+            // Handled above.
+            Inst::Add(..) | Inst::Sub(..) | Inst::Mul(..) | Inst::Div(..) => return,
             Inst::Call(func, args) => self.call(v, func, &args),
             Inst::Spline {
                 kind,
@@ -207,7 +241,63 @@ impl Emitter<'_> {
         self.ops.push(op);
     }
 
+    /// An input of the context: an op where the IR reads it (trace mode), or a load
+    /// before the first op (fast mode).
+    fn load(&mut self, v: Value, from: Input) {
+        let d = self.reg(v);
+        match self.mode {
+            Mode::Fast => self.inputs.push(d, from),
+            Mode::Trace => self.ops.push(Op::Load { d, from }),
+        }
+    }
+
+    /// A binary operation: left out when its one reader will compute it, fused with an
+    /// operand left out so, or plain.
+    fn binary(&mut self, v: Value, bin: Bin, a: Value, b: Value) {
+        let inner = [a, b]
+            .into_iter()
+            .enumerate()
+            .find(|&(_, x)| self.pending[x as usize]);
+        let Some((side, x)) = inner else {
+            if self.fusion.folds(v) {
+                self.pending[v as usize] = true;
+            } else {
+                self.plain(v, bin, a, b);
+            }
+            return;
+        };
+        self.pending[x as usize] = false;
+        let other = if side == 0 { b } else { a };
+        if self.pending[other as usize] {
+            // Both operands were left out: the right one is computed on its own first
+            // (none of its operands was left out, or it would not have been).
+            self.pending[other as usize] = false;
+            if let Some((ob, oa, obb)) = binary(self.f.inst(other)) {
+                self.plain(other, ob, oa, obb);
+            }
+        }
+        // Only binary operations are ever left out.
+        let (inner_bin, xa, xb) = binary(self.f.inst(x)).unwrap_or((Bin::Add, x, x));
+        let t = Tri {
+            a: self.reg(xa),
+            b: self.reg(xb),
+            c: self.reg(other),
+            d: self.reg(v),
+        };
+        self.ops.push(bin.fused(inner_bin, side == 0, t));
+    }
+
+    /// `v = a • b` as one op.
+    fn plain(&mut self, v: Value, bin: Bin, a: Value, b: Value) {
+        let (a, b) = (self.reg(a), self.reg(b));
+        let op = bin.op(self.reg(v), a, b);
+        self.ops.push(op);
+    }
+
     fn call(&mut self, v: Value, func: Func, args: &[Value]) -> Op {
+        if let Some(op) = self.bound_call(v, func, args) {
+            return op;
+        }
         let callee = func.callee();
         if let Callee::Series2(_) | Callee::Series3(_) = callee {
             return self.series(v, func, callee, args);
@@ -234,6 +324,71 @@ impl Emitter<'_> {
                 }
             }
         }
+    }
+
+    /// The specialised forms of a call: ABS and SQRT as single operations, the steps and
+    /// contact functions with constant parameters checked once. `None` for a plain call.
+    fn bound_call(&mut self, v: Value, func: Func, args: &[Value]) -> Option<Op> {
+        let consts =
+            |vs: &[Value]| -> Option<Vec<f64>> { vs.iter().map(|&c| self.f.constant(c)).collect() };
+        let op = match (func, args) {
+            (Func::Abs, &[a]) => Op::Abs {
+                a: self.reg(a),
+                d: self.reg(v),
+            },
+            (Func::Sqrt, &[a]) => Op::Sqrt {
+                a: self.reg(a),
+                d: self.reg(v),
+            },
+            (Func::Step | Func::Step5 | Func::Havsin, &[x, ref params @ ..]) => {
+                let &[x0, h0, x1, h1] = consts(params)?.as_slice() else {
+                    return None;
+                };
+                let params = StepParams::new(x0, h0, x1, h1)?;
+                let p = Box::new(params);
+                let (x, d) = (self.reg(x), self.reg(v));
+                match func {
+                    Func::Step => Op::Step { d, x, p },
+                    Func::Step5 => Op::StepFn {
+                        d,
+                        x,
+                        p,
+                        f: StepParams::step5,
+                    },
+                    _ => Op::StepFn {
+                        d,
+                        x,
+                        p,
+                        f: StepParams::havsin,
+                    },
+                }
+            }
+            (Func::Impact, &[x, xd, ref params @ ..]) => {
+                let &[x1, k, e, cmax, dd] = consts(params)?.as_slice() else {
+                    return None;
+                };
+                let params = Impact::new(x1, k, e, cmax, dd)?;
+                let p = Box::new(params);
+                let (x, xd, d) = (self.reg(x), self.reg(xd), self.reg(v));
+                Op::Impact { d, x, xd, p }
+            }
+            (Func::Bistop, &[x, xd, ref params @ ..]) => {
+                let &[x1, x2, k, e, cmax, dd] = consts(params)?.as_slice() else {
+                    return None;
+                };
+                let params = Bistop::new(x1, x2, k, e, cmax, dd)?;
+                let p = Box::new(params);
+                let (x, xd, d) = (self.reg(x), self.reg(xd), self.reg(v));
+                Op::Bistop { d, x, xd, p }
+            }
+            (Func::Poly, &[x, x0, ref coeffs @ ..]) if coeffs.len() <= MAX_COEFFICIENTS => {
+                let coeffs = consts(coeffs)?.into_boxed_slice();
+                let (x, x0, d) = (self.reg(x), self.reg(x0), self.reg(v));
+                Op::Poly { d, x, x0, coeffs }
+            }
+            _ => return None,
+        };
+        Some(op)
     }
 
     /// A series call: x, x0 (and w for FORCOS/FORSIN) as registers, and the coefficients
@@ -267,15 +422,18 @@ impl Emitter<'_> {
         Op::Series {
             d: self.reg(v),
             args: start,
-            coeffs,
-            f,
+            call: Box::new(SeriesCall { coeffs, f }),
         }
     }
 
     /// An IF: the arms one after another, each moving its results into the IF's registers
     /// and jumping to the end; a NaN test jumps to a tail that sets the extra results to
     /// NaN (the `If` op itself sets `d`).
-    fn if_(&mut self, d: u32, test: u32, arms: &[Block; 3], extras: &[Value]) {
+    ///
+    /// In fast mode an arm's result that an op of the arm computes and nothing else reads
+    /// is computed straight into the IF's register (the arms exclude each other, and nothing
+    /// inside them reads the IF's own value), which saves the move.
+    fn if_(&mut self, d: u32, test: Test, arms: &[Block; 3], extras: &[Value]) {
         let at = self.ops.len();
         self.ops.push(Op::Jump { to: 0 });
         let targets: Vec<u32> = extras.iter().map(|&x| self.reg(x)).collect();
@@ -283,9 +441,29 @@ impl Emitter<'_> {
         let mut jumps = Vec::new();
         for (i, arm) in arms.iter().enumerate() {
             starts[i] = self.here();
+            let r = arm.result as usize;
+            // Not an input (loaded before the first op, not in the arm) nor an IF's extra
+            // result (written by that IF's moves).
+            let computed = !matches!(
+                self.f.inst(arm.result),
+                Inst::Var(_) | Inst::Time | Inst::Mode | Inst::Measure(_) | Inst::IfExtra { .. }
+            );
+            let in_arm = arm
+                .insts
+                .first()
+                .is_some_and(|&first| self.fusion.same_block(first, arm.result));
+            if computed
+                && in_arm
+                && self.fusion.read_once(arm.result)
+                && self.reg_of[r] == UNASSIGNED
+            {
+                self.reg_of[r] = d;
+            }
             self.list(&arm.insts);
             let a = self.reg(arm.result);
-            self.ops.push(Op::Move { d, a });
+            if a != d {
+                self.ops.push(Op::Move { d, a });
+            }
             for (&t, &x) in targets.iter().zip(&arm.extra) {
                 let a = self.reg(x);
                 self.ops.push(Op::Move { d: t, a });
@@ -307,11 +485,61 @@ impl Emitter<'_> {
         for j in jumps {
             self.ops[j] = Op::Jump { to: end };
         }
-        self.ops[at] = Op::If {
-            d,
-            test,
-            arms: starts,
-            end: nan_tail,
+        self.ops[at] = match test {
+            Test::Reg(test) => Op::If {
+                d,
+                test,
+                arms: starts,
+                end: nan_tail,
+            },
+            Test::Sub(a, b) => Op::IfSub {
+                d,
+                a,
+                b,
+                arms: starts,
+                end: nan_tail,
+            },
         };
+    }
+}
+
+/// The test of an IF: a register, or a difference computed by the IF op.
+#[derive(Clone, Copy)]
+enum Test {
+    Reg(u32),
+    Sub(u32, u32),
+}
+
+/// Points every jump and IF target that lands on a jump at that jump's own target, so a
+/// nested IF's arm leaves all its IFs at once.
+fn thread_jumps(ops: &mut [Op]) {
+    let resolve = |ops: &[Op], mut to: u32| {
+        // Jumps only go forward, so the chain ends.
+        while let Some(&Op::Jump { to: next }) = ops.get(to as usize) {
+            to = next;
+        }
+        to
+    };
+    for i in 0..ops.len() {
+        let new = match ops[i] {
+            Op::Jump { to } => Op::Jump {
+                to: resolve(ops, to),
+            },
+            Op::If { d, test, arms, end } => Op::If {
+                d,
+                test,
+                arms: arms.map(|a| resolve(ops, a)),
+                end: resolve(ops, end),
+            },
+            Op::IfSub { d, a, b, arms, end } => Op::IfSub {
+                d,
+                a,
+                b,
+                arms: arms.map(|t| resolve(ops, t)),
+                end: resolve(ops, end),
+            },
+            _ => continue,
+        };
+        ops[i] = new;
     }
 }

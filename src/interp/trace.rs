@@ -3,7 +3,8 @@
 //! the expression then has no value), else the first value that is NaN or infinite. A
 //! NaN that reaches an IF test is reported at the IF, with the place it came from.
 
-use super::{Op, Program};
+use super::op::Op;
+use super::Program;
 use crate::context::Context;
 use crate::diag::Span;
 use crate::ir::Inst;
@@ -22,6 +23,8 @@ pub struct Fault {
     pub cause: Option<Span>,
 }
 
+/// Runs `p`, a program compiled in trace mode (one op per IR value, each where the IR
+/// computes it), and reports the first fault.
 pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
     let f = &p.function;
     if !p.covered_by(ctx) {
@@ -54,8 +57,8 @@ pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
                 });
             }
         }
-        pc = p.step(op, pc, ctx, &mut r);
-        if let Some(d) = dest(op) {
+        pc = p.step(op, pc, ctx, &mut r[..]);
+        if let Some(d) = op.dest() {
             if first.is_none() && !r[d as usize].is_finite() {
                 first = Some(fault(d, r[d as usize], false));
             }
@@ -73,33 +76,5 @@ pub fn first_fault(p: &Program, ctx: &Context) -> Option<Fault> {
             }),
             _ => None,
         })
-    })
-}
-
-/// Destination register of an op that computes a value (not IF, jumps or moves, whose
-/// values were already checked where they were computed).
-fn dest(op: &Op) -> Option<u32> {
-    Some(match *op {
-        Op::Var { d, .. }
-        | Op::Time { d }
-        | Op::Mode { d }
-        | Op::Measure { d, .. }
-        | Op::Neg { d, .. }
-        | Op::Add { d, .. }
-        | Op::Sub { d, .. }
-        | Op::Mul { d, .. }
-        | Op::Div { d, .. }
-        | Op::Sqrt { d, .. }
-        | Op::Call1 { d, .. }
-        | Op::Call2 { d, .. }
-        | Op::Call5 { d, .. }
-        | Op::Call6 { d, .. }
-        | Op::Call7 { d, .. }
-        | Op::Call8 { d, .. }
-        | Op::Series { d, .. }
-        | Op::Spline { d, .. }
-        | Op::Select { d, .. }
-        | Op::Partial { d, .. } => d,
-        Op::Move { .. } | Op::If { .. } | Op::Jump { .. } => return None,
     })
 }

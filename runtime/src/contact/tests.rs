@@ -213,3 +213,49 @@ fn bistop_grad_matches_finite_differences() {
         [1.3, 0.3, -0.5, 1.2, 40.0, 1.3, 2.0, 0.3],
     );
 }
+
+#[test]
+fn checked_parameters_refuse_exactly_what_the_functions_refuse() {
+    // impact and bistop are Impact::new / Bistop::new and then force: this pins that a
+    // refused parameter set gives NaN everywhere and an accepted one the same bits.
+    let values = [0.0, -1.0, 1.0, 1.5, 0.1, 1e5, f64::INFINITY, f64::NAN];
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    for &p in &values {
+        for &q in &values {
+            let points = [
+                (p - 0.5, 1.0),
+                (q + 0.5, -1.0),
+                (0.95, 2.0),
+                (f64::NAN, 0.0),
+                (p, f64::NAN),
+            ];
+            match Impact::new(p, q, 1.5, 50.0, 0.1) {
+                Some(c) => {
+                    for (x, xd) in points {
+                        assert!(same(c.force(x, xd), impact(x, xd, p, q, 1.5, 50.0, 0.1)));
+                    }
+                }
+                None => {
+                    for (x, xd) in points {
+                        assert!(impact(x, xd, p, q, 1.5, 50.0, 0.1).is_nan());
+                    }
+                }
+            }
+            match Bistop::new(p, q, 10.0, 1.5, 1.0, 0.1) {
+                Some(c) => {
+                    for (x, xd) in points {
+                        assert!(same(
+                            c.force(x, xd),
+                            bistop(x, xd, p, q, 10.0, 1.5, 1.0, 0.1)
+                        ));
+                    }
+                }
+                None => {
+                    for (x, xd) in points {
+                        assert!(bistop(x, xd, p, q, 10.0, 1.5, 1.0, 0.1).is_nan());
+                    }
+                }
+            }
+        }
+    }
+}

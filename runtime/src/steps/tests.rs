@@ -182,3 +182,50 @@ fn second_derivatives_match_finite_differences_of_the_first() {
         }
     }
 }
+
+#[test]
+fn branch_free_steps_give_the_rows_bits() {
+    // `StepParams::step` and `step5` compute every row and pick one with masks; the
+    // branchy rows (`step_rows`, and the old STEP5 body below) are the reference.
+    let step5_rows = |x: f64, x0: f64, h0: f64, x1: f64, h1: f64| {
+        if x <= x0 {
+            h0
+        } else if x >= x1 {
+            h1
+        } else {
+            let d = (x - x0) / (x1 - x0);
+            h0 + (h1 - h0) * d * d * d * (10.0 - 15.0 * d + 6.0 * d * d)
+        }
+    };
+    let edges = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.5,
+        0.25,
+        2.0,
+        5e-324,
+        1e308,
+        -1e308,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+    ];
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    for &x in &edges {
+        for &x0 in &edges {
+            for &x1 in &edges {
+                for (h0, h1) in [(0.0, 5.0), (-0.0, 0.0), (3.0, -7.5), (f64::INFINITY, 1.0)] {
+                    let Some(p) = StepParams::new(x0, h0, x1, h1) else {
+                        assert!(step(x, x0, h0, x1, h1).is_nan());
+                        continue;
+                    };
+                    assert!(same(p.step(x), step_rows(x, x0, h0, x1, h1)));
+                    assert!(same(p.step5(x), step5_rows(x, x0, h0, x1, h1)));
+                    assert!(same(step(x, x0, h0, x1, h1), p.step(x)));
+                }
+            }
+        }
+    }
+}
