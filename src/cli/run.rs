@@ -12,6 +12,7 @@ use crate::diag::{Code, Diagnostic, SourceFile};
 use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;
+use crate::model::integrator_settings::Formulation;
 use crate::session::files::read_dataset;
 use crate::session::run::{Method, RunFailure, RunSpec, Segment, Simulation, Summary, TableRow};
 use crate::session::{report, DimRequest};
@@ -27,6 +28,19 @@ pub enum IntegratorArg {
     Galpha,
     /// Plain Newmark (the dataset's BETA and GAMMA, else 0.36 and 0.7), error-controlled.
     Newmark,
+    /// Adams GSTIFF: BDF of order 1-6 with a fixed leading coefficient (--formulation).
+    Gstiff,
+    /// Adams WSTIFF: BDF of order 1-6 with variable coefficients (--formulation).
+    Wstiff,
+}
+
+/// `--formulation` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FormulationArg {
+    /// Index 3: position constraints, positions under error control (Adams' default).
+    I3,
+    /// Stabilized index 2: velocity constraints too, velocities under error control.
+    Si2,
 }
 
 #[derive(clap::Args)]
@@ -41,7 +55,7 @@ pub struct RunArgs {
     /// file's DTOUT, else END/100].
     #[arg(long = "output-step", value_name = "DT")]
     output_step: Option<f64>,
-    /// The integrator [default: the dataset's INTEGRATOR, else hht].
+    /// The integrator [default: the dataset's INTEGRATOR, else gstiff, as Adams].
     #[arg(long, value_enum)]
     integrator: Option<IntegratorArg>,
     /// Local error tolerance per step (ERROR) [default: the dataset's, else 1e-3].
@@ -62,6 +76,12 @@ pub struct RunArgs {
     /// HHT ALPHA in [−1/3, 0].
     #[arg(long, allow_hyphen_values = true)]
     alpha: Option<f64>,
+    /// The BDF formulation [default: the dataset's INTEGRATOR, else i3].
+    #[arg(long, value_enum)]
+    formulation: Option<FormulationArg>,
+    /// The highest BDF order, 1 to 6 (KMAX) [default: the dataset's, else 6].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=6))]
+    kmax: Option<u32>,
     /// Generalized-α spectral radius ρ∞ in [0, 1].
     #[arg(long = "rho-inf")]
     rho_inf: Option<f64>,
@@ -194,6 +214,13 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         IntegratorArg::Hht => Method::Hht,
         IntegratorArg::Galpha => Method::Galpha,
         IntegratorArg::Newmark => Method::Newmark,
+        IntegratorArg::Gstiff => Method::Gstiff,
+        IntegratorArg::Wstiff => Method::Wstiff,
+    });
+    spec.kmax = a.kmax;
+    spec.formulation = a.formulation.map(|f| match f {
+        FormulationArg::I3 => Formulation::I3,
+        FormulationArg::Si2 => Formulation::Si2,
     });
     (spec.error, spec.hmax, spec.hinit, spec.hmin) = (a.error, a.hmax, a.hinit, a.hmin);
     (spec.fixed_step, spec.alpha, spec.rho_inf) = (a.fixed_step, a.alpha, a.rho_inf);

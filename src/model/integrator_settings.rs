@@ -381,21 +381,27 @@ fn warn(span: &Span, message: String) -> Diagnostic {
 }
 
 /// Everything written that `mbfx run` does not honour, each named at its span. What is
-/// honoured: HHT and its ALPHA, NEWMARK and its BETA and GAMMA, I3, ERROR, HMAX, HINIT,
-/// HMIN, MAXIT.
+/// honoured: GSTIFF and WSTIFF (the default GSTIFF when none is named) with I3 or SI2 and
+/// KMAX, HHT and its ALPHA, NEWMARK and its BETA and GAMMA, ERROR, HMAX, HINIT, HMIN,
+/// MAXIT.
 fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     let family = s.family.as_ref().map(|f| f.value);
-    if let Some(f) = s.family.as_ref().filter(|f| f.value.is_bdf()) {
+    let bdf = family.is_none_or(Family::is_bdf);
+    if let Some(f) = s
+        .family
+        .as_ref()
+        .filter(|f| matches!(f.value, Family::ConstantBdf | Family::Hastiff))
+    {
         out.push(
             warn(
                 &f.span,
                 format!(
-                    "INTEGRATOR/{}: mbfx has no BDF integrator yet; HHT (ALPHA = -0.3) runs instead",
+                    "INTEGRATOR/{}: mbfx has no {0}; GSTIFF runs instead",
                     f.value.name()
                 ),
             )
-            .with_note("ERROR, HMAX, HINIT, HMIN and MAXIT still apply"),
+            .with_note("ERROR, HMAX, HINIT, HMIN, KMAX and MAXIT still apply"),
         );
     }
     if let Some(f) = s
@@ -403,20 +409,22 @@ fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
         .as_ref()
         .filter(|f| f.value != Formulation::I3)
     {
-        let name = match f.value {
-            Formulation::Si2 => "SI2",
-            _ => "SI1",
+        let message = match (f.value, bdf) {
+            (Formulation::Si1, true) => {
+                "INTEGRATOR SI1 is not honoured: mbfx has no SI1 formulation; SI2 runs instead"
+            }
+            (Formulation::Si2, true) => "",
+            _ => "INTEGRATOR SI2/SI1 is not honoured: it belongs to the BDF integrators, and HHT and NEWMARK integrate the index-3 DAE (I3)",
         };
-        out.push(warn(
-            &f.span,
-            format!("INTEGRATOR {name} is not honoured: mbfx integrates the index-3 DAE (I3)"),
-        ));
+        if !message.is_empty() {
+            out.push(warn(&f.span, message.into()));
+        }
     }
-    if let Some(k) = &s.kmax {
+    if let Some(k) = s.kmax.as_ref().filter(|_| !bdf) {
         out.push(warn(
             &k.span,
             format!(
-                "INTEGRATOR KMAX = {} is not honoured: it bounds a BDF's order, and HHT is second order",
+                "INTEGRATOR KMAX = {} is not honoured: it bounds a BDF's order, and HHT and NEWMARK are second order",
                 k.value
             ),
         ));
@@ -440,7 +448,7 @@ fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
     if let Some(c) = &s.corrector {
         out.push(warn(
             &c.span,
-            "INTEGRATOR CORRECTOR is not honoured: the mbfx corrector tests the accelerations and leaves the multipliers out (as CORRECTOR = MODIFIED does)".into(),
+            "INTEGRATOR CORRECTOR is not honoured: the mbfx corrector tests what its corrections do to the integrated variables and leaves the multipliers out (as CORRECTOR = MODIFIED does)".into(),
         ));
     }
     if let Some(p) = &s.pattern {
@@ -459,7 +467,7 @@ fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
     if let Some(x) = &s.adaptivity {
         out.push(warn(
             &x.span,
-            "INTEGRATOR ADAPTIVITY is not honoured: it loosens a BDF corrector, and mbfx runs HHT"
+            "INTEGRATOR ADAPTIVITY is not honoured: the mbfx BDF corrector keeps its own tolerance (a thousandth of ERROR)"
                 .into(),
         ));
     }
@@ -503,12 +511,24 @@ mod tests {
         assert_eq!(s.kmax.map(|x| x.value), Some(4));
         assert_eq!(s.pattern.map(|x| x.value), Some(vec![true; 10]));
         assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
-        for named in ["GSTIFF", "SI2", "KMAX", "PATTERN"] {
-            assert!(
-                s.warnings.iter().any(|w| w.message.contains(named)),
-                "{named}: {:?}",
-                s.warnings
-            );
+        // GSTIFF, SI2 and KMAX are honoured; PATTERN is not.
+        let warned: Vec<&str> = s.warnings.iter().map(|w| w.message.as_str()).collect();
+        assert!(warned.iter().any(|w| w.contains("PATTERN")), "{warned:?}");
+        for honoured in ["GSTIFF", "SI2", "KMAX"] {
+            assert!(!warned.iter().any(|w| w.contains(honoured)), "{warned:?}");
+        }
+        for (stmt, named) in [
+            (
+                "INTEGRATOR/HASTIFF, SI1",
+                ["no HASTIFF; GSTIFF runs", "SI2 runs instead"],
+            ),
+            ("INTEGRATOR/HHT, KMAX = 3, SI2", ["KMAX = 3", "SI2/SI1"]),
+        ] {
+            let s = read(stmt).0.expect("typed");
+            let warned: Vec<&str> = s.warnings.iter().map(|w| w.message.as_str()).collect();
+            for n in named {
+                assert!(warned.iter().any(|w| w.contains(n)), "{n}: {warned:?}");
+            }
         }
     }
 

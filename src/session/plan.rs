@@ -2,12 +2,14 @@
 //! statement in force (the dataset's, with a command file's INTEGRATOR commands put over
 //! it), else Adams' defaults (spec §6.2), turned into a [`Scheme`] and the driver's
 //! [`Settings`]. [`Plan::integrator`] is the one place a scheme becomes an integrator:
-//! the BDF statements (GSTIFF, WSTIFF, CONSTANT_BDF, HASTIFF) keep their family, KMAX and
-//! formulation in [`Scheme::Bdf`] and run HHT until mbfx has a BDF integrator.
+//! GSTIFF (the default, as in Adams) and WSTIFF run the BDF of
+//! [`crate::mbd::dynamics::bdf`] with their KMAX and formulation; CONSTANT_BDF and HASTIFF,
+//! which mbfx does not have, run GSTIFF with a note saying so, and so does SI1 (as SI2).
 //! [`segments`] turns a command file's INTEGRATOR and SIMULATE commands into the run's
 //! segments.
 
 use super::run::{Method, RunSpec, Segment};
+use crate::mbd::dynamics::bdf::{self, Bdf, Coefficients};
 use crate::mbd::dynamics::integrator::{Integrator, Settings};
 use crate::mbd::dynamics::newmark::{self, Newmark};
 use crate::model::commands::Step;
@@ -34,8 +36,6 @@ pub enum Scheme {
         family: Family,
         kmax: u32,
         formulation: Formulation,
-        /// The HHT ALPHA that stands in meanwhile (the command line's, else −0.3).
-        stand_in_alpha: f64,
     },
 }
 
@@ -71,21 +71,27 @@ impl Plan {
             beta: value(&stmt.beta).unwrap_or(NEWMARK_BETA),
             gamma: value(&stmt.gamma).unwrap_or(NEWMARK_GAMMA),
         };
+        let bdf_scheme = |family| Scheme::Bdf {
+            family,
+            kmax: spec.kmax.or(stmt.kmax.map(|k| k.value)).unwrap_or(BDF_KMAX),
+            formulation: spec
+                .formulation
+                .or(stmt.formulation.map(|f| f.value))
+                .unwrap_or_default(),
+        };
         let scheme = match spec.method {
             Some(Method::Hht) => Scheme::Newmark(newmark::Method::Hht { alpha }),
             Some(Method::Galpha) => Scheme::Newmark(newmark::Method::GeneralizedAlpha {
                 rho_inf: spec.rho_inf.unwrap_or(GALPHA_RHO_INF),
             }),
             Some(Method::Newmark) => Scheme::Newmark(newmark),
+            Some(Method::Gstiff) => bdf_scheme(Family::Gstiff),
+            Some(Method::Wstiff) => bdf_scheme(Family::Wstiff),
             None => match stmt.family.map(|f| f.value) {
-                None | Some(Family::Hht) => Scheme::Newmark(newmark::Method::Hht { alpha }),
+                Some(Family::Hht) => Scheme::Newmark(newmark::Method::Hht { alpha }),
                 Some(Family::Newmark) => Scheme::Newmark(newmark),
-                Some(family) => Scheme::Bdf {
-                    family,
-                    kmax: stmt.kmax.map_or(BDF_KMAX, |k| k.value),
-                    formulation: stmt.formulation.map(|f| f.value).unwrap_or_default(),
-                    stand_in_alpha: spec.alpha.unwrap_or(HHT_ALPHA),
-                },
+                Some(family) => bdf_scheme(family),
+                None => bdf_scheme(Family::Gstiff),
             },
         };
         Plan {
@@ -100,15 +106,31 @@ impl Plan {
             Scheme::Newmark(m) => (Box::new(Newmark::new(m)), None),
             Scheme::Bdf {
                 family,
-                stand_in_alpha,
-                ..
-            } => (
-                Box::new(Newmark::hht(stand_in_alpha)),
-                Some(format!(
-                    "INTEGRATOR/{}: mbfx has no BDF integrator yet; HHT (ALPHA = {stand_in_alpha}) ran instead",
-                    family.name()
-                )),
-            ),
+                kmax,
+                formulation,
+            } => {
+                let mut notes = Vec::new();
+                let coefficients = match family {
+                    Family::Wstiff => Coefficients::Variable,
+                    Family::Gstiff => Coefficients::FixedLeading,
+                    _ => {
+                        notes.push(format!("mbfx has no {}; GSTIFF ran instead", family.name()));
+                        Coefficients::FixedLeading
+                    }
+                };
+                let formulation = match formulation {
+                    Formulation::I3 => bdf::Formulation::I3,
+                    Formulation::Si2 => bdf::Formulation::Si2,
+                    Formulation::Si1 => {
+                        notes.push("mbfx has no SI1 formulation; SI2 ran instead".into());
+                        bdf::Formulation::Si2
+                    }
+                };
+                let note = (!notes.is_empty())
+                    .then(|| format!("INTEGRATOR/{}: {}", family.name(), notes.join("; ")));
+                let b = Bdf::new(coefficients, formulation, kmax as usize);
+                (Box::new(b), note)
+            }
         }
     }
 }
@@ -152,7 +174,11 @@ mod tests {
         let p = Plan::new(None, &RunSpec::new(1.0, 0.1), 0.1);
         assert_eq!(
             p.scheme,
-            Scheme::Newmark(newmark::Method::Hht { alpha: -0.3 })
+            Scheme::Bdf {
+                family: Family::Gstiff,
+                kmax: 6,
+                formulation: Formulation::I3
+            }
         );
         assert_eq!(p.settings, Settings::for_output_step(0.1));
     }
@@ -221,7 +247,7 @@ mod tests {
     }
 
     #[test]
-    fn bdf_statements_keep_their_settings_and_run_hht_with_a_note() {
+    fn bdf_statements_keep_their_settings_and_run_a_bdf() {
         let st = statement("GSTIFF, SI2, KMAX = 4, ERROR = 1e-4");
         let p = Plan::new(Some(&st), &RunSpec::new(1.0, 0.1), 0.1);
         assert_eq!(
@@ -230,13 +256,19 @@ mod tests {
                 family: Family::Gstiff,
                 kmax: 4,
                 formulation: Formulation::Si2,
-                stand_in_alpha: -0.3
             }
         );
         assert_eq!(p.settings.error, 1e-4);
         let (i, note) = p.integrator();
-        assert_eq!(i.name(), "hht");
-        assert!(note.is_some_and(|n| n.contains("GSTIFF")));
+        assert_eq!((i.name(), note), ("gstiff", None));
+        let st = statement("WSTIFF");
+        let (i, note) = Plan::new(Some(&st), &RunSpec::new(1.0, 0.1), 0.1).integrator();
+        assert_eq!((i.name(), note), ("wstiff", None));
+        let st = statement("HASTIFF, SI1");
+        let (i, note) = Plan::new(Some(&st), &RunSpec::new(1.0, 0.1), 0.1).integrator();
+        let note = note.expect("a note");
+        assert_eq!(i.name(), "gstiff");
+        assert!(note.contains("HASTIFF") && note.contains("SI1"), "{note}");
     }
 
     #[test]

@@ -17,7 +17,7 @@ use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::model::elements::{Expr, RequestKind};
-use crate::model::integrator_settings::IntegratorStatement;
+use crate::model::integrator_settings::{Formulation, IntegratorStatement};
 use crate::model::{read_model, ModelRead};
 use std::time::Instant;
 
@@ -38,6 +38,10 @@ pub enum Method {
     Galpha,
     /// Plain Newmark with the INTEGRATOR statement's BETA and GAMMA (default 0.36, 0.7).
     Newmark,
+    /// Adams GSTIFF: variable-order BDF with a fixed leading coefficient.
+    Gstiff,
+    /// Adams WSTIFF: variable-order BDF with variable coefficients.
+    Wstiff,
 }
 
 /// One stretch of a run (a `SIMULATE/DYNAMIC` command of a command file): from where the
@@ -77,6 +81,10 @@ pub struct RunSpec {
     pub fixed_step: Option<f64>,
     pub alpha: Option<f64>,
     pub rho_inf: Option<f64>,
+    /// The BDF formulation (None: the INTEGRATOR statement's, else I3).
+    pub formulation: Option<Formulation>,
+    /// The highest BDF order (None: the INTEGRATOR statement's KMAX, else 6).
+    pub kmax: Option<u32>,
     pub dim: DimRequest,
     pub engine: Engine,
 }
@@ -94,6 +102,8 @@ impl RunSpec {
             fixed_step: None,
             alpha: None,
             rho_inf: None,
+            formulation: None,
+            kmax: None,
             dim: DimRequest::Auto,
             engine: Engine::Jit,
         }

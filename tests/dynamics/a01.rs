@@ -36,7 +36,7 @@ fn run_a01(args: &[&str]) -> Csv {
 }
 
 /// Largest |P1 − exact| over the rows of a run.
-fn max_position_error(csv: &Csv) -> f64 {
+pub fn max_position_error(csv: &Csv) -> f64 {
     let (t, x, y) = (csv.time(), csv.col("x"), csv.col("y"));
     (0..t.len())
         .map(|k| {

@@ -60,6 +60,15 @@ pub trait Integrator {
     fn order(&self) -> Option<u32> {
         None
     }
+    /// The factor the integrator wants the next step scaled by after the last accept or
+    /// error rejection, when it chooses (a variable-order method compares orders);
+    /// `None` leaves it to the driver's rule from [`Integrator::error_order`].
+    fn step_factor(&self) -> Option<f64> {
+        None
+    }
+    /// Forgets the past after a located force-law switch (a multistep method restarts
+    /// at order one rather than interpolate across it).
+    fn restart(&mut self, _d: &mut Dynamics) {}
     /// Starts from the consistent state of `d` (accelerations and multipliers solved).
     fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError>;
     /// Tries a step of `h` from the last accepted state, leaving `d` at the candidate.
@@ -97,7 +106,8 @@ pub fn simulate(
             if let Some(fixed) = s.fixed_step {
                 let n = (left / fixed - 1e-9).ceil().max(1.0);
                 h = left / n;
-            } else if h >= left {
+            } else if h >= left * (1.0 - 1e-9) {
+                // (Within rounding of the time left, the step lands rather than split.)
                 h = left;
             } else if 2.0 * h > left {
                 // Two even steps rather than a long one and a sliver.
@@ -130,7 +140,10 @@ pub fn simulate(
                 Attempt::Converged { err, worst } if err > 1.0 && s.fixed_step.is_none() => {
                     integrator.reject(d);
                     d.stats.rejected += 1;
-                    want = h * (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.1, 0.9);
+                    let shrink = integrator.step_factor().unwrap_or_else(|| {
+                        (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.1, 0.9)
+                    });
+                    want = h * shrink;
                     if want < s.hmin {
                         return Err(DynError::StepTooSmall {
                             time: t,
@@ -149,8 +162,12 @@ pub fn simulate(
                         continue;
                     }
                     events.accept();
-                    d.stats.events += (verdict == Verdict::Accept { event: true }) as usize;
+                    let event = verdict == Verdict::Accept { event: true };
+                    d.stats.events += event as usize;
                     integrator.accept(d);
+                    if event {
+                        integrator.restart(d);
+                    }
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
                     d.check_dropped(drift_tol)?;
@@ -158,7 +175,9 @@ pub fn simulate(
                     measures.commit(&d.sys);
                     d.sys.measures = measures;
                     if s.fixed_step.is_none() {
-                        let grow = if err > 0.0 {
+                        let grow = if let Some(f) = integrator.step_factor() {
+                            f
+                        } else if err > 0.0 {
                             (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.2, 2.0)
                         } else {
                             2.0

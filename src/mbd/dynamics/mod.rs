@@ -12,12 +12,14 @@
 //! drift), the Newton matrix on one sparse pattern with a sparse LU, and the state's
 //! accelerations and multipliers. Integrators ([`integrator`]) drive it.
 
+pub mod bdf;
 pub mod events;
 pub mod gamma;
 pub mod integrator;
 pub mod jacobian;
 pub mod newmark;
 pub mod outputs;
+mod reuse;
 pub mod schur;
 mod stiffness;
 
@@ -979,6 +981,52 @@ impl Dynamics {
         self.sys.set_moved(&base.poses, dx);
         self.sys.set_v(v);
         self.sys.time = time;
+    }
+
+    /// The increment that takes `from` to `to` (velocity layout: δr and the global
+    /// rotation vector of R_to·R_fromᵀ in 3D, δx, δy, δθ in 2D) into `out`: the inverse
+    /// of [`Dynamics::set_state`]'s move, the chart the multistep methods work in.
+    pub fn increment(&self, from: &Snapshot, to: &Snapshot, out: &mut [f64]) {
+        let bs = self.sys.dim.cols();
+        let (a, b, _) = self.sys.plane_axes();
+        for (p, (f, t)) in self.sys.parts.iter().zip(from.poses.iter().zip(&to.poses)) {
+            let Some(i) = p.index else { continue };
+            let d = &mut out[i * bs..(i + 1) * bs];
+            let dr = t.0 - f.0;
+            match self.sys.dim {
+                Dimension::Three => {
+                    let th = (t.1 * f.1.inverse()).scaled_axis();
+                    d.copy_from_slice(&[dr[0], dr[1], dr[2], th[0], th[1], th[2]]);
+                }
+                Dimension::Two => d.copy_from_slice(&[dr[a], dr[b], t.2 - f.2]),
+            }
+        }
+    }
+
+    /// The size of the coordinates: the largest part position component, at least the
+    /// model length (their rounding is the floor of every Newton correction).
+    pub fn reach(&self) -> f64 {
+        self.sys
+            .parts
+            .iter()
+            .map(|p| newmark::largest_magnitude(p.r.as_slice()))
+            .fold(self.sys.length, f64::max)
+    }
+
+    /// Per-column scale of the local error: ERROR × the model length for translations,
+    /// ERROR for rotations.
+    pub fn tolerances(&self, error: f64) -> Vec<f64> {
+        let bs = self.sys.dim.cols();
+        let trans = match self.sys.dim {
+            Dimension::Three => 3,
+            Dimension::Two => 2,
+        };
+        (0..self.n)
+            .map(|c| match c % bs < trans {
+                true => error * self.sys.length,
+                false => error,
+            })
+            .collect()
     }
 
     /// Consistent accelerations and multipliers at the current state (spec §6.1 phase

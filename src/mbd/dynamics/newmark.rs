@@ -29,20 +29,16 @@
 //! estimate is the Newmark position truncation error, (β − ⅙)·h²·(ã₁ − ã₀).
 
 use super::integrator::{Attempt, Integrator, Settings};
+use super::reuse::{self, Reuse};
 use super::{DynError, Dynamics, Snapshot, Weights};
-use crate::mbd::system::Dimension;
 use crate::vocab::math::DVec;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
 /// which the corrector has converged, as a fraction of ERROR, and its bounds: a loose
 /// ERROR does not need accelerations to ten digits, a tight one needs them that close.
-const NEWTON_PER_ERROR: f64 = 1e-2;
-const NEWTON_TOL_MIN: f64 = 1e-10;
-const NEWTON_TOL_MAX: f64 = 1e-4;
-
-/// The predicted size after two iterations (in tolerances) above which a step refactors
-/// before its first iteration rather than risk a third and a refactor mid-step.
-const PROACTIVE_REFACTOR: f64 = 0.25;
+pub(super) const NEWTON_PER_ERROR: f64 = 1e-2;
+pub(super) const NEWTON_TOL_MIN: f64 = 1e-10;
+pub(super) const NEWTON_TOL_MAX: f64 = 1e-4;
 
 /// Which member of the family.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,23 +87,11 @@ pub struct Newmark {
     rhs: Vec<f64>,
     /// Per-column tolerance scales ([`Newmark::tolerances`]) and the ERROR they are for.
     tol: (f64, Vec<f64>),
-    /// Step size and generation ([`Dynamics::factor_generation`]) of the factorization
-    /// this integrator made (None: none valid).
-    factored_h: Option<f64>,
-    generation: u64,
+    /// When the factorization is reused (its weight: the step size).
+    reuse: Reuse,
     /// The physical accelerations at the last accepted state (kept only when forces read
     /// accelerations: HHT's own are shifted in time).
     a_phys0: DVec,
-    /// The last accepted step's first Newton correction and its contraction with the
-    /// factorization it reused ([`Newmark::attempt`] refactors ahead when they predict a
-    /// third iteration).
-    last_first: f64,
-    last_rate: f64,
-    /// The contraction right after the last fresh factorization: what refactoring can
-    /// achieve. About 1e-5 (Newton is quadratic) unless forces read accelerations or
-    /// reactions, whose loop Newton does not differentiate: then refactoring cannot beat
-    /// the loop's gain, and is not tried for it.
-    fresh_rate: f64,
 }
 
 impl Newmark {
@@ -150,12 +134,8 @@ impl Newmark {
             res: DVec::zeros(0),
             rhs: Vec::new(),
             tol: (f64::NAN, Vec::new()),
-            factored_h: None,
-            generation: 0,
+            reuse: Reuse::default(),
             a_phys0: DVec::zeros(0),
-            last_first: 0.0,
-            last_rate: 0.0,
-            fresh_rate: 0.0,
         }
     }
 
@@ -210,25 +190,6 @@ impl Newmark {
         d.set_state(base, &self.dx, &self.v1, t1);
     }
 
-    /// Per-column tolerance scale: ERROR × the model length for translations, ERROR for
-    /// rotations.
-    fn tolerances(d: &Dynamics, error: f64) -> Vec<f64> {
-        let bs = d.sys.dim.cols();
-        let trans = match d.sys.dim {
-            Dimension::Three => 3,
-            Dimension::Two => 2,
-        };
-        (0..d.n)
-            .map(|c| {
-                if c % bs < trans {
-                    error * d.sys.length
-                } else {
-                    error
-                }
-            })
-            .collect()
-    }
-
     fn weights(&self, h: f64) -> Weights {
         let c = self.c();
         Weights {
@@ -263,66 +224,27 @@ impl Newmark {
             }
             _ => self.lambda0.clone(),
         };
-        if let Some(fh) = self.factored_h {
-            // Refactor when the step moved or someone else factored since; or when the
-            // last step predicts that this one needs a third iteration. A first correction
-            // of size n contracted by ρ leaves about n·ρ² after the second, so that must
-            // stay below the tolerance (norm 1); ρ grows as the factorization ages (about
-            // √2 a step on a swinging chain), hence the margin. A refactor costs about
-            // one and a half iterations, and a fresh matrix converges in two.
-            let third_likely = self.last_first * self.last_rate.powi(2) > PROACTIVE_REFACTOR
-                && self.last_rate > 2.0 * self.fresh_rate;
-            if !(0.8..=1.25).contains(&(h / fh))
-                || d.factor_generation != self.generation
-                || third_likely
-            {
-                self.factored_h = None;
-            }
-        }
-        // The size of the coordinates (their rounding is the floor of every correction).
-        let reach = d
-            .sys
-            .parts
-            .iter()
-            .map(|p| largest_magnitude(p.r.as_slice()))
-            .fold(d.sys.length, f64::max);
+        self.reuse.begin_step(h, d.factor_generation);
+        let reach = d.reach();
         let newton_tol = (NEWTON_PER_ERROR * st.error).clamp(NEWTON_TOL_MIN, NEWTON_TOL_MAX);
         let mut prev_norm = f64::INFINITY;
         if self.res.len() != n {
             self.res = DVec::zeros(n);
         }
-        let mut fresh_tries = 0;
-        // The iteration that factored afresh, if one did in this step.
-        let mut fresh_at = None;
         let mut first = 0.0;
         let tightest = tol.iter().fold(f64::INFINITY, |x, &y| x.min(y));
         let mut iter = 0;
         while iter < st.maxit {
             iter += 1;
             self.place(d, &a1, h, t1);
-            let refactor = self.factored_h.is_none();
-            d.eval_constraints(true)?;
-            if d.forces.reads_solution() {
-                // Forces that read accelerations or reactions see this iterate's: Newton
-                // then solves them with the motion (the loop converges at its gain's rate,
-                // which the contraction test watches).
-                self.physical_accelerations(&a1, &mut d.a);
-                copy_into(&mut d.lambda, &lambda);
-                d.store_accelerations();
-            }
-            d.eval_forces(refactor)?;
-            d.check_forces()?;
-            d.stats.newton_iterations += 1;
-            if refactor {
-                d.stats.jacobian_evaluations += 1;
-                d.factor(self.weights(h), &lambda)?;
-                fresh_at = Some(iter);
-                self.factored_h = Some(h);
-                self.generation = d.factor_generation;
-            } else {
-                // Factoring checks for vanished rows; an old factorization would not see one.
-                d.check_rows()?;
-            }
+            let weights = self.weights(h);
+            // (The reuse state is lent out: the closure reads the rest of `self`.)
+            let mut reuse = std::mem::take(&mut self.reuse);
+            let evaluated = reuse::evaluate(d, &mut reuse, (iter, h, weights), &lambda, |a| {
+                self.physical_accelerations(&a1, a)
+            });
+            self.reuse = reuse;
+            let refactor = evaluated?;
             // −R₁ = −(M a/UCF + s(Φ_qᵀλ − Q) − r f₀), −R₂ = −Φ/scale.
             let r1 = &mut self.res;
             r1.fill(0.0);
@@ -379,7 +301,7 @@ impl Newmark {
             // contraction is gone while the correction is already below 1e-6 relative).
             let stalled = iter > 2 && rate > 0.5 && norm * newton_tol <= 1e-6;
             if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 || stalled {
-                (self.last_first, self.last_rate) = (first, if iter > 1 { rate } else { 0.0 });
+                self.reuse.converged(iter, first, rate);
                 self.place(d, &a1, h, t1);
                 d.a = a1;
                 d.lambda = lambda;
@@ -398,19 +320,11 @@ impl Newmark {
             }
             // Slow or diverging with an old factorization: refactor here and go on.
             prev_norm = norm;
-            // A contraction worse than this leaves too many iterations to the tolerance.
-            if fresh_at == Some(iter - 1) {
-                self.fresh_rate = rate;
-            }
-            if rate > 0.15f64.max(2.0 * self.fresh_rate) && iter > 1 && !refactor && fresh_tries < 2
-            {
-                self.factored_h = None;
-                fresh_tries += 1;
-            } else if rate > 2.0 && iter > 2 {
+            if self.reuse.after_iteration(iter, rate, refactor) {
                 break;
             }
         }
-        self.factored_h = None;
+        self.reuse.invalidate();
         Ok(Attempt::Diverged)
     }
 }
@@ -467,7 +381,7 @@ impl Integrator for Newmark {
         self.m0 = d.mass_blocks().into_owned();
         self.a_prev = DVec::zeros(0);
         self.h0 = None;
-        self.factored_h = None;
+        self.reuse.invalidate();
         Ok(())
     }
 
@@ -476,7 +390,7 @@ impl Integrator for Newmark {
         let t1 = self.base.as_ref().expect("started").time + h;
         self.h1 = h;
         if self.tol.0 != st.error || self.tol.1.len() != n {
-            self.tol = (st.error, Self::tolerances(d, st.error));
+            self.tol = (st.error, d.tolerances(st.error));
         }
         // Scratch lent to the iteration (it borrows `self` whole).
         let (tol, mut rhs) = (
@@ -530,7 +444,7 @@ impl Integrator for Newmark {
 
 /// max |xₖ|, NaN entries skipped (a branch-free select; the corrections it measures are
 /// finite, as the solve rejects anything else).
-fn largest_magnitude(x: &[f64]) -> f64 {
+pub(super) fn largest_magnitude(x: &[f64]) -> f64 {
     x.iter().fold(0.0, |m: f64, v| {
         let a = v.abs();
         if a > m {
@@ -542,7 +456,7 @@ fn largest_magnitude(x: &[f64]) -> f64 {
 }
 
 /// `dst` = `src`, reusing `dst`'s buffer when the sizes agree.
-fn copy_into(dst: &mut DVec, src: &DVec) {
+pub(super) fn copy_into(dst: &mut DVec, src: &DVec) {
     if dst.len() == src.len() {
         dst.copy_from(src);
     } else {

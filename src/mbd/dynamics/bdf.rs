@@ -1,0 +1,648 @@
+//! Backward-difference formulas of variable order (1 to KMAX ≤ 6) and variable step on
+//! the DAE of [`super`]: Adams' GSTIFF (fixed leading coefficient) and WSTIFF (variable
+//! coefficients), in the index-3 (I3) or stabilized index-2 (SI2) formulation.
+//!
+//! Positions x (in the chart of the last accepted state, [`history`]) and velocities v
+//! are each integrated by the order-k formula, written in predictor form: with p the
+//! polynomial through the last k + 1 accepted values,
+//!
+//! ```text
+//! y₁ = p(t₁) + g·(ẏ₁ − ṗ(t₁)),    g = h / Σⱼ₌₁..ₖ 1/j        (GSTIFF)
+//!                                  g = 1 / Σₘ₌₀..ₖ₋₁ 1/(t₁ − tₙ₋ₘ)  (WSTIFF)
+//! ```
+//!
+//! GSTIFF keeps the leading coefficient of the constant-step formula whatever the steps
+//! were (as DASSL does), so the Newton matrix depends on h alone and survives order
+//! changes; WSTIFF is the exact variable-step formula. So v₁ = b_v + g·a₁ and
+//! x₁ = b_x + g·ẋ₁, with ẋ = v for translations and ẋ = dexp⁻¹(θ)·ω for rotation vectors.
+//! Newton solves for the accelerations a₁ and multipliers λ:
+//!
+//! ```text
+//! M·a₁/UCF + Φ_qᵀλ − Q = 0,   Φ(x₁)/g² = 0  (I3)   or   (Φ_q·v₁ + Φ_t)/g = 0  (SI2),
+//! ```
+//!
+//! the Newton matrix being the Newmark family's with w_k = g², w_c = g. SI2 adds the
+//! Gear–Gupta–Leimkuhler correction: positions move by x₁ += N⁻¹·Φ_qᵀ·μ so that Φ(x₁) = 0
+//! too, solved with the same factorization N (a metric choice that leaves the method
+//! unchanged where the constraints hold); its velocities are then exact on the velocity
+//! constraints and go under error control with the positions.
+//!
+//! The local error is estimated from the corrector–predictor difference,
+//! h/(t₁ − tₙ₋ₖ)·|y₁ − p(t₁)| (the constant-step factor 1/(k + 1)), per column over the
+//! tolerances of [`Dynamics::tolerances`]. After each step the orders k − 1, k and, when
+//! k + 1 steps have gone by at order k, k + 1 (from the difference of the last two
+//! corrector–predictor differences) are compared for the step each would allow, as DASSL
+//! does; the step grows only when it can double, and shrinks to at most 0.9 of itself.
+//! Repeated error failures drop the order to 1, and so does a located force-law switch
+//! ([`super::events`]): a restart, never a step over it.
+
+mod history;
+
+use super::integrator::{Attempt, Integrator, Settings};
+use super::newmark::copy_into;
+use super::reuse::{self, Reuse};
+use super::{DynError, Dynamics, Weights};
+use crate::mbd::system::Dimension;
+use crate::vocab::math::{DVec, Vec3};
+use history::{lagrange, History};
+
+/// How the formula's coefficients follow the steps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coefficients {
+    /// The constant-step leading coefficient, always (GSTIFF).
+    FixedLeading,
+    /// The variable-step formula's (WSTIFF).
+    Variable,
+}
+
+/// Which equations hold the constraints.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Formulation {
+    /// Position constraints (index 3); positions under error control.
+    #[default]
+    I3,
+    /// Velocity constraints with the positions projected (stabilized index 2); positions
+    /// and velocities under error control.
+    Si2,
+}
+
+/// The fraction of the tolerance a converged corrector may still move a variable by.
+const NEWTON_FRACTION: f64 = 1e-3;
+
+/// The highest order there are coefficients for.
+pub const MAX_ORDER: usize = 6;
+
+/// What one step predicts: the polynomial values at t₁ and the formula's b and g.
+#[derive(Default)]
+struct Prediction {
+    /// p_x(t₁), p_v(t₁), ṗ_v(t₁) (the predicted accelerations).
+    xp: Vec<f64>,
+    vp: DVec,
+    ap: DVec,
+    /// y₁ = b + g·ẏ₁ for positions and velocities.
+    bx: Vec<f64>,
+    bv: DVec,
+    g: f64,
+    /// The error factor h/(t₁ − tₙ₋ₖ).
+    c_err: f64,
+}
+
+/// A BDF integrator.
+pub struct Bdf {
+    coefficients: Coefficients,
+    formulation: Formulation,
+    kmax: usize,
+    /// The order of the next attempt, and the steps taken at it.
+    k: usize,
+    at_order: usize,
+    hist: Option<History>,
+    pred: Prediction,
+    // The candidate: chart positions, velocities, and SI2's position correction.
+    x: Vec<f64>,
+    v1: DVec,
+    shift: Vec<f64>,
+    /// Corrector minus predictor of the candidate (positions, then velocities under
+    /// SI2) and of the last accepted step, for the order-raising estimate.
+    diff: Vec<f64>,
+    last_diff: Option<Vec<f64>>,
+    /// The candidate's scaled error estimates at orders k − 1 and k.
+    err_lower: f64,
+    err: f64,
+    /// Consecutive error-test failures, and whether the last attempt diverged.
+    failures: usize,
+    /// The step factor the integrator asks for after the last accept or reject.
+    factor: Option<f64>,
+    tol: (f64, Vec<f64>),
+    res: DVec,
+    rhs: Vec<f64>,
+    proj: Vec<f64>,
+    /// When the factorization is reused (its weight: g).
+    reuse: Reuse,
+}
+
+impl Bdf {
+    pub fn new(coefficients: Coefficients, formulation: Formulation, kmax: usize) -> Bdf {
+        Bdf {
+            coefficients,
+            formulation,
+            kmax: kmax.clamp(1, MAX_ORDER),
+            k: 1,
+            at_order: 0,
+            hist: None,
+            pred: Prediction::default(),
+            x: Vec::new(),
+            v1: DVec::zeros(0),
+            shift: Vec::new(),
+            diff: Vec::new(),
+            last_diff: None,
+            err_lower: f64::INFINITY,
+            err: 0.0,
+            failures: 0,
+            factor: None,
+            tol: (f64::NAN, Vec::new()),
+            res: DVec::zeros(0),
+            rhs: Vec::new(),
+            proj: Vec::new(),
+            reuse: Reuse::default(),
+        }
+    }
+
+    /// Adams' GSTIFF at its default KMAX.
+    pub fn gstiff(formulation: Formulation) -> Bdf {
+        Bdf::new(Coefficients::FixedLeading, formulation, MAX_ORDER)
+    }
+
+    fn hist(&self) -> &History {
+        self.hist.as_ref().expect("started")
+    }
+
+    /// The order-`k` predictor polynomial at t₀ + h through the newest k + 1 points:
+    /// position value into `xp`, velocity value and derivative into `vp`, `ap`, position
+    /// derivative into `xd` (any of them skipped when None).
+    fn interpolate(
+        hist: &History,
+        k: usize,
+        h: f64,
+        xp: &mut [f64],
+        mut xd: Option<&mut [f64]>,
+        v: Option<(&mut DVec, &mut DVec)>,
+    ) {
+        let t0 = hist.newest().t;
+        let mut ts = [0.0; MAX_ORDER + 2];
+        for (j, t) in ts.iter_mut().enumerate().take(k + 1) {
+            *t = hist.point(j).t - t0;
+        }
+        let (mut l, mut dl) = ([0.0; MAX_ORDER + 2], [0.0; MAX_ORDER + 2]);
+        lagrange(&ts[..=k], h, &mut l[..=k], &mut dl[..=k]);
+        xp.fill(0.0);
+        if let Some(xd) = xd.as_deref_mut() {
+            xd.fill(0.0);
+        }
+        for j in 0..=k {
+            let p = hist.point(j);
+            for (c, &x) in p.x.iter().enumerate() {
+                xp[c] += l[j] * x;
+            }
+            if let Some(xd) = xd.as_deref_mut() {
+                for (c, &x) in p.x.iter().enumerate() {
+                    xd[c] += dl[j] * x;
+                }
+            }
+        }
+        if let Some((vp, ap)) = v {
+            vp.fill(0.0);
+            ap.fill(0.0);
+            for j in 0..=k {
+                let p = hist.point(j);
+                vp.axpy(l[j], &p.v, 1.0);
+                ap.axpy(dl[j], &p.v, 1.0);
+            }
+        }
+    }
+
+    /// Fills [`Prediction`] for a step of `h` at the current order.
+    fn predict(&mut self, n: usize, h: f64) {
+        let k = self.k;
+        let hist = self.hist.as_mut().expect("started");
+        hist.seed_for(h);
+        let p = &mut self.pred;
+        if p.xp.len() != n {
+            *p = Prediction {
+                xp: vec![0.0; n],
+                vp: DVec::zeros(n),
+                ap: DVec::zeros(n),
+                bx: vec![0.0; n],
+                bv: DVec::zeros(n),
+                g: 0.0,
+                c_err: 0.0,
+            };
+        }
+        let mut xd = std::mem::take(&mut p.bx);
+        xd.resize(n, 0.0);
+        Self::interpolate(
+            hist,
+            k,
+            h,
+            &mut p.xp,
+            Some(&mut xd),
+            Some((&mut p.vp, &mut p.ap)),
+        );
+        let t0 = hist.newest().t;
+        p.g = match self.coefficients {
+            Coefficients::FixedLeading => h / (1..=k).map(|j| 1.0 / j as f64).sum::<f64>(),
+            Coefficients::Variable => {
+                1.0 / (0..k)
+                    .map(|m| 1.0 / (t0 + h - hist.point(m).t))
+                    .sum::<f64>()
+            }
+        };
+        p.c_err = h / (t0 + h - hist.point(k).t);
+        // b = p − g·ṗ.
+        for (b, &x) in xd.iter_mut().zip(&p.xp) {
+            *b = x - p.g * *b;
+        }
+        p.bx = xd;
+        p.bv.copy_from(&p.vp);
+        p.bv.axpy(-p.g, &p.ap, 1.0);
+    }
+
+    /// Moves `d` to the candidate the accelerations `a1` give at `t1`.
+    fn place(&mut self, d: &mut Dynamics, a1: &DVec, t1: f64) {
+        let p = &self.pred;
+        let g = p.g;
+        self.v1.copy_from(&p.bv);
+        self.v1.axpy(g, a1, 1.0);
+        for c in 0..self.x.len() {
+            self.x[c] = p.bx[c] + g * self.v1[c] + self.shift[c];
+        }
+        if d.sys.dim == Dimension::Three {
+            // θ₁ = b + g·dexp⁻¹(θ₁)·ω₁ (+ shift): a contraction of factor about g·|ω|/2.
+            for i in 0..self.x.len() / 6 {
+                let r = i * 6 + 3..i * 6 + 6;
+                let w = Vec3::from_column_slice(&self.v1.as_slice()[r.clone()]);
+                let base = Vec3::from_column_slice(&p.bx[r.clone()])
+                    + Vec3::from_column_slice(&self.shift[r.clone()]);
+                let mut th = Vec3::from_column_slice(&self.x[r.clone()]);
+                for _ in 0..20 {
+                    let next = base + g * dexp_inv(&th, &w);
+                    let moved = (next - th).amax();
+                    th = next;
+                    if moved <= 1e-16 * (1.0 + th.amax()) {
+                        break;
+                    }
+                }
+                self.x[r].copy_from_slice(th.as_slice());
+            }
+        }
+        let base = &self.hist().newest().snap;
+        d.set_state(base, &self.x, &self.v1, t1);
+    }
+
+    fn weights(g: f64) -> Weights {
+        Weights {
+            w_m: 1.0,
+            w_k: g * g,
+            w_c: g,
+            w_l: 1.0,
+        }
+    }
+
+    /// The constraint rows' Newton right-hand side (I3: −Φ/g²; SI2: −(Φ_q·v + Φ_t)/g;
+    /// a row on velocities: −f/g) into `rhs[n..]`.
+    fn constraint_rhs(&self, d: &Dynamics, rhs: &mut [f64]) -> Result<(), DynError> {
+        let (n, g) = (d.n, self.pred.g);
+        if self.formulation == Formulation::Si2 {
+            rhs[n..].fill(0.0);
+            d.jac.add_times(self.v1.as_slice(), &mut rhs[n..]);
+        }
+        for (r, &(e, q)) in d.rows.iter().enumerate() {
+            rhs[n + r] = if d.sys.row_reads_velocity(e, q) {
+                -d.phi[r] / g
+            } else {
+                match self.formulation {
+                    Formulation::I3 => -d.phi[r] / (g * g),
+                    Formulation::Si2 => -(rhs[n + r] + d.sys.row_dt(e, q)?) / g,
+                }
+            };
+        }
+        Ok(())
+    }
+
+    /// SI2's position projection with the current factorization: δy with
+    /// N·[δy; ν] = [0; −Φ], added to the shift; returns max |δy|/tol.
+    fn project(&mut self, d: &mut Dynamics, tol: &[f64]) -> Result<f64, DynError> {
+        let n = d.n;
+        self.proj.clear();
+        self.proj.resize(n + d.m, 0.0);
+        for (r, &(e, q)) in d.rows.iter().enumerate() {
+            if !d.sys.row_reads_velocity(e, q) {
+                self.proj[n + r] = -d.phi[r];
+            }
+        }
+        d.solve(&mut self.proj)?;
+        let mut size: f64 = 0.0;
+        for ((s, dy), t) in self.shift.iter_mut().zip(&self.proj[..n]).zip(tol) {
+            *s += dy;
+            size = size.max(dy.abs() / t);
+        }
+        Ok(size)
+    }
+
+    /// Newton on a step of `h`.
+    fn iterate(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        let (n, m) = (d.n, d.m);
+        let t1 = self.hist().newest().t + h;
+        self.predict(n, h);
+        if self.x.len() != n {
+            (self.x, self.v1, self.res) = (vec![0.0; n], DVec::zeros(n), DVec::zeros(n));
+        }
+        self.shift.clear();
+        self.shift.resize(n, 0.0);
+        let g = self.pred.g;
+        let mut a1 = self.pred.ap.clone();
+        let mut lambda = {
+            let hist = self.hist();
+            let l0 = &hist.newest().lambda;
+            match hist.len() > 1 {
+                true => {
+                    let p1 = hist.point(1);
+                    l0 + (l0 - &p1.lambda) * (h / (hist.newest().t - p1.t))
+                }
+                false => l0.clone(),
+            }
+        };
+        self.reuse.begin_step(g, d.factor_generation);
+        let tol = std::mem::take(&mut self.tol.1);
+        let mut rhs = std::mem::take(&mut self.rhs);
+        rhs.resize(n + m, 0.0);
+        let outcome = self.newton(d, &mut a1, &mut lambda, t1, st, &tol, &mut rhs);
+        (self.tol.1, self.rhs) = (tol, rhs);
+        let converged = outcome?;
+        if !converged {
+            self.reuse.invalidate();
+            return Ok(Attempt::Diverged);
+        }
+        self.place(d, &a1, t1);
+        d.a = a1;
+        d.lambda = lambda;
+        Ok(self.estimate(d, h, st))
+    }
+
+    /// The Newton loop proper; true when it converged.
+    #[allow(clippy::too_many_arguments)]
+    fn newton(
+        &mut self,
+        d: &mut Dynamics,
+        a1: &mut DVec,
+        lambda: &mut DVec,
+        t1: f64,
+        st: &Settings,
+        tol: &[f64],
+        rhs: &mut [f64],
+    ) -> Result<bool, DynError> {
+        let (n, m, g) = (d.n, d.m, self.pred.g);
+        let reach = d.reach();
+        let (mut prev_norm, mut first) = (f64::INFINITY, 0.0);
+        for iter in 1..=st.maxit {
+            self.place(d, a1, t1);
+            let w = (g, Self::weights(g));
+            let refactor = reuse::evaluate(d, &mut self.reuse, (iter, w.0, w.1), lambda, |a| {
+                copy_into(a, a1)
+            })?;
+            let r1 = &mut self.res;
+            r1.fill(0.0);
+            d.add_constraint_forces(lambda, r1);
+            *r1 -= &d.gen.q;
+            d.add_blocks_times(&d.mass_blocks(), 1.0, a1, r1);
+            for k in 0..n {
+                rhs[k] = -r1[k];
+            }
+            self.constraint_rhs(d, rhs)?;
+            d.solve(rhs)?;
+            // The test is on what the corrections do to the integrated variables: the
+            // velocities move by g·δa (the positions by g²·δa, less), each against a
+            // fraction of its tolerance, above the rounding floor of the positions
+            // (ε·|q|, a velocity of that over g). Accelerations and reactions themselves
+            // are reconciled at the outputs.
+            let floor = 10.0 * f64::EPSILON * reach / g;
+            let mut norm = rhs[..n]
+                .iter()
+                .zip(tol)
+                .map(|(da, t)| g * da.abs() / (NEWTON_FRACTION * t + floor))
+                .fold(0.0, f64::max);
+            for k in 0..n {
+                a1[k] += rhs[k];
+            }
+            for k in 0..m {
+                lambda[k] += rhs[n + k];
+            }
+            if self.formulation == Formulation::Si2 {
+                let moved = self.project(d, tol)?;
+                norm = norm.max(moved / NEWTON_FRACTION);
+            }
+            if !norm.is_finite() {
+                return Ok(false);
+            }
+            let rate = norm / prev_norm;
+            if iter == 1 {
+                first = norm;
+            }
+            let left = match rate < 1.0 {
+                true => norm * rate / (1.0 - rate),
+                false => norm,
+            };
+            // Stalled at the rounding floor: no contraction left, the correction already
+            // within the tolerance (rounding in a singular position's Newton matrix).
+            let stalled = iter > 2 && rate > 0.5 && norm <= 1000.0;
+            if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 || stalled {
+                self.reuse.converged(iter, first, rate);
+                return Ok(true);
+            }
+            prev_norm = norm;
+            if self.reuse.after_iteration(iter, rate, refactor) {
+                break;
+            }
+        }
+        Ok(false)
+    }
+
+    /// The error estimates of the converged candidate at orders k and k − 1.
+    fn estimate(&mut self, d: &Dynamics, h: f64, st: &Settings) -> Attempt {
+        let n = d.n;
+        let si2 = self.formulation == Formulation::Si2;
+        let width = if si2 { 2 * n } else { n };
+        self.diff.resize(width, 0.0);
+        for c in 0..n {
+            self.diff[c] = self.x[c] - self.pred.xp[c];
+            if si2 {
+                self.diff[n + c] = self.v1[c] - self.pred.vp[c];
+            }
+        }
+        if st.fixed_step.is_some() {
+            (self.err, self.err_lower) = (0.0, f64::INFINITY);
+            return Attempt::Converged { err: 0.0, worst: 0 };
+        }
+        let tol = &self.tol.1;
+        let (mut err, mut worst) = (0.0, 0);
+        for (c, e) in self.diff.iter().enumerate() {
+            let e = self.pred.c_err * e.abs() / tol[c % n];
+            if e > err {
+                (err, worst) = (e, c % n);
+            }
+        }
+        self.err = err;
+        self.err_lower = f64::INFINITY;
+        let k = self.k;
+        if k > 1 {
+            // The order-(k − 1) predictor through the newest k points.
+            let hist = self.hist.as_ref().expect("started");
+            let mut xp = vec![0.0; n];
+            let t0 = hist.newest().t;
+            let c_err = h / (t0 + h - hist.point(k - 1).t);
+            let (mut vp, mut ap) = (DVec::zeros(n), DVec::zeros(n));
+            let v = si2.then_some((&mut vp, &mut ap));
+            Self::interpolate(hist, k - 1, h, &mut xp, None, v);
+            let mut e_low: f64 = 0.0;
+            for c in 0..n {
+                e_low = e_low.max((self.x[c] - xp[c]).abs() / tol[c]);
+                if si2 {
+                    e_low = e_low.max((self.v1[c] - vp[c]).abs() / tol[c]);
+                }
+            }
+            self.err_lower = c_err * e_low;
+        }
+        Attempt::Converged { err, worst }
+    }
+
+    /// The step factor order `j` allows for a scaled error `e` (DASSL's safety of 2).
+    fn allows(e: f64, j: usize) -> f64 {
+        (2.0 * e).max(1e-12).powf(-1.0 / (j as f64 + 1.0))
+    }
+}
+
+/// dexp⁻¹(θ)·ω for the rotation vector θ: the rate of θ when R = exp(\[θ\]×)·R₀ turns at
+/// the global angular velocity ω (the inverse of SO(3)'s left Jacobian),
+/// ω − ½ θ×ω + c(|θ|)·θ×(θ×ω), c(φ) = 1/φ² − (1 + cos φ)/(2φ sin φ).
+pub fn dexp_inv(th: &Vec3, w: &Vec3) -> Vec3 {
+    let phi2 = th.norm_squared();
+    let c = if phi2 < 1e-4 {
+        // The series, to below rounding for |θ| < 1e-2.
+        1.0 / 12.0 + phi2 / 720.0 + phi2 * phi2 / 30240.0
+    } else {
+        let phi = phi2.sqrt();
+        1.0 / phi2 - (1.0 + phi.cos()) / (2.0 * phi * phi.sin())
+    };
+    let tw = th.cross(w);
+    w - 0.5 * tw + c * th.cross(&tw)
+}
+
+impl Integrator for Bdf {
+    fn name(&self) -> &'static str {
+        match self.coefficients {
+            Coefficients::FixedLeading => "gstiff",
+            Coefficients::Variable => "wstiff",
+        }
+    }
+
+    fn error_order(&self) -> f64 {
+        self.k as f64 + 1.0
+    }
+
+    fn order(&self) -> Option<u32> {
+        Some(self.k as u32)
+    }
+
+    fn step_factor(&self) -> Option<f64> {
+        self.factor
+    }
+
+    fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        self.hist = Some(History::new(d, self.kmax + 2));
+        (self.k, self.at_order, self.failures) = (1, 0, 0);
+        self.last_diff = None;
+        self.reuse.invalidate();
+        self.factor = None;
+        Ok(())
+    }
+
+    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        if self.tol.0 != st.error || self.tol.1.len() != d.n {
+            self.tol = (st.error, d.tolerances(st.error));
+        }
+        self.err = f64::NAN;
+        self.iterate(d, h, st)
+    }
+
+    fn accept(&mut self, d: &mut Dynamics) {
+        let k = self.k;
+        self.failures = 0;
+        self.at_order += 1;
+        // The order-(k + 1) estimate: the difference of the last two corrector–predictor
+        // differences, over k + 2.
+        let raise = match &self.last_diff {
+            Some(last)
+                if self.at_order > k
+                    && k < self.kmax
+                    && self.hist().len() > k
+                    && last.len() == self.diff.len() =>
+            {
+                let n = d.n;
+                let tol = &self.tol.1;
+                let e = self
+                    .diff
+                    .iter()
+                    .zip(last)
+                    .enumerate()
+                    .map(|(c, (a, b))| (a - b).abs() / tol[c % n])
+                    .fold(0.0, f64::max);
+                Some(e / (k as f64 + 2.0))
+            }
+            _ => None,
+        };
+        let mut best = (k, Self::allows(self.err, k));
+        if k > 1 && Self::allows(self.err_lower, k - 1) >= best.1 {
+            best = (k - 1, Self::allows(self.err_lower, k - 1));
+        } else if let Some(e) = raise {
+            if Self::allows(e, k + 1) > best.1 {
+                best = (k + 1, Self::allows(e, k + 1));
+            }
+        }
+        if best.0 != k {
+            (self.k, self.at_order) = (best.0, 0);
+        }
+        self.factor = Some(if best.1 >= 2.0 {
+            2.0
+        } else if best.1 >= 1.0 {
+            1.0
+        } else {
+            best.1.clamp(0.5, 0.9)
+        });
+        match &mut self.last_diff {
+            Some(l) => l.clone_from(&self.diff),
+            None => self.last_diff = Some(self.diff.clone()),
+        }
+        let hist = self.hist.as_mut().expect("started");
+        hist.push(d);
+        // The order can only use the points there are.
+        self.k = self.k.min(hist.len().saturating_sub(1).max(1));
+        d.store_accelerations();
+    }
+
+    fn reject(&mut self, d: &mut Dynamics) {
+        let hist = self.hist.as_ref().expect("started");
+        let p = hist.newest();
+        d.restore(&p.snap);
+        d.a.clone_from(hist.accelerations());
+        d.lambda.clone_from(&p.lambda);
+        self.factor = None;
+        if self.err.is_nan() || self.err <= 1.0 {
+            // A diverged corrector or a switch being located: the driver picks the step.
+            return;
+        }
+        self.failures += 1;
+        let k = self.k;
+        // As DASSL, but with the estimate's own factor down to a tenth (a first step from
+        // rest may be orders of magnitude too long), and order 1 from the third failure.
+        let shrink = 0.9 * Self::allows(self.err, k);
+        self.factor = Some(match self.failures {
+            1 | 2 => {
+                if k > 1 && self.err_lower <= self.err {
+                    (self.k, self.at_order) = (k - 1, 0);
+                }
+                shrink.clamp(0.1, 0.9)
+            }
+            _ => {
+                (self.k, self.at_order) = (1, 0);
+                shrink.clamp(0.1, 0.25)
+            }
+        });
+    }
+
+    fn restart(&mut self, d: &mut Dynamics) {
+        if let Some(h) = self.hist.as_mut() {
+            h.restart(d);
+        }
+        (self.k, self.at_order) = (1, 0);
+        self.last_diff = None;
+    }
+}

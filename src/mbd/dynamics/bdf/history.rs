@@ -1,0 +1,154 @@
+//! The accepted states a backward-difference step interpolates, newest first, with each
+//! one's configuration in the chart of the newest ([`Dynamics::increment`]: positions
+//! minus the newest's, rotations as rotation vectors relative to it). The chart moves
+//! with every accepted step, so the past points stay a few steps' rotation away from its
+//! origin where the rotation vector is smooth. Velocities live in a vector space (global
+//! axes) and need no chart.
+//!
+//! Right after a start or a restart there is one real point; the order-1 predictor then
+//! uses a seed point one step back, from the newest state's Taylor expansion
+//! (second order in the positions, first in the velocities, all that order 1 needs).
+
+use super::super::{Dynamics, Snapshot};
+use crate::vocab::math::DVec;
+use std::collections::VecDeque;
+
+/// One accepted state.
+pub struct Point {
+    pub t: f64,
+    pub snap: Snapshot,
+    pub v: DVec,
+    pub lambda: DVec,
+    /// The configuration in the newest point's chart (velocity layout).
+    pub x: Vec<f64>,
+}
+
+/// The accepted states, newest first, at most `cap` of them.
+pub struct History {
+    points: VecDeque<Point>,
+    cap: usize,
+    /// The accelerations at the newest point (the seed's Taylor term).
+    a: DVec,
+    /// The seed point, built for the step size of the attempt that needs it.
+    seed: Option<Point>,
+}
+
+impl History {
+    /// A history holding only the current state of `d`.
+    pub fn new(d: &Dynamics, cap: usize) -> History {
+        let mut h = History {
+            points: VecDeque::with_capacity(cap),
+            cap,
+            a: DVec::zeros(0),
+            seed: None,
+        };
+        h.restart(d);
+        h
+    }
+
+    /// Forgets every point but the current state of `d` (a start, or a restart after a
+    /// discontinuity).
+    pub fn restart(&mut self, d: &Dynamics) {
+        self.points.clear();
+        self.points.push_front(Point {
+            t: d.sys.time,
+            snap: d.snapshot(),
+            v: d.sys.v(),
+            lambda: d.lambda.clone(),
+            x: vec![0.0; d.n],
+        });
+        self.a = d.a.clone();
+        self.seed = None;
+    }
+
+    /// Makes the state of `d` the newest point and moves the chart to it.
+    pub fn push(&mut self, d: &Dynamics) {
+        // The oldest point's buffers are reused when the history is full.
+        let mut p = match self.points.len() >= self.cap {
+            true => self.points.pop_back().expect("cap > 0"),
+            false => Point {
+                t: 0.0,
+                snap: d.snapshot(),
+                v: DVec::zeros(d.n),
+                lambda: DVec::zeros(d.m),
+                x: vec![0.0; d.n],
+            },
+        };
+        p.t = d.sys.time;
+        p.snap = d.snapshot();
+        super::super::newmark::copy_into(&mut p.v, &d.sys.v());
+        super::super::newmark::copy_into(&mut p.lambda, &d.lambda);
+        self.points.push_front(p);
+        super::super::newmark::copy_into(&mut self.a, &d.a);
+        self.seed = None;
+        let (newest, rest) = self
+            .points
+            .make_contiguous()
+            .split_first_mut()
+            .expect("pushed");
+        newest.x.fill(0.0);
+        for q in rest {
+            d.increment(&newest.snap, &q.snap, &mut q.x);
+        }
+    }
+
+    /// Real points held.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The accelerations at the newest point.
+    pub fn accelerations(&self) -> &DVec {
+        &self.a
+    }
+
+    /// The newest point.
+    pub fn newest(&self) -> &Point {
+        &self.points[0]
+    }
+
+    /// Builds the seed for a first step of `h` when only one real point is held.
+    pub fn seed_for(&mut self, h: f64) {
+        if self.points.len() > 1 {
+            return;
+        }
+        let p = &self.points[0];
+        let x: Vec<f64> =
+            p.v.iter()
+                .zip(self.a.iter())
+                .map(|(v, a)| -h * v + 0.5 * h * h * a)
+                .collect();
+        self.seed = Some(Point {
+            t: p.t - h,
+            snap: p.snap.clone(),
+            v: &p.v - &self.a * h,
+            lambda: p.lambda.clone(),
+            x,
+        });
+    }
+
+    /// The `j`-th point back (0: the newest), the seed standing in behind a lone point.
+    pub fn point(&self, j: usize) -> &Point {
+        match (self.points.get(j), &self.seed) {
+            (Some(p), _) => p,
+            (None, Some(s)) if j == 1 => s,
+            _ => panic!("history point {j} of {} requested", self.points.len()),
+        }
+    }
+}
+
+/// Lagrange weights at `tau` of the interpolant through the nodes `ts`: the value's in
+/// `l`, the derivative's in `dl` (`tau` is not a node).
+pub fn lagrange(ts: &[f64], tau: f64, l: &mut [f64], dl: &mut [f64]) {
+    for j in 0..ts.len() {
+        let (mut w, mut s) = (1.0, 0.0);
+        for (m, &tm) in ts.iter().enumerate() {
+            if m != j {
+                w *= (tau - tm) / (ts[j] - tm);
+                s += 1.0 / (tau - tm);
+            }
+        }
+        l[j] = w;
+        dl[j] = w * s;
+    }
+}
