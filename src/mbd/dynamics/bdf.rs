@@ -2,7 +2,7 @@
 //! the DAE of [`super`]: Adams' GSTIFF (fixed leading coefficient) and WSTIFF (variable
 //! coefficients), in the index-3 (I3) or stabilized index-2 (SI2) formulation.
 //!
-//! Positions x (in the chart of the last accepted state, [`history`]) and velocities v
+//! Positions x (in the chart of the last accepted state, the `history` module) and velocities v
 //! are each integrated by the order-k formula, written in predictor form: with p the
 //! polynomial through the last k + 1 accepted values,
 //!
