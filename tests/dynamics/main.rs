@@ -10,6 +10,7 @@
 mod a01;
 mod a02;
 mod adams;
+mod andrews;
 mod bdf;
 mod contact;
 mod exact;

@@ -171,6 +171,133 @@ pub const A01_TABLE: [(f64, f64, f64); 7] = [
 /// §4.1's period 4K/ω₀ (2.36784194757623744930329503724 s).
 pub const A01_PERIOD: f64 = 2.367_841_947_576_237_4;
 
+/// Andrews' squeezing mechanism, the Test Set version (reference-problems §2.1: Mazzia,
+/// Magherini & Iavernaro's `andrews.f`; Hairer & Wanner II, §VII.7): its parameters, the
+/// constraints g(q) in the Test Set's coordinates q = (β, Θ, γ, Φ, δ, Ω, ε), the spring, the
+/// consistent initial values and the PSIDE reference at t = 0.03, copied from §2.1.
+pub mod squeezer {
+    /// m1..m7 (kg) and I1..I7 (kg·m², about each CM's z axis).
+    pub const MASS: [f64; 7] = [
+        0.04325, 0.00365, 0.02373, 0.00706, 0.07050, 0.00706, 0.05498,
+    ];
+    pub const INERTIA: [f64; 7] = [
+        2.194e-6, 4.410e-7, 5.255e-6, 5.667e-7, 1.169e-5, 5.667e-7, 1.912e-5,
+    ];
+    /// The spring (c0 N/m, free length l0 m) from D on body 3 to the fixed point C, and the
+    /// motor torque mom (N·m) on body 1.
+    pub const C0: f64 = 4530.0;
+    pub const L0: f64 = 7785e-5;
+    pub const MOM: f64 = 33e-3;
+    // Fixed points and lengths (m), the Test Set's names.
+    const XA: f64 = -0.06934;
+    const YA: f64 = -0.00227;
+    const XB: f64 = -0.03635;
+    const YB: f64 = 0.03273;
+    const XC: f64 = 0.014;
+    const YC: f64 = 0.072;
+    const D: f64 = 28e-3;
+    const E: f64 = 2e-2;
+    const RR: f64 = 7e-3;
+    const SS: f64 = 35e-3;
+    const SC: f64 = 18e-3;
+    const SD: f64 = 2e-2;
+    const U: f64 = 4e-2;
+    const ZF: f64 = 2e-2;
+    const ZT: f64 = 4e-2;
+
+    /// g1..g6: the point E reached from O through bodies 1 and 2 equals E reached from B
+    /// through body 3 (g1, g2), from A through bodies 5 and 4 (g3, g4), and from A through
+    /// bodies 7 and 6 (g5, g6).
+    pub fn constraints(q: &[f64; 7]) -> [f64; 6] {
+        let [b, th, ga, ph, de, om, ep] = *q;
+        let ex = RR * b.cos() - D * (b + th).cos();
+        let ey = RR * b.sin() - D * (b + th).sin();
+        [
+            ex - SS * ga.sin() - XB,
+            ey + SS * ga.cos() - YB,
+            ex - E * (ph + de).sin() - ZT * de.cos() - XA,
+            ey + E * (ph + de).cos() - ZT * de.sin() - YA,
+            ex - ZF * (om + ep).cos() - U * ep.sin() - XA,
+            ey - ZF * (om + ep).sin() + U * ep.cos() - YA,
+        ]
+    }
+
+    /// The spring's energy ½·c0·(L − l0)² at body 3's angle γ, L = |D − C| with
+    /// D = (sd·cos γ + sc·sin γ + xb, sd·sin γ − sc·cos γ + yb).
+    pub fn spring_energy(gamma: f64) -> f64 {
+        let (s, c) = gamma.sin_cos();
+        let l = (SD * c + SC * s + XB - XC).hypot(SD * s - SC * c + YB - YC);
+        0.5 * C0 * (l - L0).powi(2)
+    }
+
+    // §2.1's digits as printed, some beyond f64's: they round to the nearest double.
+    /// Consistent initial positions q0 (rad); v0 = 0.
+    #[allow(clippy::excessive_precision)]
+    pub const Q0: [f64; 7] = [
+        -0.0617138900142764496358948458001,
+        0.0,
+        0.455279819163070380255912382449,
+        0.222668390165885884674473185609,
+        0.487364979543842550225598953530,
+        -0.222668390165885884674473185609,
+        1.23054744454982119249735015568,
+    ];
+    /// Consistent initial accelerations w0 = q̈(0) and multipliers λ0.
+    #[allow(clippy::excessive_precision)]
+    pub const W0: [f64; 7] = [
+        14222.4439199541138705911625887,
+        -10666.8329399655854029433719415,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+    ];
+    #[allow(clippy::excessive_precision)]
+    pub const LAMBDA0: [f64; 6] = [
+        98.5668703962410896057654982170,
+        -6.12268834425566265503114393122,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+    ];
+    /// The reference at t = 0.03 (PSIDE, rtol = atol = 1e-14): y1..y7 = q, y8..y14 = q̇,
+    /// y15..y21 = q̈, y22..y27 = λ. Positions good to 15–16 digits, velocities to about 10,
+    /// accelerations and multipliers to about 1e-8 relative (§2.1).
+    pub const END: f64 = 0.03;
+    #[allow(clippy::excessive_precision)]
+    pub const Y_REF: [f64; 27] = [
+        0.1581077119629904e+2,
+        -0.1575637105984298e+2,
+        0.4082224013073101e-1,
+        -0.5347301163226948e+0,
+        0.5244099658805304e+0,
+        0.5347301163226948e+0,
+        0.1048080741042263e+1,
+        0.1139920302151208e+4,
+        -0.1424379294994111e+4,
+        0.1103291221937134e+2,
+        0.1929337464421385e+2,
+        0.5735699284790808e+0,
+        -0.1929337464421385e+2,
+        0.3231791658026955e+0,
+        -0.2463176316945196e+5,
+        0.5185037701610329e+5,
+        0.3241025686413781e+6,
+        0.5667493645176213e+6,
+        0.1674362929479361e+5,
+        -0.5667493645176222e+6,
+        0.9826520791458422e+4,
+        0.1991753333731910e+3,
+        -0.2975531228015052e+2,
+        0.2306654119098399e+2,
+        0.3145271365475927e+2,
+        0.2264249232082739e+2,
+        0.1161740700019673e+2,
+    ];
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
