@@ -8,6 +8,7 @@
 //! segments.
 
 use super::run::{Method, RunSpec, Segment};
+use crate::mbd::dynamics::dopri853::Dopri853;
 use crate::mbd::dynamics::integrator::{Integrator, Settings};
 use crate::mbd::dynamics::newmark::{self, Newmark};
 use crate::model::commands::Step;
@@ -37,6 +38,8 @@ pub enum Scheme {
         /// The HHT ALPHA that stands in meanwhile (the command line's, else −0.3).
         stand_in_alpha: f64,
     },
+    /// The explicit Dormand–Prince 8(5,3) on the index-1 equations (command line only).
+    Dopri853,
 }
 
 /// The integrator and settings of one stretch of a run.
@@ -77,6 +80,7 @@ impl Plan {
                 rho_inf: spec.rho_inf.unwrap_or(GALPHA_RHO_INF),
             }),
             Some(Method::Newmark) => Scheme::Newmark(newmark),
+            Some(Method::Dopri853) => Scheme::Dopri853,
             None => match stmt.family.map(|f| f.value) {
                 None | Some(Family::Hht) => Scheme::Newmark(newmark::Method::Hht { alpha }),
                 Some(Family::Newmark) => Scheme::Newmark(newmark),
@@ -98,6 +102,7 @@ impl Plan {
     pub fn integrator(&self) -> (Box<dyn Integrator>, Option<String>) {
         match self.scheme {
             Scheme::Newmark(m) => (Box::new(Newmark::new(m)), None),
+            Scheme::Dopri853 => (Box::new(Dopri853::new()), None),
             Scheme::Bdf {
                 family,
                 stand_in_alpha,

@@ -38,6 +38,8 @@ pub enum Method {
     Galpha,
     /// Plain Newmark with the INTEGRATOR statement's BETA and GAMMA (default 0.36, 0.7).
     Newmark,
+    /// Explicit Dormand–Prince 8(5,3) on the index-1 equations, with projection.
+    Dopri853,
 }
 
 /// One stretch of a run (a `SIMULATE/DYNAMIC` command of a command file): from where the

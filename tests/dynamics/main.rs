@@ -12,6 +12,7 @@ mod a02;
 mod adams;
 mod contact;
 mod exact;
+mod explicit;
 mod failures;
 mod motions;
 mod planar_reactions;
