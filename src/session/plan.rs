@@ -10,6 +10,7 @@
 
 use super::run::{Method, RunSpec, Segment};
 use crate::mbd::dynamics::bdf::{self, Bdf, Coefficients};
+use crate::mbd::dynamics::dopri853::Dopri853;
 use crate::mbd::dynamics::integrator::{Integrator, Settings};
 use crate::mbd::dynamics::newmark::{self, Newmark};
 use crate::model::commands::Step;
@@ -37,6 +38,8 @@ pub enum Scheme {
         kmax: u32,
         formulation: Formulation,
     },
+    /// The explicit Dormand–Prince 8(5,3) on the index-1 equations (command line only).
+    Dopri853,
 }
 
 /// The integrator and settings of one stretch of a run.
@@ -87,6 +90,7 @@ impl Plan {
             Some(Method::Newmark) => Scheme::Newmark(newmark),
             Some(Method::Gstiff) => bdf_scheme(Family::Gstiff),
             Some(Method::Wstiff) => bdf_scheme(Family::Wstiff),
+            Some(Method::Dopri853) => Scheme::Dopri853,
             None => match stmt.family.map(|f| f.value) {
                 Some(Family::Hht) => Scheme::Newmark(newmark::Method::Hht { alpha }),
                 Some(Family::Newmark) => Scheme::Newmark(newmark),
@@ -104,6 +108,7 @@ impl Plan {
     pub fn integrator(&self) -> (Box<dyn Integrator>, Option<String>) {
         match self.scheme {
             Scheme::Newmark(m) => (Box::new(Newmark::new(m)), None),
+            Scheme::Dopri853 => (Box::new(Dopri853::new()), None),
             Scheme::Bdf {
                 family,
                 kmax,

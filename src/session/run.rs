@@ -42,6 +42,8 @@ pub enum Method {
     Gstiff,
     /// Adams WSTIFF: variable-order BDF with variable coefficients.
     Wstiff,
+    /// Explicit Dormand–Prince 8(5,3) on the index-1 equations, with projection.
+    Dopri853,
 }
 
 /// One stretch of a run (a `SIMULATE/DYNAMIC` command of a command file): from where the

@@ -241,14 +241,19 @@ fn hht_at_error_1e_12_gives_the_andrews_positions_to_7_5_digits() {
 #[test]
 fn gstiff_si2_at_error_1e_8_gives_the_andrews_positions_to_7_digits() {
     assert_digits(
-        &["--integrator", "gstiff", "--formulation", "si2", "--error", "1e-8"],
+        &[
+            "--integrator",
+            "gstiff",
+            "--formulation",
+            "si2",
+            "--error",
+            "1e-8",
+        ],
         7.0,
     );
 }
 
 #[test]
-#[ignore = "needs the dopri853 integrator (issue 9), not merged yet"]
 fn dopri853_at_error_1e_8_gives_the_andrews_positions_to_7_digits() {
     assert_digits(&["--integrator", "dopri853", "--error", "1e-8"], 7.0);
 }
-

@@ -14,6 +14,7 @@ mod andrews;
 mod bdf;
 mod contact;
 mod exact;
+mod explicit;
 mod failures;
 mod motions;
 mod planar_reactions;

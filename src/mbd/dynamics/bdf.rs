@@ -38,6 +38,7 @@
 
 mod history;
 
+use super::dopri853::rotation_vector_rate;
 use super::integrator::{Attempt, Integrator, Settings};
 use super::newmark::copy_into;
 use super::reuse::{self, Reuse};
@@ -264,7 +265,7 @@ impl Bdf {
                     + Vec3::from_column_slice(&self.shift[r.clone()]);
                 let mut th = Vec3::from_column_slice(&self.x[r.clone()]);
                 for _ in 0..20 {
-                    let next = base + g * dexp_inv(&th, &w);
+                    let next = base + g * rotation_vector_rate(th, w);
                     let moved = (next - th).amax();
                     th = next;
                     if moved <= 1e-16 * (1.0 + th.amax()) {
@@ -498,22 +499,6 @@ impl Bdf {
     fn allows(e: f64, j: usize) -> f64 {
         (2.0 * e).max(1e-12).powf(-1.0 / (j as f64 + 1.0))
     }
-}
-
-/// dexp⁻¹(θ)·ω for the rotation vector θ: the rate of θ when R = exp(\[θ\]×)·R₀ turns at
-/// the global angular velocity ω (the inverse of SO(3)'s left Jacobian),
-/// ω − ½ θ×ω + c(|θ|)·θ×(θ×ω), c(φ) = 1/φ² − (1 + cos φ)/(2φ sin φ).
-pub fn dexp_inv(th: &Vec3, w: &Vec3) -> Vec3 {
-    let phi2 = th.norm_squared();
-    let c = if phi2 < 1e-4 {
-        // The series, to below rounding for |θ| < 1e-2.
-        1.0 / 12.0 + phi2 / 720.0 + phi2 * phi2 / 30240.0
-    } else {
-        let phi = phi2.sqrt();
-        1.0 / phi2 - (1.0 + phi.cos()) / (2.0 * phi * phi.sin())
-    };
-    let tw = th.cross(w);
-    w - 0.5 * tw + c * th.cross(&tw)
 }
 
 impl Integrator for Bdf {

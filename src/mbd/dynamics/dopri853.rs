@@ -1,0 +1,363 @@
+//! DOP853, the explicit Dormand–Prince 8(5,3) Runge–Kutta pair (Hairer, Nørsett & Wanner,
+//! *Solving ODEs I*, §II.10), on the index-1 form of the equations of motion: at every
+//! stage the consistent accelerations of [`Dynamics::solve_accelerations`],
+//!
+//! ```text
+//! [M/UCF  Φ_qᵀ] [a]   [Q]
+//! [Φ_q     0  ] [λ] = [γ],
+//! ```
+//!
+//! make the state (positions, velocities) an ODE whose right-hand side is (v, a). The
+//! positions are integrated in a chart around the step's starting pose: the increment x
+//! of [`Dynamics::set_state`] (δr, and per part a global rotation vector θ with
+//! R = exp(\[θ\]×)·R₀), whose rate is ṙ = v and θ̇ = J_l(θ)⁻¹·ω, SO(3)'s inverse left
+//! Jacobian (in 2D the chart is linear: θ̇ = ω). So every stage is a plain vector sum and
+//! rotations stay rotations.
+//!
+//! Index 1 keeps the accelerations consistent but lets positions and velocities drift off
+//! the constraints by the local error. After each step that error control accepts,
+//! positions are projected back onto Φ(q, t) = 0 ([`Dynamics::project_positions`]) and
+//! velocities onto the velocity constraints ([`Dynamics::reconcile`]), both closest in the
+//! mass metric; the error estimate has already seen the unprojected solution, and the
+//! projected step keeps its order (Hairer & Wanner, *Solving ODEs II*, §VII.2). Reconcile
+//! leaves the consistent accelerations at the projected state: they are the next step's
+//! first stage, as the published code reuses its last stage (FSAL), which the projection
+//! invalidates.
+//!
+//! The error estimate is the published one, the fifth-order estimate e₅ = O(h⁶) damped by
+//! the third-order e₃ = O(h⁴): err = h·|e₅|²/√(|e₅|² + 0.01·|e₃|²) = O(h⁸), with max norms
+//! over positions and velocities each scaled per column as the Newmark family scales its
+//! estimate (ERROR × model length for translations, ERROR for rotations, and the same per
+//! unit time for their velocities). An explicit method: for smooth, non-stiff models at
+//! tight ERROR, where it takes long steps at a dozen solves each; stiff springs, contact
+//! or high damping limit its step by stability instead, where the implicit methods are
+//! the choice.
+
+mod tableau;
+
+use super::integrator::{Attempt, Integrator, Settings};
+use super::{DynError, Dynamics, Snapshot};
+use crate::mbd::system::Dimension;
+use crate::vocab::math::{DVec, Vec3};
+use tableau::{A, B, BHH, C, ER, STAGES};
+
+/// The weight of the third-order estimate in the combined one (the published value):
+/// small enough that e₅ decides once it is resolved, large enough to damp it when e₅ is
+/// accidentally small.
+const E3_WEIGHT: f64 = 0.01;
+
+/// The projection's target on the largest scaled position residual, in units of the
+/// coordinates' rounding (ε times their size over the model length): a few tens of
+/// ulps, which the Newton iteration reaches in one or two corrections from a local error.
+const PROJECTION_ULPS: f64 = 64.0;
+
+/// A stage turning a part by more than this (radians) is rejected as diverged: the
+/// chart's inverse Jacobian is singular at 2π, and a step turning a part by half a turn is
+/// far too long for the error estimate to trust anyway.
+const LARGEST_TURN: f64 = std::f64::consts::PI;
+
+/// |θ|² below which the inverse Jacobian's coefficient is the series: the closed form
+/// loses digits to cancellation there (two and a half at the bound), and the series'
+/// first omitted term is below rounding.
+const SERIES_BELOW: f64 = 0.04;
+
+/// The explicit DOP853 integrator.
+pub struct Dopri853 {
+    /// The last accepted state, its velocities, accelerations and multipliers.
+    base: Option<Snapshot>,
+    v0: DVec,
+    a0: DVec,
+    lambda0: DVec,
+    /// The stages' slopes: of the chart increment and of the velocities.
+    kx: Vec<Vec<f64>>,
+    kv: Vec<Vec<f64>>,
+    /// Scratch: a stage's chart increment and velocities.
+    x: Vec<f64>,
+    v: DVec,
+    /// Per-column error scales and the ERROR they are for.
+    tol: (f64, Vec<f64>),
+}
+
+impl Default for Dopri853 {
+    fn default() -> Self {
+        Dopri853::new()
+    }
+}
+
+impl Dopri853 {
+    pub fn new() -> Dopri853 {
+        Dopri853 {
+            base: None,
+            v0: DVec::zeros(0),
+            a0: DVec::zeros(0),
+            lambda0: DVec::zeros(0),
+            kx: Vec::new(),
+            kv: Vec::new(),
+            x: Vec::new(),
+            v: DVec::zeros(0),
+            tol: (f64::NAN, Vec::new()),
+        }
+    }
+
+    /// Sizes the buffers for `n` columns.
+    fn size(&mut self, n: usize) {
+        if self.x.len() != n || self.kx.len() != STAGES {
+            self.kx = vec![vec![0.0; n]; STAGES];
+            self.kv = vec![vec![0.0; n]; STAGES];
+            self.x = vec![0.0; n];
+            self.v = DVec::zeros(n);
+        }
+    }
+
+    /// `self.x` = h·Σⱼ wⱼ·kxⱼ and `self.v` = v₀ + h·Σⱼ wⱼ·kvⱼ over the sparse weights `w`.
+    fn combine(&mut self, w: &[(usize, f64)], h: f64) {
+        for k in 0..self.x.len() {
+            let (mut dx, mut dv) = (0.0, 0.0);
+            for &(j, a) in w {
+                dx += a * self.kx[j][k];
+                dv += a * self.kv[j][k];
+            }
+            self.x[k] = h * dx;
+            self.v[k] = self.v0[k] + h * dv;
+        }
+    }
+
+    /// The combined error estimate of the step `h` from its stages' slopes, relative to
+    /// the per-column scales, and the column where it is largest (positions' and
+    /// velocities' alike).
+    fn error(&self, h: f64) -> (f64, usize) {
+        let tol = &self.tol.1;
+        let n = tol.len();
+        let (mut e5, mut e3, mut worst) = (0.0f64, 0.0f64, 0);
+        for i in 0..2 * n {
+            let (slopes, k) = match i < n {
+                true => (&self.kx, i),
+                false => (&self.kv, i - n),
+            };
+            let dot = |w: &[(usize, f64)]| w.iter().map(|&(j, x)| x * slopes[j][k]).sum::<f64>();
+            let (s5, s3) = (
+                (dot(&ER) / tol[k]).abs(),
+                ((dot(&B) - dot(&BHH)) / tol[k]).abs(),
+            );
+            if s5 > e5 {
+                (e5, worst) = (s5, k);
+            }
+            e3 = e3.max(s3);
+        }
+        let denominator = (e5 * e5 + E3_WEIGHT * e3 * e3).sqrt();
+        match denominator > 0.0 {
+            true => (h.abs() * e5 * e5 / denominator, worst),
+            false => (0.0, worst),
+        }
+    }
+}
+
+/// The coefficient c(φ) = (1 − (φ/2)·cot(φ/2))/φ² of \[θ\]×² in SO(3)'s inverse left
+/// Jacobian J_l(θ)⁻¹ = I − ½\[θ\]× + c(φ)·\[θ\]×², φ = |θ|, from `phi2` = φ². From the
+/// Bernoulli series of x·cot x, c = Σ |B₂ₖ|·φ²ᵏ⁻²/(2k)! = 1/12 + φ²/720 + φ⁴/30240 + …
+fn inverse_jacobian_coefficient(phi2: f64) -> f64 {
+    if phi2 < SERIES_BELOW {
+        // Through φ⁸; the next term, 691·φ¹⁰/(2730·12!), is below 6e-17 here.
+        1.0 / 12.0
+            + phi2
+                * (1.0 / 720.0
+                    + phi2 * (1.0 / 30240.0 + phi2 * (1.0 / 1209600.0 + phi2 / 47900160.0)))
+    } else {
+        let half = 0.5 * phi2.sqrt();
+        (1.0 - half / half.tan()) / phi2
+    }
+}
+
+/// θ̇ = J_l(θ)⁻¹·ω: the rate of the rotation vector θ of R = exp(\[θ\]×)·R₀ that turns with
+/// the global angular velocity ω (Ṙ·Rᵀ = \[ω\]×).
+pub(super) fn rotation_vector_rate(theta: Vec3, w: Vec3) -> Vec3 {
+    let tw = theta.cross(&w);
+    w - 0.5 * tw + inverse_jacobian_coefficient(theta.norm_squared()) * theta.cross(&tw)
+}
+
+impl Integrator for Dopri853 {
+    fn name(&self) -> &'static str {
+        "dopri853"
+    }
+
+    fn error_order(&self) -> f64 {
+        // The combined estimate scales as h·(h⁵)²/h³ = h⁸ (the published code's 1/8).
+        8.0
+    }
+
+    fn order(&self) -> Option<u32> {
+        Some(8)
+    }
+
+    fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        self.base = Some(d.snapshot());
+        self.v0 = d.sys.v();
+        self.a0 = d.a.clone();
+        self.lambda0 = d.lambda.clone();
+        Ok(())
+    }
+
+    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        let n = d.n;
+        self.size(n);
+        if self.tol.0 != st.error || self.tol.1.len() != n {
+            self.tol = (st.error, d.tolerances(st.error));
+        }
+        let base = self.base.take().expect("started");
+        let outcome = self.stages(d, &base, h, st);
+        self.base = Some(base);
+        outcome
+    }
+
+    fn accept(&mut self, d: &mut Dynamics) {
+        self.base = Some(d.snapshot());
+        self.v0 = d.sys.v();
+        self.a0.clone_from(&d.a);
+        self.lambda0.clone_from(&d.lambda);
+    }
+
+    fn reject(&mut self, d: &mut Dynamics) {
+        let base = self.base.as_ref().expect("started");
+        d.restore(base);
+        d.a.clone_from(&self.a0);
+        d.lambda.clone_from(&self.lambda0);
+    }
+}
+
+impl Dopri853 {
+    /// The step `h` from `base`: the stages, the estimate, the projection.
+    fn stages(
+        &mut self,
+        d: &mut Dynamics,
+        base: &Snapshot,
+        h: f64,
+        st: &Settings,
+    ) -> Result<Attempt, DynError> {
+        let t0 = base.time;
+        // The first stage is the accepted state: x = 0, where the chart's rate is ω.
+        self.kx[0].copy_from_slice(self.v0.as_slice());
+        self.kv[0].copy_from_slice(self.a0.as_slice());
+        for s in 1..STAGES {
+            self.combine(A[s], h);
+            if !self.place(d, base, t0 + C[s] * h) {
+                return Ok(Attempt::Diverged);
+            }
+            d.solve_accelerations()?;
+            self.kv[s].copy_from_slice(d.a.as_slice());
+            self.chart_rates(d, s);
+        }
+        self.combine(&B, h);
+        if !self.place(d, base, t0 + h) {
+            return Ok(Attempt::Diverged);
+        }
+        let (err, worst) = match st.fixed_step {
+            None => self.error(h),
+            Some(_) => (0.0, 0),
+        };
+        if err > 1.0 {
+            // The driver rejects it: no projection to spend on it.
+            return Ok(Attempt::Converged { err, worst });
+        }
+        // Rounding of the coordinates, over the model length: the projection's floor.
+        let reach = d
+            .sys
+            .parts
+            .iter()
+            .map(|p| p.r.amax())
+            .fold(d.sys.length, f64::max);
+        let target = PROJECTION_ULPS * f64::EPSILON * reach / d.sys.length;
+        match d.project_positions(target) {
+            // Too far off the constraints for Newton: the step was too long.
+            Err(DynError::Newton { .. }) => return Ok(Attempt::Diverged),
+            other => other?,
+        }
+        d.reconcile()?;
+        Ok(Attempt::Converged { err, worst })
+    }
+
+    /// Moves `d` to `base` moved by the stage increment `self.x`, with velocities
+    /// `self.v` at `time`; false when the stage is not finite or turns a part too far.
+    fn place(&self, d: &mut Dynamics, base: &Snapshot, time: f64) -> bool {
+        let finite = self.x.iter().chain(self.v.iter()).all(|x| x.is_finite());
+        if !finite || !self.turns_within_chart(d) {
+            return false;
+        }
+        d.set_state(base, &self.x, &self.v, time);
+        true
+    }
+
+    /// Whether every part's rotation vector in `self.x` stays where the chart is regular.
+    fn turns_within_chart(&self, d: &Dynamics) -> bool {
+        if d.sys.dim != Dimension::Three {
+            return true;
+        }
+        self.x
+            .chunks_exact(6)
+            .all(|c| Vec3::new(c[3], c[4], c[5]).norm() < LARGEST_TURN)
+    }
+
+    /// Stage `s`'s chart slopes from its increment `self.x` and velocities `self.v`.
+    fn chart_rates(&mut self, d: &Dynamics, s: usize) {
+        let k = &mut self.kx[s];
+        k.copy_from_slice(self.v.as_slice());
+        if d.sys.dim != Dimension::Three {
+            return;
+        }
+        for (rate, x) in k.chunks_exact_mut(6).zip(self.x.chunks_exact(6)) {
+            let theta = Vec3::new(x[3], x[4], x[5]);
+            let w = Vec3::new(rate[3], rate[4], rate[5]);
+            rate[3..6].copy_from_slice(rotation_vector_rate(theta, w).as_slice());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vocab::math::{Mat3, Quat};
+
+    #[test]
+    fn series_and_closed_form_of_the_coefficient_meet() {
+        let phi2 = SERIES_BELOW;
+        let half = 0.5 * phi2.sqrt();
+        let closed = (1.0 - half / half.tan()) / phi2;
+        let series = inverse_jacobian_coefficient(phi2 * (1.0 - 1e-15));
+        assert!((closed - series).abs() < 1e-14, "{closed} vs {series}");
+        assert_eq!(inverse_jacobian_coefficient(0.0), 1.0 / 12.0);
+    }
+
+    /// The global angular velocity of R(t) = exp([θ(t)]×)·R₀ by central differences.
+    fn omega_by_differences(theta: Vec3, rate: Vec3) -> Vec3 {
+        let r = |t: f64| -> Mat3 {
+            Quat::from_scaled_axis(theta + t * rate)
+                .to_rotation_matrix()
+                .into_inner()
+        };
+        let dt = 1e-5;
+        let dr = (r(dt) - r(-dt)) / (2.0 * dt);
+        let wx = dr * r(0.0).transpose();
+        Vec3::new(
+            wx[(2, 1)] - wx[(1, 2)],
+            wx[(0, 2)] - wx[(2, 0)],
+            wx[(1, 0)] - wx[(0, 1)],
+        ) / 2.0
+    }
+
+    #[test]
+    fn the_rate_turns_the_chart_with_the_angular_velocity() {
+        // θ̇ from the formula, fed back through R(t) = exp([θ(t)]×)·R₀, must give ω back:
+        // small angles (the series), large ones (the closed form), near half a turn.
+        let w = Vec3::new(0.3, -1.2, 0.7);
+        for theta in [
+            Vec3::new(1e-9, 0.0, 0.0),
+            Vec3::new(0.05, -0.02, 0.03),
+            Vec3::new(0.2, 0.3, -0.1),
+            Vec3::new(0.9, -0.4, 1.1),
+            Vec3::new(-2.0, 1.5, 1.2),
+        ] {
+            let rate = rotation_vector_rate(theta, w);
+            let back = omega_by_differences(theta, rate);
+            assert!((back - w).norm() < 1e-8, "θ = {theta:?}: ω back {back:?}");
+        }
+    }
+}
