@@ -448,7 +448,7 @@ fn fortran_e(x: f64, digits: usize) -> String {
 pub fn summary_text(s: &Summary) -> String {
     let st = &s.stats;
     let mut out = format!(
-        "{}: {} steps ({} rejected), {} Newton iterations, {} Jacobian evaluations, {} factorizations, {} expression evaluations, {:.3} s CPU{}\nlargest constraint residual {:.3e}\n",
+        "{}: {} steps ({} rejected), {} Newton iterations, {} Jacobian evaluations, {} factorizations, {} expression evaluations, {:.6} s CPU{}\nlargest constraint residual {:.3e}\n",
         s.integrator,
         st.steps,
         st.rejected,

@@ -534,6 +534,19 @@ impl Integrator for Bdf {
         self.factor
     }
 
+    fn first_step(&self, d: &Dynamics, hinit: f64, st: &Settings) -> f64 {
+        // Order one's position error from rest is about ½·c·h²·|a| against the seed's
+        // predictor (c = ½): the step that meets a tenth of ERROR in every column,
+        // never below HMIN (error control takes over from there).
+        let fit =
+            d.a.iter()
+                .zip(d.tolerances(st.error))
+                .filter(|(a, _)| a.abs() > 0.0)
+                .map(|(a, t)| (0.4 * t.min(st.error) / a.abs()).sqrt())
+                .fold(f64::INFINITY, f64::min);
+        hinit.min(fit).max(st.hmin)
+    }
+
     fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
         self.hist = Some(History::new(d, self.kmax + 2));
         (self.k, self.at_order, self.failures) = (1, 0, 0);

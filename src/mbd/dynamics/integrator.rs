@@ -66,6 +66,11 @@ pub trait Integrator {
     fn step_factor(&self) -> Option<f64> {
         None
     }
+    /// The first step, given HINIT: a method may start shorter where HINIT would be
+    /// rejected (an order-one start at a tight ERROR).
+    fn first_step(&self, _d: &Dynamics, hinit: f64, _s: &Settings) -> f64 {
+        hinit
+    }
     /// Forgets the past after a located force-law switch (a multistep method restarts
     /// at order one rather than interpolate across it).
     fn restart(&mut self, _d: &mut Dynamics) {}
@@ -97,7 +102,10 @@ pub fn simulate(
     };
     let drift_tol = (s.error * 10.0).max(1e-6);
     // The step error control wants; the step taken may be shorter to land on an output.
-    let mut want = s.fixed_step.unwrap_or(s.hinit).min(s.hmax);
+    let mut want = match s.fixed_step {
+        Some(h) => h.min(s.hmax),
+        None => integrator.first_step(d, s.hinit.min(s.hmax), s),
+    };
     for &t_out in outputs {
         while d.sys.time < t_out {
             let t = d.sys.time;
