@@ -134,6 +134,7 @@ pub fn andrews_positions(integrator_args: &[&str]) -> [f64; 7] {
 fn assert_digits(integrator_args: &[&str], digits: f64) {
     let y = andrews_positions(integrator_args);
     let scd = significant_digits(&y, &Y_REF[..7]);
+    eprintln!("{}: {scd:.2} significant digits", integrator_args.join(" "));
     assert!(
         scd >= digits,
         "{}: {scd:.2} significant digits (want {digits}); positions {y:?}",
