@@ -356,6 +356,11 @@ fn gstiff_si2_matches_the_exact_one_dof_solutions() {
     one_dof_cases_match_exact("gstiff/si2");
 }
 
+#[test]
+fn wstiff_matches_the_exact_one_dof_solutions() {
+    one_dof_cases_match_exact("wstiff");
+}
+
 /// The rack and pinion (no Adams output): the pinion (1 kg, I = 0.1 about the shaft,
 /// global x) turns on a revolute at the origin, the rack (1 kg) slides on a vertical
 /// translational joint, RACKPIN PD = 0.1 ties them: s = (PD/2)·θ. Lagrange with the one

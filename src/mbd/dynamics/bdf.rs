@@ -2,9 +2,9 @@
 //! the DAE of [`super`]: Adams' GSTIFF (fixed leading coefficient) and WSTIFF (variable
 //! coefficients), in the index-3 (I3) or stabilized index-2 (SI2) formulation.
 //!
-//! Positions x (in the chart of the last accepted state, the `history` module) and velocities v
-//! are each integrated by the order-k formula, written in predictor form: with p the
-//! polynomial through the last k + 1 accepted values,
+//! Positions x (in the chart of the last accepted state: the `history` module) and
+//! velocities v are each integrated by the order-k formula, written in predictor form:
+//! with p the polynomial through the last k + 1 accepted values,
 //!
 //! ```text
 //! y₁ = p(t₁) + g·(ẏ₁ − ṗ(t₁)),    g = h / Σⱼ₌₁..ₖ 1/j        (GSTIFF)
@@ -126,6 +126,8 @@ pub struct Bdf {
 }
 
 impl Bdf {
+    /// A BDF with the given coefficients and formulation, of order at most `kmax`
+    /// (clamped to 1..=6), starting at order 1.
     pub fn new(coefficients: Coefficients, formulation: Formulation, kmax: usize) -> Bdf {
         Bdf {
             coefficients,

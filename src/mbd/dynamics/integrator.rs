@@ -14,9 +14,11 @@ pub struct Settings {
     /// ERROR: local error tolerance per step (model lengths scaled by the model size for
     /// translations, radians for rotations).
     pub error: f64,
-    /// HMAX, HINIT, HMIN.
+    /// HMAX: the longest step.
     pub hmax: f64,
+    /// HINIT: the first step asked for.
     pub hinit: f64,
+    /// HMIN: the shortest step before the run fails.
     pub hmin: f64,
     /// MAXIT: corrector iterations per attempt.
     pub maxit: usize,
@@ -42,9 +44,14 @@ impl Settings {
 /// The outcome of one attempted step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Attempt {
-    /// The corrector converged; `err` is the local error estimate divided by the
-    /// tolerance (≤ 1 to accept; 0 in fixed-step mode), largest at column `worst`.
-    Converged { err: f64, worst: usize },
+    /// The corrector converged.
+    Converged {
+        /// The local error estimate divided by the tolerance (≤ 1 to accept; 0 in
+        /// fixed-step mode).
+        err: f64,
+        /// The column where it is largest.
+        worst: usize,
+    },
     /// The corrector did not converge.
     Diverged,
 }

@@ -15,9 +15,13 @@ use std::collections::VecDeque;
 
 /// One accepted state.
 pub struct Point {
+    /// Its time.
     pub t: f64,
+    /// The parts' poses.
     pub snap: Snapshot,
+    /// Velocities (velocity layout, global axes).
     pub v: DVec,
+    /// Multipliers.
     pub lambda: DVec,
     /// The configuration in the newest point's chart (velocity layout).
     pub x: Vec<f64>,
