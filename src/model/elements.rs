@@ -112,7 +112,7 @@ pub struct Part {
     pub mass: Option<f64>,
     /// CM: the centre-of-mass marker.
     pub cm: Option<Id>,
-    /// IM: the marker whose axes IP is given in (CM when None).
+    /// IM: the marker about whose origin and in whose axes IP is given (CM when None).
     pub im: Option<Id>,
     /// Ixx, Iyy, Izz, Ixy, Ixz, Iyz as written (products are +∫xy dm, spec §2.2).
     pub ip: [f64; 6],
@@ -124,7 +124,8 @@ pub struct Part {
     pub velocity: [Option<f64>; 3],
     /// WX, WY, WZ: initial angular velocity (CM-marker axes, or the VM/WM markers').
     pub angular_velocity: [Option<f64>; 3],
-    /// VM: the marker whose axes VX, VY, VZ are given in.
+    /// VM: the marker whose velocity VX, VY, VZ give, as written (the build applies
+    /// them at the CM).
     pub vm: Option<Id>,
     /// WM: the marker whose axes WX, WY, WZ are given in (CM when None).
     pub wm: Option<Id>,
