@@ -26,7 +26,7 @@ use std::fmt;
 pub struct AssemblyOptions {
     /// Largest scaled residual accepted (translational rows in model lengths / L).
     pub tol: f64,
-    /// Most Newton iterations.
+    /// The most Newton iterations before assembly gives up.
     pub max_iter: usize,
     /// Row indices (as in [`System::labels`]) the redundancy analysis removed.
     pub dropped: Vec<usize>,
@@ -96,7 +96,7 @@ pub enum AssemblyError {
         /// The dropped equations that are violated.
         violated: Vec<Violation>,
     },
-    /// The model could not be built into equations.
+    /// An element or expression could not be evaluated.
     Model(MbdError),
 }
 

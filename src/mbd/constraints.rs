@@ -130,7 +130,7 @@ pub struct Element {
 /// Value and derivatives of one row: ∂/∂q and ∂/∂v over velocity-level columns, ∂/∂t.
 #[derive(Clone, Debug, Default)]
 pub struct RowEval {
-    /// The residual.
+    /// The row's value (zero when the equation holds).
     pub value: f64,
     /// ∂/∂q as (column, value).
     pub dq: Vec<(usize, f64)>,

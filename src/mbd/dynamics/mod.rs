@@ -38,11 +38,11 @@ use std::fmt;
 pub struct Stats {
     /// Accepted steps.
     pub steps: usize,
-    /// Rejected step attempts (error test or corrector failure).
+    /// Rejected step attempts.
     pub rejected: usize,
     /// Corrector (Newton) iterations, all attempts.
     pub newton_iterations: usize,
-    /// Evaluations of the Newton matrix.
+    /// Evaluations of a Newton or saddle-point matrix.
     pub jacobian_evaluations: usize,
     /// Sparse LU factorizations of the Newton matrix.
     pub factorizations: usize,
