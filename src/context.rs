@@ -12,7 +12,9 @@ use std::marker::PhantomData;
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct Context<'a> {
+    /// `TIME`: the simulation time.
     pub time: f64,
+    /// `MODE`: the analysis mode (4 for dynamics).
     pub mode: f64,
     vars: *const f64,
     n_vars: usize,
@@ -41,17 +43,20 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// The same context with `MODE` set to `mode`.
     pub fn with_mode(mut self, mode: f64) -> Self {
         self.mode = mode;
         self
     }
 
+    /// The same context reading measure slots from `measures`.
     pub fn with_measures(mut self, measures: &'a [f64]) -> Self {
         self.measures = measures.as_ptr();
         self.n_measures = measures.len();
         self
     }
 
+    /// The same context reading SPLINE data from `splines`.
     pub fn with_splines(mut self, splines: &'a [Spline]) -> Self {
         self.splines = splines.as_ptr();
         self.n_splines = splines.len();
@@ -69,16 +74,19 @@ impl<'a> Context<'a> {
         (self.vars, self.measures)
     }
 
+    /// The user variables, in slot order.
     pub fn vars(&self) -> &'a [f64] {
         // SAFETY: `vars`/`n_vars` come from a `&'a [f64]` given to `new`.
         unsafe { std::slice::from_raw_parts(self.vars, self.n_vars) }
     }
 
+    /// The measure values, in slot order.
     pub fn measures(&self) -> &'a [f64] {
         // SAFETY: `measures`/`n_measures` come from a `&'a [f64]` (or the empty slice).
         unsafe { std::slice::from_raw_parts(self.measures, self.n_measures) }
     }
 
+    /// The SPLINE data, in spline-index order.
     pub fn splines(&self) -> &'a [Spline] {
         // SAFETY: `splines`/`n_splines` come from a `&'a [Spline]`, or are a dangling,
         // well-aligned pointer with length 0, which `from_raw_parts` permits.

@@ -13,7 +13,9 @@ pub type Span = Range<usize>;
 /// How serious a diagnostic is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Severity {
+    /// Reported; the input is still accepted.
     Warning,
+    /// The input is rejected.
     Error,
 }
 
@@ -179,18 +181,24 @@ impl Code {
 /// One message about a place in a source text.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
+    /// The stable code (`E0402`, `W0602`, ...).
     pub code: Code,
+    /// Error or warning.
     pub severity: Severity,
     /// The primary place; the caret points here.
     pub span: Span,
+    /// What is wrong, short and lower case.
     pub message: String,
     /// Secondary places with a short label each.
     pub labels: Vec<(Span, String)>,
+    /// Further facts, one line each.
     pub notes: Vec<String>,
+    /// What to do about it.
     pub help: Option<String>,
 }
 
 impl Diagnostic {
+    /// An error at `span`, with no labels, notes or help yet.
     pub fn error(code: Code, span: Span, message: impl Into<String>) -> Self {
         Diagnostic {
             code,
@@ -203,6 +211,7 @@ impl Diagnostic {
         }
     }
 
+    /// A warning at `span`, with no labels, notes or help yet.
     pub fn warning(code: Code, span: Span, message: impl Into<String>) -> Self {
         Diagnostic {
             severity: Severity::Warning,
@@ -210,16 +219,19 @@ impl Diagnostic {
         }
     }
 
+    /// Sets the help line.
     pub fn with_help(mut self, help: impl Into<String>) -> Self {
         self.help = Some(help.into());
         self
     }
 
+    /// Adds a note.
     pub fn with_note(mut self, note: impl Into<String>) -> Self {
         self.notes.push(note.into());
         self
     }
 
+    /// Adds a secondary place with its label.
     pub fn with_label(mut self, span: Span, label: impl Into<String>) -> Self {
         self.labels.push((span, label.into()));
         self
@@ -235,6 +247,7 @@ impl Diagnostic {
         self
     }
 
+    /// Whether the diagnostic is an error.
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
     }
@@ -248,7 +261,9 @@ pub fn has_errors(diags: &[Diagnostic]) -> bool {
 /// A named source text, with the line starts needed to turn byte offsets into
 /// line and column numbers.
 pub struct SourceFile {
+    /// The file name messages show.
     pub name: String,
+    /// The whole text.
     pub text: String,
     line_starts: Vec<usize>,
     /// ariadne's own line index of the text, built on the first rendered frame and kept:
@@ -258,6 +273,7 @@ pub struct SourceFile {
 }
 
 impl SourceFile {
+    /// A source named `name` holding `text`, with its line index built.
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> Self {
         let text = text.into();
         let line_starts = std::iter::once(0)

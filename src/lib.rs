@@ -6,6 +6,8 @@
 //! `.adm` datasets; [`mbd`] is the multibody core and [`session`] runs a dataset through
 //! it (build, assemble, redundancy); [`diag`] is the one diagnostic type.
 
+#![warn(missing_docs)]
+
 // Unit tests may name the library `mbfx`, as test files shared with the integration tests
 // and benches do (tests/common/redundancy_fixtures.rs).
 #[cfg(test)]

@@ -37,7 +37,9 @@ pub enum Expect {
 /// A checked and lowered expression, with any warnings.
 #[derive(Debug)]
 pub struct Checked {
+    /// The lowered IR.
     pub function: Function,
+    /// Warnings the checker found.
     pub warnings: Vec<Diagnostic>,
 }
 
@@ -80,6 +82,7 @@ pub struct Session {
 }
 
 impl Session {
+    /// A session with empty buffers.
     pub fn new() -> Self {
         Self::default()
     }

@@ -9,23 +9,29 @@ use crate::vocab::builtins::{self, Builtin, Needs, Role, Ty};
 
 /// A measure call as written: which builtin and its integer-literal arguments.
 pub struct MeasureCall<'a> {
+    /// The measure's builtin (`DX`, `VR`, ...).
     pub builtin: &'static Builtin,
+    /// The integer-literal arguments (marker or element ids, codes).
     pub ids: &'a [i64],
     /// Span of each ID argument.
     pub arg_spans: &'a [Span],
+    /// Span of the whole call.
     pub span: Span,
 }
 
 /// Where a resolved measure's value will be in the evaluation context.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MeasureValue {
+    /// A scalar measure: its slot.
     Scalar(u32),
+    /// A vector measure: the slots of its three components.
     Vector([u32; 3]),
 }
 
 /// A SPLINE the host supplies: its index in the context's spline table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SplineInfo {
+    /// Index in the context's spline table.
     pub index: u32,
     /// True for a surface (several curves at increasing z).
     pub surface: bool,
@@ -125,6 +131,7 @@ pub struct Variables {
 }
 
 impl Variables {
+    /// A scope with no variables and no splines.
     pub fn new() -> Self {
         Self::default()
     }

@@ -22,8 +22,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 /// When to colour diagnostics.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Color {
+    /// Colour when stderr is a terminal and NO_COLOR is not set.
     Auto,
+    /// Always colour.
     Always,
+    /// Never colour.
     Never,
 }
 

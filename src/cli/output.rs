@@ -52,6 +52,7 @@ pub struct Named<W> {
 }
 
 impl<W: Write> Named<W> {
+    /// `inner`, whose errors will name `name`.
     pub fn new(inner: W, name: impl Into<String>) -> Named<W> {
         Named {
             inner,
@@ -93,6 +94,7 @@ impl<W: Write> Write for Named<W> {
 pub struct Output<'a> {
     out: Named<Box<dyn Write + 'a>>,
     err: Named<Box<dyn Write + 'a>>,
+    /// Whether diagnostics are coloured.
     pub color: bool,
 }
 

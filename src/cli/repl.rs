@@ -55,6 +55,7 @@ impl Default for Repl {
 }
 
 impl Repl {
+    /// A REPL on the interpreter, with no variables yet.
     pub fn new() -> Self {
         Repl {
             e: Evaluator::new(Engine::Interp),

@@ -61,6 +61,7 @@ impl Program {
         &self.function
     }
 
+    /// What the program reads from the context.
     pub fn uses(&self) -> &Uses {
         &self.function.uses
     }

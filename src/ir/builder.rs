@@ -51,6 +51,7 @@ impl Default for Builder {
 }
 
 impl Builder {
+    /// An empty builder.
     pub fn new() -> Self {
         Builder {
             f: Function::default(),
@@ -94,6 +95,7 @@ impl Builder {
         v
     }
 
+    /// The constant `v` holds, if it is one.
     pub fn get_const(&self, v: Value) -> Option<f64> {
         self.f.constant(v)
     }
@@ -113,22 +115,27 @@ impl Builder {
         v
     }
 
+    /// Reads user variable `slot`.
     pub fn var(&mut self, slot: u32, span: Span) -> Value {
         self.emit(Key::Var(slot), Inst::Var(slot), span)
     }
 
+    /// Reads `TIME`.
     pub fn time(&mut self, span: Span) -> Value {
         self.emit(Key::Time, Inst::Time, span)
     }
 
+    /// Reads `MODE`.
     pub fn mode(&mut self, span: Span) -> Value {
         self.emit(Key::Mode, Inst::Mode, span)
     }
 
+    /// Reads measure `slot`.
     pub fn measure(&mut self, slot: u32, span: Span) -> Value {
         self.emit(Key::Measure(slot), Inst::Measure(slot), span)
     }
 
+    /// −a, folded when a is constant.
     pub fn neg(&mut self, a: Value, span: Span) -> Value {
         match self.get_const(a) {
             Some(x) => self.constant(-x, span),
@@ -136,6 +143,7 @@ impl Builder {
         }
     }
 
+    /// √a, folded when a is constant.
     pub fn sqrt(&mut self, a: Value, span: Span) -> Value {
         match self.get_const(a) {
             Some(x) => self.constant(x.sqrt(), span),
@@ -340,13 +348,18 @@ impl Builder {
 /// The four arithmetic operators, with the IEEE operation each denotes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Arith {
+    /// x + y.
     Add,
+    /// x − y.
     Sub,
+    /// x × y.
     Mul,
+    /// x ÷ y.
     Div,
 }
 
 impl Arith {
+    /// The operation on `x` and `y`, IEEE rounded.
     pub fn apply(self, x: f64, y: f64) -> f64 {
         match self {
             Arith::Add => x + y,

@@ -27,27 +27,41 @@ pub type Value = u32;
 /// enclosing one, or constants.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Inst {
+    /// A constant (outside every block).
     Const(f64),
     /// User variable slot `n` of the evaluation context.
     Var(u32),
+    /// The simulation time `TIME`.
     Time,
+    /// The analysis mode `MODE`.
     Mode,
     /// Measure slot `n` of the evaluation context, filled by the multibody core.
     Measure(u32),
+    /// −a.
     Neg(Value),
+    /// a + b.
     Add(Value, Value),
+    /// a − b.
     Sub(Value, Value),
+    /// a × b.
     Mul(Value, Value),
+    /// a ÷ b.
     Div(Value, Value),
+    /// √a (IEEE, exactly rounded).
     Sqrt(Value),
     /// A library function of `mbfx-runtime` (fixed arguments, then any coefficients).
     Call(Func, Box<[Value]>),
     /// Interpolation of spline `spline` of the context at (x, z); `iord` = derivative order.
     Spline {
+        /// Akima or cubic fit.
         kind: SplineKind,
+        /// The abscissa.
         x: Value,
+        /// The surface parameter z.
         z: Value,
+        /// Index into the context's spline table.
         spline: u32,
+        /// 0 for the value, 1 or 2 for a derivative along x.
         iord: u8,
     },
     /// Arithmetic IF: runs `arms[0]` when test < 0, `arms[1]` when test = 0 (either
@@ -55,30 +69,42 @@ pub enum Inst {
     /// error the caller reports, decision 2). Its value is the arm's `result`; an IF built
     /// by [`deriv`] also yields each arm's `extra` results, read by [`Inst::IfExtra`].
     If {
+        /// The value whose sign picks the arm.
         test: Value,
+        /// The negative, zero and positive arms.
         arms: Box<[Block; 3]>,
     },
     /// Extra result `index` of the IF `of` (NaN when its test was NaN); placed right after
     /// `of` in the same block.
     IfExtra {
+        /// The IF instruction.
         of: Value,
+        /// Index into each arm's `extra`.
         index: u32,
     },
     /// `if a <cmp> b { then } else { otherwise }` with IEEE comparisons, both choices
     /// already computed: a branch-free choice ([`lower`] builds the cheap library
     /// functions from it).
     Select {
+        /// The comparison.
         cmp: Cmp,
+        /// Left operand.
         a: Value,
+        /// Right operand.
         b: Value,
+        /// The value when the comparison holds.
         then: Value,
+        /// The value when it does not.
         otherwise: Value,
     },
     /// ∂func/∂(argument `wrt`) at `args`, from the runtime's analytic derivative companion
     /// (`mbfx_<name>_grad`); emitted by [`deriv`].
     Partial {
+        /// The library function.
         func: Func,
+        /// Index of the argument to differentiate by.
         wrt: u32,
+        /// The call's arguments.
         args: Box<[Value]>,
     },
 }
@@ -91,16 +117,22 @@ pub const MAX_CALL_ARGS: usize = 34;
 /// operand is false, except `Uno`, which is true exactly then.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Cmp {
+    /// a < b.
     Lt,
+    /// a ≤ b.
     Le,
+    /// a = b.
     Eq,
+    /// a > b.
     Gt,
+    /// a ≥ b.
     Ge,
     /// Either operand is NaN.
     Uno,
 }
 
 impl Cmp {
+    /// The comparison of `a` and `b`, as Rust's operators give it.
     #[inline(always)]
     pub fn test(self, a: f64, b: f64) -> bool {
         match self {
@@ -113,6 +145,7 @@ impl Cmp {
         }
     }
 
+    /// The operator as the IR printer writes it.
     pub fn symbol(self) -> &'static str {
         match self {
             Cmp::Lt => "<",
@@ -144,7 +177,9 @@ pub fn if_arm(t: f64) -> Option<usize> {
 /// A straight-line sequence of instructions and the value it yields.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Block {
+    /// The block's instructions, in order.
     pub insts: Vec<Value>,
+    /// The value the block yields.
     pub result: Value,
     /// Further results (derivative code: a value and its partials leave an IF together);
     /// every arm of one IF has the same number.
@@ -155,9 +190,13 @@ pub struct Block {
 /// outputs (one value for a scalar expression, three for a vector).
 #[derive(Clone, Debug, Default)]
 pub struct Function {
+    /// The instruction arena; a [`Value`] indexes it.
     pub insts: Vec<Inst>,
+    /// Source span of each instruction, same indexing.
     pub spans: Vec<Span>,
+    /// The top-level block's instructions.
     pub body: Vec<Value>,
+    /// The values the expression yields.
     pub outputs: Vec<Value>,
     /// What the function reads from the context, so hosts compute no more than that.
     pub uses: Uses,
@@ -166,7 +205,9 @@ pub struct Function {
 /// The parts of the evaluation context a function reads.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Uses {
+    /// Reads `TIME`.
     pub time: bool,
+    /// Reads `MODE`.
     pub mode: bool,
     /// Variable slots read, sorted.
     pub vars: Vec<u32>,
@@ -223,6 +264,7 @@ impl Inst {
 }
 
 impl Function {
+    /// The instruction that defines `v`.
     pub fn inst(&self, v: Value) -> &Inst {
         &self.insts[v as usize]
     }

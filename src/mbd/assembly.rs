@@ -26,6 +26,7 @@ use std::fmt;
 pub struct AssemblyOptions {
     /// Largest scaled residual accepted (translational rows in model lengths / L).
     pub tol: f64,
+    /// The most Newton iterations before assembly gives up.
     pub max_iter: usize,
     /// Row indices (as in [`System::labels`]) the redundancy analysis removed.
     pub dropped: Vec<usize>,
@@ -44,7 +45,9 @@ impl Default for AssemblyOptions {
 /// How far assembly moved a part from its input pose.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartMove {
+    /// The moved part.
     pub part: PartHandle,
+    /// Its Adams PART id.
     pub id: Option<Id>,
     /// |r − r_input| (model length).
     pub translation: f64,
@@ -55,19 +58,24 @@ pub struct PartMove {
 /// What assembly did.
 #[derive(Clone, Debug)]
 pub struct AssemblyReport {
+    /// Newton iterations taken.
     pub iterations: usize,
     /// Largest scaled position residual at the end.
     pub residual: f64,
     /// Largest scaled velocity-constraint residual at the end.
     pub velocity_residual: f64,
+    /// Per moving part, how far it moved.
     pub moves: Vec<PartMove>,
 }
 
 /// One equation that is not satisfied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Violation {
+    /// The element the equation belongs to.
     pub element: ElementRef,
+    /// The equation's Adams label.
     pub equation: Equation,
+    /// Its scaled residual.
     pub residual: f64,
 }
 
@@ -76,14 +84,19 @@ pub struct Violation {
 pub enum AssemblyError {
     /// The constraints could not all be satisfied.
     NotAssembled {
+        /// Newton iterations taken.
         iterations: usize,
+        /// Largest scaled residual at the end.
         residual: f64,
+        /// The equations left unsatisfied.
         violated: Vec<Violation>,
     },
     /// Equations the redundancy analysis dropped are violated: conflicting, not redundant.
     Conflicting {
+        /// The dropped equations that are violated.
         violated: Vec<Violation>,
     },
+    /// An element or expression could not be evaluated.
     Model(MbdError),
 }
 

@@ -18,6 +18,7 @@ use std::collections::HashMap;
 
 /// Turns an expression of the model into an [`ExprFn`].
 pub trait ExprCompiler {
+    /// The evaluator of `e`.
     fn compile(&self, e: &Expr) -> Box<dyn ExprFn>;
 }
 

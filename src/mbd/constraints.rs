@@ -21,10 +21,15 @@ pub type PartDerivative = (PartHandle, [f64; 6]);
 /// row (r_I − r_J)·axis.
 #[derive(Clone, Copy, Debug)]
 pub struct PointAxis {
+    /// The I marker's part.
     pub pi: PartHandle,
+    /// The I marker's origin, I-part coordinates.
     pub si: Vec3,
+    /// The J marker's part.
     pub pj: PartHandle,
+    /// The J marker's origin, J-part coordinates.
     pub sj: Vec3,
+    /// The axis: J-part coordinates for [`Primitive::Along`], global for [`Primitive::Fixed`].
     pub axis: Vec3,
 }
 
@@ -40,9 +45,13 @@ pub enum Primitive {
     Fixed(PointAxis),
     /// (R_I·u)·(R_J·w), u and w in part coordinates.
     Dot {
+        /// The I part.
         pi: PartHandle,
+        /// The I vector, I-part coordinates.
         u: Vec3,
+        /// The J part.
         pj: PartHandle,
+        /// The J vector, J-part coordinates.
         w: Vec3,
     },
 }
@@ -62,30 +71,47 @@ impl Primitive {
 pub enum Row {
     /// (r_I − r_J)·(R_J dir) · sign.
     Along {
+        /// The I marker.
         i: MarkerHandle,
+        /// The J marker.
         j: MarkerHandle,
+        /// The direction, J-marker axes.
         dir: Vec3,
+        /// ±1.
         sign: f64,
     },
     /// (R_I a)·(R_J b).
     Dot {
+        /// The I marker.
         i: MarkerHandle,
+        /// The J marker.
         j: MarkerHandle,
+        /// The I vector, I-marker axes.
         a: Vec3,
+        /// The J vector, J-marker axes.
         b: Vec3,
     },
     /// Σ cₖ·measureₖ − g(t) (g = 0 when there is no drive).
     Measured {
+        /// (cₖ, measure index) pairs.
         terms: Vec<(f64, usize)>,
+        /// g(t): a MOTION's function.
         drive: Option<Box<dyn ExprFn>>,
     },
     /// f(t, measures): `map[k]` is the measure index of the k-th slot f reads.
-    Gcon { f: Box<dyn ExprFn>, map: Vec<usize> },
+    Gcon {
+        /// The GCON's compiled expression.
+        f: Box<dyn ExprFn>,
+        /// Measure index of each slot f reads.
+        map: Vec<usize>,
+    },
 }
 
 /// One equation of an element.
 pub struct Equ {
+    /// How the row is computed.
     pub row: Row,
+    /// Its Adams label (`X Delta`, `Zi.Xj`, ...).
     pub label: Equation,
     /// Length-valued (scaled by the model length in the scaled Jacobian).
     pub translational: bool,
@@ -95,16 +121,22 @@ pub struct Equ {
 
 /// A constraint element as the user named it, with its equations.
 pub struct Element {
+    /// The element as the user named it.
     pub elref: ElementRef,
+    /// Its equations, in Adams label order.
     pub eqs: Vec<Equ>,
 }
 
 /// Value and derivatives of one row: ∂/∂q and ∂/∂v over velocity-level columns, ∂/∂t.
 #[derive(Clone, Debug, Default)]
 pub struct RowEval {
+    /// The row's value (zero when the equation holds).
     pub value: f64,
+    /// ∂/∂q as (column, value).
     pub dq: Vec<(usize, f64)>,
+    /// ∂/∂v as (column, value).
     pub dv: Vec<(usize, f64)>,
+    /// ∂/∂t.
     pub dt: f64,
 }
 

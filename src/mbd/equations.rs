@@ -8,18 +8,29 @@
 /// axes (spec §4.1 recommendation): `XDelta` is d·x_J = 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Equation {
+    /// d·x_J = 0.
     XDelta,
+    /// d·y_J = 0.
     YDelta,
+    /// d·z_J = 0.
     ZDelta,
+    /// z_I·x_J = 0.
     ZiXj,
+    /// z_I·y_J = 0.
     ZiYj,
+    /// x_I·y_J = 0.
     XiYj,
+    /// z_I·z_J = 0 (UNIVERSAL, JPRIM PERPENDICULAR).
     ZiZj,
     /// x_I·y_J + y_I·x_J = 0.
     Convel,
+    /// RACKPIN: travel along z_J tied to the pinion angle by PD.
     Rackpin,
+    /// SCREW: travel along z_J tied to the rotation by PITCH.
     Screw,
+    /// A GCON's expression.
     Gcon,
+    /// A MOTION's drive: measure − g(t).
     Motion,
 }
 
@@ -47,6 +58,8 @@ impl Equation {
 /// of [`crate::vocab::elements::ElementRef`]s.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct EquationLabel {
+    /// Index into the system's element list.
     pub element: usize,
+    /// What the row constrains.
     pub equation: Equation,
 }

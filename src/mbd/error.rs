@@ -33,7 +33,12 @@ pub enum MbdError {
     ForceCycle(Vec<ElementRef>),
     /// A force that reads accelerations or reactions (`reads`, as written) which depend
     /// on it through the equations of motion, and the loop between them does not settle.
-    SolutionLoop { element: ElementRef, reads: String },
+    SolutionLoop {
+        /// An element on the loop.
+        element: ElementRef,
+        /// The chain of values read, in words.
+        reads: String,
+    },
 }
 
 /// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the

@@ -13,7 +13,12 @@ use crate::ir::Function;
 #[derive(Clone, Debug, PartialEq)]
 pub enum ExprError {
     /// It (or one of its derivatives) is NaN or infinite at time `time`.
-    NotFinite { value: f64, time: f64 },
+    NotFinite {
+        /// The value given.
+        value: f64,
+        /// The simulation time.
+        time: f64,
+    },
     /// A derivative mbfx cannot form, and why.
     NoDerivative(String),
     /// Anything else (an undefined VARIABLE, a slot that resolves to nothing), worded.
@@ -76,6 +81,7 @@ pub struct Interpreted {
 }
 
 impl Interpreted {
+    /// The interpreter's program for `function`, with the slots it reads.
     pub fn new(function: Function) -> Self {
         let slots = function.uses.measures.clone();
         let reads_time = function.uses.time;
@@ -119,8 +125,11 @@ impl ExprFn for Interpreted {
 /// Hand-written value and gradient: `f(t, m)` and `g(t, m, grad) -> ∂f/∂t`, where `m`
 /// holds the slots' values in the order of `slots`.
 pub struct Closure<F, G> {
+    /// The measure slots the closures read, in the order of their `m`.
     pub slots: Vec<u32>,
+    /// The value f(t, m).
     pub f: F,
+    /// Fills ∂f/∂m into `grad` and returns ∂f/∂t.
     pub g: G,
 }
 

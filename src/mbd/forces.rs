@@ -42,7 +42,9 @@ pub enum Source {
 
 /// An expression of the model: `map[k]` is where its k-th slot is read from.
 pub struct Scalar {
+    /// The compiled expression with its gradient.
     pub f: Box<dyn ExprFn>,
+    /// Where each slot of `f` is read from.
     pub map: Vec<Source>,
     /// Buffers of an evaluation (measure duals, gradient), reused; the slot values live
     /// in the system's one array ([`crate::mbd::system::ExprScratch`]).
@@ -52,6 +54,7 @@ pub struct Scalar {
 }
 
 impl Scalar {
+    /// An expression reading its slots from `map`, with its buffers allocated.
     pub fn new(f: Box<dyn ExprFn>, map: Vec<Source>) -> Scalar {
         let n = map.len();
         Scalar {
@@ -108,57 +111,90 @@ fn measure_value(sys: &System, m: usize) -> f64 {
 pub enum ForceLaw {
     /// SFORCE TRANSLATION: f along the line from J to I at I (f > 0 pushes apart); the
     /// reaction at J unless action-only, where f acts along z_J at I alone.
-    Line { f: Scalar, action_only: bool },
+    Line {
+        /// The force magnitude.
+        f: Scalar,
+        /// ACTIONONLY: no reaction at J.
+        action_only: bool,
+    },
     /// SFORCE ROTATION: torque f·z_J on I's part, −f·z_J on J's unless action-only.
-    Torque { f: Scalar, action_only: bool },
+    Torque {
+        /// The torque magnitude.
+        f: Scalar,
+        /// ACTIONONLY: no reaction on J's part.
+        action_only: bool,
+    },
     /// VFORCE, VTORQUE, GFORCE: components in RM axes at I; the reaction at the
     /// floating marker, which sits on I (no moment arm between them).
     Vector {
+        /// FX FY FZ (None for a VTORQUE).
         force: Option<Box<[Scalar; 3]>>,
+        /// TX TY TZ (None for a VFORCE).
         torque: Option<Box<[Scalar; 3]>>,
+        /// RM: the frame the components are resolved in.
         rm: M,
     },
     /// SPRINGDAMPER TRANSLATION: f = −c·ḋ − k·(d − length) + preload along the line.
     Spring {
+        /// K: stiffness.
         k: f64,
+        /// C: damping.
         c: f64,
+        /// LENGTH: free length.
         length: f64,
+        /// FORCE: preload.
         preload: f64,
     },
     /// SPRINGDAMPER ROTATION: t = −c·θ̇ − k·(θ − angle) + preload about z_J, θ = AZ(I, J)
     /// (the measure `angle_measure`, unwrapped).
     RotSpring {
+        /// KT: rotational stiffness.
         k: f64,
+        /// CT: rotational damping.
         c: f64,
+        /// ANGLE: free angle.
         angle: f64,
+        /// TORQUE: preload.
         preload: f64,
+        /// Index of the AZ(I, J) measure in the system's measures.
         angle_measure: usize,
     },
     /// BUSHING: per component in J axes, F = −K·d − C·ḋ + F₀ and T = −KT·θ − CT·ω + T₀
     /// with θ the AX, AY, AZ measures (`angles`), applied at I; the reaction on J.
     Bushing {
+        /// K: stiffness per J axis.
         k: Vec3,
+        /// C: damping per J axis.
         c: Vec3,
+        /// KT: rotational stiffness per J axis.
         kt: Vec3,
+        /// CT: rotational damping per J axis.
         ct: Vec3,
+        /// FORCE: preload force per J axis.
         force: Vec3,
+        /// TORQUE: preload torque per J axis.
         torque: Vec3,
+        /// Indices of the AX, AY, AZ measures of I relative to J.
         angles: [usize; 3],
     },
 }
 
 /// One force element.
 pub struct ForceElement {
+    /// The Adams element, for messages and outputs.
     pub elref: ElementRef,
+    /// The I marker, where the action applies.
     pub i: MarkerHandle,
     /// J, or JFLOAT for the vector forces.
     pub j: Option<MarkerHandle>,
+    /// How the element computes its loads.
     pub law: ForceLaw,
     /// The parts the element's duals read (set by [`ForceSet::prepare`]).
     pub slots: PartSlots,
 }
 
 impl ForceElement {
+    /// An element whose part slots [`ForceSet::prepare`] fills later.
     pub fn new(elref: ElementRef, i: MarkerHandle, j: Option<MarkerHandle>, law: ForceLaw) -> Self {
         ForceElement {
             elref,
@@ -174,20 +210,25 @@ impl ForceElement {
 /// marker's origin on I's part; force and moment about the point `j_at` on J's part.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Loads {
+    /// Force and moment on I's part.
     pub on_i: (Vec3, Vec3),
+    /// Force and moment on J's part (about `j_at`).
     pub on_j: (Vec3, Vec3),
+    /// The point J's moment is taken about, global coordinates.
     pub j_at: Vec3,
 }
 
 /// The model's applied forces and gravity.
 #[derive(Default)]
 pub struct ForceSet {
+    /// The elements, in model order.
     pub elements: Vec<ForceElement>,
     /// The loads of each element at the last evaluation.
     pub loads: Vec<Loads>,
     /// The solution values the expressions read ([`Source::Solution`]), and their values
     /// at the last evaluation.
     pub solution: Vec<OutputSlot>,
+    /// The values of `solution` at the last evaluation.
     pub solved: Vec<f64>,
     /// Each solution value as the expression wrote it (`JOINT(1, 0, 2, 0)`).
     pub names: Vec<String>,
@@ -201,12 +242,16 @@ pub struct ForceSet {
 /// (row, column, value) entries (repeats add up).
 #[derive(Clone, Debug, Default)]
 pub struct Generalized {
+    /// Q: the generalized force per velocity-level column.
     pub q: DVec,
+    /// ∂Q/∂q entries (row, column, value).
     pub dq: Vec<(usize, usize, f64)>,
+    /// ∂Q/∂v entries (row, column, value).
     pub dv: Vec<(usize, usize, f64)>,
 }
 
 impl Generalized {
+    /// A zero Q of `n` columns with no Jacobian entries.
     pub fn new(n: usize) -> Self {
         Generalized {
             q: DVec::zeros(n),
@@ -215,6 +260,7 @@ impl Generalized {
         }
     }
 
+    /// Zeroes Q and drops the Jacobian entries, keeping the capacity.
     pub fn clear(&mut self) {
         self.q.fill(0.0);
         self.dq.clear();

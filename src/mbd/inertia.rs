@@ -11,8 +11,11 @@ use crate::vocab::math::{Mat3, Vec3};
 /// Mass, CM offset (BCS) and inertia about the CM (BCS axes) of a moving part.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MassProperties {
+    /// Mass, model units.
     pub mass: f64,
+    /// CM offset from the BCS origin, BCS coordinates.
     pub cm: Vec3,
+    /// Inertia tensor about the CM, BCS axes.
     pub inertia: Mat3,
 }
 

@@ -24,33 +24,135 @@ pub type M = Option<MarkerHandle>;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Measure {
     /// DX, DY, DZ (comp 0..3), DXYZ.
-    Disp { i: M, j: M, k: M, comp: u8 },
+    Disp {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Resolving frame.
+        k: M,
+        /// Component along k's axes (0..3).
+        comp: u8,
+    },
     /// DM.
-    Dist { i: M, j: M },
+    Dist {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+    },
     /// AX, AY, AZ (axis 0..3), unwrapped.
-    Angle { i: M, j: M, axis: u8 },
+    Angle {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// The axis of j the rotation is about (0..3).
+        axis: u8,
+    },
     /// PSI, THETA, PHI: body-fixed 3-1-3 angles of i relative to j.
-    Euler313 { i: M, j: M, which: u8 },
+    Euler313 {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// The angle: 0 PSI, 1 THETA, 2 PHI.
+        which: u8,
+    },
     /// YAW, PITCH, ROLL: body-fixed 3-2-1, pitch about −y.
-    Euler321 { i: M, j: M, which: u8 },
+    Euler321 {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// The angle: 0 YAW, 1 PITCH, 2 ROLL.
+        which: u8,
+    },
     /// MOTION B1, B2, B3: body-fixed 1-2-3 angles of i relative to j (B1, B3 unwrapped).
-    Body123 { i: M, j: M, which: u8 },
+    Body123 {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// The angle: 0 B1, 1 B2, 2 B3.
+        which: u8,
+    },
     /// UVX, UVY, UVZ (axis) component `comp` in k.
-    UnitVec { i: M, k: M, axis: u8, comp: u8 },
+    UnitVec {
+        /// Measured marker.
+        i: M,
+        /// Resolving frame.
+        k: M,
+        /// The axis of i (0..3).
+        axis: u8,
+        /// Component along k's axes (0..3).
+        comp: u8,
+    },
     /// INCANG: included angle at j between j→i and j→k.
-    IncAng { i: M, j: M, k: M },
+    IncAng {
+        /// End of the first arm.
+        i: M,
+        /// Vertex.
+        j: M,
+        /// End of the second arm.
+        k: M,
+    },
     /// VX, VY, VZ, VXYZ.
-    Vel { i: M, j: M, k: M, l: M, comp: u8 },
+    Vel {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Resolving frame.
+        k: M,
+        /// Frame of time differentiation.
+        l: M,
+        /// Component along k's axes (0..3).
+        comp: u8,
+    },
     /// VM.
-    VelMag { i: M, j: M, l: M },
+    VelMag {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Frame of time differentiation.
+        l: M,
+    },
     /// VR.
-    VelRad { i: M, j: M, l: M },
+    VelRad {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Frame of time differentiation.
+        l: M,
+    },
     /// WX, WY, WZ, WXYZ.
-    AngVel { i: M, j: M, k: M, comp: u8 },
+    AngVel {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Resolving frame.
+        k: M,
+        /// Component along k's axes (0..3).
+        comp: u8,
+    },
     /// WM.
-    AngVelMag { i: M, j: M },
+    AngVelMag {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+    },
     /// RACKPIN: rotation of x_I about z_I measured from z_J, unwrapped.
-    PinionAngle { i: M, j: M },
+    PinionAngle {
+        /// The pinion marker.
+        i: M,
+        /// The rack marker.
+        j: M,
+    },
 }
 
 impl Measure {
@@ -195,11 +297,14 @@ impl Measure {
 
 /// A measure's value and derivatives, with the parts its local directions belong to.
 pub struct Evaluated {
+    /// Value and derivatives over the local directions.
     pub d: D,
+    /// The part each block of local directions belongs to (None: unused).
     pub parts: [Option<PartHandle>; PARTS],
 }
 
 impl Evaluated {
+    /// The measure's value.
     pub fn value(&self) -> f64 {
         self.d.v
     }
@@ -233,6 +338,7 @@ pub(crate) type DFrame = Frame<D>;
 /// expressions read).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PartSlots {
+    /// The part of each block (None: free).
     pub parts: [Option<PartHandle>; PARTS],
 }
 
@@ -315,6 +421,7 @@ pub(crate) fn dual_frame(sys: &System, mk: M, slots: &mut PartSlots) -> Option<D
 /// The measures of a system and their unwrapping state.
 #[derive(Clone, Debug, Default)]
 pub struct MeasureSet {
+    /// The measures, indexed as [`MeasureSet::add`] returned.
     pub list: Vec<Measure>,
     /// Unwrapping reference per measure (NaN: none yet).
     refs: Vec<f64>,
@@ -348,7 +455,6 @@ impl MeasureSet {
         }
     }
 
-    /// Moves the unwrapping references to the current values (after an accepted state).
     /// Takes the unwrapping references of `other` (another system's measures over the
     /// same markers): measure n adopts `other`'s measure `same[n]` where it has one.
     pub fn adopt_unwrapping(&mut self, other: &MeasureSet, same: &[Option<usize>]) {
@@ -360,6 +466,7 @@ impl MeasureSet {
         }
     }
 
+    /// Moves the unwrapping references to the current values (after an accepted state).
     pub fn commit(&mut self, sys: &System) {
         for n in 0..self.list.len() {
             if self.list[n].unwrapped() {

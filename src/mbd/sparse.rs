@@ -6,12 +6,16 @@
 /// pairs add up.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Triplets {
+    /// Row count.
     pub nrows: usize,
+    /// Column count.
     pub ncols: usize,
+    /// (row, column, value) non-zeros, in push order.
     pub entries: Vec<(u32, u32, f64)>,
 }
 
 impl Triplets {
+    /// An empty `nrows` × `ncols` matrix.
     pub fn new(nrows: usize, ncols: usize) -> Self {
         Triplets {
             nrows,
@@ -34,6 +38,7 @@ impl Triplets {
 /// slot in the value array. Integrators fill the Newton matrix on it at every refactor.
 #[derive(Clone, Debug)]
 pub struct Pattern {
+    /// Order of the square matrix.
     pub n: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -118,6 +123,7 @@ impl SparseLu {
         faer::sparse::SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx)
     }
 
+    /// The sparsity pattern the symbolic analysis was done on.
     pub fn pattern(&self) -> &Pattern {
         &self.pattern
     }

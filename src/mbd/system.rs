@@ -37,7 +37,9 @@ pub struct ElementHandle(pub u32);
 /// Whether the system runs in 2D or 3D.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dimension {
+    /// Planar: 3 columns per moving part.
     Two,
+    /// Spatial: 6 columns per moving part.
     Three,
 }
 
@@ -54,21 +56,28 @@ impl Dimension {
 /// A rigid part. Ground never moves and has no columns.
 #[derive(Clone, Debug)]
 pub struct Part {
+    /// The Adams PART id (None for a part the model does not name).
     pub id: Option<Id>,
+    /// The `adams_view_name`, when the dataset gives one.
     pub name: Option<String>,
     /// The part's reference point, global: its centre of mass when the dataset names a
     /// CM marker (Newton–Euler equations then need no coupling terms), else the BCS
     /// origin. [`Part::bcs_origin`] gives the BCS origin either way.
     pub r: Vec3,
+    /// Orientation: columns of its matrix are the BCS axes, global.
     pub rot: Quat,
     /// Linear velocity of the BCS origin and angular velocity, global axes.
     pub v: Vec3,
+    /// Angular velocity, global axes.
     pub w: Vec3,
     /// Input pose and velocity (assembly reports moves from these; the velocity solve
     /// stays closest to these velocities).
     pub input_r: Vec3,
+    /// Input orientation.
     pub input_rot: Quat,
+    /// Input velocity of the BCS origin, global axes.
     pub input_v: Vec3,
+    /// Input angular velocity, global axes.
     pub input_w: Vec3,
     /// 2D: rotation about global Z from the input orientation.
     pub theta: f64,
@@ -83,6 +92,7 @@ pub struct Part {
     /// Acceleration of the reference point and angular acceleration, global axes (set
     /// by the dynamics; zero before).
     pub acc: Vec3,
+    /// Angular acceleration, global axes.
     pub alpha: Vec3,
     /// `rot` as a matrix, kept by [`Part::set_rot`] (every marker frame reads it).
     rotm: Mat3,
@@ -91,22 +101,28 @@ pub struct Part {
 /// A marker: a frame fixed on a part.
 #[derive(Clone, Debug)]
 pub struct Marker {
+    /// The Adams MARKER id.
     pub id: Option<Id>,
+    /// The part the marker is fixed on.
     pub part: PartHandle,
     /// Origin in the part's BCS.
     pub s: Vec3,
     /// Columns are the marker axes in BCS coordinates.
     pub rot: Mat3,
+    /// FLOATING: a marker whose pose the element using it sets.
     pub floating: bool,
 }
 
 /// A marker's frame in global coordinates at the current state.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame {
+    /// Origin, global.
     pub r: Vec3,
+    /// Axes (columns), global.
     pub rot: Mat3,
     /// r − (part's BCS origin).
     pub a: Vec3,
+    /// The part the marker is fixed on.
     pub part: PartHandle,
 }
 
@@ -115,8 +131,11 @@ pub struct Frame {
 /// and a GCON row's partials and measure duals. Reused: no allocation per evaluation.
 #[derive(Default)]
 pub struct ExprScratch {
+    /// Measure slot values, indexed by slot.
     pub slots: Vec<f64>,
+    /// A GCON row's partials ∂f/∂slot.
     pub grad: Vec<f64>,
+    /// A GCON row's measure duals, one per slot.
     pub evs: Vec<super::measures::Evaluated>,
 }
 
@@ -133,10 +152,15 @@ impl ExprScratch {
 
 /// The multibody system.
 pub struct System {
+    /// Ground first, then the moving parts.
     pub parts: Vec<Part>,
+    /// Every marker, addressed by [`MarkerHandle`].
     pub markers: Vec<Marker>,
+    /// The constraint elements, addressed by [`ElementHandle`].
     pub elements: Vec<Element>,
+    /// The measures that constraint rows and expressions read.
     pub measures: MeasureSet,
+    /// 2D or 3D.
     pub dim: Dimension,
     /// Why the system is 2D or 3D, in words.
     pub dim_reason: String,
@@ -163,6 +187,7 @@ impl Default for System {
 }
 
 impl System {
+    /// The ground part's handle.
     pub const GROUND: PartHandle = PartHandle(0);
 
     /// An empty 3D system holding only ground.
@@ -242,14 +267,17 @@ impl System {
             .ok_or(super::error::MbdError::UnknownMarker(id))
     }
 
+    /// The part `h` addresses.
     pub fn part(&self, h: PartHandle) -> &Part {
         &self.parts[h.0 as usize]
     }
 
+    /// The part `h` addresses, mutable.
     pub fn part_mut(&mut self, h: PartHandle) -> &mut Part {
         &mut self.parts[h.0 as usize]
     }
 
+    /// The marker `h` addresses.
     pub fn marker(&self, h: MarkerHandle) -> &Marker {
         &self.markers[h.0 as usize]
     }
@@ -486,6 +514,7 @@ impl Part {
         }
     }
 
+    /// Sets the orientation and the rotation matrix every frame reads.
     pub fn set_rot(&mut self, rot: Quat) {
         self.rot = rot;
         self.rotm = rot.to_rotation_matrix().into_inner();

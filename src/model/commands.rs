@@ -38,7 +38,9 @@ pub enum Step {
 /// `output_step`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Simulate {
+    /// END: the simulation time the stretch stops at.
     pub end: f64,
+    /// The time between output rows (from STEPS or DTOUT).
     pub output_step: f64,
     /// The command.
     pub span: Span,
@@ -51,11 +53,14 @@ pub struct CommandFile {
     pub model: Option<Given<String>>,
     /// The base name of Adams' output files (line 2), which mbfx does not write.
     pub output: Option<Given<String>>,
+    /// The INTEGRATOR and SIMULATE commands, in file order.
     pub steps: Vec<Step>,
+    /// Everything the reader reported, in file order.
     pub diagnostics: Vec<Diagnostic>,
 }
 
 impl CommandFile {
+    /// Whether any diagnostic is an error.
     pub fn has_errors(&self) -> bool {
         has_errors(&self.diagnostics)
     }

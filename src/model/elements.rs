@@ -21,8 +21,11 @@ pub type Id = u32;
 /// one) and the span of its statement in the file.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Named {
+    /// The Adams id.
     pub id: Id,
+    /// The `adams_view_name`, when the dataset gives one.
     pub name: Option<String>,
+    /// Byte range of the statement in the dataset.
     pub span: Span,
 }
 
@@ -31,24 +34,37 @@ pub struct Named {
 pub struct Model {
     /// Line 1 of the file.
     pub title: String,
+    /// UNITS, with the units-consistency factor.
     pub units: Units,
+    /// PART statements, ground included, in file order.
     pub parts: Vec<Part>,
+    /// MARKER statements.
     pub markers: Vec<Marker>,
+    /// JOINT statements.
     pub joints: Vec<Joint>,
+    /// JPRIM statements.
     pub jprims: Vec<Jprim>,
+    /// GCON statements.
     pub gcons: Vec<Gcon>,
+    /// MOTION statements.
     pub motions: Vec<Motion>,
+    /// SFORCE statements.
     pub sforces: Vec<Sforce>,
     /// VFORCE, VTORQUE and GFORCE.
     pub vector_forces: Vec<VectorForce>,
+    /// SPRINGDAMPER statements.
     pub spring_dampers: Vec<SpringDamper>,
+    /// BUSHING statements.
     pub bushings: Vec<Bushing>,
+    /// VARIABLE statements (read by `VARVAL`).
     pub variables: Vec<Variable>,
     /// In file order; an expression's AKISPL/CUBSPL spline index is a position here.
     pub splines: Vec<SplineData>,
+    /// ARRAY statements (read by `ARYVAL`).
     pub arrays: Vec<Array>,
     /// ACCGRAV in model length/time², global axes (zero when absent).
     pub gravity: Vec3,
+    /// REQUEST statements.
     pub requests: Vec<Request>,
     /// INTEGRATOR, OUTPUT, RESULTS and similar settings statements, kept as written.
     pub settings: Vec<Setting>,
@@ -61,10 +77,15 @@ pub struct Model {
 /// UNITS and the units-consistency factor: Force·UCF = Mass·Acceleration (spec §2.1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Units {
+    /// FORCE unit name as written (`NEWTON`, ...), None when UNITS leaves it out.
     pub force: Option<String>,
+    /// MASS unit name as written.
     pub mass: Option<String>,
+    /// LENGTH unit name as written.
     pub length: Option<String>,
+    /// TIME unit name as written.
     pub time: Option<String>,
+    /// UCF: Force·UCF = Mass·Acceleration (1 for consistent units).
     pub ucf: f64,
 }
 
@@ -83,11 +104,15 @@ impl Default for Units {
 /// PART (spec §2.2). Pose of the body coordinate system (BCS) in global coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
+    /// Id, view name and span.
     pub el: Named,
+    /// GROUND: the fixed part, which has no coordinates.
     pub ground: bool,
     /// None for a massless part.
     pub mass: Option<f64>,
+    /// CM: the centre-of-mass marker.
     pub cm: Option<Id>,
+    /// IM: the marker about whose origin and in whose axes IP is given (CM when None).
     pub im: Option<Id>,
     /// Ixx, Iyy, Izz, Ixy, Ixz, Iyz as written (products are +∫xy dm, spec §2.2).
     pub ip: [f64; 6],
@@ -99,7 +124,10 @@ pub struct Part {
     pub velocity: [Option<f64>; 3],
     /// WX, WY, WZ: initial angular velocity (CM-marker axes, or the VM/WM markers').
     pub angular_velocity: [Option<f64>; 3],
+    /// VM: the marker whose velocity VX, VY, VZ give, as written (the build applies
+    /// them at the CM).
     pub vm: Option<Id>,
+    /// WM: the marker whose axes WX, WY, WZ are given in (CM when None).
     pub wm: Option<Id>,
     /// EXACT: coordinates the initial-conditions solver must not move (X Y Z PSI THETA PHI).
     pub exact: [bool; 6],
@@ -108,21 +136,28 @@ pub struct Part {
 /// MARKER (spec §2.3).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Marker {
+    /// Id, view name and span.
     pub el: Named,
+    /// The part the marker is attached to.
     pub part: Id,
     /// QP: origin in the part's BCS.
     pub position: Vec3,
     /// REULER or ZP/XP: columns are the marker axes in BCS coordinates.
     pub orientation: Mat3,
+    /// FLOATING: a marker whose pose the force or joint using it sets, not QP/REULER.
     pub floating: bool,
 }
 
 /// JOINT (spec §2.5, §4.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
+    /// Id, view name and span.
     pub el: Named,
+    /// REVOLUTE, SPHERICAL, TRANSLATIONAL, ...
     pub kind: JointType,
+    /// The I marker.
     pub i: Id,
+    /// The J marker.
     pub j: Id,
     /// PD of a RACKPIN.
     pub pd: Option<f64>,
@@ -130,16 +165,22 @@ pub struct Joint {
     pub pitch: Option<f64>,
     /// IC (displacement, velocity), or ICTRAN / ICROT of a CYLINDRICAL.
     pub ic: Option<[f64; 2]>,
+    /// ICTRAN of a CYLINDRICAL: translational (displacement, velocity).
     pub ic_tran: Option<[f64; 2]>,
+    /// ICROT of a CYLINDRICAL: rotational (displacement, velocity).
     pub ic_rot: Option<[f64; 2]>,
 }
 
 /// JPRIM (spec §4.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Jprim {
+    /// Id, view name and span.
     pub el: Named,
+    /// INPLANE, PERPENDICULAR, ATPOINT, ...
     pub kind: JprimType,
+    /// The I marker.
     pub i: Id,
+    /// The J marker.
     pub j: Id,
 }
 
@@ -148,15 +189,18 @@ pub struct Jprim {
 pub struct Expr {
     /// Byte range of the expression's text in the dataset.
     pub span: Span,
+    /// The lowered IR of the expression.
     pub function: Function,
 }
 
 /// GCON: drives `function` to zero (spec §4.3).
 #[derive(Clone, Debug)]
 pub struct Gcon {
+    /// Id, view name and span.
     pub el: Named,
     /// Marker whose reaction is reported (ground when None).
     pub i: Option<Id>,
+    /// The constraint expression, zero when the GCON holds.
     pub function: Expr,
 }
 
@@ -164,66 +208,108 @@ pub struct Gcon {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionTarget {
     /// `JOINT=id` with ROTATION (true) or TRANSLATION (false).
-    Joint { joint: Id, rotation: bool },
+    Joint {
+        /// The driven joint.
+        joint: Id,
+        /// ROTATION rather than TRANSLATION.
+        rotation: bool,
+    },
     /// `I=, J=` with one component of I relative to J.
-    Markers { i: Id, j: Id, axis: MotionAxis },
+    Markers {
+        /// The I marker.
+        i: Id,
+        /// The J marker.
+        j: Id,
+        /// The component of I relative to J that is driven.
+        axis: MotionAxis,
+    },
 }
 
 /// X, Y, Z (along J axes) or the body-1-2-3 angles B1, B2, B3 of I relative to J.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionAxis {
+    /// Translation along x_J.
     X,
+    /// Translation along y_J.
     Y,
+    /// Translation along z_J.
     Z,
+    /// First body-1-2-3 angle.
     B1,
+    /// Second body-1-2-3 angle.
     B2,
+    /// Third body-1-2-3 angle.
     B3,
 }
 
+/// What a MOTION's FUNCTION gives: DISPLACEMENT, VELOCITY or ACCELERATION.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionLevel {
+    /// The function is the coordinate itself.
     Displacement,
+    /// The function is the coordinate's rate, integrated once from ICDISP.
     Velocity,
+    /// The function is the second derivative, integrated twice from ICDISP and ICVEL.
     Acceleration,
 }
 
 /// MOTION (spec §4.5).
 #[derive(Clone, Debug)]
 pub struct Motion {
+    /// Id, view name and span.
     pub el: Named,
+    /// The joint or marker component driven.
     pub target: MotionTarget,
+    /// Whether FUNCTION gives the displacement, velocity or acceleration.
     pub level: MotionLevel,
+    /// The driving expression of time.
     pub function: Expr,
+    /// ICDISP: initial displacement (for VELOCITY and ACCELERATION motions).
     pub icdisp: Option<f64>,
+    /// ICVEL: initial velocity (for ACCELERATION motions).
     pub icvel: Option<f64>,
 }
 
 /// SFORCE (spec §7).
 #[derive(Clone, Debug)]
 pub struct Sforce {
+    /// Id, view name and span.
     pub el: Named,
+    /// The I marker (action point).
     pub i: Id,
+    /// The J marker (reaction point).
     pub j: Id,
     /// ROTATION (a torque about z_J) rather than TRANSLATION.
     pub rotation: bool,
+    /// ACTIONONLY: no reaction is applied at J.
     pub action_only: bool,
+    /// FUNCTION: the force (or torque) magnitude.
     pub function: Expr,
 }
 
+/// Which vector force statement a [`VectorForce`] comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VectorForceKind {
+    /// VFORCE: three force components.
     Vforce,
+    /// VTORQUE: three torque components.
     Vtorque,
+    /// GFORCE: three force and three torque components.
     Gforce,
 }
 
 /// VFORCE (FX FY FZ), VTORQUE (TX TY TZ) or GFORCE (all six), resolved in RM.
 #[derive(Clone, Debug)]
 pub struct VectorForce {
+    /// Id, view name and span.
     pub el: Named,
+    /// VFORCE, VTORQUE or GFORCE.
     pub kind: VectorForceKind,
+    /// The I marker, where the action applies.
     pub i: Id,
+    /// JFLOAT: the floating marker where the reaction applies.
     pub jfloat: Id,
+    /// RM: the marker whose axes the components are resolved in.
     pub rm: Id,
     /// FX FY FZ (None for a VTORQUE).
     pub force: Option<[Expr; 3]>,
@@ -234,9 +320,13 @@ pub struct VectorForce {
 /// SPRINGDAMPER (spec §7).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpringDamper {
+    /// Id, view name and span.
     pub el: Named,
+    /// The I marker.
     pub i: Id,
+    /// The J marker.
     pub j: Id,
+    /// ROTATION (a torsion spring about z_J) rather than TRANSLATION.
     pub rotation: bool,
     /// K or KT.
     pub stiffness: f64,
@@ -251,61 +341,86 @@ pub struct SpringDamper {
 /// BUSHING (spec §7).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Bushing {
+    /// Id, view name and span.
     pub el: Named,
+    /// The I marker.
     pub i: Id,
+    /// The J marker.
     pub j: Id,
+    /// K: translational stiffness along x_J, y_J, z_J.
     pub k: Vec3,
+    /// C: translational damping along x_J, y_J, z_J.
     pub c: Vec3,
+    /// KT: rotational stiffness about x_J, y_J, z_J.
     pub kt: Vec3,
+    /// CT: rotational damping about x_J, y_J, z_J.
     pub ct: Vec3,
+    /// FORCE: preload force components.
     pub force: Vec3,
+    /// TORQUE: preload torque components.
     pub torque: Vec3,
 }
 
 /// VARIABLE: a named expression others read with VARVAL.
 #[derive(Clone, Debug)]
 pub struct Variable {
+    /// Id, view name and span.
     pub el: Named,
+    /// The variable's expression.
     pub function: Expr,
+    /// IC: the initial value, when given.
     pub ic: Option<f64>,
 }
 
 /// SPLINE data (X, Y, optional Z rows of Y per Z value).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SplineData {
+    /// Id, view name and span.
     pub el: Named,
+    /// X: the abscissae, increasing.
     pub x: Vec<f64>,
     /// One row for a curve, one row per `z` value for a surface.
     pub y: Vec<Vec<f64>>,
+    /// Z: the surface parameter values (empty for a curve).
     pub z: Vec<f64>,
+    /// LINEAR_EXTRAPOLATE, as written (the fits do not read it).
     pub linear_extrapolate: bool,
 }
 
 /// ARRAY (kept for ARYVAL).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Array {
+    /// Id, view name and span.
     pub el: Named,
     /// X, U, Y, IC or empty, as written.
     pub kind: String,
+    /// The NUMBERS list.
     pub numbers: Vec<f64>,
 }
 
 /// REQUEST: either a standard measure set of I relative to J, or up to eight expressions.
 #[derive(Clone, Debug)]
 pub struct Request {
+    /// Id, view name and span.
     pub el: Named,
     /// DISPLACEMENT, VELOCITY, ACCELERATION or FORCE with markers I, J, RM.
     pub standard: Option<(RequestKind, Id, Option<Id>, Option<Id>)>,
     /// F1..F8 (index 0..7).
     pub functions: Vec<(usize, Expr)>,
+    /// COMMENT text, when given.
     pub comment: Option<String>,
 }
 
+/// The standard measure set a REQUEST reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RequestKind {
+    /// DISPLACEMENT: position and orientation angles.
     Displacement,
+    /// VELOCITY: translational and angular velocity.
     Velocity,
+    /// ACCELERATION: translational and angular acceleration.
     Acceleration,
+    /// FORCE: the force and torque between the markers.
     Force,
 }
 
@@ -313,8 +428,11 @@ pub enum RequestKind {
 /// its arguments as written (upper-case name, raw value text).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Setting {
+    /// Upper-case statement name.
     pub statement: String,
+    /// Byte range of the statement in the dataset.
     pub span: Span,
+    /// `(NAME, value)` pairs in file order, names upper case, values raw text.
     pub args: Vec<(String, String)>,
 }
 
@@ -324,8 +442,11 @@ pub struct Setting {
 /// vector measure's component (0 for a scalar one). Equal calls share one slot.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct MeasureSlot {
+    /// The builtin's upper-case name.
     pub name: String,
+    /// Integer arguments as written.
     pub ids: Vec<i64>,
+    /// Component index 0..3 of a vector measure (0 for a scalar one).
     pub component: u8,
 }
 
@@ -371,18 +492,22 @@ impl Model {
         ]
     }
 
+    /// The PART with Adams id `id`.
     pub fn part(&self, id: Id) -> Option<&Part> {
         self.parts.iter().find(|p| p.el.id == id)
     }
 
+    /// The MARKER with Adams id `id`.
     pub fn marker(&self, id: Id) -> Option<&Marker> {
         self.markers.iter().find(|m| m.el.id == id)
     }
 
+    /// The JOINT with Adams id `id`.
     pub fn joint(&self, id: Id) -> Option<&Joint> {
         self.joints.iter().find(|j| j.el.id == id)
     }
 
+    /// The VARIABLE with Adams id `id`.
     pub fn variable(&self, id: Id) -> Option<&Variable> {
         self.variables.iter().find(|v| v.el.id == id)
     }
@@ -428,6 +553,7 @@ impl Model {
         })
     }
 
+    /// The SPLINE with Adams id `id`.
     pub fn spline(&self, id: Id) -> Option<&SplineData> {
         self.splines.iter().find(|s| s.el.id == id)
     }

@@ -10,6 +10,7 @@ use std::ops::Range;
 pub struct ExprArgument {
     /// The statement keyword as written, upper-cased (`SFORCE`).
     pub statement: String,
+    /// The statement's id (`SFORCE/3` has 3), when it has one.
     pub id: Option<i64>,
     /// The argument name as written, upper-cased (`FUNCTION`, `FUN`, `F2`, `FX`).
     pub argument: String,
@@ -18,6 +19,7 @@ pub struct ExprArgument {
     pub span: Range<usize>,
     /// 1-based line of the argument name.
     pub line: usize,
+    /// From the `adams_view_name='…'` comment before the statement.
     pub view_name: Option<String>,
     /// Written `USER(…)`: a user subroutine call, not an expression mbfx evaluates.
     pub is_user_call: bool,

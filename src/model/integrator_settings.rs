@@ -53,16 +53,21 @@ impl Family {
 /// The DAE formulation (spec §6.2): index 3, stabilized index 2 or stabilized index 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Formulation {
+    /// Index 3: the position constraints only.
     #[default]
     I3,
+    /// Stabilized index 2: position and velocity constraints.
     Si2,
+    /// Stabilized index 1: position, velocity and acceleration constraints.
     Si1,
 }
 
 /// CORRECTOR (spec §6.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Corrector {
+    /// ORIGINAL: the convergence test covers every variable.
     Original,
+    /// MODIFIED: the convergence test leaves the multipliers out.
     Modified,
     /// ORIGINAL even when the model has CONTACT.
     OrigConstant,
@@ -71,7 +76,9 @@ pub enum Corrector {
 /// One value as written, with where it was written.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Given<T> {
+    /// The value.
     pub value: T,
+    /// Byte range of the argument in the file.
     pub span: Span,
 }
 
@@ -79,21 +86,35 @@ pub struct Given<T> {
 /// applies, or an earlier statement's value).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct IntegratorStatement {
+    /// The integrator (GSTIFF, WSTIFF, HHT, NEWMARK, ...).
     pub family: Option<Given<Family>>,
+    /// I3, SI2 or SI1.
     pub formulation: Option<Given<Formulation>>,
+    /// ERROR: the local error tolerance.
     pub error: Option<Given<f64>>,
+    /// HMAX: the largest step.
     pub hmax: Option<Given<f64>>,
+    /// HINIT: the first step.
     pub hinit: Option<Given<f64>>,
+    /// HMIN: the smallest step.
     pub hmin: Option<Given<f64>>,
+    /// KMAX: the highest BDF order.
     pub kmax: Option<Given<u32>>,
+    /// MAXIT: the most corrector iterations per step.
     pub maxit: Option<Given<u32>>,
+    /// ALPHA of HHT.
     pub alpha: Option<Given<f64>>,
+    /// BETA of NEWMARK.
     pub beta: Option<Given<f64>>,
+    /// GAMMA of NEWMARK.
     pub gamma: Option<Given<f64>>,
+    /// CORRECTOR: the convergence test.
     pub corrector: Option<Given<Corrector>>,
     /// PATTERN: per corrector iteration, whether the Jacobian is evaluated.
     pub pattern: Option<Given<Vec<bool>>>,
+    /// INTERPOLATE: output rows interpolated rather than stepped to.
     pub interpolate: Option<Given<bool>>,
+    /// ADAPTIVITY: the term added to the corrector's convergence tolerance.
     pub adaptivity: Option<Given<f64>>,
     /// The `W0602` warnings about what the run does not honour (also among the reader's
     /// diagnostics).
@@ -373,6 +394,7 @@ fn check_order(a: &mut Args, s: &IntegratorStatement) {
 
 /// Adams' NEWMARK defaults (spec §6.2).
 pub const NEWMARK_BETA: f64 = 0.36;
+/// Adams' NEWMARK default for GAMMA (spec §6.2).
 pub const NEWMARK_GAMMA: f64 = 0.7;
 
 /// A `W0602` warning about an argument the run does not honour.

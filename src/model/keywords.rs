@@ -36,6 +36,7 @@ pub fn abbreviates(written: &str, full: &str, min_len: usize) -> bool {
 pub struct ExpressionArgument {
     /// Only on this statement (canonical name); `None`: on every statement.
     pub statement: Option<&'static str>,
+    /// The argument name and its shortest accepted abbreviation.
     pub keyword: Keyword,
 }
 
@@ -106,6 +107,7 @@ pub fn is_text_argument(canonical: Option<&str>, name: &str) -> bool {
 /// A dataset statement mbfx recognises.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StatementKind {
+    /// The statement name and its shortest accepted abbreviation.
     pub keyword: Keyword,
     /// `NAME/id` (true) or a singleton such as `UNITS/` and `END` (false).
     pub has_id: bool,
@@ -193,9 +195,11 @@ pub const STATEMENTS: &[StatementKind] = &[
 /// What a written statement keyword names.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Lookup {
+    /// One statement, or an abbreviation of only that one.
     Known(StatementKind),
     /// A prefix of several statements.
     Ambiguous(Vec<&'static str>),
+    /// No statement mbfx knows.
     Unknown,
 }
 

@@ -22,7 +22,9 @@ use std::collections::{BTreeMap, HashMap};
 /// What [`read_model`] returns: the model and every diagnostic, in file order.
 #[derive(Debug)]
 pub struct ModelRead {
+    /// The dataset, with every id reference checked.
     pub model: Model,
+    /// Every diagnostic, in file order.
     pub diagnostics: Vec<Diagnostic>,
     /// The scope the dataset's expressions were checked in, kept for more expressions.
     scope: ModelScope,

@@ -7,7 +7,9 @@ use super::elements::Model;
 /// One titled block of the report.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReportSection {
+    /// The section's heading.
     pub title: String,
+    /// Its lines, without the heading.
     pub lines: Vec<String>,
 }
 

@@ -64,6 +64,7 @@ struct Slots {
 }
 
 impl ModelScope {
+    /// Whether the dataset declares `statement`/`id` (`has("MARKER", 3)`).
     pub fn has(&self, statement: &str, id: i64) -> bool {
         self.ids.get(statement).is_some_and(|s| s.contains(&id))
     }
@@ -109,7 +110,9 @@ impl std::fmt::Debug for ModelScope {
 /// The model's measures together with user variables: the scope of an expression typed
 /// against a loaded model (`mbfx eval --model`, the REPL after `:load`).
 pub struct WithVariables<'a> {
+    /// The dataset's measures and ids.
     pub model: &'a ModelScope,
+    /// The user variables defined so far.
     pub variables: &'a crate::check::Variables,
 }
 

@@ -25,12 +25,16 @@ pub use super::lines::title_span;
 pub struct Statement {
     /// The keyword as written, upper-cased (`JOI` stays `JOI`).
     pub keyword: String,
+    /// Byte range of the keyword.
     pub keyword_span: Span,
     /// The statement the keyword names (`JOINT` for `JOI`), or `None` when mbfx does not
     /// know it (already reported as `W0602`).
     pub canonical: Option<&'static str>,
+    /// The id after the `/`, when written.
     pub id: Option<i64>,
+    /// Byte range of the id.
     pub id_span: Option<Span>,
+    /// The arguments, in file order.
     pub args: Vec<Argument>,
     /// The whole statement, continuation lines included, without trailing comments.
     pub span: Span,
@@ -64,7 +68,9 @@ impl Statement {
 pub struct Argument {
     /// The name as written, upper-cased; it may be abbreviated (`FUN`).
     pub name: String,
+    /// Byte range of the name.
     pub name_span: Span,
+    /// What follows the name.
     pub value: ArgValue,
     /// Name and value.
     pub span: Span,
@@ -107,9 +113,11 @@ pub enum ArgValue {
 /// One value of a list.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Item {
+    /// Number, word, quoted string, ...
     pub kind: ItemKind,
     /// As written (without the quotes of a quoted string).
     pub text: String,
+    /// Byte range of the value.
     pub span: Span,
 }
 
@@ -118,7 +126,12 @@ pub struct Item {
 pub enum ItemKind {
     /// `1.0`, `-2.5E-3`, `0201`, `90D`: the value as written and whether a `D` (degrees)
     /// follows it.
-    Number { value: f64, degrees: bool },
+    Number {
+        /// The number, not yet converted from degrees.
+        value: f64,
+        /// A `D` follows it.
+        degrees: bool,
+    },
     /// A bare word: `TRANSLATION`, `steel`, `lib::name`, `Solid Rectangular`.
     Word,
     /// A `"…"` string.

@@ -5,9 +5,13 @@
 /// Which quantity a unit measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Quantity {
+    /// Force (N in SI).
     Force,
+    /// Mass (kg in SI).
     Mass,
+    /// Length (m in SI).
     Length,
+    /// Time (s in SI).
     Time,
 }
 

@@ -65,12 +65,16 @@ pub enum EvalError {
     Diagnostics(Vec<Diagnostic>),
     /// The measures the expression reads cannot be computed from the model.
     Measures {
+        /// The checker's warnings.
         warnings: Vec<Diagnostic>,
+        /// Why the measures cannot be computed.
         error: MbdError,
     },
     /// The JIT could not compile the expression.
     Jit {
+        /// The checker's warnings.
         warnings: Vec<Diagnostic>,
+        /// Why the JIT failed.
         error: JitError,
     },
 }

@@ -11,6 +11,7 @@ use std::path::Path;
 pub struct Unreadable {
     /// The file (its text as far as it could be read), for rendering the diagnostic.
     pub source: SourceFile,
+    /// Why the file could not be read.
     pub diagnostic: Diagnostic,
 }
 

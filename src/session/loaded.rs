@@ -14,7 +14,9 @@ use std::path::Path;
 
 /// A model and its assembled system.
 pub struct LoadedModel {
+    /// The dataset as read.
     pub read: ModelRead,
+    /// The assembled system and its analyses.
     pub analysis: Analysis,
 }
 

@@ -63,7 +63,9 @@ pub struct Analysis {
     /// The assembled system; `system.dim` and `system.dim_reason` say which dimension
     /// was used and why.
     pub system: System,
+    /// What assembly did.
     pub assembly: AssemblyReport,
+    /// The redundancy analysis.
     pub redundancy: Report,
     /// The dataset's SPLINE data, fitted once (`Model::runtime_splines`): what AKISPL and
     /// CUBSPL read, in the GCON/MOTION functions and in expressions typed later.
@@ -86,14 +88,20 @@ pub enum Failure {
     /// when it finds violated equations that follow from the others: the constraints
     /// contradict each other (conflicting, not redundant).
     Assembly {
+        /// The system at the configuration assembly stopped at.
         system: Box<System>,
+        /// Why assembly stopped.
         error: AssemblyError,
+        /// Conflicting equations found at that configuration, when any.
         conflict: Option<redundancy::AnalysisError>,
     },
     /// The redundancy analysis found conflicting constraints (or a malformed system).
     Redundancy {
+        /// The assembled system.
         system: Box<System>,
+        /// What assembly did.
         assembly: AssemblyReport,
+        /// What the analysis found.
         error: redundancy::AnalysisError,
     },
 }

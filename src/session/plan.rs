@@ -34,8 +34,11 @@ pub enum Scheme {
     Newmark(newmark::Method),
     /// A backward-difference method with its settings.
     Bdf {
+        /// GSTIFF, WSTIFF, ...
         family: Family,
+        /// The highest order.
         kmax: u32,
+        /// I3, SI2 or SI1.
         formulation: Formulation,
     },
     /// The explicit Dormand–Prince 8(5,3) on the index-1 equations (command line only).
@@ -45,7 +48,9 @@ pub enum Scheme {
 /// The integrator and settings of one stretch of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
+    /// The method.
     pub scheme: Scheme,
+    /// Step sizes, tolerance and iteration limits.
     pub settings: Settings,
 }
 

@@ -24,8 +24,10 @@ use std::time::Instant;
 /// Which back end evaluates the model's expressions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Engine {
+    /// Cranelift JIT.
     #[default]
     Jit,
+    /// The interpreter.
     Interp,
 }
 
@@ -51,47 +53,66 @@ pub enum Method {
 /// under the INTEGRATOR statement `integrator` (None: Adams' defaults).
 #[derive(Clone, Debug)]
 pub struct Segment {
+    /// Where the stretch stops.
     pub end: f64,
+    /// Time between output rows.
     pub output_step: f64,
+    /// The INTEGRATOR statement in force (None: Adams' defaults).
     pub integrator: Option<IntegratorStatement>,
 }
 
 /// One line of the step table `mbfx run --verbose` prints at each output time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TableRow {
+    /// Simulation time of the row.
     pub time: f64,
     /// The last accepted step (0 before the first).
     pub step: f64,
+    /// Accepted steps so far.
     pub steps: usize,
+    /// Corrector iterations so far.
     pub newton_iterations: usize,
     /// The integrator's order on its last step, when it has one.
     pub order: Option<u32>,
+    /// Seconds spent integrating so far (wall clock).
     pub cpu_seconds: f64,
 }
 
 /// What to run.
 #[derive(Clone, Debug)]
 pub struct RunSpec {
+    /// Where the run stops.
     pub end: f64,
+    /// Time between output rows.
     pub output_step: f64,
     /// None: the dataset's INTEGRATOR statement, else HHT.
     pub method: Option<Method>,
+    /// ERROR: the local error tolerance (None: the dataset's, else the method's default).
     pub error: Option<f64>,
+    /// HMAX: the largest step.
     pub hmax: Option<f64>,
+    /// HINIT: the first step.
     pub hinit: Option<f64>,
+    /// HMIN: the smallest step.
     pub hmin: Option<f64>,
+    /// A fixed step instead of error control.
     pub fixed_step: Option<f64>,
+    /// HHT's ALPHA.
     pub alpha: Option<f64>,
+    /// Generalized-α's ρ∞.
     pub rho_inf: Option<f64>,
     /// The BDF formulation (None: the INTEGRATOR statement's, else I3).
     pub formulation: Option<Formulation>,
     /// The highest BDF order (None: the INTEGRATOR statement's KMAX, else 6).
     pub kmax: Option<u32>,
+    /// 2D, 3D or whichever the scene allows.
     pub dim: DimRequest,
+    /// Which back end evaluates the expressions.
     pub engine: Engine,
 }
 
 impl RunSpec {
+    /// A run to `end` with a row every `output_step`, every setting left to the dataset or the defaults.
     pub fn new(end: f64, output_step: f64) -> RunSpec {
         RunSpec {
             end,
@@ -117,7 +138,9 @@ pub enum RunFailure {
     /// The dataset (or a probe) has errors; the diagnostics say where. `probe` names the
     /// probe whose text the spans point into.
     Diagnostics {
+        /// The probe whose text the spans point into (None: the dataset).
         probe: Option<String>,
+        /// The diagnostics, errors and warnings.
         diagnostics: Vec<Diagnostic>,
     },
     /// Reading went well; building, assembly or the redundancy analysis did not.
@@ -147,8 +170,11 @@ struct Column {
 /// The summary `mbfx run` prints.
 #[derive(Clone, Debug)]
 pub struct Summary {
+    /// The integrator's name.
     pub integrator: &'static str,
+    /// Counters of the whole run.
     pub stats: Stats,
+    /// Seconds spent integrating (wall clock).
     pub cpu_seconds: f64,
     /// Largest scaled residual of the kept constraint rows at the output times.
     pub max_residual: f64,
@@ -157,6 +183,7 @@ pub struct Summary {
     pub energy: Option<(f64, f64)>,
     /// Notes for the user (settings not honoured, substitutions).
     pub notes: Vec<String>,
+    /// Why the run was 2D or 3D, in words.
     pub dim: String,
 }
 
@@ -176,9 +203,12 @@ struct Outputs {
 
 /// A model ready to run.
 pub struct Simulation {
+    /// The dataset as read.
     pub read: ModelRead,
+    /// The system in motion.
     pub dynamics: Dynamics,
     outputs: Outputs,
+    /// What to run.
     pub spec: RunSpec,
     notes: Vec<String>,
     conservative: bool,

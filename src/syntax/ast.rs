@@ -12,16 +12,22 @@ pub type NodeId = u32;
 /// Binary operators, in the language's spelling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BinOp {
+    /// `+`.
     Add,
+    /// `-`.
     Sub,
+    /// `*`.
     Mul,
+    /// `/`.
     Div,
     /// `%`: cross product of two vectors.
     Cross,
+    /// `**`: power.
     Pow,
 }
 
 impl BinOp {
+    /// The operator as written in the language.
     pub fn symbol(self) -> &'static str {
         match self {
             BinOp::Add => "+",
@@ -37,26 +43,34 @@ impl BinOp {
 /// Unary sign operators.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum UnOp {
+    /// `-a`.
     Neg,
+    /// `+a`.
     Plus,
 }
 
 /// What a node is.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Kind {
+    /// A number literal.
     Num(f64),
     /// A bare name: index into [`Ast::names`].
     Name(u32),
     /// `NAME(args)`; `name_end` closes the name's span (which starts at the node's start);
     /// the arguments are `Ast::args[args.0..args.0 + args.1]` (see [`Ast::call_args`]).
     Call {
+        /// Index into [`Ast::names`].
         name: u32,
+        /// Byte offset where the name ends.
         name_end: u32,
+        /// (start, count) in [`Ast::args`].
         args: (u32, u32),
     },
     /// `IF(test: neg, zero, pos)`.
     If([NodeId; 4]),
+    /// A signed operand.
     Unary(UnOp, NodeId),
+    /// `a op b`.
     Binary(BinOp, NodeId, NodeId),
     /// `[a, b, c]`.
     Vector([NodeId; 3]),
@@ -67,13 +81,18 @@ pub enum Kind {
 /// One node: its kind, byte span and depth (1 for a leaf).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Node {
+    /// What the node is.
     pub kind: Kind,
+    /// Byte offset where the node starts.
     pub start: u32,
+    /// Byte offset where it ends.
     pub end: u32,
+    /// 1 for a leaf, else 1 + the deepest child's.
     pub depth: u32,
 }
 
 impl Node {
+    /// The node's byte range.
     pub fn span(&self) -> Span {
         self.start as usize..self.end as usize
     }
@@ -114,17 +133,21 @@ impl Names {
 /// names they mention.
 #[derive(Clone, Debug, Default)]
 pub struct Ast {
+    /// Every node; a [`NodeId`] indexes it.
     pub nodes: Vec<Node>,
     /// Argument lists of calls, each a contiguous run.
     pub args: Vec<NodeId>,
+    /// The upper-cased names the nodes mention.
     pub names: Names,
 }
 
 impl Ast {
+    /// The node `id` addresses.
     pub fn node(&self, id: NodeId) -> &Node {
         &self.nodes[id as usize]
     }
 
+    /// The name with index `idx`, upper case.
     pub fn name(&self, idx: u32) -> &str {
         self.names.get(idx)
     }
@@ -198,7 +221,9 @@ impl Ast {
 /// Builds nodes for the parser's actions; also collects the parser's recovered errors.
 #[derive(Default)]
 pub struct Builder {
+    /// The tree built so far.
     pub ast: Ast,
+    /// Errors the parser recovered from, in order.
     pub recovered: Vec<crate::syntax::parser::Recovered>,
     /// Arguments of the calls being parsed, innermost last: a call's arguments are the
     /// top of this stack when its `)` is reduced (inner calls finish first).
@@ -248,10 +273,12 @@ impl Builder {
             .unwrap_or(0)
     }
 
+    /// A number literal.
     pub fn num(&mut self, v: f64, l: usize, r: usize) -> NodeId {
         self.push(Kind::Num(v), l, r, 1)
     }
 
+    /// A bare name (index into the names).
     pub fn name(&mut self, n: u32, l: usize, r: usize) -> NodeId {
         self.push(Kind::Name(n), l, r, 1)
     }
@@ -277,26 +304,31 @@ impl Builder {
         self.push(kind, l, r, depth)
     }
 
+    /// `IF(test: neg, zero, pos)`.
     pub fn if_(&mut self, parts: [NodeId; 4], l: usize, r: usize) -> NodeId {
         let depth = self.depth_of(&parts);
         self.push(Kind::If(parts), l, r, depth)
     }
 
+    /// A signed operand.
     pub fn unary(&mut self, op: UnOp, a: NodeId, l: usize, r: usize) -> NodeId {
         let depth = self.depth_of(&[a]);
         self.push(Kind::Unary(op, a), l, r, depth)
     }
 
+    /// `a op b`.
     pub fn binary(&mut self, op: BinOp, a: NodeId, b: NodeId, l: usize, r: usize) -> NodeId {
         let depth = self.depth_of(&[a, b]);
         self.push(Kind::Binary(op, a, b), l, r, depth)
     }
 
+    /// `[a, b, c]`.
     pub fn vector(&mut self, parts: [NodeId; 3], l: usize, r: usize) -> NodeId {
         let depth = self.depth_of(&parts);
         self.push(Kind::Vector(parts), l, r, depth)
     }
 
+    /// An error node where the parser recovered.
     pub fn error(&mut self, l: usize, r: usize) -> NodeId {
         self.push(Kind::Error, l, r, 1)
     }

@@ -29,7 +29,9 @@ struct Sub {
 /// A pending prefix of a unary chain: a sign, or the base of a `**`.
 #[derive(Clone, Copy)]
 pub enum Frame {
+    /// A sign, with the byte offset where it starts.
     Sign(UnOp, u32),
+    /// The base of a `**`, with the byte offset where it starts.
     PowBase(NodeId, u32),
 }
 

@@ -75,6 +75,7 @@ enum Raw {
 /// [`Lexed::names`] and referred to by index.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Tok {
+    /// A number literal.
     Num(f64),
     /// A bare name (constant or variable); index into [`Lexed::names`].
     Name(u32),
@@ -82,17 +83,29 @@ pub enum Tok {
     Call(u32),
     /// `IF(`: the arithmetic IF.
     If,
+    /// `+`.
     Plus,
+    /// `-`.
     Minus,
+    /// `*`.
     Star,
+    /// `**`.
     Pow,
+    /// `/`.
     Slash,
+    /// `%`: cross product.
     Percent,
+    /// `(`.
     LParen,
+    /// `)`.
     RParen,
+    /// `[`.
     LBracket,
+    /// `]`.
     RBracket,
+    /// `,`.
     Comma,
+    /// `:`.
     Colon,
     /// A relational or logical operator: already diagnosed, parsed as a binary operator
     /// so that the rest of the expression is still checked.
@@ -103,9 +116,11 @@ pub enum Tok {
 
 /// The result of lexing one expression.
 pub struct Lexed {
+    /// `(start, token, end)` triples with byte offsets, as LALRPOP reads them.
     pub tokens: Vec<(usize, Tok, usize)>,
     /// Upper-cased names, indexed by [`Tok::Name`] and [`Tok::Call`].
     pub names: Names,
+    /// Lexical errors, in order.
     pub diagnostics: Vec<Diagnostic>,
     /// True when lexing stopped early (bracket depth exceeded): the tokens are incomplete
     /// and the parser must not run.

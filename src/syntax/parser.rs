@@ -29,9 +29,11 @@ pub type Recovered = ErrorRecovery<usize, Tok, SyntaxError>;
 
 /// A parsed expression with every lexical and syntax diagnostic found.
 pub struct Parsed {
+    /// The tree.
     pub ast: Ast,
     /// `None` when nothing could be parsed (empty input, nesting limit, ...).
     pub root: Option<NodeId>,
+    /// Every lexical and syntax diagnostic.
     pub diagnostics: Vec<Diagnostic>,
 }
 
@@ -59,9 +61,11 @@ pub struct Session {
 
 /// The outcome of [`Session::parse`]: the tree stays in the session.
 pub struct Outcome<'s> {
+    /// The tree, borrowed from the session.
     pub ast: &'s mut Ast,
     /// `None` when nothing could be parsed (empty input, nesting limit, ...).
     pub root: Option<NodeId>,
+    /// Every lexical and syntax diagnostic.
     pub diagnostics: Vec<Diagnostic>,
 }
 
@@ -76,6 +80,7 @@ impl Outcome<'_> {
 }
 
 impl Session {
+    /// A session with empty buffers.
     pub fn new() -> Self {
         Self::default()
     }

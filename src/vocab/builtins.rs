@@ -25,17 +25,24 @@ pub enum Param {
 /// Result type of an expression (spec §2.6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Ty {
+    /// A number.
     Scalar,
+    /// A 3-vector (the `*XYZ` measures).
     Vector,
 }
 
 /// What the marker or element a measure reads must have been computed to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Needs {
+    /// Marker positions and orientations.
     Position,
+    /// Velocities.
     Velocity,
+    /// Accelerations.
     Acceleration,
+    /// Forces and reactions.
     Force,
+    /// An element's state (`VARVAL`, `ARYVAL`, ...).
     State,
 }
 
@@ -63,21 +70,28 @@ pub enum Role {
 /// Which spline fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SplineKind {
+    /// `AKISPL`: Akima spline.
     Akima,
+    /// `CUBSPL`: cubic spline.
     Cubic,
 }
 
 /// One entry of the table.
 #[derive(Clone, Copy, Debug)]
 pub struct Builtin {
+    /// The name, upper case.
     pub name: &'static str,
     /// Parameters; the first `required` must be given, the rest may be left off the end.
     pub params: &'static [Param],
+    /// How many of `params` must be given.
     pub required: usize,
     /// A trailing list of 1 to 31 scalar coefficients (POLY, CHEBY, FORCOS, FORSIN).
     pub coefficients: bool,
+    /// Scalar or vector.
     pub result: Ty,
+    /// What the name stands for.
     pub role: Role,
+    /// One line for `:help` and hints.
     pub doc: &'static str,
 }
 

@@ -7,47 +7,74 @@
 /// The Adams joint types (multibody spec §4.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum JointType {
+    /// FIXED: all six relative motions locked.
     Fixed,
+    /// REVOLUTE: rotation about z_J only.
     Revolute,
+    /// SPHERICAL: coincident origins, free rotation.
     Spherical,
+    /// TRANSLATIONAL: translation along z_J only.
     Translational,
+    /// CYLINDRICAL: translation along and rotation about z_J.
     Cylindrical,
+    /// PLANAR: I's origin in J's xy plane, rotation about z_J.
     Planar,
+    /// HOOKE: coincident origins with x_I ⟂ y_J.
     Hooke,
+    /// UNIVERSAL: coincident origins with z_I ⟂ z_J.
     Universal,
+    /// CONVEL: constant-velocity joint.
     Convel,
+    /// RACKPIN: rack travel tied to pinion rotation by PD.
     Rackpin,
+    /// SCREW: travel along z_J tied to rotation by PITCH.
     Screw,
 }
 
 /// The Adams joint primitives (multibody spec §4.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum JprimType {
+    /// ATPOINT: coincident origins.
     Atpoint,
+    /// INLINE: I's origin on J's z axis.
     Inline,
+    /// INPLANE: I's origin in J's xy plane.
     Inplane,
+    /// ORIENTATION: axes locked together.
     Orientation,
+    /// PARALLEL_AXES: z_I parallel to z_J.
     ParallelAxes,
+    /// PERPENDICULAR: z_I ⟂ z_J.
     Perpendicular,
 }
 
 /// The force statements of multibody spec §7.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ForceKind {
+    /// SFORCE: a scalar force along I–J or a torque about z_J.
     Sforce,
+    /// VFORCE: a force vector in RM axes.
     Vforce,
+    /// VTORQUE: a torque vector in RM axes.
     Vtorque,
+    /// GFORCE: a force and a torque vector in RM axes.
     Gforce,
+    /// SPRINGDAMPER: linear spring and damper, translational or rotational.
     Springdamper,
+    /// BUSHING: linear six-component spring and damper.
     Bushing,
 }
 
 /// The kind of element a constraint equation, a force or a message belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ElementKind {
+    /// A JOINT of the given type.
     Joint(JointType),
+    /// A JPRIM of the given type.
     Jprim(JprimType),
+    /// A GCON.
     Gcon,
+    /// A MOTION.
     Motion,
     /// Exudyn's 2D prismatic joint (multibody spec §6.4), library API only.
     Prismatic2d,
@@ -58,6 +85,7 @@ pub enum ElementKind {
 /// One element as the user named it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ElementRef {
+    /// What kind of element it is.
     pub kind: ElementKind,
     /// The Adams id.
     pub id: u32,
@@ -68,6 +96,7 @@ pub struct ElementRef {
 /// How the dataset spells one element kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ElementName {
+    /// The element kind spelled.
     pub kind: ElementKind,
     /// The statement keyword, full spelling (`JOINT`, `SFORCE`).
     pub keyword: &'static str,

@@ -8,39 +8,68 @@ use mbfx_runtime as rt;
 /// A library function of `mbfx-runtime` with a fixed argument list, or a variadic series.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Func {
+    /// `ABS(a)`: |a|.
     Abs,
+    /// `ACOS(a)`: arc cosine.
     Acos,
+    /// `ASIN(a)`: arc sine.
     Asin,
+    /// `ATAN(a)`: arc tangent.
     Atan,
+    /// `ATAN2(y, x)`: angle of the point (x, y) in (−π, π].
     Atan2,
+    /// `COS(a)`.
     Cos,
+    /// `SIN(a)`.
     Sin,
+    /// `TAN(a)`.
     Tan,
+    /// `COSH(a)`.
     Cosh,
+    /// `SINH(a)`.
     Sinh,
+    /// `TANH(a)`.
     Tanh,
+    /// `EXP(a)`.
     Exp,
+    /// `LOG(a)`: natural logarithm.
     Log,
+    /// `LOG10(a)`.
     Log10,
+    /// `SQRT(a)`.
     Sqrt,
+    /// `AINT(a)`: a truncated toward zero.
     Aint,
+    /// `ANINT(a)`: nearest whole number, halves away from zero.
     Anint,
+    /// `MOD(a1, a2)`: remainder with the sign of a1.
     Mod,
+    /// `SIGN(a1, a2)`: |a1| with the sign of a2.
     Sign,
+    /// `DIM(a1, a2)`: a1 − a2 if positive, else 0.
     Dim,
+    /// `MAX(a1, a2)`.
     Max,
+    /// `MIN(a1, a2)`.
     Min,
     /// `a ** b` with a non-integer or non-literal exponent.
     Pow,
     /// libm `pow` without `**`'s NaN-first test, for arguments known not to be NaN: only
     /// the lowering of IMPACT and BISTOP emits it, in the contact arm.
     PowLibm,
+    /// `STEP(x, x0, h0, x1, h1)`: cubic step.
     Step,
+    /// `STEP5(x, x0, h0, x1, h1)`: quintic step.
     Step5,
+    /// `HAVSIN(x, x0, h0, x1, h1)`: haversine step.
     Havsin,
+    /// `IMPACT(x, dx, x1, k, e, cmax, d)`: one-sided contact force.
     Impact,
+    /// `BISTOP(x, dx, x1, x2, k, e, cmax, d)`: two-sided contact force.
     Bistop,
+    /// `SHF(x, x0, a, w, phi, b)`: simple harmonic function.
     Shf,
+    /// `SWEEP(x, a, x0, f0, x1, f1, dx)`: sine of swept frequency.
     Sweep,
     /// Variadic: `x, x0, a0, a1, ...`.
     Poly,
@@ -192,21 +221,32 @@ impl Func {
 
 /// Signatures of the runtime functions with five to eight arguments.
 pub type Fn5 = fn(f64, f64, f64, f64, f64) -> f64;
+/// Signature of a runtime function with six arguments.
 pub type Fn6 = fn(f64, f64, f64, f64, f64, f64) -> f64;
+/// Signature of a runtime function with seven arguments.
 pub type Fn7 = fn(f64, f64, f64, f64, f64, f64, f64) -> f64;
+/// Signature of a runtime function with eight arguments.
 pub type Fn8 = fn(f64, f64, f64, f64, f64, f64, f64, f64) -> f64;
 
 /// A runtime function with its Rust signature: fixed arity 1, 2, 5, 6, 7 or 8, or a series
 /// taking `x, x0` (and `w`) before its coefficient slice.
 #[derive(Clone, Copy, Debug)]
 pub enum Callee {
+    /// One argument.
     F1(fn(f64) -> f64),
+    /// Two arguments.
     F2(fn(f64, f64) -> f64),
+    /// Five arguments.
     F5(Fn5),
+    /// Six arguments.
     F6(Fn6),
+    /// Seven arguments.
     F7(Fn7),
+    /// Eight arguments.
     F8(Fn8),
+    /// A series `f(x, x0, coefficients)` (POLY, CHEBY).
     Series2(fn(f64, f64, &[f64]) -> f64),
+    /// A series `f(x, x0, w, coefficients)` (FORCOS, FORSIN).
     Series3(fn(f64, f64, f64, &[f64]) -> f64),
 }
 

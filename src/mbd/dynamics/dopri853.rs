@@ -85,6 +85,7 @@ impl Default for Dopri853 {
 }
 
 impl Dopri853 {
+    /// An integrator before its first step.
     pub fn new() -> Dopri853 {
         Dopri853 {
             base: None,

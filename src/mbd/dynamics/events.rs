@@ -78,7 +78,10 @@ struct Target {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Verdict {
     /// Accept it; `event`: it crosses a (located) switch.
-    Accept { event: bool },
+    Accept {
+        /// It crosses a located switch.
+        event: bool,
+    },
     /// Reject it: a switch lies inside, to be located by [`Events::aim`].
     Locate,
 }

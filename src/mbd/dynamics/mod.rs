@@ -36,10 +36,15 @@ use std::fmt;
 /// Counters of a run: what the work-precision charts plot against accuracy.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
+    /// Accepted steps.
     pub steps: usize,
+    /// Rejected step attempts.
     pub rejected: usize,
+    /// Corrector (Newton) iterations, all attempts.
     pub newton_iterations: usize,
+    /// Evaluations of a Newton or saddle-point matrix.
     pub jacobian_evaluations: usize,
+    /// Sparse LU factorizations of the Newton matrix.
     pub factorizations: usize,
     /// Evaluations of compiled expressions (force magnitudes, GCON and MOTION
     /// functions), values and gradients alike.
@@ -50,13 +55,16 @@ pub struct Stats {
     /// The size of the last accepted step, and the integrator's order on it (the step
     /// table of `mbfx run --verbose`).
     pub last_step: f64,
+    /// The order used on the last accepted step (None for a fixed-order method).
     pub order: Option<u32>,
 }
 
 /// What a failure points at: an element, or a part (by Adams id).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Culprit {
+    /// A constraint or force element.
     Element(ElementRef),
+    /// A part, by Adams id.
     Part(u32),
 }
 
@@ -86,40 +94,62 @@ pub enum DynError {
     Model(MbdError),
     /// The Newton matrix is singular, for the reason `why`.
     Singular {
+        /// Simulation time.
         time: f64,
+        /// The reason.
         why: Singularity,
+        /// What the singular direction points at, when found.
         culprit: Option<Culprit>,
     },
     /// A force or the Newton matrix became NaN or infinite; `element` is the force
     /// element when one is to blame.
     NotFinite {
+        /// Simulation time.
         time: f64,
+        /// Which quantity became non-finite.
         what: NonFinite,
+        /// The force element to blame, when one is.
         element: Option<ElementRef>,
     },
     /// The corrector did not converge even at the smallest step.
     Newton {
+        /// Simulation time.
         time: f64,
+        /// The step size that failed.
         step: f64,
+        /// What the largest correction points at, when found.
         culprit: Option<Culprit>,
     },
     /// Error control asked for a step below HMIN.
     StepTooSmall {
+        /// Simulation time.
         time: f64,
+        /// The step size asked for.
         step: f64,
+        /// The smallest step allowed.
         hmin: f64,
+        /// What dominates the error estimate, when found.
         culprit: Option<Culprit>,
     },
     /// A constraint the redundancy analysis dropped is violated: the constraints are
     /// conflicting, not redundant.
     DroppedViolated {
+        /// Simulation time.
         time: f64,
+        /// The element the equation belongs to.
         element: ElementRef,
+        /// The equation's Adams label.
         equation: &'static str,
+        /// Its scaled residual.
         residual: f64,
     },
     /// A part free to move in `directions` directions that have no mass or inertia.
-    Massless { part: String, directions: usize },
+    Massless {
+        /// The part, as messages name it.
+        part: String,
+        /// How many directions lack mass or inertia.
+        directions: usize,
+    },
     /// The Newton matrix's pattern is not one faer can factor.
     Structure,
     /// An output row could not be written (the I/O error, worded).
@@ -288,15 +318,21 @@ pub struct Snapshot {
 /// Weights of the Newton matrix [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·Φ_qᵀ], [Φ_q, 0]].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Weights {
+    /// Weight of the mass matrix.
     pub w_m: f64,
+    /// Weight of the stiffness ∂Q/∂q.
     pub w_k: f64,
+    /// Weight of the damping ∂Q/∂v.
     pub w_c: f64,
+    /// Weight of the constraint forces Φ_qᵀ.
     pub w_l: f64,
 }
 
 /// The system in motion.
 pub struct Dynamics {
+    /// The assembled system at the current state.
     pub sys: System,
+    /// The applied forces and gravity.
     pub forces: ForceSet,
     /// Kept constraint rows (element, equation), in multiplier order.
     pub rows: Vec<(usize, usize)>,
@@ -304,10 +340,13 @@ pub struct Dynamics {
     pub dropped: Vec<(usize, usize)>,
     /// Velocity-level columns and kept rows.
     pub n: usize,
+    /// Kept constraint rows (length of λ).
     pub m: usize,
     /// Accelerations (v̇, ω̇ per part, the velocity layout) and multipliers.
     pub a: DVec,
+    /// Lagrange multipliers, one per kept row.
     pub lambda: DVec,
+    /// Counters of the run.
     pub stats: Stats,
     /// The Newton matrix's factors, and the saddle-point matrix's of the outputs'
     /// reconciliation: separate, so an output does not cost the integrator its
@@ -962,6 +1001,7 @@ impl Dynamics {
             .map(Culprit::Part)
     }
 
+    /// The current poses, velocities and time.
     pub fn snapshot(&self) -> Snapshot {
         Snapshot {
             poses: self.sys.snapshot(),
@@ -970,6 +1010,7 @@ impl Dynamics {
         }
     }
 
+    /// Returns to a [`Snapshot`].
     pub fn restore(&mut self, s: &Snapshot) {
         self.sys.restore(&s.poses);
         self.sys.set_v(&s.v);
@@ -1326,7 +1367,9 @@ impl Dynamics {
 /// One part's mass block divided by UCF: 3D (m, R·J·Rᵀ) or 2D (m, J about the normal).
 #[derive(Clone, Copy, Debug)]
 pub enum Mat3Block {
+    /// 3D: mass and the inertia tensor in global axes.
     Three(f64, Mat3),
+    /// 2D: mass and the inertia about the plane's normal.
     Two(f64, f64),
 }
 

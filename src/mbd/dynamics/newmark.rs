@@ -44,11 +44,22 @@ pub(super) const NEWTON_TOL_MAX: f64 = 1e-4;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// HHT with ALPHA ∈ [−1/3, 0].
-    Hht { alpha: f64 },
+    Hht {
+        /// ALPHA.
+        alpha: f64,
+    },
     /// Generalized-α with spectral radius ρ∞ ∈ [0, 1].
-    GeneralizedAlpha { rho_inf: f64 },
+    GeneralizedAlpha {
+        /// ρ∞.
+        rho_inf: f64,
+    },
     /// Plain Newmark with β > 0, γ ≥ ½ (unconditionally stable for β ≥ γ/2).
-    Newmark { beta: f64, gamma: f64 },
+    Newmark {
+        /// β.
+        beta: f64,
+        /// γ.
+        gamma: f64,
+    },
 }
 
 /// An HHT or generalized-α integrator.
@@ -95,6 +106,7 @@ pub struct Newmark {
 }
 
 impl Newmark {
+    /// An integrator of `method`, before its first step.
     pub fn new(method: Method) -> Newmark {
         let (alpha_m, alpha_f, gamma, beta, s, r) = match method {
             Method::Hht { alpha } => {

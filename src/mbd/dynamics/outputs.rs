@@ -22,29 +22,67 @@ pub enum OutputSlot {
     Kinematic(usize),
     /// ACCX/Y/Z (comp 0..3) or ACCM (comp 3) of i relative to j, differentiated in l,
     /// resolved in k.
-    Acc { i: M, j: M, k: M, l: M, comp: u8 },
+    Acc {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Resolving frame.
+        k: M,
+        /// Frame of time differentiation.
+        l: M,
+        /// ACCX, ACCY, ACCZ (0..3) or ACCM (3).
+        comp: u8,
+    },
     /// WDTX/Y/Z or WDTM.
-    AngAcc { i: M, j: M, k: M, l: M, comp: u8 },
+    AngAcc {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// Resolving frame.
+        k: M,
+        /// Frame of time differentiation.
+        l: M,
+        /// WDTX, WDTY, WDTZ (0..3) or WDTM (3).
+        comp: u8,
+    },
     /// An element's force function: element index (constraint or force list), jflag,
     /// comp 1..8, rm.
     ElementForce {
+        /// Whether `element` indexes the constraints (else the forces).
         constraint: bool,
+        /// Index into the constraint or force list.
         element: usize,
+        /// Whether the load is the one on the J marker.
         jflag: bool,
+        /// Component 1..8 of the force function.
         comp: u8,
+        /// The marker the components are resolved in.
         rm: M,
     },
     /// FX…TZ (comp 0..6), FM (6), TM (7): net load on i from elements between i and j,
     /// resolved in k.
     MarkerForce {
+        /// The marker the loads act on.
         i: MarkerHandle,
+        /// The other marker (None: ground): only elements between i and j count.
         j: M,
+        /// The frame the components are resolved in.
         k: M,
+        /// Component: FX…TZ 0..6, FM 6, TM 7.
         comp: u8,
     },
     /// ORIENT(27, comp, i, j): Euler parameter e0..e3 (comp 0..4) of i relative to j,
     /// with e0 ≥ 0.
-    EulerParameter { i: M, j: M, comp: u8 },
+    EulerParameter {
+        /// Measured marker.
+        i: M,
+        /// Reference marker.
+        j: M,
+        /// e0..e3 (0..4).
+        comp: u8,
+    },
 }
 
 fn axis_of(name: &str) -> u8 {

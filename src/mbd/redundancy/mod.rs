@@ -50,6 +50,7 @@ pub struct Problem<'a> {
     pub labels: &'a [EquationLabel],
     /// The elements the labels point into.
     pub elements: &'a [ElementRef],
+    /// Moving parts (column blocks).
     pub moving_parts: usize,
     /// 2 or 3.
     pub dim: usize,

@@ -20,6 +20,7 @@ const ADAMS_HEADER: &str =
 pub struct Redundant {
     /// Its row in the Jacobian.
     pub row: usize,
+    /// What the equation is and which element it belongs to.
     pub label: EquationLabel,
     /// Its relative distance to the span of the kept rows (at most the tolerance): the
     /// certificate that dropping it loses nothing.
@@ -41,30 +42,39 @@ pub enum Lighter {
 /// The advice for one element with redundant equations.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Advice {
+    /// Index of the element in the problem's element list.
     pub element: usize,
     /// Equations it keeps and drops, in Adams' equation order.
     pub kept: Vec<Equation>,
+    /// The redundant ones.
     pub dropped: Vec<Equation>,
+    /// What would impose only the kept equations.
     pub lighter: Lighter,
 }
 
 /// A redundant equation that the assembled configuration violates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Conflict {
+    /// Its row in the Jacobian.
     pub row: usize,
+    /// What the equation is and which element it belongs to.
     pub label: EquationLabel,
+    /// Its scaled residual at the assembled configuration.
     pub residual: f64,
 }
 
 /// The outcome of [`super::analyze`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
+    /// 2 or 3.
     pub dim: usize,
+    /// Moving parts (column blocks).
     pub moving_parts: usize,
     /// Velocity coordinates (6 or 3 per moving part).
     pub columns: usize,
     /// Scalar constraint equations (rows).
     pub equations: usize,
+    /// Rank of the Jacobian: independent equations.
     pub rank: usize,
     /// The redundant equations in Adams' message order: descending element, then
     /// descending equation order within an element.
@@ -303,7 +313,9 @@ pub enum AnalysisError {
     /// Redundant equations that the assembled configuration violates: the constraints
     /// contradict each other.
     Conflicting {
+        /// The analysis, with the redundant equations.
         report: Box<Report>,
+        /// The redundant equations that are violated.
         conflicts: Vec<Conflict>,
     },
 }
