@@ -114,6 +114,11 @@ impl JITMemoryProvider for NearMemory {
         Ok(unsafe { chunk.ptr.add(at) })
     }
 
+    /// Unmaps every chunk.
+    ///
+    /// # Safety
+    /// No pointer into the pages (code or data) may be used afterwards: the contract of
+    /// `JITModule::free_memory`, which calls this (as do `Drop` and the test).
     unsafe fn free_memory(&mut self) {
         for c in self.chunks.drain(..) {
             unmap(c.ptr as usize, c.len);
@@ -207,7 +212,7 @@ mod tests {
         let after = m.allocate(8, 8, JITMemoryKind::Executable).unwrap();
         assert_eq!(m.chunks.len(), 3);
         assert!(after as usize != more as usize + 100);
-        // SAFETY: nothing points into the pages.
+        // SAFETY: `code`, `data`, `more` and `after` are not used after this.
         unsafe { m.free_memory() };
         assert!(m.chunks.is_empty());
     }

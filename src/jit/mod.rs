@@ -73,8 +73,10 @@ struct Code {
 
 impl Drop for Code {
     fn drop(&mut self) {
-        // SAFETY: `Code` is dropped only when no `CompiledExpr` (the only holders of
-        // pointers into this module) is left, so nothing can call the code afterwards.
+        // SAFETY: `Code` lives only in the `Arc` that every `CompiledExpr` and `Bound` (the
+        // only holders of pointers into this module) keeps, so when it drops none is left
+        // and nothing can call the code afterwards; `module` is taken here, once, and never
+        // touched again.
         unsafe { ManuallyDrop::take(&mut self.module).free_memory() };
     }
 }
@@ -82,7 +84,8 @@ impl Drop for Code {
 // SAFETY: after finalisation the module is never used again except to free it on drop;
 // the code it owns is immutable, so sharing it between threads is sound.
 unsafe impl Send for Code {}
-// SAFETY: as above: no `&Code` method touches the module.
+// SAFETY: as above: the one use of a shared `&Code` is `get_finalized_function` in
+// `compile_batch`, before the `Arc` leaves that thread, and it reads no `RefCell`.
 unsafe impl Sync for Code {}
 
 /// Signature of the generated code.
@@ -155,6 +158,10 @@ impl CompiledExpr {
         }
         // SAFETY: the code reads only context slots below `needs`, which `covered_by`
         // checked, and with one output it never writes `out`; `_owner` keeps the code alive.
+        // Not checked: `needs` comes from `Function::uses`, which compilation trusts. It is
+        // exact for every function `ir::Builder` made (all lowered ones), but with
+        // `Jit::lower` off a hand-made `Function` whose `uses` omits a slot it reads makes
+        // this read out of bounds.
         unsafe { self.call(ctx, std::ptr::null_mut()) }
     }
 
@@ -166,8 +173,10 @@ impl CompiledExpr {
     #[inline(always)]
     unsafe fn call(&self, ctx: &Context, out: *mut f64) -> f64 {
         let (vars, measures) = ctx.arrays();
-        // SAFETY: the caller's guarantees are the code's requirements; `_owner` keeps the
-        // code alive.
+        // SAFETY: the caller's guarantees are the code's requirements; the pointer has the
+        // signature the function was declared with (see `compile_batch`), and `_owner`
+        // keeps the code alive. `frame::elide` changed only the frame of a leaf that never
+        // addresses it (its module docs give the byte checks).
         unsafe {
             match self.code {
                 Entry::General(code) => code(ctx, vars, measures, out, ctx.time),
@@ -254,7 +263,8 @@ impl<const N: usize> Bound<N> {
         let (_, measures) = self.ctx.arrays();
         // SAFETY: `bind` checked that the code reads variable slots below `N` only, no
         // measure or spline, and writes no output; `vars` has `N` slots, the context
-        // (read for the mode) lives in `self`, and `_owner` keeps the code alive.
+        // (read for the mode) lives in `self`, and `_owner` keeps the code alive. `needs`
+        // is trusted as in `CompiledExpr::eval`.
         unsafe {
             match self.code {
                 Entry::Minimal(code) => code(vars.as_ptr(), time),
@@ -365,9 +375,12 @@ impl Jit {
             .into_iter()
             .map(|(id, minimal, frameless, outputs, needs)| {
                 let ptr = owner.module.get_finalized_function(id);
-                // SAFETY: `ptr` is the finalised code of a function declared with
-                // `expr_signature(_, minimal)`, which is `MinFn`'s C signature when
-                // `minimal` and `RawFn`'s otherwise.
+                // SAFETY: `ptr` is the finalised (non-null) code of a function declared with
+                // `expr_signature(_, minimal)` in the host's default calling convention
+                // (`extern "C"`), which is `MinFn`'s signature when `minimal` and `RawFn`'s
+                // otherwise (`define` and this loop call `is_minimal` on the same function).
+                // The `CompiledExpr` built here holds `owner`, so the code outlives the
+                // pointer.
                 let code = unsafe {
                     if minimal {
                         Entry::Minimal(std::mem::transmute::<*const u8, MinFn>(ptr))
