@@ -156,12 +156,9 @@ impl CompiledExpr {
         if !self.covered_by(ctx) {
             return f64::NAN;
         }
-        // SAFETY: the code reads only context slots below `needs`, which `covered_by`
+        // SAFETY: the code reads only context slots below `needs` (recomputed from the
+        // compiled instructions, not taken from `Function::uses`), which `covered_by`
         // checked, and with one output it never writes `out`; `_owner` keeps the code alive.
-        // Not checked: `needs` comes from `Function::uses`, which compilation trusts. It is
-        // exact for every function `ir::Builder` made (all lowered ones), but with
-        // `Jit::lower` off a hand-made `Function` whose `uses` omits a slot it reads makes
-        // this read out of bounds.
         unsafe { self.call(ctx, std::ptr::null_mut()) }
     }
 
@@ -264,7 +261,7 @@ impl<const N: usize> Bound<N> {
         // SAFETY: `bind` checked that the code reads variable slots below `N` only, no
         // measure or spline, and writes no output; `vars` has `N` slots, the context
         // (read for the mode) lives in `self`, and `_owner` keeps the code alive. `needs`
-        // is trusted as in `CompiledExpr::eval`.
+        // comes from the instructions, as in `CompiledExpr::eval`.
         unsafe {
             match self.code {
                 Entry::Minimal(code) => code(vars.as_ptr(), time),
@@ -517,8 +514,10 @@ impl Jit {
     }
 }
 
-/// Smallest variable, measure and spline arrays `f` may be given.
+/// Smallest variable, measure and spline arrays `f` may be given, from the instructions
+/// themselves: `Function::uses` is public and a hand-made function's may be wrong, and
+/// the compiled code's bounds rest on these (one linear pass, next to compiling).
 fn needs(f: &Function) -> [usize; 3] {
-    let u = &f.uses;
+    let u = crate::ir::builder::collect_uses(f);
     [u.vars_len(), u.measures_len(), u.splines_len()]
 }

@@ -368,3 +368,17 @@ fn many_contact_functions_stay_runtime_calls() {
     assert_eq!(ifs(64), 64);
     assert_eq!(ifs(65), 0);
 }
+
+/// The compiled code's bounds come from its instructions, not from `Function::uses`,
+/// which is public: a hand-made function that under-reports what it reads, compiled as
+/// it is, still refuses a context too short for it (NaN) instead of reading past it.
+#[test]
+fn wrong_uses_cannot_make_compiled_code_read_past_the_context() {
+    let mut f = ir("y + 1").unwrap();
+    f.uses = Default::default();
+    let mut jit = Jit::new().unwrap();
+    jit.lower = false;
+    let code = jit.compile(&f).unwrap();
+    assert!(code.eval(&Context::new(0.0, &[2.0])).is_nan());
+    assert_eq!(code.eval(&Context::new(0.0, &[2.0, 5.0])), 6.0);
+}
