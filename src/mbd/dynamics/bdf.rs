@@ -150,7 +150,7 @@ impl Bdf {
             res: DVec::zeros(0),
             rhs: Vec::new(),
             proj: Vec::new(),
-            reuse: Reuse::default(),
+            reuse: Reuse::refreshing(),
         }
     }
 

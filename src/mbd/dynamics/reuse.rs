@@ -30,9 +30,30 @@ pub struct Reuse {
     /// In the current step: the iteration that factored afresh, and refactors tried.
     fresh_at: Option<usize>,
     fresh_tries: usize,
+    /// Steps left that factor afresh at their start because a reused factorization
+    /// contracted too slowly recently (its iteration was wasted; at these step sizes an
+    /// older matrix is likely no better).
+    fresh_steps: usize,
+    /// Whether a failed reuse starts [`FRESH_AFTER_FAILED_REUSE`] fresh steps (the BDF's
+    /// long steps; the Newmark family keeps reusing, which its dead-centre passages
+    /// need).
+    refresh: bool,
 }
 
+/// Steps that factor afresh after a reused factorization failed, before reuse is tried
+/// again.
+const FRESH_AFTER_FAILED_REUSE: usize = 4;
+
 impl Reuse {
+    /// The policy that factors afresh for a few steps after a reused factorization
+    /// contracted too slowly.
+    pub fn refreshing() -> Reuse {
+        Reuse {
+            refresh: true,
+            ..Reuse::default()
+        }
+    }
+
     /// At a step's start with step weight `w`: drops the factorization when `w` moved
     /// by more than a quarter, someone else factored since (`generation`), or the last
     /// step predicts a third iteration. A first correction of size n contracted by ρ
@@ -41,6 +62,10 @@ impl Reuse {
     /// and a half iterations, and a fresh matrix converges in two.
     pub fn begin_step(&mut self, w: f64, generation: u64) {
         (self.fresh_at, self.fresh_tries) = (None, 0);
+        if self.fresh_steps > 0 {
+            self.fresh_steps -= 1;
+            self.weight = None;
+        }
         if let Some(fw) = self.weight {
             let third_likely = self.last_first * self.last_rate.powi(2) > PROACTIVE_REFACTOR
                 && self.last_rate > 2.0 * self.fresh_rate;
@@ -79,6 +104,9 @@ impl Reuse {
         {
             self.weight = None;
             self.fresh_tries += 1;
+            if self.refresh {
+                self.fresh_steps = FRESH_AFTER_FAILED_REUSE;
+            }
             false
         } else {
             rate > 2.0 && iter > 2
