@@ -22,6 +22,11 @@ use std::path::PathBuf;
 /// `--integrator` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum IntegratorArg {
+    /// Adams GSTIFF: BDF of order 1-6 with a fixed leading coefficient (--formulation),
+    /// the default as in Adams.
+    Gstiff,
+    /// Adams WSTIFF: BDF of order 1-6 with variable coefficients (--formulation).
+    Wstiff,
     /// Adams HHT on the index-3 DAE (ALPHA −0.3 unless --alpha), error-controlled.
     Hht,
     /// Generalized-α on the index-3 DAE (ρ∞ 0.9 unless --rho-inf, as Exudyn).
@@ -31,10 +36,6 @@ pub enum IntegratorArg {
     /// Explicit Dormand–Prince 8(5,3) on the index-1 equations, projected onto the
     /// constraints after each step: high accuracy at tight ERROR on non-stiff models.
     Dopri853,
-    /// Adams GSTIFF: BDF of order 1-6 with a fixed leading coefficient (--formulation).
-    Gstiff,
-    /// Adams WSTIFF: BDF of order 1-6 with variable coefficients (--formulation).
-    Wstiff,
 }
 
 /// `--formulation` values.
