@@ -113,7 +113,7 @@ pub struct Bdf {
     /// The candidate's scaled error estimates at orders k − 1 and k.
     err_lower: f64,
     err: f64,
-    /// Consecutive error-test failures, and whether the last attempt diverged.
+    /// Consecutive error-test failures.
     failures: usize,
     /// The step factor the integrator asks for after the last accept or reject.
     factor: Option<f64>,
@@ -121,6 +121,8 @@ pub struct Bdf {
     res: DVec,
     rhs: Vec<f64>,
     proj: Vec<f64>,
+    /// Scratch of the order-(k − 1) predictor: positions, velocities, their rate.
+    lower: (Vec<f64>, DVec, DVec),
     /// When the factorization is reused (its weight: g).
     reuse: Reuse,
 }
@@ -150,13 +152,9 @@ impl Bdf {
             res: DVec::zeros(0),
             rhs: Vec::new(),
             proj: Vec::new(),
+            lower: (Vec::new(), DVec::zeros(0), DVec::zeros(0)),
             reuse: Reuse::refreshing(),
         }
-    }
-
-    /// Adams' GSTIFF at its default KMAX.
-    pub fn gstiff(formulation: Formulation) -> Bdf {
-        Bdf::new(Coefficients::FixedLeading, formulation, MAX_ORDER)
     }
 
     fn hist(&self) -> &History {
@@ -491,12 +489,14 @@ impl Bdf {
         if k > 1 {
             // The order-(k − 1) predictor through the newest k points.
             let hist = self.hist.as_ref().expect("started");
-            let mut xp = vec![0.0; n];
             let t0 = hist.newest().t;
             let c_err = h / (t0 + h - hist.point(k - 1).t);
-            let (mut vp, mut ap) = (DVec::zeros(n), DVec::zeros(n));
-            let v = si2.then_some((&mut vp, &mut ap));
-            Self::interpolate(hist, k - 1, h, &mut xp, None, v);
+            let (xp, vp, ap) = &mut self.lower;
+            if xp.len() != n {
+                (*xp, *vp, *ap) = (vec![0.0; n], DVec::zeros(n), DVec::zeros(n));
+            }
+            let v = si2.then_some((&mut *vp, &mut *ap));
+            Self::interpolate(hist, k - 1, h, xp, None, v);
             let mut e_low: f64 = 0.0;
             for c in 0..n {
                 let t = tol[c].max(floor);
@@ -514,6 +514,15 @@ impl Bdf {
     fn allows(e: f64, j: usize) -> f64 {
         (2.0 * e).max(1e-12).powf(-1.0 / (j as f64 + 1.0))
     }
+}
+
+/// Per-column error scales: as Adams, ERROR in model units for every integrated
+/// variable, and tighter in proportion for a model smaller than a unit length (the
+/// Newmark family scales translations by the model size both ways).
+fn tolerances(d: &Dynamics, error: f64) -> Vec<f64> {
+    let mut tol = d.tolerances(error);
+    tol.iter_mut().for_each(|t| *t = t.min(error));
+    tol
 }
 
 impl Integrator for Bdf {
@@ -542,9 +551,9 @@ impl Integrator for Bdf {
         // never below HMIN (error control takes over from there).
         let fit =
             d.a.iter()
-                .zip(d.tolerances(st.error))
+                .zip(tolerances(d, st.error))
                 .filter(|(a, _)| a.abs() > 0.0)
-                .map(|(a, t)| (0.4 * t.min(st.error) / a.abs()).sqrt())
+                .map(|(a, t)| (0.4 * t / a.abs()).sqrt())
                 .fold(f64::INFINITY, f64::min);
         hinit.min(fit).max(st.hmin)
     }
@@ -560,12 +569,7 @@ impl Integrator for Bdf {
 
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
         if self.tol.0 != st.error || self.tol.1.len() != d.n {
-            // As Adams: ERROR in model units for every integrated variable, and tighter
-            // in proportion for a model smaller than a unit length (the Newmark family
-            // scales translations by the model size both ways).
-            let mut tol = d.tolerances(st.error);
-            tol.iter_mut().for_each(|t| *t = t.min(st.error));
-            self.tol = (st.error, tol);
+            self.tol = (st.error, tolerances(d, st.error));
         }
         self.err = f64::NAN;
         self.iterate(d, h, st)

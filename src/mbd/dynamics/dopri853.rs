@@ -260,13 +260,7 @@ impl Dopri853 {
             return Ok(Attempt::Converged { err, worst });
         }
         // Rounding of the coordinates, over the model length: the projection's floor.
-        let reach = d
-            .sys
-            .parts
-            .iter()
-            .map(|p| p.r.amax())
-            .fold(d.sys.length, f64::max);
-        let target = PROJECTION_ULPS * f64::EPSILON * reach / d.sys.length;
+        let target = PROJECTION_ULPS * f64::EPSILON * d.reach() / d.sys.length;
         match d.project_positions(target) {
             // Too far off the constraints for Newton: the step was too long.
             Err(DynError::Newton { .. }) => return Ok(Attempt::Diverged),

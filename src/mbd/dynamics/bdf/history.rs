@@ -68,18 +68,22 @@ impl History {
     /// Makes the state of `d` the newest point and moves the chart to it.
     pub fn push(&mut self, d: &Dynamics) {
         // The oldest point's buffers are reused when the history is full.
+        let snap = d.snapshot();
         let mut p = match self.points.len() >= self.cap {
-            true => self.points.pop_back().expect("cap > 0"),
+            true => {
+                let mut p = self.points.pop_back().expect("cap > 0");
+                p.snap = snap;
+                p
+            }
             false => Point {
                 t: 0.0,
-                snap: d.snapshot(),
+                snap,
                 v: DVec::zeros(d.n),
                 lambda: DVec::zeros(d.m),
                 x: vec![0.0; d.n],
             },
         };
         p.t = d.sys.time;
-        p.snap = d.snapshot();
         super::super::newmark::copy_into(&mut p.v, &d.sys.v());
         super::super::newmark::copy_into(&mut p.lambda, &d.lambda);
         self.points.push_front(p);
