@@ -13,10 +13,12 @@
 #[cfg(test)]
 extern crate self as mbfx;
 
+pub mod bench;
 pub mod check;
 pub mod cli;
 pub mod context;
 pub mod diag;
+mod font;
 pub mod interp;
 pub mod ir;
 pub mod jit;

@@ -7,6 +7,7 @@
 //! panic and a closed pipe ends the program quietly.
 
 mod acf;
+mod bench;
 mod check_file;
 mod eval;
 pub mod output;
@@ -110,6 +111,9 @@ enum Command {
     Run(Box<run::RunArgs>),
     /// Interactive evaluation.
     Repl,
+    /// Speed against accuracy: work-precision charts, the stability suite, scaling.
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
 }
 
 /// Runs the CLI with the process arguments; returns the exit code.
@@ -136,6 +140,7 @@ where
         Command::Check(a) => check_file::run(&a, &mut o),
         Command::Run(a) => run::run(&a, &mut o),
         Command::Repl => repl::run_terminal(&mut o),
+        Command::Bench(c) => bench::run(&c, &mut o),
     };
     output::finish(outcome, &mut o)
 }

@@ -1,38 +1,12 @@
 //! `mbfx run --plot FILE.svg|FILE.png`: the output columns against time, drawn with
 //! plotters: up to six in stacked panels over one time axis (their scales differ), more
 //! in one chart with a legend. The probes are drawn when there are any, else the request
-//! columns. Text uses the DejaVu Sans font of the system (Debian's fonts-dejavu-core).
+//! columns.
+//! Text uses the DejaVu Sans font of the system ([`crate::font`]).
 
 use plotters::prelude::*;
+use crate::font::font;
 use std::path::Path;
-
-/// Where the font is looked for.
-const FONTS: &[&str] = &[
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-];
-
-/// Registers the font once for the process.
-fn font() -> Result<(), String> {
-    static REGISTERED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
-    REGISTERED
-        .get_or_init(|| {
-            let bytes = FONTS
-                .iter()
-                .find_map(|p| std::fs::read(p).ok())
-                .ok_or_else(|| {
-                    format!(
-                        "no DejaVu Sans font found (looked in {}); install fonts-dejavu-core",
-                        FONTS.join(", ")
-                    )
-                })?;
-            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-            plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
-                .map_err(|_| "the DejaVu Sans font could not be read".to_string())
-        })
-        .clone()
-}
 
 /// Draws columns 1.. of `rows` (column 0 is time) to `path`: the first `probes` columns
 /// when there are probes, else all.

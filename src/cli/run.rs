@@ -474,6 +474,9 @@ pub fn summary_text(s: &Summary) -> String {
     for n in &s.notes {
         out += &format!("note: {n}\n");
     }
+    for w in &s.warnings {
+        out += &format!("warning: {w}\n");
+    }
     out
 }
 

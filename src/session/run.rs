@@ -185,6 +185,10 @@ pub struct Summary {
     pub notes: Vec<String>,
     /// Why the run was 2D or 3D, in words.
     pub dim: String,
+    /// What the run's own monitors say went wrong although it reached its end (fixed
+    /// steps whose local error estimate left ERROR far behind, constraint drift): a
+    /// run that reports success on a wrong answer must at least say so.
+    pub warnings: Vec<String>,
 }
 
 /// The output columns compiled, and the measure slots they read.
@@ -507,6 +511,7 @@ impl Simulation {
         let e0 = self.conservative.then(|| self.energy());
         let mut max_residual: f64 = 0.0;
         let mut name = "hht";
+        let mut error: f64 = 0.0;
         let mut notes = self.notes.clone();
         let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
         let mut emit = |d: &mut Dynamics, last: bool| -> Result<(), DynError> {
@@ -534,6 +539,7 @@ impl Simulation {
             let plan = Plan::new(seg.integrator.as_ref(), &self.spec, seg.output_step);
             let (mut integrator, note) = plan.integrator();
             name = integrator.name();
+            error = error.max(plan.settings.error);
             if let Some(n) = note.filter(|n| !notes.contains(n)) {
                 notes.push(n);
             }
@@ -558,9 +564,38 @@ impl Simulation {
             energy: e0.map(|e| (e, self.energy())),
             notes,
             dim: self.dynamics.sys.dim_reason.clone(),
+            warnings: Vec::new(),
+        };
+        let summary = Summary {
+            warnings: monitors(&summary, self.spec.fixed_step.is_some(), error),
+            ..summary
         };
         (summary, result.err())
     }
+}
+
+/// Past this many ERRORs, a fixed-step run's local error estimate makes it a warning.
+const FIXED_STEP_WARNING: f64 = 10.0;
+
+/// The warnings of a finished run (see [`Summary::warnings`]): fixed steps whose local
+/// error estimate exceeded ERROR more than tenfold, and a constraint residual larger
+/// than the drift the run allows dropped rows (10·ERROR, at least 1e-6).
+fn monitors(s: &Summary, fixed: bool, error: f64) -> Vec<String> {
+    let mut w = Vec::new();
+    if fixed && s.stats.worst_error > FIXED_STEP_WARNING {
+        w.push(format!(
+            "fixed steps: the local error estimate reached {:.1e} × ERROR ({error:e}) at time {}; the results are not accurate to ERROR (use error control or a smaller step)",
+            s.stats.worst_error, s.stats.worst_error_time
+        ));
+    }
+    let drift = (10.0 * error).max(1e-6);
+    if s.max_residual > drift {
+        w.push(format!(
+            "the constraints drifted: residual {:.1e} exceeds {drift:.0e}",
+            s.max_residual
+        ));
+    }
+    w
 }
 
 /// The largest scaled residual of the kept rows of `d` (translational rows over the

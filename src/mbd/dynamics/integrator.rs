@@ -185,6 +185,9 @@ pub fn simulate(
                     }
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
+                    if err > d.stats.worst_error {
+                        (d.stats.worst_error, d.stats.worst_error_time) = (err, end);
+                    }
                     d.check_dropped(drift_tol)?;
                     let mut measures = std::mem::take(&mut d.sys.measures);
                     measures.commit(&d.sys);

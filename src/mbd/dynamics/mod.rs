@@ -57,6 +57,11 @@ pub struct Stats {
     pub last_step: f64,
     /// The order used on the last accepted step (None for a fixed-order method).
     pub order: Option<u32>,
+    /// The largest local error estimate of an accepted step, in units of ERROR: at most
+    /// 1 under error control; with fixed steps, how far the run strayed from ERROR.
+    pub worst_error: f64,
+    /// When that step ended.
+    pub worst_error_time: f64,
 }
 
 /// What a failure points at: an element, or a part (by Adams id).

@@ -1,0 +1,14 @@
+//! Speed against accuracy: the scenes with truth ([`scene`]), one measured run
+//! ([`point`]), the work-precision grid ([`wp`]), the stability suite ([`stability`]),
+//! scaling with model size ([`scaling`]), the charts ([`chart`]) and the datasets
+//! written for any size ([`generate`]). `mbfx bench` is the command-line face.
+
+pub mod chart;
+pub mod generate;
+pub mod orders;
+pub mod output;
+pub mod point;
+pub mod scaling;
+pub mod scene;
+pub mod stability;
+pub mod wp;

@@ -1,0 +1,332 @@
+//! The stability suite: scenes where integration methods are known to fail, each run
+//! by every method, and each cell judged **accurate** (error within 10× the asked
+//! tolerance), **failed, named** (the run stopped with a diagnostic naming time, cause
+//! and element, or finished but its own monitors said it went wrong) or **wrong,
+//! silently** (reported success with a larger error). The matrix is written as
+//! markdown and as an SVG heat map.
+
+use super::point::{measure, variant_named, Control, Options, Point, Status};
+use super::scene::{Group, Scene};
+use crate::font::font;
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One row of the suite: a scene, what it tests, and the setting every method runs at.
+#[derive(Clone, Copy, Debug)]
+pub struct Case {
+    /// The scene's name.
+    pub scene: &'static str,
+    /// What fails there, in words.
+    pub what: &'static str,
+    /// The methods.
+    pub methods: &'static [&'static str],
+    /// Their tolerance (with fixed steps: the ERROR the local error monitor compares
+    /// with, and the accuracy the cell is judged by).
+    pub tolerance: f64,
+    /// The fixed step of the fixed-step methods.
+    pub step: Option<f64>,
+}
+
+const CONTROLLED: &[&str] = &["gstiff", "gstiff-si2", "wstiff", "hht", "galpha", "dopri853"];
+const FIXED: &[&str] = &["hht-fixed", "galpha-fixed"];
+
+/// The suite.
+pub const CASES: &[Case] = &[
+    Case {
+        scene: "cart_pole",
+        what: "light cart-pole: near-singular mass matrix, a 1 µs spike at each vertical crossing",
+        methods: CONTROLLED,
+        tolerance: 1e-6,
+        step: None,
+    },
+    Case {
+        scene: "cart_pole",
+        what: "light cart-pole, fixed steps",
+        methods: FIXED,
+        tolerance: 1e-3,
+        step: Some(1e-3),
+    },
+    Case {
+        scene: "a02_n1",
+        what: "A02 four-bar through its singular positions (branch jumping)",
+        methods: CONTROLLED,
+        tolerance: 1e-6,
+        step: None,
+    },
+    Case {
+        scene: "a02_n40",
+        what: "A02 with N = 40: rank drops by 40 at each horizontal crossing",
+        methods: CONTROLLED,
+        tolerance: 1e-6,
+        step: None,
+    },
+    Case {
+        scene: "a02_n1_3d",
+        what: "the redundant 3D four-bar (3 redundant equations dropped)",
+        methods: CONTROLLED,
+        tolerance: 1e-6,
+        step: None,
+    },
+    Case {
+        scene: "andrews",
+        what: "Andrews' squeezer in index 3 at a loose tolerance",
+        methods: CONTROLLED,
+        tolerance: 1e-3,
+        step: None,
+    },
+    Case {
+        scene: "a01_pendulum",
+        what: "generalized-α with ρ∞ = 1 on the index-3 pendulum",
+        methods: &["galpha-rho1", "galpha"],
+        tolerance: 1e-6,
+        step: None,
+    },
+    Case {
+        scene: "a01_pendulum",
+        what: "generalized-α with ρ∞ = 1 on the index-3 pendulum, fixed steps",
+        methods: &["galpha-rho1-fixed", "galpha-fixed", "hht-fixed"],
+        tolerance: 1e-3,
+        step: Some(1e-2),
+    },
+    Case {
+        scene: "impact_stiff_k1e9",
+        what: "stiff IMPACT (k = 1e9) at a loose tolerance",
+        methods: CONTROLLED,
+        tolerance: 1e-3,
+        step: None,
+    },
+    Case {
+        scene: "impact_stiff_k1e9",
+        what: "stiff IMPACT (k = 1e9), large fixed steps",
+        methods: FIXED,
+        tolerance: 1e-3,
+        step: Some(1e-2),
+    },
+    Case {
+        scene: "impact_block_k1e5",
+        what: "fixed steps across contact",
+        methods: FIXED,
+        tolerance: 1e-3,
+        step: Some(1e-3),
+    },
+    Case {
+        scene: "motion_lockup",
+        what: "a MOTION driven through a lock-up position",
+        methods: CONTROLLED,
+        tolerance: 1e-6,
+        step: None,
+    },
+];
+
+/// How a cell came out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// Error within 10× the asked tolerance.
+    Accurate,
+    /// Stopped with a diagnostic, or finished with a warning saying it went wrong.
+    FailedNamed,
+    /// Reported success with a larger error.
+    WrongSilently,
+}
+
+impl Verdict {
+    /// The name in the matrix.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Accurate => "accurate",
+            Verdict::FailedNamed => "failed, named",
+            Verdict::WrongSilently => "wrong, silently",
+        }
+    }
+}
+
+/// Judges a run against the case's tolerance: positions when the scene scores them,
+/// else reactions. A scene whose truth is that the run must stop (a lock-up) counts a
+/// run that reached its end without a warning as wrong.
+pub fn judge(p: &Point, tolerance: f64, must_stop: bool) -> Verdict {
+    if let Status::Failed(_) = p.status {
+        return Verdict::FailedNamed;
+    }
+    if !p.warnings.is_empty() {
+        return Verdict::FailedNamed;
+    }
+    if must_stop {
+        return Verdict::WrongSilently;
+    }
+    let e = p.errors.of(Group::Position).or(p.errors.reaction);
+    match e {
+        Some(e) if e <= 10.0 * tolerance => Verdict::Accurate,
+        _ => Verdict::WrongSilently,
+    }
+}
+
+/// One judged cell.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    /// The case's index in the suite.
+    pub case: usize,
+    /// The run.
+    pub point: Point,
+    /// Its verdict.
+    pub verdict: Verdict,
+}
+
+/// Whether a scene's truth is that the run must stop (its `source` says so with the
+/// words "must stop").
+pub fn must_stop(scene: &Scene) -> bool {
+    scene.source.contains("must stop")
+}
+
+/// Runs one case on its scene, handing each cell to `each`.
+pub fn run_case(
+    index: usize,
+    case: &Case,
+    scene: &Scene,
+    each: &mut dyn FnMut(&Cell),
+) -> Result<Vec<Cell>, String> {
+    let text = scene.dataset_text()?;
+    let stop = must_stop(scene);
+    let mut cells = Vec::new();
+    for name in case.methods {
+        let v = variant_named(name).ok_or_else(|| format!("no method `{name}`"))?;
+        let control = match (v.fixed, case.step) {
+            (true, Some(h)) => Control::FixedStep(h),
+            (true, None) => return Err(format!("{name} is fixed-step but the case has no step")),
+            (false, _) => Control::Tolerance(case.tolerance),
+        };
+        // A fixed-step run's local error monitor compares with the case's tolerance.
+        let o = Options {
+            repeat_budget: 0.0,
+            error: Some(case.tolerance),
+            ..Options::default()
+        };
+        let point = measure(scene, &text, v, control, o);
+        let cell = Cell {
+            case: index,
+            verdict: judge(&point, case.tolerance, stop),
+            point,
+        };
+        each(&cell);
+        cells.push(cell);
+    }
+    Ok(cells)
+}
+
+/// The matrix as markdown: one row per case, one column per method.
+pub fn markdown(cases: &[Case], cells: &[Cell]) -> String {
+    let mut methods: Vec<&str> = Vec::new();
+    for c in cells {
+        if !methods.contains(&c.point.variant.name) {
+            methods.push(c.point.variant.name);
+        }
+    }
+    let mut s = String::from("| scene | what fails there | setting |");
+    for m in &methods {
+        let _ = write!(s, " {m} |");
+    }
+    s += "\n|---|---|---|";
+    s += &"---|".repeat(methods.len());
+    s += "\n";
+    for (i, case) in cases.iter().enumerate() {
+        let row: Vec<&Cell> = cells.iter().filter(|c| c.case == i).collect();
+        if row.is_empty() {
+            continue;
+        }
+        let setting = match case.step {
+            Some(h) if row.iter().all(|c| c.point.variant.fixed) => format!("h = {h:e}"),
+            _ => format!("ERROR {:e}", case.tolerance),
+        };
+        let _ = write!(s, "| {} | {} | {setting} |", case.scene, case.what);
+        for m in &methods {
+            match row.iter().find(|c| c.point.variant.name == *m) {
+                Some(c) => {
+                    let e = c
+                        .point
+                        .errors
+                        .position
+                        .or(c.point.errors.reaction)
+                        .map_or(String::new(), |e| format!(" ({e:.0e})"));
+                    let _ = write!(s, " {}{e} |", c.verdict.name());
+                }
+                None => s += " |",
+            }
+        }
+        s += "\n";
+    }
+    s
+}
+
+/// Every cell's detail: the diagnostic or warning of a named failure.
+pub fn details(cases: &[Case], cells: &[Cell]) -> String {
+    let mut s = String::new();
+    for c in cells {
+        let why = match (&c.point.status, c.point.warnings.first()) {
+            (Status::Failed(w), _) => w.clone(),
+            (Status::Ok, Some(w)) => format!("finished, warned: {w}"),
+            (Status::Ok, None) => continue,
+        };
+        let _ = writeln!(s, "- {} / {}: {why}", cases[c.case].scene, c.point.variant.name);
+    }
+    s
+}
+
+/// The matrix as an SVG heat map: green accurate, amber failed-named, red wrong-silently.
+pub fn heat_map(path: &Path, cases: &[Case], cells: &[Cell]) -> Result<(), String> {
+    font()?;
+    let mut methods: Vec<&str> = Vec::new();
+    for c in cells {
+        if !methods.contains(&c.point.variant.name) {
+            methods.push(c.point.variant.name);
+        }
+    }
+    let rows: Vec<usize> = (0..cases.len())
+        .filter(|i| cells.iter().any(|c| c.case == *i))
+        .collect();
+    let (left, top, cw, ch) = (360i32, 60i32, 120i32, 34i32);
+    let w = (left + cw * methods.len() as i32 + 20) as u32;
+    let h = (top + ch * rows.len() as i32 + 50) as u32;
+    let root = SVGBackend::new(path, (w, h)).into_drawing_area();
+    let err = |e: DrawingAreaErrorKind<_>| format!("{}: {e}", path.display());
+    root.fill(&WHITE).map_err(err)?;
+    let text = |s: &str, x: i32, y: i32, size: i32| Text::new(s.to_string(), (x, y), ("sans-serif", size).into_font());
+    root.draw(&text("Stability suite: which method fails where, and whether it says so", 10, 12, 16))
+        .map_err(err)?;
+    for (k, m) in methods.iter().enumerate() {
+        root.draw(&text(m, left + cw * k as i32 + 4, top - 20, 12)).map_err(err)?;
+    }
+    for (r, &i) in rows.iter().enumerate() {
+        let y = top + ch * r as i32;
+        let case = &cases[i];
+        let label = match case.step {
+            Some(hh) if cells.iter().filter(|c| c.case == i).all(|c| c.point.variant.fixed) => {
+                format!("{} (h = {hh:e})", case.scene)
+            }
+            _ => format!("{} (ERROR {:e})", case.scene, case.tolerance),
+        };
+        root.draw(&text(&label, 6, y + 10, 12)).map_err(err)?;
+        for (k, m) in methods.iter().enumerate() {
+            let Some(c) = cells.iter().find(|c| c.case == i && c.point.variant.name == *m) else {
+                continue;
+            };
+            let color = match c.verdict {
+                Verdict::Accurate => RGBColor(120, 200, 120),
+                Verdict::FailedNamed => RGBColor(240, 190, 80),
+                Verdict::WrongSilently => RGBColor(220, 70, 60),
+            };
+            let x = left + cw * k as i32;
+            root.draw(&Rectangle::new([(x, y), (x + cw - 3, y + ch - 3)], color.filled()))
+                .map_err(err)?;
+            root.draw(&text(c.verdict.name(), x + 4, y + 10, 11)).map_err(err)?;
+        }
+    }
+    let legend_y = top + ch * rows.len() as i32 + 16;
+    root.draw(&text(
+        "green: error within 10× the tolerance; amber: stopped with a diagnostic or warned; red: reported success, wrong",
+        6,
+        legend_y,
+        12,
+    ))
+    .map_err(err)?;
+    root.present().map_err(err)
+}

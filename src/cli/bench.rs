@@ -1,0 +1,388 @@
+//! `mbfx bench wp|stability|scaling|generate`: the speed-against-accuracy benches of
+//! [`crate::bench`] on the scenes of `examples/scenes/` (or `--scenes DIR`), writing
+//! CSV, SVG charts and a markdown summary into `--out DIR`, with progress on stderr.
+
+use super::output::{Output, Stop};
+use crate::bench::point::{variant_named, Options, Point, Status, Variant, DEFAULT_WP};
+use crate::bench::scene::{load_dir, Scene};
+use crate::bench::wp::{parse_errors, run_scene, Grid, Row};
+use crate::bench::{generate, output};
+use crate::diag::{Code, Diagnostic, SourceFile};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Subcommand)]
+pub enum BenchCommand {
+    /// Work-precision charts: every scene × method × tolerance, scored against the truth.
+    Wp(WpArgs),
+    /// The stability suite: scenes where methods fail, each cell accurate, failed
+    /// (named) or wrong (silently); markdown and an SVG heat map.
+    Stability(StabilityArgs),
+    /// CPU per step and per simulated second against N (chain, N-four-bar; 2D and 3D).
+    Scaling(ScalingArgs),
+    /// Orders of convergence of every method on the A01 scene.
+    Orders(StabilityArgs),
+    /// Print a generated dataset (`chain` or `four_bar`, size N) on stdout.
+    Generate {
+        /// `chain` or `four_bar`.
+        kind: String,
+        /// The size.
+        n: usize,
+    },
+}
+
+#[derive(clap::Args)]
+pub struct WpArgs {
+    /// Scenes to run (names of truth files in --scenes) [default: all].
+    scenes: Vec<String>,
+    /// Where the scenes' truth files are.
+    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    dir: PathBuf,
+    /// Methods, comma-separated [default: gstiff,gstiff-si2,wstiff,hht,galpha,dopri853,hht-fixed].
+    #[arg(long, value_delimiter = ',')]
+    integrators: Vec<String>,
+    /// Tolerances: A..B (the Test Set ladder 10^-(2+m/2) between them) or a list.
+    #[arg(long, default_value = "1e-2..1e-10")]
+    errors: String,
+    /// Where the CSV, SVG and summary go.
+    #[arg(long, default_value = "target/bench-wp")]
+    out: PathBuf,
+    /// A directory of peers' points (benches/peers/run.sh), drawn on the same charts.
+    #[arg(long, value_name = "DIR")]
+    peers: Option<PathBuf>,
+    /// Seconds one run may take before a method's tighter settings are skipped.
+    #[arg(long, default_value = "2")]
+    budget: f64,
+    /// Halvings of the output step a fixed-step method tries.
+    #[arg(long, default_value = "10")]
+    halvings: u32,
+    /// Also run the first method in 3D on planar scenes and with the interpreter
+    /// (curves `NAME@3d`, `NAME@interp`).
+    #[arg(long)]
+    variations: bool,
+}
+
+#[derive(clap::Args)]
+pub struct StabilityArgs {
+    /// Where the scenes' truth files are.
+    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    dir: PathBuf,
+    /// Where stability.md and stability.svg go.
+    #[arg(long, default_value = "target/bench-wp")]
+    out: PathBuf,
+}
+
+#[derive(clap::Args)]
+pub struct ScalingArgs {
+    /// Where scaling.csv, scaling.svg and scaling.md go.
+    #[arg(long, default_value = "target/bench-wp")]
+    out: PathBuf,
+    /// The method.
+    #[arg(long, default_value = "gstiff")]
+    integrator: String,
+    /// Its tolerance.
+    #[arg(long, default_value = "1e-6")]
+    error: f64,
+    /// Simulated time of each run, s.
+    #[arg(long, default_value = "1")]
+    end: f64,
+}
+
+fn fail(msg: String, o: &mut Output) -> Result<i32, Stop> {
+    let d = Diagnostic::error(Code::CommandLine, 0..0, msg);
+    o.diagnostics(&[d], &SourceFile::new("command line", ""))?;
+    Err(Stop::Failed)
+}
+
+pub fn run(c: &BenchCommand, o: &mut Output) -> Result<i32, Stop> {
+    match c {
+        BenchCommand::Wp(a) => wp(a, o),
+        BenchCommand::Stability(a) => stability(a, o),
+        BenchCommand::Scaling(a) => scaling(a, o),
+        BenchCommand::Orders(a) => orders(a, o),
+        BenchCommand::Generate { kind, n } => match generate::generate(kind, *n) {
+            Some(text) => {
+                o.out().write_all(text.as_bytes()).map_err(Stop::Io)?;
+                Ok(0)
+            }
+            None => fail(format!("cannot generate `{kind}` of size {n} (chain or four_bar, N ≥ 1)"), o),
+        },
+    }
+}
+
+/// The scenes named (all when none), or why not.
+pub fn select(dir: &Path, names: &[String]) -> Result<Vec<Scene>, String> {
+    let all = load_dir(dir)?;
+    if names.is_empty() {
+        return Ok(all);
+    }
+    names
+        .iter()
+        .map(|n| {
+            all.iter().find(|s| &s.name == n).cloned().ok_or_else(|| {
+                let known: Vec<&str> = all.iter().map(|s| s.name.as_str()).collect();
+                format!("no scene `{n}` in {} (there are: {})", dir.display(), known.join(", "))
+            })
+        })
+        .collect()
+}
+
+/// The methods named (the default set when none), or why not.
+pub fn variants(names: &[String], default: &[&str]) -> Result<Vec<Variant>, String> {
+    let names: Vec<&str> = if names.is_empty() {
+        default.to_vec()
+    } else {
+        names.iter().map(|s| s.as_str()).collect()
+    };
+    names
+        .iter()
+        .map(|n| {
+            variant_named(n).ok_or_else(|| {
+                let known: Vec<&str> = crate::bench::point::VARIANTS.iter().map(|v| v.name).collect();
+                format!("no method `{n}` (there are: {})", known.join(", "))
+            })
+        })
+        .collect()
+}
+
+/// A bar over points on stderr when it is a terminal, else one line per scene.
+pub struct Ticker {
+    bar: Option<ProgressBar>,
+}
+
+impl Ticker {
+    pub fn new(total: u64) -> Ticker {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let b = ProgressBar::new(total);
+            if let Ok(s) = ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed_precise}]") {
+                b.set_style(s);
+            }
+            b
+        });
+        Ticker { bar }
+    }
+
+    pub fn point(&self, p: &Point) {
+        if let Some(b) = &self.bar {
+            b.inc(1);
+            let e = p.errors.worst().map_or("—".into(), |e| format!("{e:.1e}"));
+            b.set_message(format!("{} {} {:.0e}: error {e}, {:.2e} s", p.scene, p.variant.name, p.control.value(), p.cpu));
+        }
+    }
+
+    pub fn line(&self, o: &mut Output, text: &str) -> Result<(), Stop> {
+        match &self.bar {
+            Some(b) => b.println(text),
+            None => writeln!(o.err(), "{text}").map_err(Stop::Io)?,
+        }
+        Ok(())
+    }
+
+    pub fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+
+fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
+    let setup = (|| -> Result<_, String> {
+        let scenes = select(&a.dir, &a.scenes)?;
+        let variants = variants(&a.integrators, DEFAULT_WP)?;
+        let errors = parse_errors(&a.errors)?;
+        if !(a.budget.is_finite() && a.budget > 0.0) {
+            return Err(format!("--budget {} must be a positive number of seconds", a.budget));
+        }
+        std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+        Ok((scenes, variants, errors))
+    })();
+    let (scenes, variants, errors) = match setup {
+        Ok(s) => s,
+        Err(e) => return fail(e, o),
+    };
+    let grid = Grid {
+        variants: variants.clone(),
+        errors: errors.clone(),
+        halvings: a.halvings,
+        budget: a.budget,
+        options: Options {
+            repeat_budget: 0.05,
+            ..Options::default()
+        },
+    };
+    let per_scene = variants
+        .iter()
+        .map(|v| if v.fixed { a.halvings as usize + 1 } else { errors.len() })
+        .sum::<usize>();
+    let ticker = Ticker::new((per_scene * scenes.len()) as u64);
+    let clock = std::time::Instant::now();
+    let mut summary = String::from("# Work-precision summary\n\nEach table: the cheapest run whose error is at most the level (CPU of the run, best of up to 5 repeats).\n");
+    let mut failed = false;
+    for scene in &scenes {
+        let mut rows: Vec<Row> = Vec::new();
+        let mut each = |p: &Point| ticker.point(p);
+        let points = match run_scene(scene, &grid, &mut each) {
+            Ok(p) => p,
+            Err(e) => {
+                ticker.line(o, &format!("{}: {e}", scene.name))?;
+                failed = true;
+                continue;
+            }
+        };
+        rows.extend(points.iter().map(|p| Row::of(p, None)));
+        if a.variations {
+            let mut varied = grid.clone();
+            varied.variants.truncate(1);
+            let text = scene.dataset_text().unwrap_or_default();
+            let tagged = |g: &Grid, tag: &str, rows: &mut Vec<Row>| {
+                for c in crate::bench::wp::controls(g, scene, &g.variants[0]) {
+                    let p = crate::bench::point::measure(scene, &text, g.variants[0], c, g.options);
+                    ticker.point(&p);
+                    let stop = p.cpu > g.budget;
+                    rows.push(Row::of(&p, Some(tag)));
+                    if stop {
+                        break;
+                    }
+                }
+            };
+            if points.first().is_some_and(|p| p.dim == 2) {
+                let mut three = varied.clone();
+                three.options.dim = Some(3);
+                tagged(&three, "3d", &mut rows);
+            }
+            let mut interp = varied.clone();
+            interp.options.engine = crate::session::run::Engine::Interp;
+            tagged(&interp, "interp", &mut rows);
+        }
+        let peers = match output::peer_rows(a.peers.as_deref(), scene) {
+            Ok(p) => p,
+            Err(e) => return fail(e, o),
+        };
+        match output::write_scene(&a.out, scene, &rows, &peers) {
+            Ok(s) => summary += &s,
+            Err(e) => return fail(e, o),
+        }
+        let bad = points.iter().filter(|p| p.status != Status::Ok).count();
+        ticker.line(o, &format!("{}: {} runs ({} stopped with a diagnostic), {:.0} s so far", scene.name, rows.len(), bad, clock.elapsed().as_secs_f64()))?;
+    }
+    ticker.finish();
+    summary += &format!("\nWhole run: {:.1} s wall clock.\n", clock.elapsed().as_secs_f64());
+    let path = a.out.join("summary.md");
+    if let Err(e) = std::fs::write(&path, summary) {
+        return fail(format!("{}: {e}", path.display()), o);
+    }
+    writeln!(o.err(), "wrote {}", a.out.display()).map_err(Stop::Io)?;
+    Ok(if failed { 1 } else { 0 })
+}
+
+fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
+    use crate::bench::stability::{details, heat_map, markdown, run_case, Cell, Verdict, CASES};
+    let scenes = match load_dir(&a.dir) {
+        Ok(s) => s,
+        Err(e) => return fail(e, o),
+    };
+    if let Err(e) = std::fs::create_dir_all(&a.out) {
+        return fail(format!("{}: {e}", a.out.display()), o);
+    }
+    let total: usize = CASES.iter().map(|c| c.methods.len()).sum();
+    let ticker = Ticker::new(total as u64);
+    let clock = std::time::Instant::now();
+    let mut cells: Vec<Cell> = Vec::new();
+    let mut missing = Vec::new();
+    for (i, case) in CASES.iter().enumerate() {
+        let Some(scene) = scenes.iter().find(|s| s.name == case.scene) else {
+            missing.push(case.scene);
+            continue;
+        };
+        let mut each = |c: &Cell| ticker.point(&c.point);
+        match run_case(i, case, scene, &mut each) {
+            Ok(c) => cells.extend(c),
+            Err(e) => return fail(format!("{}: {e}", case.scene), o),
+        }
+    }
+    ticker.finish();
+    let mut md = String::from("# Stability suite\n\nEach cell: **accurate** (error within 10× the tolerance), **failed, named** (stopped with a diagnostic naming time, cause and element, or finished with a warning from its own monitors) or **wrong, silently** (reported success with a larger error). The error is in brackets.\n\n");
+    md += &markdown(CASES, &cells);
+    md += "\nWhat the named failures said:\n\n";
+    md += &details(CASES, &cells);
+    let silent: Vec<&Cell> = cells.iter().filter(|c| c.verdict == Verdict::WrongSilently).collect();
+    md += &format!("\n{} cells, {} wrong silently ({} of them error-controlled); {:.1} s.\n", cells.len(), silent.len(), silent.iter().filter(|c| !c.point.variant.fixed).count(), clock.elapsed().as_secs_f64());
+    if !missing.is_empty() {
+        md += &format!("\nScenes not found in {}: {}\n", a.dir.display(), missing.join(", "));
+    }
+    let path = a.out.join("stability.md");
+    if let Err(e) = std::fs::write(&path, &md) {
+        return fail(format!("{}: {e}", path.display()), o);
+    }
+    if let Err(e) = heat_map(&a.out.join("stability.svg"), CASES, &cells) {
+        return fail(e, o);
+    }
+    writeln!(o.err(), "wrote {} and stability.svg: {} cells, {} wrong silently", path.display(), cells.len(), silent.len()).map_err(Stop::Io)?;
+    Ok(0)
+}
+
+fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
+    use crate::bench::point::Control;
+    use crate::bench::scaling::{sample, write, SIZES};
+    let v = match variants(std::slice::from_ref(&a.integrator), &[]) {
+        Ok(v) => v[0],
+        Err(e) => return fail(e, o),
+    };
+    if let Err(e) = std::fs::create_dir_all(&a.out) {
+        return fail(format!("{}: {e}", a.out.display()), o);
+    }
+    let control = if v.fixed { Control::FixedStep(a.error) } else { Control::Tolerance(a.error) };
+    let total: usize = SIZES.iter().map(|(_, n)| 2 * n.len()).sum();
+    let ticker = Ticker::new(total as u64);
+    let mut samples = Vec::new();
+    for (kind, sizes) in SIZES {
+        for dim in [2u8, 3] {
+            for &n in *sizes {
+                let s = sample(kind, n, dim, a.end, v, control);
+                if let Some(b) = &ticker.bar {
+                    b.inc(1);
+                    b.set_message(format!("{kind} {dim}D N = {n}: {:.2e} s", s.cpu));
+                }
+                samples.push(s);
+            }
+        }
+    }
+    ticker.finish();
+    match write(&a.out, &samples, v.name, control) {
+        Ok(md) => {
+            let path = a.out.join("scaling.md");
+            if let Err(e) = std::fs::write(&path, md) {
+                return fail(format!("{}: {e}", path.display()), o);
+            }
+            writeln!(o.err(), "wrote {}", path.display()).map_err(Stop::Io)?;
+            Ok(0)
+        }
+        Err(e) => fail(e, o),
+    }
+}
+
+fn orders(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
+    use crate::bench::orders::{markdown, measure_orders};
+    let scene = match select(&a.dir, &["a01_pendulum".to_string()]) {
+        Ok(mut s) => s.remove(0),
+        Err(e) => return fail(e, o),
+    };
+    if let Err(e) = std::fs::create_dir_all(&a.out) {
+        return fail(format!("{}: {e}", a.out.display()), o);
+    }
+    let ticker = Ticker::new(48);
+    let result = measure_orders(&scene, &mut |p| ticker.point(p));
+    ticker.finish();
+    let md = match result {
+        Ok(orders) => markdown(&scene, &orders),
+        Err(e) => return fail(e, o),
+    };
+    let path = a.out.join("orders.md");
+    if let Err(e) = std::fs::write(&path, &md) {
+        return fail(format!("{}: {e}", path.display()), o);
+    }
+    write!(o.err(), "{md}").map_err(Stop::Io)?;
+    Ok(0)
+}
