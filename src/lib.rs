@@ -13,6 +13,7 @@
 #[cfg(test)]
 extern crate self as mbfx;
 
+pub mod bench;
 pub mod check;
 pub mod cli;
 pub mod context;

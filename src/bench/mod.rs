@@ -1,0 +1,3 @@
+//! Work-precision and stability benches.
+
+pub mod generate;
