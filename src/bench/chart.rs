@@ -141,11 +141,14 @@ fn panel<DB: DrawingBackend>(
             }
         }
         let series = chart
-            .draw_series(LineSeries::new(c.points.iter().copied(), color.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                c.points.iter().copied(),
+                color.stroke_width(2),
+            ))
             .map_err(err)?;
-        series
-            .label(c.name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+        series.label(c.name.clone()).legend(move |(x, y)| {
+            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+        });
         if c.peer {
             chart
                 .draw_series(
@@ -195,7 +198,9 @@ mod tests {
 
     #[test]
     fn slope_of_a_power_law() {
-        let pts: Vec<(f64, f64)> = (1..6).map(|k| (k as f64, 3.0 * (k as f64).powf(1.5))).collect();
+        let pts: Vec<(f64, f64)> = (1..6)
+            .map(|k| (k as f64, 3.0 * (k as f64).powf(1.5)))
+            .collect();
         assert!((slope(&pts).unwrap() - 1.5).abs() < 1e-12);
         assert_eq!(slope(&pts[..1]), None);
     }

@@ -55,7 +55,13 @@ pub fn measure_orders(scene: &Scene, each: &mut dyn FnMut(&Point)) -> Result<Vec
         let v = variant_named(name).ok_or_else(|| format!("no method {name}"))?;
         let mut pts = Vec::new();
         for &k in halvings {
-            let p = measure(scene, &text, v, Control::FixedStep(base / f64::from(1u32 << k)), o);
+            let p = measure(
+                scene,
+                &text,
+                v,
+                Control::FixedStep(base / f64::from(1u32 << k)),
+                o,
+            );
             each(&p);
             pts.push(p);
         }
@@ -76,7 +82,13 @@ pub fn measure_orders(scene: &Scene, each: &mut dyn FnMut(&Point)) -> Result<Vec
         };
         let mut pts = Vec::new();
         for &e in errors {
-            let p = measure(scene, &text, gstiff, Control::Tolerance(e), Options { kmax: Some(k), ..o });
+            let p = measure(
+                scene,
+                &text,
+                gstiff,
+                Control::Tolerance(e),
+                Options { kmax: Some(k), ..o },
+            );
             each(&p);
             pts.push(p);
         }
@@ -102,7 +114,13 @@ pub fn markdown(scene: &Scene, orders: &[Order]) -> String {
             Some(m) => (format!("{m:.2}"), format!("{:.2}", (m - o.theory).abs())),
             None => ("—".into(), "—".into()),
         };
-        let _ = writeln!(s, "| {} | {} | {m} | {off} | {} |", o.method, o.theory, o.points.len());
+        let _ = writeln!(
+            s,
+            "| {} | {} | {m} | {off} | {} |",
+            o.method,
+            o.theory,
+            o.points.len()
+        );
     }
     s
 }

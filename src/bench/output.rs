@@ -25,7 +25,12 @@ pub fn peer_rows(peers: Option<&Path>, scene: &Scene) -> Result<Vec<Row>, String
 
 /// Writes `DIR/SCENE.csv` (the mbfx rows only: the peers keep their own files) and
 /// `DIR/SCENE.svg` (mbfx and peers), and returns the scene's summary section.
-pub fn write_scene(dir: &Path, scene: &Scene, ours: &[Row], peers: &[Row]) -> Result<String, String> {
+pub fn write_scene(
+    dir: &Path,
+    scene: &Scene,
+    ours: &[Row],
+    peers: &[Row],
+) -> Result<String, String> {
     write_csv(&dir.join(format!("{}.csv", scene.name)), ours)?;
     let all: Vec<Row> = ours.iter().chain(peers).cloned().collect();
     let titles: Vec<String> = scene

@@ -27,6 +27,8 @@ pub struct Variant {
     pub rho_inf: Option<f64>,
     /// The order its theory gives on smooth problems.
     pub order: u32,
+    /// ERROR bounds the whole run's error, not each step's.
+    pub per_run: bool,
 }
 
 const fn variant(name: &'static str, method: Method, fixed: bool, order: u32) -> Variant {
@@ -37,6 +39,7 @@ const fn variant(name: &'static str, method: Method, fixed: bool, order: u32) ->
         fixed,
         rho_inf: None,
         order,
+        per_run: false,
     }
 }
 
@@ -62,6 +65,28 @@ pub const VARIANTS: &[Variant] = &[
     },
     variant("newmark", Method::Newmark, false, 1),
     variant("dopri853", Method::Dopri853, false, 8),
+    Variant {
+        formulation: Some(Formulation::I3),
+        per_run: true,
+        ..variant("gstiff-run", Method::Gstiff, false, 6)
+    },
+    Variant {
+        formulation: Some(Formulation::Si2),
+        per_run: true,
+        ..variant("gstiff-si2-run", Method::Gstiff, false, 6)
+    },
+    Variant {
+        per_run: true,
+        ..variant("hht-run", Method::Hht, false, 2)
+    },
+    Variant {
+        per_run: true,
+        ..variant("galpha-run", Method::Galpha, false, 2)
+    },
+    Variant {
+        per_run: true,
+        ..variant("dopri853-run", Method::Dopri853, false, 8)
+    },
     variant("hht-fixed", Method::Hht, true, 2),
     variant("newmark-fixed", Method::Newmark, true, 1),
     variant("dopri853-fixed", Method::Dopri853, true, 8),
@@ -245,7 +270,9 @@ fn build(
     spec.formulation = variant.formulation;
     spec.rho_inf = variant.rho_inf;
     spec.hmax = scene.hmax;
+    spec.hmin = scene.hmin;
     spec.kmax = o.kmax;
+    spec.error_per_run = variant.per_run;
     spec.engine = o.engine;
     spec.dim = match o.dim.or(scene.dim) {
         Some(2) => DimRequest::Two,

@@ -42,7 +42,14 @@ impl Sample {
 }
 
 /// Runs `kind` at size `n` in `dim` for `end` seconds with `v` at `control`.
-pub fn sample(kind: &'static str, n: usize, dim: u8, end: f64, v: Variant, control: Control) -> Sample {
+pub fn sample(
+    kind: &'static str,
+    n: usize,
+    dim: u8,
+    end: f64,
+    v: Variant,
+    control: Control,
+) -> Sample {
     let mut s = Sample {
         kind,
         dim,
@@ -59,7 +66,11 @@ pub fn sample(kind: &'static str, n: usize, dim: u8, end: f64, v: Variant, contr
     let mut spec = RunSpec::new(end, end);
     spec.method = Some(v.method);
     spec.formulation = v.formulation;
-    spec.dim = if dim == 2 { DimRequest::Two } else { DimRequest::Three };
+    spec.dim = if dim == 2 {
+        DimRequest::Two
+    } else {
+        DimRequest::Three
+    };
     match control {
         Control::Tolerance(e) => spec.error = Some(e),
         Control::FixedStep(h) => spec.fixed_step = Some(h),
@@ -85,12 +96,27 @@ pub const SIZES: &[(&str, &[usize])] = &[
 ];
 
 /// Writes `scaling.svg` and `scaling.csv` into `dir` and returns the markdown section.
-pub fn write(dir: &Path, samples: &[Sample], method: &str, control: Control) -> Result<String, String> {
+pub fn write(
+    dir: &Path,
+    samples: &[Sample],
+    method: &str,
+    control: Control,
+) -> Result<String, String> {
     let csv_path = dir.join("scaling.csv");
     let fail = |e: csv::Error| format!("{}: {e}", csv_path.display());
     let mut w = csv::Writer::from_path(&csv_path).map_err(fail)?;
-    w.write_record(["kind", "dim", "n", "steps", "cpu_s", "end_s", "cpu_per_step_s", "cpu_per_simulated_s", "status"])
-        .map_err(fail)?;
+    w.write_record([
+        "kind",
+        "dim",
+        "n",
+        "steps",
+        "cpu_s",
+        "end_s",
+        "cpu_per_step_s",
+        "cpu_per_simulated_s",
+        "status",
+    ])
+    .map_err(fail)?;
     for s in samples {
         w.write_record([
             s.kind.to_string(),
@@ -101,11 +127,14 @@ pub fn write(dir: &Path, samples: &[Sample], method: &str, control: Control) -> 
             format!("{:e}", s.end),
             format!("{:e}", s.per_step()),
             format!("{:e}", s.per_second()),
-            s.failure.clone().map_or("ok".into(), |f| format!("failed: {f}")),
+            s.failure
+                .clone()
+                .map_or("ok".into(), |f| format!("failed: {f}")),
         ])
         .map_err(fail)?;
     }
-    w.flush().map_err(|e| format!("{}: {e}", csv_path.display()))?;
+    w.flush()
+        .map_err(|e| format!("{}: {e}", csv_path.display()))?;
     let mut md = format!(
         "\n## Scaling\n\n{method} at {} {:e}; CPU per accepted step against N, least-squares slope of log CPU against log N (1 = linear).\n\n| model | dim | N | steps | CPU per step | CPU per simulated s |\n|---|---|---|---|---|---|\n",
         control.kind(),
@@ -127,14 +156,21 @@ pub fn write(dir: &Path, samples: &[Sample], method: &str, control: Control) -> 
                     s.steps,
                     s.per_step(),
                     s.per_second(),
-                    s.failure.as_ref().map_or(String::new(), |f| format!(" failed: {f}"))
+                    s.failure
+                        .as_ref()
+                        .map_or(String::new(), |f| format!(" failed: {f}"))
                 );
             }
             let a: Vec<(f64, f64)> = ok.iter().map(|s| (s.n as f64, s.per_step())).collect();
             let b: Vec<(f64, f64)> = ok.iter().map(|s| (s.n as f64, s.per_second())).collect();
             let (sa, sb) = (chart::slope(&a), chart::slope(&b));
             let fmt = |s: Option<f64>| s.map_or("—".into(), |s| format!("{s:.2}"));
-            let _ = writeln!(md, "| {kind} {dim}D slope | | | | {} | {} |", fmt(sa), fmt(sb));
+            let _ = writeln!(
+                md,
+                "| {kind} {dim}D slope | | | | {} | {} |",
+                fmt(sa),
+                fmt(sb)
+            );
             let name = |what: Option<f64>| format!("{kind} {dim}D (slope {})", fmt(what));
             per_step.push(Curve {
                 name: name(sa),

@@ -89,6 +89,8 @@ struct File {
     scale: Option<f64>,
     #[serde(default)]
     hmax: Option<f64>,
+    #[serde(default)]
+    hmin: Option<f64>,
     probe: Vec<Probe>,
     at: Vec<BTreeMap<String, toml::Value>>,
 }
@@ -129,8 +131,10 @@ pub struct Scene {
     pub end: f64,
     /// Rows of the run.
     pub output_step: f64,
-    /// The largest step, when the scene sets one (else the output step, as `mbfx run`).
+    /// The largest step, when the scene sets one (else the bench's output step).
     pub hmax: Option<f64>,
+    /// The smallest step, when the scene sets one (else 1e-6·HMAX, as `mbfx run`).
+    pub hmin: Option<f64>,
     /// Where the problem is described.
     pub section: String,
     /// Where the values come from.
@@ -184,8 +188,10 @@ impl Scene {
         let end = positive("end", f.end)?;
         let output_step = positive("output_step", f.output_step)?;
         let scale = positive("scale", f.scale.unwrap_or(1.0))?;
-        if let Some(h) = f.hmax {
-            positive("hmax", h)?;
+        for (what, h) in [("hmax", f.hmax), ("hmin", f.hmin)] {
+            if let Some(h) = h {
+                positive(what, h)?;
+            }
         }
         let dim = match f.dim {
             None => match &dataset {
@@ -228,7 +234,9 @@ impl Scene {
                     .filter(|v| v.is_finite())
                     .ok_or_else(|| format!("[[at]] time {time}: `{key}` is not a finite number"))?;
                 if f.probe[probe].relative && value == 0.0 {
-                    return Err(format!("[[at]] time {time}: relative probe `{key}` has a zero reference"));
+                    return Err(format!(
+                        "[[at]] time {time}: relative probe `{key}` has a zero reference"
+                    ));
                 }
                 references.push(Reference {
                     row: row as usize,
@@ -248,6 +256,7 @@ impl Scene {
             end,
             output_step,
             hmax: f.hmax,
+            hmin: f.hmin,
             section: f.section,
             truth: f.truth,
             source: f.source,
@@ -261,8 +270,9 @@ impl Scene {
     /// The dataset's text.
     pub fn dataset_text(&self) -> Result<String, String> {
         match &self.dataset {
-            Dataset::File(p) => std::fs::read_to_string(p)
-                .map_err(|e| format!("{}: cannot read: {e}", p.display())),
+            Dataset::File(p) => {
+                std::fs::read_to_string(p).map_err(|e| format!("{}: cannot read: {e}", p.display()))
+            }
             Dataset::Generated(g) => super::generate::generate(&g.kind, g.n)
                 .ok_or_else(|| format!("cannot generate a `{}` of size {}", g.kind, g.n)),
         }
@@ -281,11 +291,7 @@ impl Scene {
             }
         }
         let last = (self.end / self.output_step).round() as usize;
-        self.references
-            .iter()
-            .map(|r| r.row)
-            .fold(last, gcd)
-            .max(1)
+        self.references.iter().map(|r| r.row).fold(last, gcd).max(1)
     }
 
     /// The groups the scene scores, in order.
@@ -303,7 +309,11 @@ impl Scene {
         let mut e = Errors::default();
         for g in self.groups() {
             let mut worst: Option<f64> = Some(0.0);
-            for r in self.references.iter().filter(|r| self.probes[r.probe].group == g) {
+            for r in self
+                .references
+                .iter()
+                .filter(|r| self.probes[r.probe].group == g)
+            {
                 let y = rows.get(r.row / stride).map(|row| row[r.probe]);
                 worst = match (worst, y) {
                     (Some(w), Some(y)) if y.is_finite() => {

@@ -61,7 +61,14 @@ pub struct Grid {
 pub fn controls(grid: &Grid, scene: &Scene, v: &Variant) -> Vec<Control> {
     if v.fixed {
         (0..=grid.halvings)
-            .map(|k| Control::FixedStep(scene.hmax.unwrap_or(scene.output_step * scene.stride() as f64) / f64::from(1u32 << k)))
+            .map(|k| {
+                Control::FixedStep(
+                    scene
+                        .hmax
+                        .unwrap_or(scene.output_step * scene.stride() as f64)
+                        / f64::from(1u32 << k),
+                )
+            })
             .collect()
     } else {
         grid.errors.iter().map(|&e| Control::Tolerance(e)).collect()
@@ -196,7 +203,11 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
             opt(r.error_reaction),
             format!("{:e}", r.cpu),
         ];
-        rec.extend(r.counters.iter().map(|c| c.map_or(String::new(), |c| c.to_string())));
+        rec.extend(
+            r.counters
+                .iter()
+                .map(|c| c.map_or(String::new(), |c| c.to_string())),
+        );
         rec.push(r.status.clone());
         w.write_record(&rec).map_err(fail)?;
     }
@@ -283,7 +294,9 @@ pub fn summary_table(scene: &Scene, rows: &[Row]) -> String {
                 None => "— | | ".to_string(),
             };
             if peers.is_empty() {
-                let steps = a.and_then(|r| r.counters[0]).map_or(String::new(), |n| n.to_string());
+                let steps = a
+                    .and_then(|r| r.counters[0])
+                    .map_or(String::new(), |n| n.to_string());
                 let _ = writeln!(s, "| 1e-{k} | {} | {steps} |", cell(a));
             } else {
                 let ratio = match (a, b) {
@@ -335,14 +348,24 @@ mod tests {
             counters: [Some(3), None, Some(1), Some(2), Some(0)],
             status: "ok".into(),
         };
-        let rows = vec![row("hht", 1e-7, 0.5), row("gstiff", 5e-7, 0.01), row("x", 1e-3, 1e-4)];
+        let rows = vec![
+            row("hht", 1e-7, 0.5),
+            row("gstiff", 5e-7, 0.01),
+            row("x", 1e-3, 1e-4),
+        ];
         let path = std::env::temp_dir().join(format!("mbfx-wp-{}.csv", std::process::id()));
         write_csv(&path, &rows).unwrap();
         let back = read_csv(&path).unwrap();
         let _ = std::fs::remove_file(&path);
         assert_eq!(back, rows);
-        assert_eq!(cheapest(&rows, Group::Position, 1e-6).unwrap().method, "gstiff");
-        assert_eq!(cheapest(&rows, Group::Position, 2e-7).unwrap().method, "hht");
+        assert_eq!(
+            cheapest(&rows, Group::Position, 1e-6).unwrap().method,
+            "gstiff"
+        );
+        assert_eq!(
+            cheapest(&rows, Group::Position, 2e-7).unwrap().method,
+            "hht"
+        );
         assert!(cheapest(&rows, Group::Reaction, 1.0).is_none());
     }
 }

@@ -21,6 +21,9 @@ pub enum BenchCommand {
     Stability(StabilityArgs),
     /// CPU per step and per simulated second against N (chain, N-four-bar; 2D and 3D).
     Scaling(ScalingArgs),
+    /// Everything, in one directory: wp (with the 3D and interpreter variations),
+    /// stability, scaling and orders.
+    All(AllArgs),
     /// Orders of convergence of every method on the A01 scene.
     Orders(StabilityArgs),
     /// Print a generated dataset (`chain` or `four_bar`, size N) on stdout.
@@ -64,6 +67,19 @@ pub struct WpArgs {
 }
 
 #[derive(clap::Args)]
+pub struct AllArgs {
+    /// Where the scenes' truth files are.
+    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    dir: PathBuf,
+    /// Where everything goes.
+    #[arg(long, default_value = "target/bench-wp")]
+    out: PathBuf,
+    /// A directory of peers' points (benches/peers/run.sh), drawn on the same charts.
+    #[arg(long, value_name = "DIR")]
+    peers: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
 pub struct StabilityArgs {
     /// Where the scenes' truth files are.
     #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
@@ -101,12 +117,16 @@ pub fn run(c: &BenchCommand, o: &mut Output) -> Result<i32, Stop> {
         BenchCommand::Stability(a) => stability(a, o),
         BenchCommand::Scaling(a) => scaling(a, o),
         BenchCommand::Orders(a) => orders(a, o),
+        BenchCommand::All(a) => all(a, o),
         BenchCommand::Generate { kind, n } => match generate::generate(kind, *n) {
             Some(text) => {
                 o.out().write_all(text.as_bytes()).map_err(Stop::Io)?;
                 Ok(0)
             }
-            None => fail(format!("cannot generate `{kind}` of size {n} (chain or four_bar, N ≥ 1)"), o),
+            None => fail(
+                format!("cannot generate `{kind}` of size {n} (chain or four_bar, N ≥ 1)"),
+                o,
+            ),
         },
     }
 }
@@ -122,7 +142,11 @@ pub fn select(dir: &Path, names: &[String]) -> Result<Vec<Scene>, String> {
         .map(|n| {
             all.iter().find(|s| &s.name == n).cloned().ok_or_else(|| {
                 let known: Vec<&str> = all.iter().map(|s| s.name.as_str()).collect();
-                format!("no scene `{n}` in {} (there are: {})", dir.display(), known.join(", "))
+                format!(
+                    "no scene `{n}` in {} (there are: {})",
+                    dir.display(),
+                    known.join(", ")
+                )
             })
         })
         .collect()
@@ -139,7 +163,10 @@ pub fn variants(names: &[String], default: &[&str]) -> Result<Vec<Variant>, Stri
         .iter()
         .map(|n| {
             variant_named(n).ok_or_else(|| {
-                let known: Vec<&str> = crate::bench::point::VARIANTS.iter().map(|v| v.name).collect();
+                let known: Vec<&str> = crate::bench::point::VARIANTS
+                    .iter()
+                    .map(|v| v.name)
+                    .collect();
                 format!("no method `{n}` (there are: {})", known.join(", "))
             })
         })
@@ -155,7 +182,9 @@ impl Ticker {
     pub fn new(total: u64) -> Ticker {
         let bar = std::io::stderr().is_terminal().then(|| {
             let b = ProgressBar::new(total);
-            if let Ok(s) = ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed_precise}]") {
+            if let Ok(s) =
+                ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed_precise}]")
+            {
                 b.set_style(s);
             }
             b
@@ -167,7 +196,13 @@ impl Ticker {
         if let Some(b) = &self.bar {
             b.inc(1);
             let e = p.errors.worst().map_or("—".into(), |e| format!("{e:.1e}"));
-            b.set_message(format!("{} {} {:.0e}: error {e}, {:.2e} s", p.scene, p.variant.name, p.control.value(), p.cpu));
+            b.set_message(format!(
+                "{} {} {:.0e}: error {e}, {:.2e} s",
+                p.scene,
+                p.variant.name,
+                p.control.value(),
+                p.cpu
+            ));
         }
     }
 
@@ -186,14 +221,16 @@ impl Ticker {
     }
 }
 
-
 fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
     let setup = (|| -> Result<_, String> {
         let scenes = select(&a.dir, &a.scenes)?;
         let variants = variants(&a.integrators, DEFAULT_WP)?;
         let errors = parse_errors(&a.errors)?;
         if !(a.budget.is_finite() && a.budget > 0.0) {
-            return Err(format!("--budget {} must be a positive number of seconds", a.budget));
+            return Err(format!(
+                "--budget {} must be a positive number of seconds",
+                a.budget
+            ));
         }
         std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
         Ok((scenes, variants, errors))
@@ -214,7 +251,13 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
     };
     let per_scene = variants
         .iter()
-        .map(|v| if v.fixed { a.halvings as usize + 1 } else { errors.len() })
+        .map(|v| {
+            if v.fixed {
+                a.halvings as usize + 1
+            } else {
+                errors.len()
+            }
+        })
         .sum::<usize>();
     let ticker = Ticker::new((per_scene * scenes.len()) as u64);
     let clock = std::time::Instant::now();
@@ -265,10 +308,22 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
             Err(e) => return fail(e, o),
         }
         let bad = points.iter().filter(|p| p.status != Status::Ok).count();
-        ticker.line(o, &format!("{}: {} runs ({} stopped with a diagnostic), {:.0} s so far", scene.name, rows.len(), bad, clock.elapsed().as_secs_f64()))?;
+        ticker.line(
+            o,
+            &format!(
+                "{}: {} runs ({} stopped with a diagnostic), {:.0} s so far",
+                scene.name,
+                rows.len(),
+                bad,
+                clock.elapsed().as_secs_f64()
+            ),
+        )?;
     }
     ticker.finish();
-    summary += &format!("\nWhole run: {:.1} s wall clock.\n", clock.elapsed().as_secs_f64());
+    summary += &format!(
+        "\nWhole run: {:.1} s wall clock.\n",
+        clock.elapsed().as_secs_f64()
+    );
     let path = a.out.join("summary.md");
     if let Err(e) = std::fs::write(&path, summary) {
         return fail(format!("{}: {e}", path.display()), o);
@@ -307,10 +362,23 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
     md += &markdown(CASES, &cells);
     md += "\nWhat the named failures said:\n\n";
     md += &details(CASES, &cells);
-    let silent: Vec<&Cell> = cells.iter().filter(|c| c.verdict == Verdict::WrongSilently).collect();
-    md += &format!("\n{} cells, {} wrong silently ({} of them error-controlled); {:.1} s.\n", cells.len(), silent.len(), silent.iter().filter(|c| !c.point.variant.fixed).count(), clock.elapsed().as_secs_f64());
+    let silent: Vec<&Cell> = cells
+        .iter()
+        .filter(|c| c.verdict == Verdict::WrongSilently)
+        .collect();
+    md += &format!(
+        "\n{} cells, {} wrong silently ({} of them error-controlled); {:.1} s.\n",
+        cells.len(),
+        silent.len(),
+        silent.iter().filter(|c| !c.point.variant.fixed).count(),
+        clock.elapsed().as_secs_f64()
+    );
     if !missing.is_empty() {
-        md += &format!("\nScenes not found in {}: {}\n", a.dir.display(), missing.join(", "));
+        md += &format!(
+            "\nScenes not found in {}: {}\n",
+            a.dir.display(),
+            missing.join(", ")
+        );
     }
     let path = a.out.join("stability.md");
     if let Err(e) = std::fs::write(&path, &md) {
@@ -319,7 +387,14 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
     if let Err(e) = heat_map(&a.out.join("stability.svg"), CASES, &cells) {
         return fail(e, o);
     }
-    writeln!(o.err(), "wrote {} and stability.svg: {} cells, {} wrong silently", path.display(), cells.len(), silent.len()).map_err(Stop::Io)?;
+    writeln!(
+        o.err(),
+        "wrote {} and stability.svg: {} cells, {} wrong silently",
+        path.display(),
+        cells.len(),
+        silent.len()
+    )
+    .map_err(Stop::Io)?;
     Ok(0)
 }
 
@@ -333,7 +408,11 @@ fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
     if let Err(e) = std::fs::create_dir_all(&a.out) {
         return fail(format!("{}: {e}", a.out.display()), o);
     }
-    let control = if v.fixed { Control::FixedStep(a.error) } else { Control::Tolerance(a.error) };
+    let control = if v.fixed {
+        Control::FixedStep(a.error)
+    } else {
+        Control::Tolerance(a.error)
+    };
     let total: usize = SIZES.iter().map(|(_, n)| 2 * n.len()).sum();
     let ticker = Ticker::new(total as u64);
     let mut samples = Vec::new();
@@ -385,4 +464,35 @@ fn orders(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
     }
     write!(o.err(), "{md}").map_err(Stop::Io)?;
     Ok(0)
+}
+
+fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
+    let clock = std::time::Instant::now();
+    let wp_args = WpArgs {
+        scenes: Vec::new(),
+        dir: a.dir.clone(),
+        integrators: Vec::new(),
+        errors: "1e-2..1e-10".into(),
+        out: a.out.clone(),
+        peers: a.peers.clone(),
+        budget: 2.0,
+        halvings: 10,
+        variations: true,
+    };
+    let mut code = wp(&wp_args, o)?;
+    let st = StabilityArgs {
+        dir: a.dir.clone(),
+        out: a.out.clone(),
+    };
+    code = code.max(stability(&st, o)?);
+    let sc = ScalingArgs {
+        out: a.out.clone(),
+        integrator: "gstiff".into(),
+        error: 1e-6,
+        end: 1.0,
+    };
+    code = code.max(scaling(&sc, o)?);
+    code = code.max(orders(&st, o)?);
+    writeln!(o.err(), "bench all: {:.0} s", clock.elapsed().as_secs_f64()).map_err(Stop::Io)?;
+    Ok(code)
 }

@@ -4,8 +4,8 @@
 //! columns.
 //! Text uses the DejaVu Sans font of the system ([`crate::font`]).
 
-use plotters::prelude::*;
 use crate::font::font;
+use plotters::prelude::*;
 use std::path::Path;
 
 /// Draws columns 1.. of `rows` (column 0 is time) to `path`: the first `probes` columns

@@ -38,6 +38,15 @@ pub enum IntegratorArg {
     Dopri853,
 }
 
+/// `--error-per` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ErrorPer {
+    /// ERROR bounds each step's local error, as in Adams.
+    Step,
+    /// ERROR bounds the error of the whole run (tolerance proportionality).
+    Run,
+}
+
 /// `--formulation` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum FormulationArg {
@@ -74,6 +83,10 @@ pub struct RunArgs {
     /// Smallest step before the run fails (HMIN) [default: 1e-6·HMAX].
     #[arg(long)]
     hmin: Option<f64>,
+    /// What ERROR bounds: each step's local error (as Adams), or the whole run's error
+    /// (each step held to ERROR·h/T, so the answer's error falls with ERROR).
+    #[arg(long = "error-per", value_enum, default_value = "step")]
+    error_per: ErrorPer,
     /// Fixed steps of at most H (no error control; each output interval is split evenly).
     #[arg(long = "fixed-step", value_name = "H")]
     fixed_step: Option<f64>,
@@ -223,6 +236,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         IntegratorArg::Wstiff => Method::Wstiff,
     });
     spec.kmax = a.kmax;
+    spec.error_per_run = a.error_per == ErrorPer::Run;
     spec.formulation = a.formulation.map(|f| match f {
         FormulationArg::I3 => Formulation::I3,
         FormulationArg::Si2 => Formulation::Si2,

@@ -74,6 +74,7 @@ impl Plan {
             s.maxit = m.value as usize;
         }
         s.fixed_step = spec.fixed_step;
+        s.error_per_run = spec.error_per_run;
         let alpha = spec.alpha.or(value(&stmt.alpha)).unwrap_or(HHT_ALPHA);
         let newmark = newmark::Method::Newmark {
             beta: value(&stmt.beta).unwrap_or(NEWMARK_BETA),

@@ -105,6 +105,9 @@ pub struct RunSpec {
     pub formulation: Option<Formulation>,
     /// The highest BDF order (None: the INTEGRATOR statement's KMAX, else 6).
     pub kmax: Option<u32>,
+    /// ERROR bounds the whole run's error instead of each step's (see
+    /// [`crate::mbd::dynamics::integrator::Settings::error_per_run`]).
+    pub error_per_run: bool,
     /// 2D, 3D or whichever the scene allows.
     pub dim: DimRequest,
     /// Which back end evaluates the expressions.
@@ -127,6 +130,7 @@ impl RunSpec {
             rho_inf: None,
             formulation: None,
             kmax: None,
+            error_per_run: false,
             dim: DimRequest::Auto,
             engine: Engine::Jit,
         }
@@ -577,15 +581,26 @@ impl Simulation {
 /// Past this many ERRORs, a fixed-step run's local error estimate makes it a warning.
 const FIXED_STEP_WARNING: f64 = 10.0;
 
+/// Past this many ERRORs, the sum of an error-controlled run's local errors makes it a
+/// warning.
+const ACCUMULATED_WARNING: f64 = 10.0;
+
 /// The warnings of a finished run (see [`Summary::warnings`]): fixed steps whose local
-/// error estimate exceeded ERROR more than tenfold, and a constraint residual larger
-/// than the drift the run allows dropped rows (10·ERROR, at least 1e-6).
+/// error estimate exceeded ERROR more than tenfold, steps whose local errors add up to
+/// more than ten ERRORs, and a constraint residual larger than the
+/// drift the run allows dropped rows (10·ERROR, at least 1e-6).
 fn monitors(s: &Summary, fixed: bool, error: f64) -> Vec<String> {
     let mut w = Vec::new();
     if fixed && s.stats.worst_error > FIXED_STEP_WARNING {
         w.push(format!(
             "fixed steps: the local error estimate reached {:.1e} × ERROR ({error:e}) at time {}; the results are not accurate to ERROR (use error control or a smaller step)",
             s.stats.worst_error, s.stats.worst_error_time
+        ));
+    }
+    if s.stats.error_sum > ACCUMULATED_WARNING {
+        w.push(format!(
+            "the steps' local error estimates add up to {:.0}×ERROR ({error:e}): the answer may be off by that much (ERROR bounds each step, as in Adams; --error-per run makes it bound the run)",
+            s.stats.error_sum
         ));
     }
     let drift = (10.0 * error).max(1e-6);

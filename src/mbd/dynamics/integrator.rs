@@ -9,7 +9,7 @@ use super::events::{Events, Verdict};
 use super::{DynError, Dynamics};
 
 /// Integrator settings (spec §6.2 names).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
     /// ERROR: local error tolerance per step (model lengths scaled by the model size for
     /// translations, radians for rotations).
@@ -24,9 +24,27 @@ pub struct Settings {
     pub maxit: usize,
     /// A fixed step instead of error control.
     pub fixed_step: Option<f64>,
+    /// ERROR bounds the error of the whole run rather than of each step: a step of h
+    /// is held to ERROR·h/T (T the time span the run integrates), so the steps' local
+    /// errors add up to at most ERROR and the answer's error falls in proportion to
+    /// ERROR (tolerance proportionality). Off, ERROR is per step, as in Adams.
+    pub error_per_run: bool,
 }
 
 impl Settings {
+    /// The settings one step of `h` is attempted with over a run of span `span`: the
+    /// same, with ERROR scaled down to ERROR·h/span when ERROR is per run.
+    pub fn for_step(&self, h: f64, span: f64) -> Settings {
+        if self.error_per_run && span > 0.0 {
+            Settings {
+                error: self.error * (h / span).min(1.0),
+                ..*self
+            }
+        } else {
+            *self
+        }
+    }
+
     /// Adams' defaults for an output step `dt`: ERROR 1e-3, HMAX = dt, HINIT = dt/20,
     /// HMIN = 1e-6·HMAX, MAXIT 10.
     pub fn for_output_step(dt: f64) -> Settings {
@@ -37,6 +55,7 @@ impl Settings {
             hmin: 1e-6 * dt,
             maxit: 10,
             fixed_step: None,
+            error_per_run: false,
         }
     }
 }
@@ -108,10 +127,14 @@ pub fn simulate(
         Some(_) => Events::default(),
     };
     let drift_tol = (s.error * 10.0).max(1e-6);
+    let span = outputs.last().map_or(0.0, |&t| t - d.sys.time);
     // The step error control wants; the step taken may be shorter to land on an output.
     let mut want = match s.fixed_step {
         Some(h) => h.min(s.hmax),
-        None => integrator.first_step(d, s.hinit.min(s.hmax), s),
+        None => {
+            let h0 = s.hinit.min(s.hmax);
+            integrator.first_step(d, h0, &s.for_step(h0, span))
+        }
     };
     for &t_out in outputs {
         while d.sys.time < t_out {
@@ -134,7 +157,8 @@ pub fn simulate(
                 (h, end) = (aim, t + aim);
             }
             let clipped = h < want;
-            let attempt = integrator.attempt(d, end - t, s)?;
+            let step_settings = s.for_step(end - t, span);
+            let attempt = integrator.attempt(d, end - t, &step_settings)?;
             match attempt {
                 Attempt::Diverged => {
                     d.stats.rejected += 1;
@@ -185,6 +209,7 @@ pub fn simulate(
                     }
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
+                    d.stats.error_sum += err * step_settings.error / s.error;
                     if err > d.stats.worst_error {
                         (d.stats.worst_error, d.stats.worst_error_time) = (err, end);
                     }

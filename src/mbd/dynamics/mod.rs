@@ -62,6 +62,10 @@ pub struct Stats {
     pub worst_error: f64,
     /// When that step ended.
     pub worst_error_time: f64,
+    /// The accepted steps' local error estimates added up, in units of ERROR: about
+    /// what the answer's error can reach when the dynamics neither damp nor amplify
+    /// errors (at most 1 when ERROR is per run).
+    pub error_sum: f64,
 }
 
 /// What a failure points at: an element, or a part (by Adams id).

@@ -1,0 +1,155 @@
+//! The speed-against-accuracy benches (issue 10) on the bundled scenes: every truth
+//! file loads and its dataset builds, the scores against truth from outside mbfx (the
+//! exact A01 and A02 solutions of reference-problems §4.1–4.2) fall as the tolerance
+//! tightens, and `mbfx bench wp|stability|scaling|orders` write what they promise.
+
+use mbfx::bench::point::{measure, variant_named, Control, Options, Status};
+use mbfx::bench::scene::{load_dir, Scene};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scenes_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes")
+}
+
+fn scene(name: &str) -> Scene {
+    Scene::load(&scenes_dir().join(format!("{name}.toml"))).unwrap()
+}
+
+#[test]
+fn every_scene_loads_and_its_dataset_builds() {
+    let scenes = load_dir(&scenes_dir()).unwrap();
+    assert!(scenes.len() >= 10, "{} scenes", scenes.len());
+    for s in &scenes {
+        let text = s.dataset_text().unwrap();
+        // One step's worth of run: the model reads, assembles and compiles its probes.
+        let mut short = s.clone();
+        short.end = short.output_step * short.stride() as f64;
+        short.references.retain(|r| r.row == 0);
+        let v = variant_named("gstiff").unwrap();
+        let p = measure(
+            &short,
+            &text,
+            v,
+            Control::Tolerance(1e-3),
+            Options::default(),
+        );
+        if let Status::Failed(why) = &p.status {
+            // Only a scene whose truth is that the run must stop may fail, and not at build.
+            assert!(
+                s.source.contains("must stop") && !why.starts_with("dataset"),
+                "{}: {why}",
+                s.name
+            );
+        }
+    }
+}
+
+#[test]
+fn a01_error_against_the_exact_solution_falls_with_the_tolerance() {
+    let s = scene("a01_pendulum");
+    let text = s.dataset_text().unwrap();
+    let run = |name: &str, e: f64| {
+        let p = measure(
+            &s,
+            &text,
+            variant_named(name).unwrap(),
+            Control::Tolerance(e),
+            Options::default(),
+        );
+        assert_eq!(p.status, Status::Ok, "{name} {e}");
+        p.errors.position.unwrap()
+    };
+    let (loose, tight) = (run("gstiff", 1e-5), run("gstiff", 1e-9));
+    assert!(
+        tight < 1e-6 && tight < loose / 100.0,
+        "gstiff: {loose:e} → {tight:e}"
+    );
+    assert!(run("dopri853", 1e-9) < 1e-8);
+}
+
+#[test]
+fn a02_scene_is_scored_against_the_exact_parallelogram_solution() {
+    // The 3D build keeps 3 redundant equations out, and still follows §4.2's θ(t).
+    let s = scene("a02_n1_3d");
+    let p = measure(
+        &s,
+        &s.dataset_text().unwrap(),
+        variant_named("gstiff").unwrap(),
+        Control::Tolerance(1e-10),
+        Options::default(),
+    );
+    assert_eq!((p.status, p.dim), (Status::Ok, 3));
+    assert!(p.errors.position.unwrap() < 1e-4, "{:?}", p.errors);
+}
+
+fn mbfx(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_mbfx"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn bench_wp_writes_points_chart_and_summary() {
+    let out = std::env::temp_dir().join(format!("mbfx-bench-wp-{}", std::process::id()));
+    let dir = scenes_dir();
+    let o = mbfx(&[
+        "bench",
+        "wp",
+        "a01_pendulum",
+        "--scenes",
+        dir.to_str().unwrap(),
+        "--integrators",
+        "gstiff,hht-fixed",
+        "--errors",
+        "1e-3,1e-6",
+        "--halvings",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = mbfx::bench::wp::read_csv(&out.join("a01_pendulum.csv")).unwrap();
+    assert_eq!(rows.len(), 5);
+    assert!(rows
+        .iter()
+        .all(|r| r.scene == "a01_pendulum" && r.cpu > 0.0));
+    let gstiff: Vec<_> = rows.iter().filter(|r| r.method == "gstiff").collect();
+    assert!(gstiff[1].error_position.unwrap() < gstiff[0].error_position.unwrap());
+    let svg = std::fs::read_to_string(out.join("a01_pendulum.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("gstiff") && svg.contains("hht-fixed"));
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("| 1e-2 |"), "{md}");
+    // An unknown scene or method is a diagnostic, not a panic.
+    for bad in [["wp", "nope"], ["wp", "--integrators=rk4"]] {
+        let o = mbfx(&[
+            "bench",
+            bad[0],
+            bad[1],
+            "--scenes",
+            dir.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&o.stderr).to_lowercase();
+        assert!(
+            err.contains("error") && err.contains(bad[1].trim_start_matches("--integrators=")),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn bench_generate_prints_a_dataset_that_runs() {
+    let o = mbfx(&["bench", "generate", "chain", "3"]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(text.matches("REVOLUTE").count(), 3);
+    assert_eq!(
+        mbfx(&["bench", "generate", "pendulum", "3"]).status.code(),
+        Some(1)
+    );
+}
