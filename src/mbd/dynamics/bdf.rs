@@ -458,7 +458,8 @@ impl Bdf {
     /// The error estimates of the converged candidate at orders k and k − 1.
     fn estimate(&mut self, d: &Dynamics, h: f64, st: &Settings) -> Attempt {
         let n = d.n;
-        let si2 = self.formulation == Formulation::Si2;
+        // SI2 controls velocities always, I3 while a contact is engaged.
+        let si2 = self.formulation == Formulation::Si2 || st.in_contact;
         let width = if si2 { 2 * n } else { n };
         self.diff.resize(width, 0.0);
         for c in 0..n {

@@ -119,6 +119,12 @@ impl Events {
         }
     }
 
+    /// Whether a contact is engaged at the last accepted state (a penetration or a
+    /// clamp value on its acting side).
+    pub fn engaged(&self) -> bool {
+        self.at.iter().any(|&v| v > 0.0)
+    }
+
     /// The step from time `t` toward the switch being located (None: none is): onto the
     /// bracket's upper end once it is within the tolerance, else just short of the
     /// secant's crossing (or to the middle when bisecting).

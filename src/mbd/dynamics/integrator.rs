@@ -29,6 +29,10 @@ pub struct Settings {
     /// errors add up to at most ERROR and the answer's error falls in proportion to
     /// ERROR (tolerance proportionality). Off, ERROR is per step, as in Adams.
     pub error_per_run: bool,
+    /// This step starts in contact (an IMPACT or BISTOP engaged): a method that holds
+    /// positions alone to ERROR holds velocities too, since a contact reverses them in
+    /// far less time than the positions take to show it.
+    pub in_contact: bool,
 }
 
 impl Settings {
@@ -56,6 +60,7 @@ impl Settings {
             maxit: 10,
             fixed_step: None,
             error_per_run: false,
+            in_contact: false,
         }
     }
 }
@@ -157,7 +162,10 @@ pub fn simulate(
                 (h, end) = (aim, t + aim);
             }
             let clipped = h < want;
-            let step_settings = s.for_step(end - t, span);
+            let step_settings = Settings {
+                in_contact: events.engaged(),
+                ..s.for_step(end - t, span)
+            };
             let attempt = integrator.attempt(d, end - t, &step_settings)?;
             match attempt {
                 Attempt::Diverged => {
