@@ -598,8 +598,13 @@ fn monitors(s: &Summary, fixed: bool, error: f64) -> Vec<String> {
         ));
     }
     if s.stats.error_sum > ACCUMULATED_WARNING {
+        let remedy = if fixed {
+            "use error control or a smaller step"
+        } else {
+            "ERROR bounds each step, as in Adams; --error-per run makes it bound the run"
+        };
         w.push(format!(
-            "the steps' local error estimates add up to {:.0}×ERROR ({error:e}): the answer may be off by that much (ERROR bounds each step, as in Adams; --error-per run makes it bound the run)",
+            "the steps' local error estimates add up to {:.0}×ERROR ({error:e}): the answer may be off by that much ({remedy})",
             s.stats.error_sum
         ));
     }

@@ -251,11 +251,9 @@ impl Dopri853 {
         if !self.place(d, base, t0 + h) {
             return Ok(Attempt::Diverged);
         }
-        let (err, worst) = match st.fixed_step {
-            None => self.error(h),
-            Some(_) => (0.0, 0),
-        };
-        if err > 1.0 {
+        // With fixed steps the estimate only feeds the run's monitors.
+        let (err, worst) = self.error(h);
+        if err > 1.0 && st.fixed_step.is_none() {
             // The driver rejects it: no projection to spend on it.
             return Ok(Attempt::Converged { err, worst });
         }

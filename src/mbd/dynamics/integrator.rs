@@ -70,8 +70,8 @@ impl Settings {
 pub enum Attempt {
     /// The corrector converged.
     Converged {
-        /// The local error estimate divided by the tolerance (≤ 1 to accept; 0 in
-        /// fixed-step mode).
+        /// The local error estimate divided by the tolerance (≤ 1 to accept; with fixed
+        /// steps only the run's monitors read it, and the BDF reports 0).
         err: f64,
         /// The column where it is largest.
         worst: usize,
