@@ -173,6 +173,8 @@ pub struct Point {
     pub engine: Engine,
     /// The dimension the scene was built in.
     pub dim: u8,
+    /// Equations the redundancy analysis found redundant (dropped unless kept).
+    pub redundant: usize,
     /// Errors against the truth, per group.
     pub errors: Errors,
     /// Best CPU time of the run, s.
@@ -201,6 +203,8 @@ pub struct Options {
     pub error: Option<f64>,
     /// A BDF's highest order (None: 6).
     pub kmax: Option<u32>,
+    /// Keep the redundant rows in the equations of motion.
+    pub keep_redundant: bool,
 }
 
 /// Runs `scene` (dataset `text`) with `variant` under `control` and scores it.
@@ -211,6 +215,7 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
         control,
         engine: o.engine,
         dim: 0,
+        redundant: 0,
         errors: Errors::default(),
         cpu: f64::NAN,
         stats: Stats::default(),
@@ -229,6 +234,7 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
                 return point;
             }
         };
+        point.redundant = sim.redundant;
         point.dim = match sim.dynamics.sys.dim {
             Dimension::Two => 2,
             Dimension::Three => 3,
@@ -273,6 +279,7 @@ fn build(
     spec.hmin = scene.hmin;
     spec.kmax = o.kmax;
     spec.error_per_run = variant.per_run;
+    spec.keep_redundant = o.keep_redundant;
     spec.engine = o.engine;
     spec.dim = match o.dim.or(scene.dim) {
         Some(2) => DimRequest::Two,

@@ -60,8 +60,9 @@ pub struct WpArgs {
     /// Halvings of the output step a fixed-step method tries.
     #[arg(long, default_value = "10")]
     halvings: u32,
-    /// Also run the first method in 3D on planar scenes and with the interpreter
-    /// (curves `NAME@3d`, `NAME@interp`).
+    /// Also run the first method in 3D on planar scenes, with the redundant rows kept
+    /// where there are some, and with the interpreter (curves `NAME@3d`,
+    /// `NAME@keep-redundant`, `NAME@interp`).
     #[arg(long)]
     variations: bool,
 }
@@ -294,6 +295,11 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
                 let mut three = varied.clone();
                 three.options.dim = Some(3);
                 tagged(&three, "3d", &mut rows);
+            }
+            if points.first().is_some_and(|p| p.redundant > 0) {
+                let mut keep = varied.clone();
+                keep.options.keep_redundant = true;
+                tagged(&keep, "keep-redundant", &mut rows);
             }
             let mut interp = varied.clone();
             interp.options.engine = crate::session::run::Engine::Interp;

@@ -108,6 +108,9 @@ pub struct RunSpec {
     /// ERROR bounds the whole run's error instead of each step's (see
     /// [`crate::mbd::dynamics::integrator::Settings::error_per_run`]).
     pub error_per_run: bool,
+    /// Keep the rows the redundancy analysis finds redundant in the equations of motion
+    /// (a measurement of what dropping them is worth: the Newton matrix is singular).
+    pub keep_redundant: bool,
     /// 2D, 3D or whichever the scene allows.
     pub dim: DimRequest,
     /// Which back end evaluates the expressions.
@@ -131,6 +134,7 @@ impl RunSpec {
             formulation: None,
             kmax: None,
             error_per_run: false,
+            keep_redundant: false,
             dim: DimRequest::Auto,
             engine: Engine::Jit,
         }
@@ -220,6 +224,8 @@ pub struct Simulation {
     pub spec: RunSpec,
     notes: Vec<String>,
     conservative: bool,
+    /// How many equations the redundancy analysis found redundant.
+    pub redundant: usize,
 }
 
 /// The expression text of component k (1..8) of a standard REQUEST, if it has one.
@@ -366,12 +372,16 @@ impl Simulation {
             }
         }
         let columns = kept;
-        let dropped: Vec<usize> = analysis
-            .redundancy
-            .redundant
-            .iter()
-            .map(|r| r.row)
-            .collect();
+        let redundant = analysis.redundancy.redundant.len();
+        let dropped: Vec<usize> = match spec.keep_redundant {
+            true => Vec::new(),
+            false => analysis
+                .redundancy
+                .redundant
+                .iter()
+                .map(|r| r.row)
+                .collect(),
+        };
         let dynamics = Dynamics::new(system, forces, &dropped)?;
         // A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads.
         let reactions: Vec<u32> = slots
@@ -420,6 +430,7 @@ impl Simulation {
             spec,
             notes,
             conservative,
+            redundant,
         })
     }
 
