@@ -226,6 +226,8 @@ pub struct Simulation {
     conservative: bool,
     /// How many equations the redundancy analysis found redundant.
     pub redundant: usize,
+    /// The rows left out of the equations of motion as redundant.
+    dropped: Vec<usize>,
 }
 
 /// The expression text of component k (1..8) of a standard REQUEST, if it has one.
@@ -431,6 +433,7 @@ impl Simulation {
             notes,
             conservative,
             redundant,
+            dropped: dropped.clone(),
         })
     }
 
@@ -571,6 +574,7 @@ impl Simulation {
                 &mut segment_emit,
             );
         }
+        let result = result.map_err(|e| self.diagnose_lock_up(e));
         let summary = Summary {
             integrator: name,
             stats: self.dynamics.stats,
@@ -586,6 +590,61 @@ impl Simulation {
             ..summary
         };
         (summary, result.err())
+    }
+}
+
+/// Relative distance of a kept row to the span of the others below which a failed run's
+/// configuration counts as singular (a lock-up): the redundancy analysis' own
+/// tolerance is 1e-8, for exact dependence; a run fails a little before that.
+const LOCK_UP_DISTANCE: f64 = 1e-3;
+
+impl Simulation {
+    /// A failure of the step control (the corrector diverging, the step below HMIN) at
+    /// a configuration where the kept constraints are nearly dependent becomes a
+    /// lock-up naming the element whose equation depends on the others; any other
+    /// failure is returned as it is.
+    fn diagnose_lock_up(&self, e: DynError) -> DynError {
+        let time = match e {
+            DynError::Newton { time, .. } | DynError::StepTooSmall { time, .. } => time,
+            _ => return e,
+        };
+        let sys = &self.dynamics.sys;
+        let Ok(jacobian) = sys.jacobian(true) else {
+            return e;
+        };
+        let (labels, elements) = (sys.labels(), sys.element_refs());
+        let dim = match sys.dim {
+            crate::mbd::system::Dimension::Two => 2,
+            crate::mbd::system::Dimension::Three => 3,
+        };
+        let problem = crate::mbd::redundancy::Problem::new(
+            &jacobian,
+            &labels,
+            &elements,
+            sys.moving_parts(),
+            dim,
+        );
+        let options = crate::mbd::redundancy::Options {
+            tolerance: LOCK_UP_DISTANCE,
+            conflict_tolerance: f64::INFINITY,
+        };
+        let Ok(report) = crate::mbd::redundancy::analyze(&problem, &options) else {
+            return e;
+        };
+        match report
+            .redundant
+            .iter()
+            .find(|r| !self.dropped.contains(&r.row))
+        {
+            Some(r) => DynError::Singular {
+                time,
+                why: crate::mbd::dynamics::Singularity::LockUp,
+                culprit: Some(crate::mbd::dynamics::Culprit::Element(
+                    elements[r.label.element].clone(),
+                )),
+            },
+            None => e,
+        }
     }
 }
 

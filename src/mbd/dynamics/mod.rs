@@ -175,6 +175,10 @@ pub enum Singularity {
     VanishedRow,
     /// The solve gave non-finite values: numerically singular (a lock-up position).
     Numerical,
+    /// The run could not go on where the kept constraints are nearly dependent: the
+    /// mechanism is at or next to a singular position (a dead centre, a lock-up), where
+    /// it cannot move as driven or its branch is not unique.
+    LockUp,
 }
 
 /// What became NaN or infinite.
@@ -260,6 +264,7 @@ impl fmt::Display for DynError {
                     Singularity::Dependent => "the constraints are dependent here, or a part has no mass along a free direction",
                     Singularity::VanishedRow => "this constraint's Jacobian vanishes: it no longer constrains anything",
                     Singularity::Numerical => "the Newton matrix is numerically singular (dependent constraints or a lock-up position)",
+                    Singularity::LockUp => "the mechanism is at a singular position (a dead centre or lock-up): its constraints are nearly dependent here, so it cannot move as driven; this element's equation is the one that depends on the others",
                 }
             ),
             DynError::NotFinite {
