@@ -153,3 +153,88 @@ fn bench_generate_prints_a_dataset_that_runs() {
         Some(1)
     );
 }
+
+#[test]
+fn a_motion_driven_into_its_dead_centre_stops_there_named_as_a_lock_up() {
+    // The slider reaches its outer dead centre at t = 1 exactly (the scene's geometry).
+    let s = scene("motion_lockup");
+    let p = measure(
+        &s,
+        &s.dataset_text().unwrap(),
+        variant_named("gstiff").unwrap(),
+        Control::Tolerance(1e-9),
+        Options::default(),
+    );
+    let Status::Failed(why) = &p.status else {
+        panic!("ran through the lock-up: {:?}", p.errors)
+    };
+    assert!(
+        why.contains("singular position") && why.contains("JOINT/"),
+        "{why}"
+    );
+    let time: f64 = why["at time ".len()..]
+        .split(':')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((time - 1.0).abs() < 1e-6, "{why}");
+}
+
+#[test]
+fn a_stiff_contact_at_a_loose_tolerance_keeps_bouncing() {
+    // k = 1e9: index 3 now holds velocities to ERROR while in contact; at ERROR 1e-3 the
+    // block used to come to rest on the stop (0.1 m off the exact bounces by t = 2).
+    let s = scene("impact_stiff_k1e9");
+    let text = s.dataset_text().unwrap();
+    for name in ["gstiff", "wstiff"] {
+        let p = measure(
+            &s,
+            &text,
+            variant_named(name).unwrap(),
+            Control::Tolerance(1e-3),
+            Options::default(),
+        );
+        assert_eq!(p.status, Status::Ok, "{name}");
+        assert!(p.errors.position.unwrap() < 1e-2, "{name}: {:?}", p.errors);
+    }
+}
+
+#[test]
+fn a_run_whose_local_errors_add_up_past_ten_errors_says_so() {
+    // HHT with fixed steps of 1e-2 on A01 ends 2e-2 off at ERROR 1e-3 (exact solution).
+    let s = scene("a01_pendulum");
+    let o = Options {
+        error: Some(1e-3),
+        ..Options::default()
+    };
+    let p = measure(
+        &s,
+        &s.dataset_text().unwrap(),
+        variant_named("hht-fixed").unwrap(),
+        Control::FixedStep(1e-2),
+        o,
+    );
+    assert_eq!(p.status, Status::Ok);
+    assert!(p.errors.position.unwrap() > 1e-2);
+    assert!(
+        p.warnings.iter().any(|w| w.contains("add up to")),
+        "{:?}",
+        p.warnings
+    );
+    // ERROR per run: the answer's error follows ERROR (dopri853 on A01, exact truth).
+    let per_run = variant_named("dopri853-run").unwrap();
+    let p = measure(
+        &s,
+        &s.dataset_text().unwrap(),
+        per_run,
+        Control::Tolerance(1e-6),
+        Options::default(),
+    );
+    assert!(
+        p.errors.position.unwrap() < 1e-6 && p.warnings.is_empty(),
+        "{:?} {:?}",
+        p.errors,
+        p.warnings
+    );
+}
