@@ -36,8 +36,11 @@ const W: Weights = Weights {
     w_l: 1.0,
 };
 
+/// One hot path, run on a prepared simulation.
+type Path = Box<dyn Fn(&mut Simulation)>;
+
 /// The paths, each as a closure over a prepared simulation.
-fn paths() -> Vec<(&'static str, Box<dyn Fn(&mut Simulation)>)> {
+fn paths() -> Vec<(&'static str, Path)> {
     vec![
         (
             "constraints+jacobian",
