@@ -8,6 +8,9 @@
 use super::events::{Events, Verdict};
 use super::{DynError, Dynamics};
 
+/// The smallest fraction of ERROR a step is held to when ERROR is per run.
+pub const PER_RUN_FLOOR: f64 = 1e-3;
+
 /// Integrator settings (spec §6.2 names).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
@@ -25,8 +28,8 @@ pub struct Settings {
     /// A fixed step instead of error control.
     pub fixed_step: Option<f64>,
     /// ERROR bounds the error of the whole run rather than of each step: a step of h
-    /// is held to ERROR·h/T (T the time span the run integrates), so the steps' local
-    /// errors add up to at most ERROR and the answer's error falls in proportion to
+    /// is held to ERROR·h/T (T the time span the run integrates; at least
+    /// ERROR·[`PER_RUN_FLOOR`]), so the steps' local errors add up to about ERROR and the answer's error falls in proportion to
     /// ERROR (tolerance proportionality). Off, ERROR is per step, as in Adams.
     pub error_per_run: bool,
     /// This step starts in contact (an IMPACT or BISTOP engaged): a method that holds
@@ -37,11 +40,14 @@ pub struct Settings {
 
 impl Settings {
     /// The settings one step of `h` is attempted with over a run of span `span`: the
-    /// same, with ERROR scaled down to ERROR·h/span when ERROR is per run.
+    /// same, with ERROR scaled down to ERROR·h/span when ERROR is per run, but never
+    /// below ERROR·[`PER_RUN_FLOOR`]: the first steps from rest, of a method still at
+    /// low order, would otherwise shrink without end, and the few of them shorter than
+    /// that fraction of the span add at most about ERROR more.
     pub fn for_step(&self, h: f64, span: f64) -> Settings {
         if self.error_per_run && span > 0.0 {
             Settings {
-                error: self.error * (h / span).min(1.0),
+                error: self.error * (h / span).clamp(PER_RUN_FLOOR, 1.0),
                 ..*self
             }
         } else {
