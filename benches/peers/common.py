@@ -188,8 +188,8 @@ def values_dict(times, rows):
 
 def refine(sw, values_list, make_point, floor=1e-11):
     """Run make_point(v) for each v (coarse to fine); stop refining once a point is below
-    `floor` in every group, the error stops falling (a plateau: round-off or the peer's own
-    floor), a point fails after an ok one, or the next point would cost more than --max-cpu."""
+    `floor` in every group, the error stops falling below 1e-5 (a plateau: round-off or the
+    peer's own floor), a point fails after an ok one, or the next point would cost more than --max-cpu."""
     seen_ok, prev, flat = False, None, 0
     for v in values_list:
         ep, er, best = make_point(v)
@@ -202,7 +202,7 @@ def refine(sw, values_list, make_point, floor=1e-11):
         err = max(errs) if errs else None
         if err is not None and err < floor:
             break
-        if err is not None and prev is not None and err > 0.7 * prev:
+        if err is not None and prev is not None and err < 1e-5 and err > 0.7 * prev:
             flat += 1
             if flat >= 2:
                 break
