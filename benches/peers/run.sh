@@ -19,7 +19,9 @@ mkdir -p "$out"
 for s in a01_pendulum chain_n100 impact_block_k1e5 impact_block_k1e7 slider_crank_driven; do
   rm -f "$out/$s.csv"
 done
-cd "$here"
-"$venv/bin/python" -u mujoco_scenes.py "$out" "$@"
-"$venv/bin/python" -u exudyn_scenes.py "$out" "$@"
+out="$(cd "$out" && pwd)"
+# run from OUT: MuJoCo writes its MUJOCO_LOG.TXT (unstable coarse steps) to the working directory
+cd "$out"
+"$venv/bin/python" -u "$here/mujoco_scenes.py" "$out" "$@"
+"$venv/bin/python" -u "$here/exudyn_scenes.py" "$out" "$@"
 echo "peer points written to $out"
