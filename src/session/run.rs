@@ -487,16 +487,13 @@ impl Simulation {
     fn energy(&self) -> f64 {
         let sys = &self.dynamics.sys;
         let g = sys.gravity;
-        sys.parts
+        let potential: f64 = sys
+            .parts
             .iter()
             .filter(|p| p.index.is_some())
-            .map(|p| {
-                let w = p.w;
-                0.5 * p.mass * p.v.norm_squared() + 0.5 * w.dot(&(p.inertia_global() * w))
-                    - p.mass * g.dot(&p.r)
-            })
-            .sum::<f64>()
-            / sys.ucf
+            .map(|p| -p.mass * g.dot(&p.r))
+            .sum();
+        kinetic(sys) + potential / sys.ucf
     }
 
     /// Runs to the end time, handing each output row to `out` (the first at t = 0). The
@@ -532,7 +529,12 @@ impl Simulation {
         let mut error: f64 = 0.0;
         let mut notes = self.notes.clone();
         let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
+        let conservative = self.conservative;
+        let mut kinetic_max: f64 = 0.0;
         let mut emit = |d: &mut Dynamics, last: bool| -> Result<(), DynError> {
+            if conservative {
+                kinetic_max = kinetic_max.max(kinetic(&d.sys));
+            }
             let row = outputs.row(d, last)?;
             max_residual = max_residual.max(residual(d));
             if let Some(table) = table.as_mut() {
@@ -586,7 +588,7 @@ impl Simulation {
             warnings: Vec::new(),
         };
         let summary = Summary {
-            warnings: monitors(&summary, self.spec.fixed_step.is_some(), error),
+            warnings: monitors(&summary, self.spec.fixed_step.is_some(), error, kinetic_max),
             ..summary
         };
         (summary, result.err())
@@ -651,16 +653,33 @@ impl Simulation {
 /// Past this many ERRORs, a fixed-step run's local error estimate makes it a warning.
 const FIXED_STEP_WARNING: f64 = 10.0;
 
+/// Past this many ERRORs (relative to the largest kinetic energy), the energy change of
+/// a conservative model makes it a warning.
+const ENERGY_WARNING: f64 = 10.0;
+
 /// Past this many ERRORs, the sum of an error-controlled run's local errors makes it a
 /// warning.
 const ACCUMULATED_WARNING: f64 = 10.0;
 
 /// The warnings of a finished run (see [`Summary::warnings`]): fixed steps whose local
 /// error estimate exceeded ERROR more than tenfold, steps whose local errors add up to
-/// more than ten ERRORs, and a constraint residual larger than the
+/// more than ten ERRORs, a conservative model whose energy changed by more than ten
+/// ERRORs of its largest kinetic energy, and a constraint residual larger than the
 /// drift the run allows dropped rows (10·ERROR, at least 1e-6).
-fn monitors(s: &Summary, fixed: bool, error: f64) -> Vec<String> {
+fn monitors(s: &Summary, fixed: bool, error: f64, kinetic_max: f64) -> Vec<String> {
     let mut w = Vec::new();
+    if let Some((e0, e1)) = s.energy {
+        // Against the largest kinetic energy seen at the output times: what the motion
+        // trades back and forth, whatever the potential's datum.
+        let scale = kinetic_max.max(e0.abs());
+        if scale > 0.0 && (e1 - e0).abs() > ENERGY_WARNING * error * scale {
+            w.push(format!(
+                "the energy changed by {:.1e} in a conservative model, {:.1e} of the largest kinetic energy ({scale:.3e}): more than {ENERGY_WARNING}·ERROR ({error:e}), so the answer is not accurate to ERROR",
+                e1 - e0,
+                (e1 - e0).abs() / scale
+            ));
+        }
+    }
     if fixed && s.stats.worst_error > FIXED_STEP_WARNING {
         w.push(format!(
             "fixed steps: the local error estimate reached {:.1e} × ERROR ({error:e}) at time {}; the results are not accurate to ERROR (use error control or a smaller step)",
@@ -686,6 +705,19 @@ fn monitors(s: &Summary, fixed: bool, error: f64) -> Vec<String> {
         ));
     }
     w
+}
+
+/// Kinetic energy (model units, /UCF).
+fn kinetic(sys: &crate::mbd::system::System) -> f64 {
+    sys.parts
+        .iter()
+        .filter(|p| p.index.is_some())
+        .map(|p| {
+            let w = p.w;
+            0.5 * p.mass * p.v.norm_squared() + 0.5 * w.dot(&(p.inertia_global() * w))
+        })
+        .sum::<f64>()
+        / sys.ucf
 }
 
 /// The largest scaled residual of the kept rows of `d` (translational rows over the
