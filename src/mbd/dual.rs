@@ -147,6 +147,32 @@ impl Scalar for D {
     }
 }
 
+/// Plain values: the measure formulas without derivatives, bit for bit the values of
+/// the jets and duals (the same operations on the same numbers).
+impl Scalar for f64 {
+    fn c(v: f64) -> f64 {
+        v
+    }
+    fn val(&self) -> f64 {
+        *self
+    }
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+    fn asin(self) -> f64 {
+        f64::asin(self)
+    }
+    fn acos(self) -> f64 {
+        f64::acos(self)
+    }
+    fn atan2(self, x: f64) -> f64 {
+        f64::atan2(self, x)
+    }
+    fn recip(self) -> f64 {
+        1.0 / self
+    }
+}
+
 /// A value with its first and second derivatives along one path: v, v̇, v̈.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct J2 {

@@ -103,7 +103,7 @@ fn measure_value(sys: &System, m: usize) -> f64 {
     if ms.list[m].unwrapped() {
         ms.eval(sys, m).value()
     } else {
-        ms.jet(sys, m).v
+        ms.value(sys, m)
     }
 }
 

@@ -502,6 +502,27 @@ impl MeasureSet {
         }
     }
 
+    /// The value of measure `n` at the current state, not unwrapped: the value of
+    /// [`MeasureSet::jet`] without its derivatives (a force law's inputs when no
+    /// Jacobian is asked for).
+    pub fn value(&self, sys: &System, n: usize) -> f64 {
+        let m = self.list[n];
+        let v3 = |x: Vec3| V([x[0], x[1], x[2]]);
+        let frames = m.markers().map(|mk| {
+            let f = sys.frame(mk);
+            let p = sys.part(f.part);
+            let w = p.w;
+            let wa = w.cross(&f.a);
+            Frame {
+                r: v3(f.r),
+                axes: [0, 1, 2].map(|c| v3(Vec3::from(f.rot.column(c)))),
+                vel: v3(p.v + wa),
+                w: v3(w),
+            }
+        });
+        self.raw(n, &m, &frames)
+    }
+
     /// Measure `n` with its first and second time derivatives along the current motion
     /// with every part's acceleration zero (its value is not unwrapped): what the
     /// acceleration-level constraint right-hand side needs.
