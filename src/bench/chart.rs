@@ -71,13 +71,54 @@ pub struct Axes<'a> {
 /// Draws panels side by side (one per (axes, curves)) to an SVG file.
 pub fn draw(path: &Path, panels: &[(Axes, Vec<Curve>)]) -> Result<(), String> {
     font()?;
-    let width = 720 * panels.len().max(1) as u32;
-    let root = SVGBackend::new(path, (width, 540)).into_drawing_area();
+    // The legend gets a column of its own beside the panels: with a dozen curves it
+    // would hide the points.
+    let names: Vec<(String, bool)> = panels
+        .iter()
+        .flat_map(|(_, cs)| cs.iter().map(|c| (c.name.clone(), c.peer)))
+        .fold(Vec::new(), |mut v, n| {
+            if !v.contains(&n) {
+                v.push(n);
+            }
+            v
+        });
+    let widest = names.iter().map(|n| n.0.chars().count()).max().unwrap_or(0) as u32;
+    let legend_w = 60 + 7 * widest;
+    let width = 640 * panels.len().max(1) as u32 + legend_w;
+    let height = 540.max(40 + 18 * names.len() as u32);
+    let root = SVGBackend::new(path, (width, height)).into_drawing_area();
     let err = |e: DrawingAreaErrorKind<_>| format!("{}: {e}", path.display());
     root.fill(&WHITE).map_err(err)?;
-    let areas = root.split_evenly((1, panels.len().max(1)));
+    let (plots, legend) = root.split_horizontally(width - legend_w);
+    let areas = plots.split_evenly((1, panels.len().max(1)));
     for ((axes, curves), area) in panels.iter().zip(areas.iter()) {
-        panel(area, axes, curves).map_err(|e| format!("{}: {e}", path.display()))?;
+        panel(area, axes, curves, &names).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    for (k, (name, peer)) in names.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        let y = 40 + 18 * k as i32;
+        legend
+            .draw(&PathElement::new(
+                vec![(8, y), (34, y)],
+                color.stroke_width(2),
+            ))
+            .map_err(err)?;
+        if *peer {
+            legend
+                .draw(&TriangleMarker::new((21, y), 5, color.filled()))
+                .map_err(err)?;
+        } else {
+            legend
+                .draw(&Circle::new((21, y), 3, color.filled()))
+                .map_err(err)?;
+        }
+        legend
+            .draw(&Text::new(
+                name.clone(),
+                (42, y - 7),
+                ("sans-serif", 13).into_font(),
+            ))
+            .map_err(err)?;
     }
     root.present().map_err(err)
 }
@@ -101,6 +142,7 @@ fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     axes: &Axes,
     curves: &[Curve],
+    names: &[(String, bool)],
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (x0, x1) = decades(curves.iter().flat_map(|c| c.points.iter().map(|p| p.0)));
@@ -125,7 +167,9 @@ fn panel<DB: DrawingBackend>(
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(err)?;
-    for (k, c) in curves.iter().enumerate() {
+    for c in curves {
+        // The same colour for a curve in every panel: its place in the shared legend.
+        let k = names.iter().position(|n| n.0 == c.name).unwrap_or(0);
         let color = Palette99::pick(k).to_rgba();
         for (p, a) in c.points.iter().zip(&c.asked) {
             if let Some(a) = a {
@@ -140,15 +184,12 @@ fn panel<DB: DrawingBackend>(
                     .map_err(err)?;
             }
         }
-        let series = chart
+        chart
             .draw_series(LineSeries::new(
                 c.points.iter().copied(),
                 color.stroke_width(2),
             ))
             .map_err(err)?;
-        series.label(c.name.clone()).legend(move |(x, y)| {
-            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-        });
         if c.peer {
             chart
                 .draw_series(
@@ -163,14 +204,6 @@ fn panel<DB: DrawingBackend>(
                 .map_err(err)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .draw()
-        .map_err(err)?;
     Ok(())
 }
 
