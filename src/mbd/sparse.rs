@@ -217,6 +217,9 @@ pub struct SparseLlt {
     factor_scratch: faer::dyn_stack::MemBuffer,
     solve_scratch: faer::dyn_stack::MemBuffer,
     factored: bool,
+    /// Matrices up to [`DENSE_MAX`] are factored dense (nalgebra's Cholesky), as
+    /// [`SparseLu`] does.
+    dense: Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>,
 }
 
 impl SparseLlt {
@@ -244,6 +247,7 @@ impl SparseLlt {
             factor_scratch,
             solve_scratch,
             factored: false,
+            dense: None,
         })
     }
 
@@ -253,6 +257,25 @@ impl SparseLlt {
         self.factored = false;
         if values.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotFinite);
+        }
+        let n = self.pattern.n;
+        if n <= DENSE_MAX {
+            // The lower triangle, mirrored (the upper one is not read, as faer's).
+            let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
+            for c in 0..n {
+                for k in self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1] {
+                    let r = self.pattern.row_idx[k];
+                    if r >= c {
+                        m[(r, c)] += values[k];
+                        if r != c {
+                            m[(c, r)] += values[k];
+                        }
+                    }
+                }
+            }
+            self.dense = Some(m.cholesky().ok_or(FactorError::Singular)?);
+            self.factored = true;
+            return Ok(());
         }
         let sym = SparseLu::symbolic_of(&self.pattern);
         let a = faer::sparse::SparseColMatRef::new(sym, values);
@@ -276,8 +299,12 @@ impl SparseLlt {
         if !self.factored {
             return Err(FactorError::Singular);
         }
-        let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.l_values);
         let n = b.len();
+        if let Some(ch) = &self.dense {
+            ch.solve_mut(&mut nalgebra::DVectorViewMut::from_slice(b, n));
+            return Ok(());
+        }
+        let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(
             faer::Conj::No,
             faer::MatMut::from_column_major_slice_mut(b, n, 1),
