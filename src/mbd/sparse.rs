@@ -263,12 +263,13 @@ impl SparseLlt {
             // The lower triangle, mirrored (the upper one is not read, as faer's).
             let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
             for c in 0..n {
-                for k in self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1] {
-                    let r = self.pattern.row_idx[k];
+                let span = self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1];
+                let rows = &self.pattern.row_idx[span.clone()];
+                for (&r, &v) in rows.iter().zip(&values[span]) {
                     if r >= c {
-                        m[(r, c)] += values[k];
+                        m[(r, c)] += v;
                         if r != c {
-                            m[(c, r)] += values[k];
+                            m[(c, r)] += v;
                         }
                     }
                 }
