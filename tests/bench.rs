@@ -169,7 +169,7 @@ fn a_motion_driven_into_its_dead_centre_stops_there_named_as_a_lock_up() {
         panic!("ran through the lock-up: {:?}", p.errors)
     };
     assert!(
-        why.contains("singular position") && why.contains("JOINT/"),
+        why.contains("singular position") && why.contains("MOTION/1"),
         "{why}"
     );
     let time: f64 = why["at time ".len()..]

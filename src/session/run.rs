@@ -606,6 +606,8 @@ impl Simulation {
     /// lock-up naming the element whose equation depends on the others; any other
     /// failure is returned as it is.
     fn diagnose_lock_up(&self, e: DynError) -> DynError {
+        use crate::mbd::redundancy::{analyze, Options, Problem};
+        use crate::vocab::elements::ElementKind;
         let time = match e {
             DynError::Newton { time, .. } | DynError::StepTooSmall { time, .. } => time,
             _ => return e,
@@ -619,33 +621,50 @@ impl Simulation {
             crate::mbd::system::Dimension::Two => 2,
             crate::mbd::system::Dimension::Three => 3,
         };
-        let problem = crate::mbd::redundancy::Problem::new(
-            &jacobian,
-            &labels,
-            &elements,
-            sys.moving_parts(),
-            dim,
-        );
-        let options = crate::mbd::redundancy::Options {
+        let options = Options {
             tolerance: LOCK_UP_DISTANCE,
             conflict_tolerance: f64::INFINITY,
         };
-        let Ok(report) = crate::mbd::redundancy::analyze(&problem, &options) else {
+        // The first kept row nearly dependent on the others, with the rows `skip` says
+        // to leave out (indices of the full Jacobian), if any.
+        let dependent = |skip: &dyn Fn(usize) -> bool| -> Option<usize> {
+            let rows: Vec<usize> = (0..labels.len()).filter(|&r| !skip(r)).collect();
+            let mut new_index = vec![u32::MAX; labels.len()];
+            for (k, &r) in rows.iter().enumerate() {
+                new_index[r] = k as u32;
+            }
+            let mut jac = crate::mbd::sparse::Triplets::new(rows.len(), jacobian.ncols);
+            for &(r, c, v) in &jacobian.entries {
+                let k = new_index[r as usize];
+                if k != u32::MAX {
+                    jac.push(k as usize, c as usize, v);
+                }
+            }
+            let sub: Vec<_> = rows.iter().map(|&r| labels[r]).collect();
+            let problem = Problem::new(&jac, &sub, &elements, sys.moving_parts(), dim);
+            let report = analyze(&problem, &options).ok()?;
+            report
+                .redundant
+                .iter()
+                .map(|d| rows[d.row])
+                .find(|r| !self.dropped.contains(r))
+        };
+        let Some(row) = dependent(&|_| false) else {
             return e;
         };
-        match report
-            .redundant
-            .iter()
-            .find(|r| !self.dropped.contains(&r.row))
-        {
-            Some(r) => DynError::Singular {
-                time,
-                why: crate::mbd::dynamics::Singularity::LockUp,
-                culprit: Some(crate::mbd::dynamics::Culprit::Element(
-                    elements[r.label.element].clone(),
-                )),
-            },
-            None => e,
+        // A drive whose rows, left out, leave the rest independent is what cannot move
+        // the mechanism any further: name it rather than a joint of its loop.
+        let drives = (0..elements.len()).filter(|&el| elements[el].kind == ElementKind::Motion);
+        let culprit = drives
+            .into_iter()
+            .find(|&el| dependent(&|r| labels[r].element == el).is_none())
+            .unwrap_or(labels[row].element);
+        DynError::Singular {
+            time,
+            why: crate::mbd::dynamics::Singularity::LockUp,
+            culprit: Some(crate::mbd::dynamics::Culprit::Element(
+                elements[culprit].clone(),
+            )),
         }
     }
 }

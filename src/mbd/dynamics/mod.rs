@@ -264,7 +264,7 @@ impl fmt::Display for DynError {
                     Singularity::Dependent => "the constraints are dependent here, or a part has no mass along a free direction",
                     Singularity::VanishedRow => "this constraint's Jacobian vanishes: it no longer constrains anything",
                     Singularity::Numerical => "the Newton matrix is numerically singular (dependent constraints or a lock-up position)",
-                    Singularity::LockUp => "the mechanism is at a singular position (a dead centre or lock-up): its constraints are nearly dependent here, so it cannot move as driven; this element's equation is the one that depends on the others",
+                    Singularity::LockUp => "the mechanism is at a singular position (a dead centre or lock-up): its constraints are nearly dependent here, so it cannot move on as driven (named: the drive, else the element whose equation depends on the others)",
                 }
             ),
             DynError::NotFinite {
