@@ -130,12 +130,22 @@ def rollout_solve(model, times, h, probe_fn, chunk=20000):
             left -= k
             total += k
         mujoco.mj_setState(m, d, state, STATE)
-        mujoco.mj_forward(m, d)
-        vals = probe_fn(m, d)
-        if not all(math.isfinite(v) for v in vals.values()):
-            return Run(None, cpu, steps=total, status="failed: non-finite state at t = %g" % t)
+        vals = _probe(m, d, probe_fn)
+        if vals is None:
+            return _non_finite(cpu, total, t)
         values[t] = vals
     return Run(values, cpu, steps=total)
+
+
+def _probe(m, d, probe_fn):
+    """The probes at d's state, or None when one is not finite."""
+    mujoco.mj_forward(m, d)
+    vals = probe_fn(m, d)
+    return vals if all(math.isfinite(v) for v in vals.values()) else None
+
+
+def _non_finite(cpu, total, t):
+    return Run(None, cpu, steps=total, status="failed: non-finite state at t = %g" % t)
 
 
 def loop_solve(model, times, h, probe_fn):
@@ -161,10 +171,9 @@ def _loop(m, d, times, h, probe_fn):
             step(m, d)
         cpu += time.process_time() - t0
         total += nseg
-        mujoco.mj_forward(m, d)
-        vals = probe_fn(m, d)
-        if not all(math.isfinite(v) for v in vals.values()):
-            return Run(None, cpu, steps=total, status="failed: non-finite state at t = %g" % t)
+        vals = _probe(m, d, probe_fn)
+        if vals is None:
+            return _non_finite(cpu, total, t)
         values[t] = vals
     return Run(values, cpu, steps=total)
 

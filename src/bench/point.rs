@@ -7,7 +7,6 @@
 use super::scene::{Errors, Scene};
 use crate::diag::Severity;
 use crate::mbd::dynamics::Stats;
-use crate::mbd::system::Dimension;
 use crate::model::integrator_settings::Formulation;
 use crate::session::run::{Engine, Method, RunFailure, RunSpec, Simulation};
 use crate::session::DimRequest;
@@ -235,10 +234,7 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
             }
         };
         point.redundant = sim.redundant;
-        point.dim = match sim.dynamics.sys.dim {
-            Dimension::Two => 2,
-            Dimension::Three => 3,
-        };
+        point.dim = sim.dynamics.sys.dim.axes() as u8;
         let mut rows: Vec<Vec<f64>> = Vec::new();
         let np = scene.probes.len();
         let (summary, failure) = sim.run(&mut |row: &[f64]| {

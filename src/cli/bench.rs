@@ -8,8 +8,7 @@ use crate::bench::scene::{load_dir, Scene};
 use crate::bench::wp::{parse_errors, run_scene, Grid, Row};
 use crate::bench::{generate, output};
 use crate::diag::{Code, Diagnostic, SourceFile};
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use indicatif::ProgressBar;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Subcommand)]
@@ -181,30 +180,31 @@ pub struct Ticker {
 
 impl Ticker {
     pub fn new(total: u64) -> Ticker {
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let b = ProgressBar::new(total);
-            if let Ok(s) =
-                ProgressStyle::with_template("{bar:30} {pos}/{len} {msg} [{elapsed_precise}]")
-            {
-                b.set_style(s);
-            }
-            b
-        });
-        Ticker { bar }
+        let template = "{bar:30} {pos}/{len} {msg} [{elapsed_precise}]";
+        Ticker {
+            bar: super::progress::terminal_bar(total, template),
+        }
+    }
+
+    /// One more run done, described by `message` (built only when there is a bar).
+    pub fn tick(&self, message: impl FnOnce() -> String) {
+        if let Some(b) = &self.bar {
+            b.inc(1);
+            b.set_message(message());
+        }
     }
 
     pub fn point(&self, p: &Point) {
-        if let Some(b) = &self.bar {
-            b.inc(1);
+        self.tick(|| {
             let e = p.errors.worst().map_or("—".into(), |e| format!("{e:.1e}"));
-            b.set_message(format!(
+            format!(
                 "{} {} {:.0e}: error {e}, {:.2e} s",
                 p.scene,
                 p.variant.name,
                 p.control.value(),
                 p.cpu
-            ));
-        }
+            )
+        });
     }
 
     pub fn line(&self, o: &mut Output, text: &str) -> Result<(), Stop> {
@@ -277,33 +277,30 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
         };
         rows.extend(points.iter().map(|p| Row::of(p, None)));
         if a.variations {
-            let mut varied = grid.clone();
-            varied.variants.truncate(1);
-            let text = scene.dataset_text().unwrap_or_default();
-            let tagged = |g: &Grid, tag: &str, rows: &mut Vec<Row>| {
-                for c in crate::bench::wp::controls(g, scene, &g.variants[0]) {
-                    let p = crate::bench::point::measure(scene, &text, g.variants[0], c, g.options);
-                    ticker.point(&p);
-                    let stop = p.cpu > g.budget;
-                    rows.push(Row::of(&p, Some(tag)));
-                    if stop {
-                        break;
-                    }
+            let mut one = grid.clone();
+            one.variants.truncate(1);
+            let first = points.first();
+            let mut variations: Vec<(Grid, &str)> = Vec::new();
+            if first.is_some_and(|p| p.dim == 2) {
+                let mut g = one.clone();
+                g.options.dim = Some(3);
+                variations.push((g, "3d"));
+            }
+            if first.is_some_and(|p| p.redundant > 0) {
+                let mut g = one.clone();
+                g.options.keep_redundant = true;
+                variations.push((g, "keep-redundant"));
+            }
+            one.options.engine = crate::session::run::Engine::Interp;
+            variations.push((one, "interp"));
+            // Each variation is one more curve of the grid, climbing its ladder by the
+            // same rules.
+            for (g, tag) in &variations {
+                match run_scene(scene, g, &mut |p| ticker.point(p)) {
+                    Ok(varied) => rows.extend(varied.iter().map(|p| Row::of(p, Some(tag)))),
+                    Err(e) => return fail(e, o),
                 }
-            };
-            if points.first().is_some_and(|p| p.dim == 2) {
-                let mut three = varied.clone();
-                three.options.dim = Some(3);
-                tagged(&three, "3d", &mut rows);
             }
-            if points.first().is_some_and(|p| p.redundant > 0) {
-                let mut keep = varied.clone();
-                keep.options.keep_redundant = true;
-                tagged(&keep, "keep-redundant", &mut rows);
-            }
-            let mut interp = varied.clone();
-            interp.options.engine = crate::session::run::Engine::Interp;
-            tagged(&interp, "interp", &mut rows);
         }
         let peers = match output::peer_rows(a.peers.as_deref(), scene) {
             Ok(p) => p,
@@ -426,10 +423,7 @@ fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
         for dim in [2u8, 3] {
             for &n in *sizes {
                 let s = sample(kind, n, dim, a.end, v, control);
-                if let Some(b) = &ticker.bar {
-                    b.inc(1);
-                    b.set_message(format!("{kind} {dim}D N = {n}: {:.2e} s", s.cpu));
-                }
+                ticker.tick(|| format!("{kind} {dim}D N = {n}: {:.2e} s", s.cpu));
                 samples.push(s);
             }
         }

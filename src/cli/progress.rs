@@ -4,6 +4,18 @@
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 
+/// A bar of `len` ticks drawn with `template` when stderr is a terminal (None
+/// otherwise: pipes and logs get no bar).
+pub fn terminal_bar(len: u64, template: &str) -> Option<ProgressBar> {
+    std::io::stderr().is_terminal().then(|| {
+        let b = ProgressBar::new(len);
+        if let Ok(style) = ProgressStyle::with_template(template) {
+            b.set_style(style);
+        }
+        b
+    })
+}
+
 /// Simulated time against the end time.
 pub struct Progress {
     bar: Option<ProgressBar>,
@@ -15,15 +27,7 @@ const TICKS: u64 = 1000;
 
 impl Progress {
     pub fn new(end: f64) -> Progress {
-        let bar = std::io::stderr().is_terminal().then(|| {
-            let b = ProgressBar::new(TICKS);
-            if let Ok(style) =
-                ProgressStyle::with_template("{bar:40} {msg} [{elapsed_precise}, eta {eta}]")
-            {
-                b.set_style(style);
-            }
-            b
-        });
+        let bar = terminal_bar(TICKS, "{bar:40} {msg} [{elapsed_precise}, eta {eta}]");
         Progress { bar, end }
     }
 

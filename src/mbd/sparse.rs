@@ -45,6 +45,26 @@ pub struct Pattern {
 }
 
 impl Pattern {
+    /// The dense matrix holding `values` (one per slot); `lower`: only the lower
+    /// triangle's slots are read, mirrored onto the upper one.
+    fn dense(&self, values: &[f64], lower: bool) -> nalgebra::DMatrix<f64> {
+        let mut m = nalgebra::DMatrix::<f64>::zeros(self.n, self.n);
+        for c in 0..self.n {
+            let span = self.col_ptr[c]..self.col_ptr[c + 1];
+            for (&r, &v) in self.row_idx[span.clone()].iter().zip(&values[span]) {
+                if !lower {
+                    m[(r, c)] += v;
+                } else if r >= c {
+                    m[(r, c)] += v;
+                    if r != c {
+                        m[(c, r)] += v;
+                    }
+                }
+            }
+        }
+        m
+    }
+
     /// The n × n pattern holding `positions` (any order, repeats allowed).
     pub fn new(n: usize, mut positions: Vec<(usize, usize)>) -> Pattern {
         positions.sort_unstable_by_key(|&(r, c)| (c, r));
@@ -142,15 +162,8 @@ impl SparseLu {
         if values.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotFinite);
         }
-        let n = self.pattern.n;
-        if n <= DENSE_MAX {
-            let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-            for c in 0..n {
-                for k in self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1] {
-                    m[(self.pattern.row_idx[k], c)] += values[k];
-                }
-            }
-            let lu = m.lu();
+        if self.pattern.n <= DENSE_MAX {
+            let lu = self.pattern.dense(values, false).lu();
             if !lu.is_invertible() {
                 return Err(FactorError::Singular);
             }
@@ -258,22 +271,9 @@ impl SparseLlt {
         if values.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotFinite);
         }
-        let n = self.pattern.n;
-        if n <= DENSE_MAX {
+        if self.pattern.n <= DENSE_MAX {
             // The lower triangle, mirrored (the upper one is not read, as faer's).
-            let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-            for c in 0..n {
-                let span = self.pattern.col_ptr[c]..self.pattern.col_ptr[c + 1];
-                let rows = &self.pattern.row_idx[span.clone()];
-                for (&r, &v) in rows.iter().zip(&values[span]) {
-                    if r >= c {
-                        m[(r, c)] += v;
-                        if r != c {
-                            m[(c, r)] += v;
-                        }
-                    }
-                }
-            }
+            let m = self.pattern.dense(values, true);
             self.dense = Some(m.cholesky().ok_or(FactorError::Singular)?);
             self.factored = true;
             return Ok(());

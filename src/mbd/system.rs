@@ -44,6 +44,14 @@ pub enum Dimension {
 }
 
 impl Dimension {
+    /// Translational axes: 2 or 3.
+    pub fn axes(self) -> usize {
+        match self {
+            Dimension::Two => 2,
+            Dimension::Three => 3,
+        }
+    }
+
     /// Columns per moving part.
     pub fn cols(self) -> usize {
         match self {

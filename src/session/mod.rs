@@ -246,10 +246,7 @@ pub fn redundancy_of(system: &System) -> Result<Report, redundancy::AnalysisErro
         .collect();
     let labels = system.labels();
     let elements = system.element_refs();
-    let dim = match system.dim {
-        Dimension::Two => 2,
-        Dimension::Three => 3,
-    };
+    let dim = system.dim.axes();
     let mut problem = Problem::new(&jacobian, &labels, &elements, system.moving_parts(), dim);
     problem.residuals = Some(&scaled);
     redundancy::analyze(&problem, &redundancy::Options::default())

@@ -617,10 +617,7 @@ impl Simulation {
             return e;
         };
         let (labels, elements) = (sys.labels(), sys.element_refs());
-        let dim = match sys.dim {
-            crate::mbd::system::Dimension::Two => 2,
-            crate::mbd::system::Dimension::Three => 3,
-        };
+        let dim = sys.dim.axes();
         let options = Options {
             tolerance: LOCK_UP_DISTANCE,
             conflict_tolerance: f64::INFINITY,

@@ -29,8 +29,9 @@ pub struct Settings {
     pub fixed_step: Option<f64>,
     /// ERROR bounds the error of the whole run rather than of each step: a step of h
     /// is held to ERROR·h/T (T the time span the run integrates; at least
-    /// ERROR·[`PER_RUN_FLOOR`]), so the steps' local errors add up to about ERROR and the answer's error falls in proportion to
-    /// ERROR (tolerance proportionality). Off, ERROR is per step, as in Adams.
+    /// ERROR·[`PER_RUN_FLOOR`]), so the steps' local errors add up to about ERROR and
+    /// the answer's error falls in proportion to ERROR (tolerance proportionality).
+    /// Off, ERROR is per step, as in Adams.
     pub error_per_run: bool,
     /// This step starts in contact (an IMPACT or BISTOP engaged): a method that holds
     /// positions alone to ERROR holds velocities too, since a contact reverses them in

@@ -1073,10 +1073,7 @@ impl Dynamics {
     /// ERROR for rotations.
     pub fn tolerances(&self, error: f64) -> Vec<f64> {
         let bs = self.sys.dim.cols();
-        let trans = match self.sys.dim {
-            Dimension::Three => 3,
-            Dimension::Two => 2,
-        };
+        let trans = self.sys.dim.axes();
         (0..self.n)
             .map(|c| match c % bs < trans {
                 true => error * self.sys.length,

@@ -28,10 +28,7 @@ pub(super) type ResolvedRow = Option<(Primitive, [Option<usize>; 2])>;
 /// Turns the `Along` rows of every fully kept point coincidence into `Fixed` rows along
 /// J's axes as they are now.
 pub(super) fn freeze_point_rows(sys: &System, rows: &[(usize, usize)], prims: &mut [ResolvedRow]) {
-    let full = match sys.dim {
-        Dimension::Three => 3,
-        Dimension::Two => 2,
-    };
+    let full = sys.dim.axes();
     // (element, I, J) → the kept rows and their distinct directions.
     let mut groups: HashMap<_, (Vec<usize>, Vec<Vec3>)> = HashMap::new();
     for (r, &(e, q)) in rows.iter().enumerate() {
