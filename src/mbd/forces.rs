@@ -20,12 +20,12 @@
 //! derivative), so the equations of motion solve them by iteration; forces that read
 //! each other's values are evaluated in dependency order ([`ForceSet::order`]).
 
-use super::dual::{Scalar as _, D, N, PER_PART, V};
+use super::dual::{Scalar as ScalarT, D, N, PER_PART, V};
 use super::dynamics::events::contact::ContactProbe;
 use super::dynamics::outputs::OutputSlot;
 use super::error::{element_name, MbdError};
 use super::expr::ExprFn;
-use super::measures::{dual_frame, DFrame, Measure, PartSlots, M};
+use super::measures::{dual_frame, value_frame, Frame, Measure, PartSlots, M};
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Vec3};
@@ -273,36 +273,124 @@ fn dual(v: f64, g: [f64; N]) -> D {
     D { v, g }
 }
 
-/// The part's reference point as a dual (moves with the part's δr).
-fn ref_point(sys: &System, part: PartHandle, slots: &PartSlots) -> V {
-    let mut p: V = V::c(sys.part(part).r);
-    if let Some(s) = slots.parts.iter().position(|x| *x == Some(part)) {
-        for c in 0..3 {
-            p.0[c].g[PER_PART * s + c] = 1.0;
-        }
-    }
-    p
-}
-
-fn scale_v(v: &V, s: D) -> V {
+fn scale_v<T: ScalarT>(v: &V<T>, s: T) -> V<T> {
     V([v.0[0] * s, v.0[1] * s, v.0[2] * s])
 }
 
-fn add_v(a: &V, b: &V) -> V {
+fn add_v<T: ScalarT>(a: &V<T>, b: &V<T>) -> V<T> {
     V([a.0[0] + b.0[0], a.0[1] + b.0[1], a.0[2] + b.0[2]])
 }
 
-fn neg_v(a: &V) -> V {
+fn neg_v<T: ScalarT>(a: &V<T>) -> V<T> {
     V([-a.0[0], -a.0[1], -a.0[2]])
 }
 
 /// Σ xₖ·axisₖ: components in a frame's axes to global.
-fn in_axes(axes: &[V; 3], x: [D; 3]) -> V {
+fn in_axes<T: ScalarT>(axes: &[V<T>; 3], x: [T; 3]) -> V<T> {
     let mut out = scale_v(&axes[0], x[0]);
     for k in 1..3 {
         out = add_v(&out, &scale_v(&axes[k], x[k]));
     }
     out
+}
+
+/// The numbers a force element is evaluated in: duals over its part slots (value and
+/// ∂/∂q, ∂/∂v) when the Jacobians are asked for, plain values otherwise. Both run the
+/// same operations on the values, so they agree bit for bit.
+trait Num: ScalarT {
+    fn scale(self, s: f64) -> Self;
+    /// Marker `mk`'s frame (ground when None), extending `slots` with its part.
+    fn frame(sys: &System, mk: M, slots: &mut PartSlots) -> Frame<Self>;
+    /// Measure `m` (in the parts of `slots`, which it extends).
+    fn measure(sys: &System, m: usize, slots: &mut PartSlots) -> Self;
+    /// The reference point of `part`.
+    fn reference(sys: &System, part: PartHandle, slots: &PartSlots) -> V<Self>;
+    /// Expression `s` of element `el` (solution values from `solved`).
+    fn expression(
+        el: &ForceElement,
+        sys: &System,
+        solved: &[f64],
+        s: &Scalar,
+        slots: &mut PartSlots,
+    ) -> Result<Self, MbdError>;
+    /// Adds `x` to row `row` of Q (and its derivatives to Q's Jacobians).
+    fn load(x: &Self, row: usize, sys: &System, slots: &PartSlots, out: &mut Generalized);
+}
+
+impl Num for D {
+    fn scale(self, s: f64) -> D {
+        D::scale(self, s)
+    }
+
+    fn frame(sys: &System, mk: M, slots: &mut PartSlots) -> Frame<D> {
+        dual_frame(sys, mk, slots).expect("prepared")
+    }
+
+    fn measure(sys: &System, m: usize, slots: &mut PartSlots) -> D {
+        sys.measures.eval_in(sys, m, slots).expect("prepared")
+    }
+
+    fn reference(sys: &System, part: PartHandle, slots: &PartSlots) -> V<D> {
+        let mut p: V = V::c(sys.part(part).r);
+        if let Some(s) = slots.parts.iter().position(|x| *x == Some(part)) {
+            for c in 0..3 {
+                p.0[c].g[PER_PART * s + c] = 1.0;
+            }
+        }
+        p
+    }
+
+    fn expression(
+        el: &ForceElement,
+        sys: &System,
+        solved: &[f64],
+        s: &Scalar,
+        slots: &mut PartSlots,
+    ) -> Result<D, MbdError> {
+        el.scalar_dual(sys, solved, s, slots)
+    }
+
+    fn load(x: &D, row: usize, sys: &System, slots: &PartSlots, out: &mut Generalized) {
+        out.q[row] += x.v;
+        slots.scatter(
+            sys,
+            &x.g,
+            &mut |col, g| out.dq.push((row, col, g)),
+            &mut |col, g| out.dv.push((row, col, g)),
+        );
+    }
+}
+
+impl Num for f64 {
+    fn scale(self, s: f64) -> f64 {
+        self * s
+    }
+
+    fn frame(sys: &System, mk: M, _: &mut PartSlots) -> Frame<f64> {
+        value_frame(sys, mk)
+    }
+
+    fn measure(sys: &System, m: usize, _: &mut PartSlots) -> f64 {
+        measure_value(sys, m)
+    }
+
+    fn reference(sys: &System, part: PartHandle, _: &PartSlots) -> V<f64> {
+        V::c(sys.part(part).r)
+    }
+
+    fn expression(
+        el: &ForceElement,
+        sys: &System,
+        solved: &[f64],
+        s: &Scalar,
+        _: &mut PartSlots,
+    ) -> Result<f64, MbdError> {
+        el.scalar_value(sys, solved, s)
+    }
+
+    fn load(x: &f64, row: usize, _: &System, _: &PartSlots, out: &mut Generalized) {
+        out.q[row] += x;
+    }
 }
 
 impl ForceSet {
@@ -425,30 +513,35 @@ impl ForceElement {
         out
     }
 
+    /// An expression's value alone, from the measures' values (no duals, no gradient;
+    /// solution values from `solved`).
+    fn scalar_value(&self, sys: &System, solved: &[f64], s: &Scalar) -> Result<f64, MbdError> {
+        let slot_ids = s.f.slots();
+        let mut shared = sys.scratch.borrow_mut();
+        let vals = shared.slots_to(slot_ids.last().copied());
+        for (&src, &slot) in s.map.iter().zip(slot_ids) {
+            vals[slot as usize] = match src {
+                Source::Measure(m) => measure_value(sys, m),
+                Source::Solution(k) => solved[k],
+            };
+        }
+        s.f.value(sys.time, vals)
+            .map_err(|why| MbdError::Expression(self.elref.clone(), why))
+    }
+
     /// An expression's value as a dual: f with ∂f/∂measure chained through the
-    /// measures' duals (solution values from `solved`, constant). Without `jacobians`
-    /// the value alone, from the measures' values (no duals, no gradient).
-    fn scalar(
+    /// measures' duals (solution values from `solved`, constant).
+    fn scalar_dual(
         &self,
         sys: &System,
         solved: &[f64],
         s: &Scalar,
         slots: &mut PartSlots,
-        jacobians: bool,
     ) -> Result<D, MbdError> {
         let slot_ids = s.f.slots();
         let mut shared = sys.scratch.borrow_mut();
         let vals = shared.slots_to(slot_ids.last().copied());
         let err = |why| MbdError::Expression(self.elref.clone(), why);
-        if !jacobians {
-            for (&src, &slot) in s.map.iter().zip(slot_ids) {
-                vals[slot as usize] = match src {
-                    Source::Measure(m) => measure_value(sys, m),
-                    Source::Solution(k) => solved[k],
-                };
-            }
-            return Ok(D::c(s.f.value(sys.time, vals).map_err(err)?));
-        }
         let mut scratch = s.scratch.borrow_mut();
         let (duals, grad) = &mut *scratch;
         duals.clear();
@@ -477,6 +570,8 @@ impl ForceElement {
         Ok(dual(v, g))
     }
 
+    /// Adds the element's generalized forces to `out` (with ∂/∂q and ∂/∂v when
+    /// `jacobians`) and returns its loads.
     fn eval(
         &self,
         sys: &System,
@@ -484,15 +579,27 @@ impl ForceElement {
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<Loads, MbdError> {
+        match jacobians {
+            true => self.eval_as::<D>(sys, solved, out),
+            false => self.eval_as::<f64>(sys, solved, out),
+        }
+    }
+
+    fn eval_as<T: Num>(
+        &self,
+        sys: &System,
+        solved: &[f64],
+        out: &mut Generalized,
+    ) -> Result<Loads, MbdError> {
         let mut slots = self.slots;
-        let fi = dual_frame(sys, Some(self.i), &mut slots).expect("prepared");
-        let fj = dual_frame(sys, self.j, &mut slots).expect("prepared");
-        let zero: V = V::c(Vec3::zeros());
+        let fi = T::frame(sys, Some(self.i), &mut slots);
+        let fj = T::frame(sys, self.j, &mut slots);
+        let zero: V<T> = V::c(Vec3::zeros());
         // (force at I, moment on I's part, force on J's part, moment on J's part), all
         // applied at I's origin except the line forces' reaction at J's.
         let (f_i, t_i, f_j, t_j, j_at_i) = match &self.law {
             ForceLaw::Line { f, action_only } => {
-                let f = self.scalar(sys, solved, f, &mut slots, jacobians)?;
+                let f = T::expression(self, sys, solved, f, &mut slots)?;
                 if *action_only {
                     (scale_v(&fj.axes[2], f), zero, zero, zero, true)
                 } else {
@@ -503,21 +610,21 @@ impl ForceElement {
                 }
             }
             ForceLaw::Torque { f, action_only } => {
-                let f = self.scalar(sys, solved, f, &mut slots, jacobians)?;
+                let f = T::expression(self, sys, solved, f, &mut slots)?;
                 let t = scale_v(&fj.axes[2], f);
                 let tj = if *action_only { zero } else { neg_v(&t) };
                 (zero, t, zero, tj, true)
             }
             ForceLaw::Vector { force, torque, rm } => {
-                let frm = dual_frame(sys, *rm, &mut slots).expect("prepared");
+                let frm = T::frame(sys, *rm, &mut slots);
                 let comps = |xs: &Option<Box<[Scalar; 3]>>, slots: &mut PartSlots| match xs {
                     None => Ok(zero),
                     Some(xs) => {
-                        let mut c = [D::c(0.0); 3];
+                        let mut c = [T::c(0.0); 3];
                         for (k, x) in xs.iter().enumerate() {
-                            c[k] = self.scalar(sys, solved, x, slots, jacobians)?;
+                            c[k] = T::expression(self, sys, solved, x, slots)?;
                         }
-                        Ok::<V, MbdError>(in_axes(&frm.axes, c))
+                        Ok::<V<T>, MbdError>(in_axes(&frm.axes, c))
                     }
                 };
                 let fv = comps(force, &mut slots)?;
@@ -534,7 +641,7 @@ impl ForceElement {
                 let len = d.norm();
                 let u = scale_v(&d, len.recip());
                 let rate = fi.vel.sub(&fj.vel).dot(&u);
-                let f = rate.scale(-c) + (len - D::c(*length)).scale(-k) + D::c(*preload);
+                let f = rate.scale(-c) + (len - T::c(*length)).scale(-k) + T::c(*preload);
                 let fv = scale_v(&u, f);
                 (fv, zero, neg_v(&fv), zero, false)
             }
@@ -545,13 +652,10 @@ impl ForceElement {
                 preload,
                 angle_measure,
             } => {
-                let th = sys
-                    .measures
-                    .eval_in(sys, *angle_measure, &mut slots)
-                    .expect("prepared");
+                let th = T::measure(sys, *angle_measure, &mut slots);
                 let z = fj.axes[2];
                 let rate = fi.w.sub(&fj.w).dot(&z);
-                let t = rate.scale(-c) + (th - D::c(*angle)).scale(-k) + D::c(*preload);
+                let t = rate.scale(-c) + (th - T::c(*angle)).scale(-k) + T::c(*preload);
                 let tv = scale_v(&z, t);
                 (zero, tv, zero, neg_v(&tv), true)
             }
@@ -568,16 +672,13 @@ impl ForceElement {
                 // Velocity of I relative to J as seen in J's frame.
                 let vel = fi.vel.sub(&fj.vel).sub(&fj.w.cross(&d));
                 let w = fi.w.sub(&fj.w);
-                let mut fc = [D::c(0.0); 3];
-                let mut tc = [D::c(0.0); 3];
+                let mut fc = [T::c(0.0); 3];
+                let mut tc = [T::c(0.0); 3];
                 for a in 0..3 {
                     let ax = &fj.axes[a];
-                    let th = sys
-                        .measures
-                        .eval_in(sys, angles[a], &mut slots)
-                        .expect("prepared");
-                    fc[a] = d.dot(ax).scale(-k[a]) + vel.dot(ax).scale(-c[a]) + D::c(force[a]);
-                    tc[a] = th.scale(-kt[a]) + w.dot(ax).scale(-ct[a]) + D::c(torque[a]);
+                    let th = T::measure(sys, angles[a], &mut slots);
+                    fc[a] = d.dot(ax).scale(-k[a]) + vel.dot(ax).scale(-c[a]) + T::c(force[a]);
+                    tc[a] = th.scale(-kt[a]) + w.dot(ax).scale(-ct[a]) + T::c(torque[a]);
                 }
                 let fv = in_axes(&fj.axes, fc);
                 let tv = in_axes(&fj.axes, tc);
@@ -587,8 +688,8 @@ impl ForceElement {
         let pi = sys.marker(self.i).part;
         let pj = sys.frame(self.j).part;
         let at_j = if j_at_i { &fi } else { &fj };
-        self.apply(sys, &slots, pi, &fi, &f_i, &t_i, out, jacobians);
-        self.apply(sys, &slots, pj, at_j, &f_j, &t_j, out, jacobians);
+        self.apply(sys, &slots, pi, &fi, &f_i, &t_i, out);
+        self.apply(sys, &slots, pj, at_j, &f_j, &t_j, out);
         Ok(Loads {
             on_i: (f_i.value(), t_i.value()),
             on_j: (f_j.value(), t_j.value()),
@@ -597,38 +698,30 @@ impl ForceElement {
     }
 
     /// Adds force `f` applied at frame `at`'s origin and moment `t` to part `part`'s
-    /// generalized force (moment about its reference point), with Jacobians.
+    /// generalized force (moment about its reference point), with Jacobians when `T`
+    /// carries them.
     #[allow(clippy::too_many_arguments)]
-    fn apply(
+    fn apply<T: Num>(
         &self,
         sys: &System,
         slots: &PartSlots,
         part: PartHandle,
-        at: &DFrame,
-        f: &V,
-        t: &V,
+        at: &Frame<T>,
+        f: &V<T>,
+        t: &V<T>,
         out: &mut Generalized,
-        jacobians: bool,
     ) {
         if sys.part(part).index.is_none() {
             return;
         }
-        let arm = at.r.sub(&ref_point(sys, part, slots));
+        let arm = at.r.sub(&T::reference(sys, part, slots));
         let m = add_v(t, &arm.cross(f));
         for c in 0..6 {
             let Some(row) = sys.col(part, c) else {
                 continue;
             };
             let q = if c < 3 { f.0[c] } else { m.0[c - 3] };
-            out.q[row] += q.v;
-            if jacobians {
-                slots.scatter(
-                    sys,
-                    &q.g,
-                    &mut |col, g| out.dq.push((row, col, g)),
-                    &mut |col, g| out.dv.push((row, col, g)),
-                );
-            }
+            T::load(&q, row, sys, slots, out);
         }
     }
 }

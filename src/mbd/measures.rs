@@ -418,6 +418,41 @@ pub(crate) fn dual_frame(sys: &System, mk: M, slots: &mut PartSlots) -> Option<D
     Some(fr)
 }
 
+/// The frame of marker `mk` (ground when None) as plain values.
+pub(crate) fn value_frame(sys: &System, mk: M) -> Frame<f64> {
+    let v3 = |x: Vec3| V([x[0], x[1], x[2]]);
+    let f = sys.frame(mk);
+    let p = sys.part(f.part);
+    let w = p.w;
+    Frame {
+        r: v3(f.r),
+        axes: [0, 1, 2].map(|c| v3(Vec3::from(f.rot.column(c)))),
+        vel: v3(p.v + w.cross(&f.a)),
+        w: v3(w),
+    }
+}
+
+/// Axis `c` of marker `mk`'s frame (ground's when None), global.
+fn axis_value(sys: &System, mk: M, c: u8) -> V<f64> {
+    match mk {
+        None => V::c(e(c as usize)),
+        Some(_) => {
+            let u = Vec3::from(sys.frame(mk).rot.column(c as usize));
+            V([u.x, u.y, u.z])
+        }
+    }
+}
+
+/// The velocity of marker `mk`'s origin (zero for ground), global.
+fn point_velocity(sys: &System, mk: M) -> Vec3 {
+    if mk.is_none() {
+        return Vec3::zeros();
+    }
+    let f = sys.frame(mk);
+    let p = sys.part(f.part);
+    p.v + p.w.cross(&f.a)
+}
+
 /// The measures of a system and their unwrapping state.
 #[derive(Clone, Debug, Default)]
 pub struct MeasureSet {
@@ -507,19 +542,29 @@ impl MeasureSet {
     /// Jacobian is asked for).
     pub fn value(&self, sys: &System, n: usize) -> f64 {
         let m = self.list[n];
-        let v3 = |x: Vec3| V([x[0], x[1], x[2]]);
-        let frames = m.markers().map(|mk| {
-            let f = sys.frame(mk);
-            let p = sys.part(f.part);
-            let w = p.w;
-            let wa = w.cross(&f.a);
-            Frame {
-                r: v3(f.r),
-                axes: [0, 1, 2].map(|c| v3(Vec3::from(f.rot.column(c)))),
-                vel: v3(p.v + wa),
-                w: v3(w),
+        // Displacements and velocities (in ground's frame of differentiation), the
+        // measures force laws read most, from the few vectors they need: the same
+        // operations on the same numbers as through whole frames.
+        match m {
+            Measure::Disp { i, j, k, comp } if comp < 3 => {
+                let (a, b) = (sys.frame(i).r, sys.frame(j).r);
+                let d = V([a.x - b.x, a.y - b.y, a.z - b.z]);
+                return d.dot(&axis_value(sys, k, comp));
             }
-        });
+            Measure::Vel {
+                i,
+                j,
+                k,
+                l: None,
+                comp,
+            } if comp < 3 => {
+                let (a, b) = (point_velocity(sys, i), point_velocity(sys, j));
+                let d = V([a.x - b.x, a.y - b.y, a.z - b.z]);
+                return d.dot(&axis_value(sys, k, comp));
+            }
+            _ => {}
+        }
+        let frames = m.markers().map(|mk| value_frame(sys, mk));
         self.raw(n, &m, &frames)
     }
 

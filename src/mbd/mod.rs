@@ -34,6 +34,7 @@ pub mod assembly;
 pub mod build;
 pub mod compiled;
 pub mod constraints;
+mod dense;
 mod dual;
 pub mod dynamics;
 pub mod equations;

@@ -2,6 +2,8 @@
 //! Jacobians are built this way (each element touches at most two parts), and the
 //! redundancy analysis and solvers read them.
 
+use super::dense::{DenseLlt, DenseLu};
+
 /// A matrix of `nrows` × `ncols` whose non-zeros are `entries`; repeated (row, column)
 /// pairs add up.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -45,24 +47,19 @@ pub struct Pattern {
 }
 
 impl Pattern {
-    /// The dense matrix holding `values` (one per slot); `lower`: only the lower
-    /// triangle's slots are read, mirrored onto the upper one.
-    fn dense(&self, values: &[f64], lower: bool) -> nalgebra::DMatrix<f64> {
-        let mut m = nalgebra::DMatrix::<f64>::zeros(self.n, self.n);
-        for c in 0..self.n {
+    /// Writes the matrix holding `values` (one per slot) into the column-major `out`
+    /// (zeroed first); `lower`: only the lower triangle's slots are read.
+    fn scatter(&self, values: &[f64], lower: bool, out: &mut [f64]) {
+        out.fill(0.0);
+        let n = self.n;
+        for c in 0..n {
             let span = self.col_ptr[c]..self.col_ptr[c + 1];
             for (&r, &v) in self.row_idx[span.clone()].iter().zip(&values[span]) {
-                if !lower {
-                    m[(r, c)] += v;
-                } else if r >= c {
-                    m[(r, c)] += v;
-                    if r != c {
-                        m[(c, r)] += v;
-                    }
+                if !lower || r >= c {
+                    out[c * n + r] += v;
                 }
             }
         }
-        m
     }
 
     /// The n × n pattern holding `positions` (any order, repeats allowed).
@@ -114,10 +111,10 @@ pub struct SparseLu {
     factor_scratch: faer::dyn_stack::MemBuffer,
     solve_scratch: faer::dyn_stack::MemBuffer,
     factored: bool,
-    /// Matrices up to [`DENSE_MAX`] are factored dense (nalgebra's LU with partial
-    /// pivoting): below that size the sparse machinery costs more than the arithmetic
-    /// (a pendulum's 5 × 5 Newton matrix took 4 µs in faer's numeric LU, most of a step).
-    dense: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    /// Matrices up to [`DENSE_MAX`] are factored dense ([`DenseLu`]): below that size
+    /// the sparse machinery costs more than the arithmetic (a pendulum's 5 × 5 Newton
+    /// matrix took 4 µs in faer's numeric LU, most of a step).
+    dense: Option<DenseLu>,
 }
 
 /// The largest order [`SparseLu`] factors dense.
@@ -137,13 +134,13 @@ impl SparseLu {
         let solve_scratch =
             faer::dyn_stack::MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(SparseLu {
-            pattern,
             symbolic,
             numeric: lu::NumericLu::new(),
             factor_scratch,
             solve_scratch,
             factored: false,
-            dense: None,
+            dense: (pattern.n <= DENSE_MAX).then(|| DenseLu::new(pattern.n)),
+            pattern,
         })
     }
 
@@ -151,9 +148,39 @@ impl SparseLu {
         faer::sparse::SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx)
     }
 
+    /// The smallest pivot of the last dense factorization over its largest (about the
+    /// inverse of its condition); `None` for a matrix factored sparse.
+    pub fn pivot_ratio(&self) -> Option<f64> {
+        self.dense.as_ref().map(DenseLu::pivot_ratio)
+    }
+
     /// The sparsity pattern the symbolic analysis was done on.
     pub fn pattern(&self) -> &Pattern {
         &self.pattern
+    }
+
+    /// Whether the matrix is factored dense (order up to [`DENSE_MAX`]).
+    pub fn is_dense(&self) -> bool {
+        self.dense.is_some()
+    }
+
+    /// The dense matrix to fill in place (column-major, entry (r, c) at `c·n + r`) for
+    /// [`SparseLu::factor_dense`]; None for a matrix factored sparse.
+    pub fn dense_mut(&mut self) -> Option<&mut [f64]> {
+        self.factored = false;
+        self.dense.as_mut().map(DenseLu::matrix_mut)
+    }
+
+    /// Factors the matrix filled through [`SparseLu::dense_mut`].
+    pub fn factor_dense(&mut self) -> Result<(), FactorError> {
+        self.factored = false;
+        let lu = self.dense.as_mut().ok_or(FactorError::Singular)?;
+        if lu.matrix_mut().iter().any(|x| !x.is_finite()) {
+            return Err(FactorError::NotFinite);
+        }
+        lu.factor()?;
+        self.factored = true;
+        Ok(())
     }
 
     /// Factors the matrix whose values (one per pattern slot) are `values`.
@@ -162,12 +189,9 @@ impl SparseLu {
         if values.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotFinite);
         }
-        if self.pattern.n <= DENSE_MAX {
-            let lu = self.pattern.dense(values, false).lu();
-            if !lu.is_invertible() {
-                return Err(FactorError::Singular);
-            }
-            self.dense = Some(lu);
+        if let Some(lu) = &mut self.dense {
+            self.pattern.scatter(values, false, lu.matrix_mut());
+            lu.factor()?;
             self.factored = true;
             return Ok(());
         }
@@ -194,10 +218,7 @@ impl SparseLu {
         }
         let n = b.len();
         if let Some(lu) = &self.dense {
-            let mut x = nalgebra::DVectorViewMut::from_slice(b, n);
-            if !lu.solve_mut(&mut x) {
-                return Err(FactorError::Singular);
-            }
+            lu.solve(b);
             return if b.iter().all(|x| x.is_finite()) {
                 Ok(())
             } else {
@@ -230,9 +251,9 @@ pub struct SparseLlt {
     factor_scratch: faer::dyn_stack::MemBuffer,
     solve_scratch: faer::dyn_stack::MemBuffer,
     factored: bool,
-    /// Matrices up to [`DENSE_MAX`] are factored dense (nalgebra's Cholesky), as
-    /// [`SparseLu`] does.
-    dense: Option<nalgebra::Cholesky<f64, nalgebra::Dyn>>,
+    /// Matrices up to [`DENSE_MAX`] are factored dense ([`DenseLlt`]), as [`SparseLu`]
+    /// does.
+    dense: Option<DenseLlt>,
 }
 
 impl SparseLlt {
@@ -255,12 +276,12 @@ impl SparseLlt {
             faer::dyn_stack::MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(SparseLlt {
             l_values: vec![0.0; symbolic.len_val()],
-            pattern,
             symbolic,
             factor_scratch,
             solve_scratch,
             factored: false,
-            dense: None,
+            dense: (pattern.n <= DENSE_MAX).then(|| DenseLlt::new(pattern.n)),
+            pattern,
         })
     }
 
@@ -271,10 +292,10 @@ impl SparseLlt {
         if values.iter().any(|x| !x.is_finite()) {
             return Err(FactorError::NotFinite);
         }
-        if self.pattern.n <= DENSE_MAX {
-            // The lower triangle, mirrored (the upper one is not read, as faer's).
-            let m = self.pattern.dense(values, true);
-            self.dense = Some(m.cholesky().ok_or(FactorError::Singular)?);
+        if let Some(llt) = &mut self.dense {
+            // The lower triangle (the upper one is not read, as faer's).
+            self.pattern.scatter(values, true, llt.matrix_mut());
+            llt.factor()?;
             self.factored = true;
             return Ok(());
         }
@@ -301,9 +322,13 @@ impl SparseLlt {
             return Err(FactorError::Singular);
         }
         let n = b.len();
-        if let Some(ch) = &self.dense {
-            ch.solve_mut(&mut nalgebra::DVectorViewMut::from_slice(b, n));
-            return Ok(());
+        if let Some(llt) = &self.dense {
+            llt.solve(b);
+            return if b.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(FactorError::Singular)
+            };
         }
         let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(

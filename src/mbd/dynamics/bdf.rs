@@ -398,7 +398,7 @@ impl Bdf {
             r1.fill(0.0);
             d.add_constraint_forces(lambda, r1);
             *r1 -= &d.gen.q;
-            d.add_blocks_times(&d.mass_blocks(), 1.0, a1, r1);
+            d.add_blocks_times(&d.mass_blocks(), 1.0, a1.as_slice(), r1);
             for k in 0..n {
                 rhs[k] = -r1[k];
             }

@@ -42,10 +42,12 @@ fn axis(sys: &System, m: MarkerHandle, dir: &Vec3) -> (Vec3, Vec3, Vec3) {
     (u, w.cross(&u), w.cross(&w.cross(&u)))
 }
 
-/// γ for every kept row of `d` at the current state.
-pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
+/// γ for every kept row of `d` at the current state, into `out`.
+pub fn gamma(d: &Dynamics, out: &mut DVec) -> Result<(), MbdError> {
     let sys = &d.sys;
-    let mut out = DVec::zeros(d.m);
+    if out.len() != d.m {
+        *out = DVec::zeros(d.m);
+    }
     for (r, &(e, q)) in d.rows.iter().enumerate() {
         let name = |why: ExprError| match why {
             ExprError::NoDerivative(why) => MbdError::NoSecondDerivative(
@@ -111,5 +113,5 @@ pub fn gamma(d: &Dynamics) -> Result<DVec, MbdError> {
             }
         };
     }
-    Ok(out)
+    Ok(())
 }

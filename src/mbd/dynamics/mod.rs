@@ -15,7 +15,8 @@
 pub mod bdf;
 pub mod dopri853;
 pub mod events;
-pub mod gamma;
+mod fill;
+mod gamma;
 pub mod integrator;
 pub mod jacobian;
 pub mod newmark;
@@ -391,6 +392,49 @@ pub struct Dynamics {
     constant_mass: Option<Vec<Mat3Block>>,
     /// Buffers of one row's evaluation, reused.
     row_scratch: super::constraints::RowEval,
+    /// Where the Newton matrix's entries go ([`fill::Fill`]).
+    fill: fill::Fill,
+    /// Every moving part's inertia is isotropic (the 3D mass blocks then never change).
+    isotropic: bool,
+    /// Scratch of the saddle-point solves.
+    scratch: Scratch,
+}
+
+/// `x` made a copy of `from`, reallocated only when the length differs (nalgebra's
+/// resize always reallocates).
+fn copy_into(x: &mut DVec, from: &[f64]) {
+    if x.len() == from.len() {
+        x.copy_from_slice(from);
+    } else {
+        *x = DVec::from_column_slice(from);
+    }
+}
+
+/// `x` made `n` zeros, reallocated only when the length differs.
+fn zero_into(x: &mut DVec, n: usize) {
+    if x.len() == n {
+        x.fill(0.0);
+    } else {
+        *x = DVec::zeros(n);
+    }
+}
+
+/// The dense saddle-point matrix is factored without regularisation while its smallest
+/// pivot is at least this fraction of its largest; nearer singular (a dead centre), it
+/// is regularised and its solves refined ([`Dynamics::solve_saddle`]).
+const EXACT_PIVOT_RATIO: f64 = 1e-8;
+
+/// Reused buffers of the saddle-point solves.
+#[derive(Default)]
+struct Scratch {
+    rhs: Vec<f64>,
+    residual: Vec<f64>,
+    /// M·a + Φ_qᵀ·λ, and Φ_q·a.
+    product: DVec,
+    row_product: Vec<f64>,
+    /// γ and the solution (a; λ) of [`Dynamics::accelerations_factored`].
+    gamma: DVec,
+    solution: Vec<f64>,
 }
 
 /// Which factorization: the integrator's Newton matrix or the outputs' saddle point.
@@ -408,6 +452,11 @@ struct Factors {
     values: Vec<f64>,
     schur: Option<schur::Schur>,
     via_schur: bool,
+    /// The factors are of the regularised matrix (a solve must refine).
+    regularised: bool,
+    /// The Schur path declined a matrix that never changes (the saddle point's, with
+    /// constant mass blocks): it is not tried again.
+    schur_declined: bool,
 }
 
 impl Dynamics {
@@ -455,6 +504,8 @@ impl Dynamics {
                 lu: SparseLu::new(pattern).map_err(|_| DynError::Structure)?,
                 schur: None,
                 via_schur: false,
+                regularised: true,
+                schur_declined: false,
             })
         };
         let factors = [factors(pattern.clone())?, factors(pattern)?];
@@ -487,7 +538,11 @@ impl Dynamics {
             geo_blocks: Vec::new(),
             row_scratch: Default::default(),
             constant_mass: None,
+            fill: fill::Fill::default(),
+            isotropic: false,
+            scratch: Scratch::default(),
         };
+        d.fill = fill::Fill::new(&d.factors[0].lu, &d.sys, &d.jac);
         for f in 0..2 {
             d.factors[f].schur = d.schur_solver();
         }
@@ -496,7 +551,8 @@ impl Dynamics {
             .parts
             .iter()
             .all(|p| p.index.is_none() || p.isotropic());
-        if d.sys.dim == Dimension::Two || isotropic {
+        d.isotropic = isotropic;
+        if d.mass_is_constant() {
             d.constant_mass = Some(d.mass_blocks().into_owned());
         }
         d.check_massless()?;
@@ -752,6 +808,12 @@ impl Dynamics {
         }
     }
 
+    /// Whether the mass blocks never change: in 2D, and in 3D when every moving part's
+    /// inertia is isotropic.
+    fn mass_is_constant(&self) -> bool {
+        self.sys.dim == Dimension::Two || self.isotropic
+    }
+
     /// Every moving part's mass block (divided by UCF) at the current state, in part
     /// order. In 2D (and for isotropic parts) they never change and are computed once.
     pub fn mass_blocks(&self) -> std::borrow::Cow<'_, [Mat3Block]> {
@@ -769,7 +831,7 @@ impl Dynamics {
     }
 
     /// w·M·x added to `out` (x in the velocity layout), M given by its `blocks`.
-    pub fn add_blocks_times(&self, blocks: &[Mat3Block], w: f64, x: &DVec, out: &mut DVec) {
+    pub fn add_blocks_times(&self, blocks: &[Mat3Block], w: f64, x: &[f64], out: &mut DVec) {
         let bs = self.sys.dim.cols();
         for (i, blk) in blocks.iter().enumerate() {
             let b = i * bs;
@@ -793,7 +855,7 @@ impl Dynamics {
     }
 
     /// M·x / UCF added to `out` (x in the velocity layout), M at the current state.
-    pub fn add_mass_times(&self, x: &DVec, out: &mut DVec) {
+    pub fn add_mass_times(&self, x: &[f64], out: &mut DVec) {
         self.add_blocks_times(&self.mass_blocks(), 1.0, x, out);
     }
 
@@ -822,11 +884,31 @@ impl Dynamics {
         // scale |Φ_q|²/m, keeps it factorable; it changes the Newton matrix only, so a
         // converged step still solves the equations exactly. A row whose Jacobian has
         // vanished altogether constrains nothing any more: that is reported.
-        let time = self.sys.time;
         let top = self.jac.amax();
         self.jac_top = top;
         self.check_rows()?;
-        let blocks = self.mass_blocks().into_owned();
+        // (Constant blocks are lent out for the factorization rather than copied.)
+        let blocks = match self.constant_mass.take() {
+            Some(b) => b,
+            None => self.mass_blocks().into_owned(),
+        };
+        let factored = self.factor_blocks(which, w, &blocks, top);
+        if self.constant_mass.is_none() && (self.sys.dim == Dimension::Two || self.isotropic) {
+            self.constant_mass = Some(blocks);
+        }
+        factored
+    }
+
+    /// [`Dynamics::factor_into`] with the mass blocks `blocks` and the Jacobian's
+    /// largest entry `top`.
+    fn factor_blocks(
+        &mut self,
+        which: Which,
+        w: Weights,
+        blocks: &[Mat3Block],
+        top: f64,
+    ) -> Result<(), DynError> {
+        let time = self.sys.time;
         let heaviest = blocks
             .iter()
             .map(|b| match b {
@@ -839,19 +921,44 @@ impl Dynamics {
         if which == Which::Newton {
             self.factor_generation += 1;
         }
+        let constant = self.mass_is_constant();
         let f = &mut self.factors[which as usize];
         f.via_schur = false;
+        f.regularised = true;
         // A NaN or infinity in the matrix makes the Schur path decline (its block
         // inverses and factorizations check); the full LU then reports it.
-        if let Some(schur) = &mut f.schur {
-            if let Ok(true) = schur.factor(&self.jac, &blocks, &self.gen, &self.geo, w, eps) {
-                f.via_schur = true;
+        if let (Some(schur), false) = (&mut f.schur, f.schur_declined) {
+            match schur.factor(&self.jac, blocks, &self.gen, &self.geo, w, eps) {
+                Ok(true) => {
+                    f.via_schur = true;
+                    return Ok(());
+                }
+                // The saddle point's blocks are the mass's: when that never changes, a
+                // block the Schur path cannot invert never will be.
+                Ok(false) if which == Which::Saddle && constant => {
+                    f.schur_declined = true;
+                }
+                _ => {}
+            }
+        }
+        // The saddle point's dense matrix is factored as it is unless it is nearly
+        // singular: its solves then need no refinement.
+        if which == Which::Saddle && f.lu.pivot_ratio().is_some() {
+            let f = &mut self.factors[which as usize];
+            if self
+                .fill
+                .factor(f, blocks, &self.jac, &self.gen, &self.geo, w, 0.0)
+                .is_ok()
+                && f.lu.pivot_ratio().is_some_and(|r| r >= EXACT_PIVOT_RATIO)
+            {
+                f.regularised = false;
                 return Ok(());
             }
         }
-        self.fill_full(which, &blocks, w, eps);
         let f = &mut self.factors[which as usize];
-        let factored = f.lu.factor(&f.values);
+        let factored = self
+            .fill
+            .factor(f, blocks, &self.jac, &self.gen, &self.geo, w, eps);
         let culprit = if factored.is_err() {
             self.singular_culprit()
         } else {
@@ -882,59 +989,6 @@ impl Dynamics {
                 culprit: Some(self.row_culprit(r)),
             }),
             None => Ok(()),
-        }
-    }
-
-    /// Fills the full saddle-point matrix with weights `w` and regularisation `eps`.
-    fn fill_full(&mut self, which: Which, blocks: &[Mat3Block], w: Weights, eps: f64) {
-        let f = &mut self.factors[which as usize];
-        let values = &mut f.values;
-        values.fill(0.0);
-        let n = self.n;
-        let bs = self.sys.dim.cols();
-        let pat = f.lu.pattern();
-        let add = |vals: &mut Vec<f64>, r: usize, c: usize, x: f64| {
-            if let Some(s) = pat.slot(r, c) {
-                vals[s] += x;
-            }
-        };
-        for (i, block) in blocks.iter().enumerate() {
-            let b = i * bs;
-            match *block {
-                Mat3Block::Three(m, j) => {
-                    for c in 0..3 {
-                        add(values, b + c, b + c, w.w_m * m);
-                        for r in 0..3 {
-                            add(values, b + 3 + r, b + 3 + c, w.w_m * j[(r, c)]);
-                        }
-                    }
-                }
-                Mat3Block::Two(m, j) => {
-                    add(values, b, b, w.w_m * m);
-                    add(values, b + 1, b + 1, w.w_m * m);
-                    add(values, b + 2, b + 2, w.w_m * j);
-                }
-            }
-        }
-        if w.w_k != 0.0 {
-            for &(r, c, x) in &self.gen.dq {
-                add(values, r, c, -w.w_k * x);
-            }
-            for &(r, c, x) in &self.geo {
-                add(values, r, c, w.w_k * x);
-            }
-        }
-        if w.w_c != 0.0 {
-            for &(r, c, x) in &self.gen.dv {
-                add(values, r, c, -w.w_c * x);
-            }
-        }
-        for (r, c, x) in self.jac.entries() {
-            add(values, n + r, c, x);
-            add(values, c, n + r, w.w_l * x);
-        }
-        for r in 0..self.m {
-            add(values, n + r, n + r, -eps);
         }
     }
 
@@ -1199,32 +1253,42 @@ impl Dynamics {
     /// keep the regularisation's bias).
     fn solve_saddle(&mut self, b: &mut [f64]) -> Result<(), DynError> {
         let n = self.n;
-        let rhs = b.to_vec();
-        self.solve_with(Which::Saddle, b)?;
-        for _ in 0..3 {
-            let a = DVec::from_column_slice(&b[..n]);
-            let lambda = DVec::from_column_slice(&b[n..]);
-            let mut top = DVec::zeros(n);
-            self.add_mass_times(&a, &mut top);
-            self.add_constraint_forces(&lambda, &mut top);
-            let mut r: Vec<f64> = (0..n).map(|k| rhs[k] - top[k]).collect();
-            r.extend_from_slice(&rhs[n..]);
-            let mut ja = vec![0.0; self.m];
-            self.jac.add_times(a.as_slice(), &mut ja);
-            for (row, x) in ja.iter().enumerate() {
-                r[n + row] -= x;
-            }
-            let size = b.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-            self.solve_with(Which::Saddle, &mut r)?;
-            let step = r.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-            for (x, d) in b.iter_mut().zip(&r) {
-                *x += d;
-            }
-            if step <= 1e-15 * size {
-                break;
+        let mut s = std::mem::take(&mut self.scratch);
+        s.rhs.clear();
+        s.rhs.extend_from_slice(b);
+        let mut solved = self.solve_with(Which::Saddle, b);
+        if solved.is_ok() && self.factors[Which::Saddle as usize].regularised {
+            for _ in 0..3 {
+                // r = rhs − [[M, Φ_qᵀ], [Φ_q, 0]]·b.
+                zero_into(&mut s.product, n);
+                let (a, lambda) = b.split_at(n);
+                self.add_mass_times(a, &mut s.product);
+                self.jac.add_transpose_times(lambda, 1.0, &mut s.product);
+                s.residual.clear();
+                s.residual.extend((0..n).map(|k| s.rhs[k] - s.product[k]));
+                s.residual.extend_from_slice(&s.rhs[n..]);
+                s.row_product.clear();
+                s.row_product.resize(self.m, 0.0);
+                self.jac.add_times(a, &mut s.row_product);
+                for (x, y) in s.residual[n..].iter_mut().zip(&s.row_product) {
+                    *x -= y;
+                }
+                let size = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                solved = self.solve_with(Which::Saddle, &mut s.residual);
+                if solved.is_err() {
+                    break;
+                }
+                let step = s.residual.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for (x, d) in b.iter_mut().zip(&s.residual) {
+                    *x += d;
+                }
+                if step <= 1e-15 * size {
+                    break;
+                }
             }
         }
-        Ok(())
+        self.scratch = s;
+        solved
     }
 
     /// Factors [[M/UCF, Φ_qᵀ], [Φ_q, 0]] from the last constraint evaluation.
@@ -1246,20 +1310,20 @@ impl Dynamics {
     /// the solve with the forces at the last accelerations and multipliers until they
     /// settle (at the loop's gain per sweep).
     fn accelerations_factored(&mut self) -> Result<(), DynError> {
-        let gamma = gamma::gamma(self)?;
+        // (Buffers taken out of the scratch are put back on success; a failure ends the
+        // attempt, and a lost buffer is only allocated again.)
+        let mut gamma = std::mem::take(&mut self.scratch.gamma);
+        gamma::gamma(self, &mut gamma)?;
+        let mut rhs = std::mem::take(&mut self.scratch.solution);
         let looped = self.forces.reads_solution();
         let mut last_change = f64::INFINITY;
         let mut stalled = 0;
         for _ in 0..SOLUTION_SWEEPS {
             self.eval_forces(false)?;
             self.check_forces()?;
-            let mut rhs: Vec<f64> = self
-                .gen
-                .q
-                .iter()
-                .copied()
-                .chain(gamma.iter().copied())
-                .collect();
+            rhs.clear();
+            rhs.extend_from_slice(self.gen.q.as_slice());
+            rhs.extend_from_slice(gamma.as_slice());
             self.solve_saddle(&mut rhs)?;
             let (a, lambda) = rhs.split_at(self.n);
             let change = if looped && self.a.len() == self.n && self.lambda.len() == self.m {
@@ -1273,10 +1337,11 @@ impl Dynamics {
             } else {
                 f64::INFINITY
             };
-            self.a = DVec::from_column_slice(a);
-            self.lambda = DVec::from_column_slice(lambda);
+            copy_into(&mut self.a, a);
+            copy_into(&mut self.lambda, lambda);
             self.store_accelerations();
             if !looped || change <= SOLUTION_TOL {
+                (self.scratch.gamma, self.scratch.solution) = (gamma, rhs);
                 return Ok(());
             }
             stalled = if change < 0.9 * last_change {

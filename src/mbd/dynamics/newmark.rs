@@ -264,9 +264,9 @@ impl Newmark {
             for k in 0..n {
                 r1[k] = self.s * (r1[k] - d.gen.q[k]) - self.r * self.f0[k];
             }
-            d.add_blocks_times(&d.mass_blocks(), self.s, &a1, r1);
+            d.add_blocks_times(&d.mass_blocks(), self.s, a1.as_slice(), r1);
             if self.r != 0.0 {
-                d.add_blocks_times(&self.m0, -self.r, &a1, r1);
+                d.add_blocks_times(&self.m0, -self.r, a1.as_slice(), r1);
             }
             for k in 0..n {
                 rhs[k] = -r1[k];
@@ -387,7 +387,7 @@ impl Integrator for Newmark {
         self.a_phys0 = d.a.clone();
         // (Φ_qᵀλ − Q)₀ = −M·a₀/UCF for consistent initial accelerations.
         let mut f0 = DVec::zeros(d.n);
-        d.add_mass_times(&self.a0, &mut f0);
+        d.add_mass_times(self.a0.as_slice(), &mut f0);
         self.f0 = -f0;
         self.m0 = d.mass_blocks().into_owned();
         self.a_prev = DVec::zeros(0);
@@ -419,8 +419,8 @@ impl Integrator for Newmark {
         let m1 = d.mass_blocks();
         let ma = &mut self.res;
         ma.fill(0.0);
-        d.add_blocks_times(&m1, self.s, &d.a, ma);
-        d.add_blocks_times(&self.m0, -self.r, &d.a, ma);
+        d.add_blocks_times(&m1, self.s, d.a.as_slice(), ma);
+        d.add_blocks_times(&self.m0, -self.r, d.a.as_slice(), ma);
         for (f, x) in self.f0.iter_mut().zip(ma.iter()) {
             *f = (*f * self.r - x) / self.s;
         }
