@@ -69,6 +69,38 @@ fn a01_error_against_the_exact_solution_falls_with_the_tolerance() {
 }
 
 #[test]
+fn trees_in_joint_coordinates_meet_the_truth_as_the_cartesian_form_does() {
+    // dopri853 integrates a planar tree in its joint coordinates: one revolute (A01,
+    // exact), one translational with an IMPACT stop (k = 1e5, the 1-DOF equation's
+    // converged truth), a translational and a revolute (the light cart-pole's first
+    // second, its quadrature). Each against its truth, as the Cartesian index-1 form.
+    for (name, error, bound) in [
+        ("a01_pendulum", 1e-9, 1e-8),
+        ("impact_block_k1e5", 1e-7, 1e-6),
+        ("cart_pole", 1e-10, 1e-7),
+    ] {
+        let s = scene(name);
+        let text = s.dataset_text().unwrap();
+        for method in ["dopri853", "dopri853-cartesian"] {
+            let p = measure(
+                &s,
+                &text,
+                variant_named(method).unwrap(),
+                Control::Tolerance(error),
+                Options::default(),
+            );
+            assert_eq!(p.status, Status::Ok, "{name} {method}");
+            let e = p.errors.position.unwrap();
+            assert!(e < bound, "{name} {method}: error {e:e}");
+            // The joint form has no constraint to project onto.
+            if method == "dopri853" {
+                assert_eq!(p.stats.newton_iterations, 0, "{name}");
+            }
+        }
+    }
+}
+
+#[test]
 fn a02_scene_is_scored_against_the_exact_parallelogram_solution() {
     // The 3D build keeps 3 redundant equations out, and still follows §4.2's θ(t).
     let s = scene("a02_n1_3d");

@@ -28,6 +28,8 @@ pub struct Variant {
     pub order: u32,
     /// ERROR bounds the whole run's error, not each step's.
     pub per_run: bool,
+    /// dopri853 keeps to the Cartesian form where joint coordinates would do.
+    pub cartesian: bool,
 }
 
 const fn variant(name: &'static str, method: Method, fixed: bool, order: u32) -> Variant {
@@ -39,6 +41,7 @@ const fn variant(name: &'static str, method: Method, fixed: bool, order: u32) ->
         rho_inf: None,
         order,
         per_run: false,
+        cartesian: false,
     }
 }
 
@@ -64,6 +67,10 @@ pub const VARIANTS: &[Variant] = &[
     },
     variant("newmark", Method::Newmark, false, 1),
     variant("dopri853", Method::Dopri853, false, 8),
+    Variant {
+        cartesian: true,
+        ..variant("dopri853-cartesian", Method::Dopri853, false, 8)
+    },
     Variant {
         formulation: Some(Formulation::I3),
         per_run: true,
@@ -275,6 +282,7 @@ fn build(
     spec.hmin = scene.hmin;
     spec.kmax = o.kmax;
     spec.error_per_run = variant.per_run;
+    spec.cartesian = variant.cartesian;
     spec.keep_redundant = o.keep_redundant;
     spec.engine = o.engine;
     spec.dim = match o.dim.or(scene.dim) {

@@ -87,6 +87,11 @@ pub struct RunArgs {
     /// (each step held to ERROR·h/T, so the answer's error falls with ERROR).
     #[arg(long = "error-per", value_enum, default_value = "step")]
     error_per: ErrorPer,
+    /// dopri853: keep to the Cartesian index-1 form (three coordinates a part and the
+    /// constraints) even on a planar tree of joints, which it otherwise integrates in its
+    /// joint coordinates.
+    #[arg(long)]
+    cartesian: bool,
     /// Fixed steps of at most H (no error control; each output interval is split evenly).
     #[arg(long = "fixed-step", value_name = "H")]
     fixed_step: Option<f64>,
@@ -237,6 +242,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     });
     spec.kmax = a.kmax;
     spec.error_per_run = a.error_per == ErrorPer::Run;
+    spec.cartesian = a.cartesian;
     spec.formulation = a.formulation.map(|f| match f {
         FormulationArg::I3 => Formulation::I3,
         FormulationArg::Si2 => Formulation::Si2,

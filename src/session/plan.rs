@@ -41,8 +41,12 @@ pub enum Scheme {
         /// I3, SI2 or SI1.
         formulation: Formulation,
     },
-    /// The explicit Dormand–Prince 8(5,3) on the index-1 equations (command line only).
-    Dopri853,
+    /// The explicit Dormand–Prince 8(5,3) on the index-1 equations, or on a planar
+    /// tree's joint coordinates (command line only).
+    Dopri853 {
+        /// Keep to the Cartesian form where joint coordinates would do.
+        cartesian: bool,
+    },
 }
 
 /// The integrator and settings of one stretch of a run.
@@ -96,7 +100,9 @@ impl Plan {
             Some(Method::Newmark) => Scheme::Newmark(newmark),
             Some(Method::Gstiff) => bdf_scheme(Family::Gstiff),
             Some(Method::Wstiff) => bdf_scheme(Family::Wstiff),
-            Some(Method::Dopri853) => Scheme::Dopri853,
+            Some(Method::Dopri853) => Scheme::Dopri853 {
+                cartesian: spec.cartesian,
+            },
             None => match stmt.family.map(|f| f.value) {
                 Some(Family::Hht) => Scheme::Newmark(newmark::Method::Hht { alpha }),
                 Some(Family::Newmark) => Scheme::Newmark(newmark),
@@ -114,7 +120,8 @@ impl Plan {
     pub fn integrator(&self) -> (Box<dyn Integrator>, Option<String>) {
         match self.scheme {
             Scheme::Newmark(m) => (Box::new(Newmark::new(m)), None),
-            Scheme::Dopri853 => (Box::new(Dopri853::new()), None),
+            Scheme::Dopri853 { cartesian: false } => (Box::new(Dopri853::new()), None),
+            Scheme::Dopri853 { cartesian: true } => (Box::new(Dopri853::cartesian()), None),
             Scheme::Bdf {
                 family,
                 kmax,

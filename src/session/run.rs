@@ -111,6 +111,9 @@ pub struct RunSpec {
     /// Keep the rows the redundancy analysis finds redundant in the equations of motion
     /// (a measurement of what dropping them is worth: the Newton matrix is singular).
     pub keep_redundant: bool,
+    /// dopri853 keeps to the Cartesian index-1 form even on a planar tree of joints,
+    /// which it otherwise integrates in joint coordinates.
+    pub cartesian: bool,
     /// 2D, 3D or whichever the scene allows.
     pub dim: DimRequest,
     /// Which back end evaluates the expressions.
@@ -135,6 +138,7 @@ impl RunSpec {
             kmax: None,
             error_per_run: false,
             keep_redundant: false,
+            cartesian: false,
             dim: DimRequest::Auto,
             engine: Engine::Jit,
         }
@@ -575,6 +579,9 @@ impl Simulation {
                 &times,
                 &mut segment_emit,
             );
+            if let Some(n) = integrator.formulation().filter(|n| !notes.contains(n)) {
+                notes.push(n);
+            }
         }
         let result = result.map_err(|e| self.diagnose_lock_up(e));
         let summary = Summary {

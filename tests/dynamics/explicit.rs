@@ -91,16 +91,62 @@ fn dopri853_error_control_keeps_a01_within_error_over_ten_seconds() {
     // With HMAX out of the way (rows every 1 s), the step is error control's alone: the
     // global error over 10 s (about five swings) stays within ERROR × the 1 m length
     // from loose to tight, and tightening ERROR a thousandfold costs about 10^(3/8)
-    // times the steps, as an eighth-order method should.
+    // times the steps, as an eighth-order method should. In the Cartesian index-1
+    // form (x, y and the projection); the joint form's test is
+    // `dopri853_joint_form_keeps_a01_within_ten_errors`.
     let mut steps = Vec::new();
     for error in ["1e-5", "1e-8", "1e-11"] {
-        let args = ["--end", "10", "--output-step", "1", "--error", error];
+        let args = [
+            "--end",
+            "10",
+            "--output-step",
+            "1",
+            "--error",
+            error,
+            "--cartesian",
+        ];
         let r = run(&a01(), &args, &a01_probes());
         let err = a01_error(&r.csv);
         let bound: f64 = error.parse().unwrap();
         assert!(
             err <= bound,
             "ERROR {error}: max position error {err:e} in {} steps",
+            r.steps
+        );
+        steps.push(r.steps as f64);
+    }
+    for pair in steps.windows(2) {
+        let growth = pair[1] / pair[0];
+        assert!((1.8..=3.5).contains(&growth), "steps {steps:?}");
+    }
+}
+
+#[test]
+fn dopri853_joint_form_keeps_a01_within_ten_errors() {
+    // A01 is a tree of one revolute joint: dopri853 integrates its one angle, and says
+    // so. The joint holds by construction (no projection, the residual at rounding).
+    // ERROR bounds each step's error in the angle (radians, the 1 m rod turns it into
+    // metres): over 10 s the global error stays within ten ERRORs (the summary warns
+    // past that), and tightening ERROR a thousandfold costs about 10^(3/8) times the
+    // steps.
+    let mut steps = Vec::new();
+    for error in ["1e-5", "1e-8", "1e-11"] {
+        let args = ["--end", "10", "--output-step", "1", "--error", error];
+        let out = run_raw(&a01(), &[&["--integrator", DOPRI][..], &args[..]].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("integrated in its 1 joint coordinates"),
+            "{stderr}"
+        );
+        let r = run(&a01(), &args, &a01_probes());
+        let err = a01_error(&r.csv);
+        let bound: f64 = error.parse().unwrap();
+        assert!(
+            err <= 10.0 * bound && r.newton == 0 && r.residual <= 1e-14,
+            "ERROR {error}: max position error {err:e}, residual {:e}, {} projection \
+             iterations in {} steps",
+            r.residual,
+            r.newton,
             r.steps
         );
         steps.push(r.steps as f64);
@@ -172,7 +218,19 @@ fn dopri853_projection_keeps_the_constraints_at_rounding() {
     // The projection must leave only rounding, in 2D and in 3D, in a Newton iteration or
     // so a step.
     let spherical = case("Spherical_Case02").model();
-    let loose = |end| ["--end", end, "--output-step", "0.1", "--error", "1e-4"];
+    // (A01 is a planar tree, which dopri853 integrates in joint coordinates unless
+    // told not to: the projection is the Cartesian form's.)
+    let loose = |end| {
+        [
+            "--end",
+            end,
+            "--output-step",
+            "0.1",
+            "--error",
+            "1e-4",
+            "--cartesian",
+        ]
+    };
     let fixed = [
         "--end",
         "10",
@@ -180,6 +238,7 @@ fn dopri853_projection_keeps_the_constraints_at_rounding() {
         "0.25",
         "--fixed-step",
         "0.25",
+        "--cartesian",
     ];
     for (model, args) in [
         (a01(), &loose("10")[..]),

@@ -36,6 +36,7 @@
 mod tableau;
 
 use super::integrator::{Attempt, Integrator, Settings};
+use super::tree::JointTree;
 use super::{DynError, Dynamics, Snapshot};
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
@@ -76,6 +77,27 @@ pub struct Dopri853 {
     v: DVec,
     /// Per-column error scales and the ERROR they are for.
     tol: (f64, Vec<f64>),
+    /// Integrate the Cartesian index-1 form even where joint coordinates would do.
+    cartesian: bool,
+    /// The joint-coordinate form, when the model is a planar tree ([`JointTree`]).
+    joint: Option<Joints>,
+}
+
+/// DOP853 on the joint coordinates of a planar tree: the ODE y = (θ, θ̇), ẏ = (θ̇, θ̈).
+struct Joints {
+    tree: JointTree,
+    /// The accepted y and θ̈ there; the candidate's. (The Cartesian accelerations and
+    /// multipliers of `Dynamics` are solved before outputs only.)
+    y0: Vec<f64>,
+    a0: Vec<f64>,
+    y1: Vec<f64>,
+    a1: Vec<f64>,
+    /// The stages' slopes, a stage's y, and per-coordinate error scales.
+    k: Vec<Vec<f64>>,
+    y: Vec<f64>,
+    /// Per-coordinate error scales and the ERROR they are for.
+    tol: Vec<f64>,
+    tol_error: f64,
 }
 
 impl Default for Dopri853 {
@@ -97,7 +119,22 @@ impl Dopri853 {
             x: Vec::new(),
             v: DVec::zeros(0),
             tol: (f64::NAN, Vec::new()),
+            cartesian: false,
+            joint: None,
         }
+    }
+
+    /// An integrator that keeps to the Cartesian form on every model.
+    pub fn cartesian() -> Dopri853 {
+        Dopri853 {
+            cartesian: true,
+            ..Dopri853::new()
+        }
+    }
+
+    /// How many joint coordinates it integrates (None: the Cartesian form).
+    pub fn joint_coordinates(&self) -> Option<usize> {
+        self.joint.as_ref().map(|j| j.tree.coordinates())
     }
 
     /// Sizes the buffers for `n` columns.
@@ -127,29 +164,17 @@ impl Dopri853 {
     /// the per-column scales, and the column where it is largest (positions' and
     /// velocities' alike).
     fn error(&self, h: f64) -> (f64, usize) {
-        let tol = &self.tol.1;
-        let n = tol.len();
-        let (mut e5, mut e3, mut worst) = (0.0f64, 0.0f64, 0);
-        for i in 0..2 * n {
-            let (slopes, k) = match i < n {
-                true => (&self.kx, i),
-                false => (&self.kv, i - n),
-            };
-            let dot = |w: &[(usize, f64)]| w.iter().map(|&(j, x)| x * slopes[j][k]).sum::<f64>();
-            let (s5, s3) = (
-                (dot(&ER) / tol[k]).abs(),
-                ((dot(&B) - dot(&BHH)) / tol[k]).abs(),
-            );
-            if s5 > e5 {
-                (e5, worst) = (s5, k);
-            }
-            e3 = e3.max(s3);
-        }
-        let denominator = (e5 * e5 + E3_WEIGHT * e3 * e3).sqrt();
-        match denominator > 0.0 {
-            true => (h.abs() * e5 * e5 / denominator, worst),
-            false => (0.0, worst),
-        }
+        let n = self.tol.1.len();
+        let (err, worst) = estimate(
+            2 * n,
+            |i| self.tol.1[i % n],
+            |j, i| match i < n {
+                true => self.kx[j][i],
+                false => self.kv[j][i - n],
+            },
+            h,
+        );
+        (err, worst % n)
     }
 }
 
@@ -190,7 +215,20 @@ impl Integrator for Dopri853 {
         Some(8)
     }
 
+    fn max_growth(&self) -> f64 {
+        // The published code's bound (FAC2): an eighth-order estimate grows the step
+        // 2× at an error of 1/256 of the tolerance; free flight after a contact would
+        // otherwise climb back from the contact's steps in many doublings.
+        6.0
+    }
+
     fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        if !self.cartesian {
+            self.joint = match JointTree::of(d) {
+                Some(tree) => Some(Joints::start(tree, d)?),
+                None => None,
+            };
+        }
         self.base = Some(d.snapshot());
         self.v0 = d.sys.v();
         self.a0 = d.a.clone();
@@ -204,13 +242,34 @@ impl Integrator for Dopri853 {
         if self.tol.0 != st.error || self.tol.1.len() != n {
             self.tol = (st.error, d.tolerances(st.error));
         }
+        if let Some(j) = &mut self.joint {
+            return j.attempt(d, h, st);
+        }
         let base = self.base.take().expect("started");
         let outcome = self.stages(d, &base, h, st);
         self.base = Some(base);
         outcome
     }
 
+    fn prepare_output(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        // The joint form solves θ̈ only: the Cartesian accelerations and multipliers
+        // (reactions) are solved where they are read.
+        match self.joint {
+            Some(_) => d.solve_accelerations(),
+            None => Ok(()),
+        }
+    }
+
+    fn formulation(&self) -> Option<String> {
+        self.joint_coordinates()
+            .map(|f| format!("a planar tree of joints: integrated in its {f} joint coordinates"))
+    }
+
     fn accept(&mut self, d: &mut Dynamics) {
+        if let Some(j) = &mut self.joint {
+            std::mem::swap(&mut j.y0, &mut j.y1);
+            std::mem::swap(&mut j.a0, &mut j.a1);
+        }
         self.base = Some(d.snapshot());
         self.v0 = d.sys.v();
         self.a0.clone_from(&d.a);
@@ -222,6 +281,121 @@ impl Integrator for Dopri853 {
         d.restore(base);
         d.a.clone_from(&self.a0);
         d.lambda.clone_from(&self.lambda0);
+    }
+}
+
+impl Joints {
+    /// The joint form of `tree` from `d`'s consistent state (at the tree's origin).
+    fn start(mut tree: JointTree, d: &mut Dynamics) -> Result<Joints, DynError> {
+        let f = tree.coordinates();
+        let mut y0 = vec![0.0; 2 * f];
+        let mut a0 = vec![0.0; f];
+        let (theta, rate) = y0.split_at_mut(f);
+        tree.rates_at_start(d, rate)?;
+        tree.accelerations(d, theta, rate, d.sys.time, &mut a0)?;
+        // The Cartesian accelerations and multipliers at the start, for the outputs.
+        d.solve_accelerations()?;
+        Ok(Joints {
+            tree,
+            y1: y0.clone(),
+            a1: a0.clone(),
+            y0,
+            a0,
+            k: vec![vec![0.0; 2 * f]; STAGES],
+            y: vec![0.0; 2 * f],
+            tol: Vec::new(),
+            tol_error: f64::NAN,
+        })
+    }
+
+    /// Sets stage `s`'s slope from the state in `self.y` at time `t`.
+    fn slope(&mut self, d: &mut Dynamics, s: usize, t: f64) -> Result<(), DynError> {
+        let f = self.tree.coordinates();
+        let (theta, rate) = self.y.split_at(f);
+        let (dy, dv) = self.k[s].split_at_mut(f);
+        dy.copy_from_slice(rate);
+        self.tree.accelerations(d, theta, rate, t, dv)
+    }
+
+    /// `self.y` = y₀ + h·Σⱼ wⱼ·kⱼ; false when it is not finite.
+    fn combine(&mut self, w: &[(usize, f64)], h: f64) -> bool {
+        for i in 0..self.y.len() {
+            let sum: f64 = w.iter().map(|&(j, a)| a * self.k[j][i]).sum();
+            self.y[i] = self.y0[i] + h * sum;
+        }
+        self.y.iter().all(|x| x.is_finite())
+    }
+
+    /// One step of `h` from the accepted state: the stages, the estimate, and at an
+    /// accepted candidate the Cartesian accelerations and multipliers (for outputs and
+    /// reactions).
+    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        let f = self.tree.coordinates();
+        if self.tol_error != st.error || self.tol.len() != 2 * f {
+            self.tol_error = st.error;
+            self.tol = (0..2 * f)
+                .map(|i| match self.tree.rotational(i % f) {
+                    true => st.error,
+                    false => st.error * d.sys.length,
+                })
+                .collect();
+        }
+        let t0 = d.sys.time;
+        let (dy, dv) = self.k[0].split_at_mut(f);
+        dy.copy_from_slice(&self.y0[f..]);
+        dv.copy_from_slice(&self.a0);
+        for s in 1..STAGES {
+            if !self.combine(A[s], h) {
+                return Ok(Attempt::Diverged);
+            }
+            self.slope(d, s, t0 + C[s] * h)?;
+        }
+        if !self.combine(&B, h) {
+            return Ok(Attempt::Diverged);
+        }
+        let (err, worst) = estimate(self.tol.len(), |i| self.tol[i], |j, i| self.k[j][i], h);
+        // The column of the part the worst coordinate moves, for a step-size failure.
+        let worst = 3 * self.tree.child(worst % f) + 2;
+        self.y1.copy_from_slice(&self.y);
+        let (theta, rate) = self.y1.split_at(f);
+        if err <= 1.0 || st.fixed_step.is_some() {
+            // θ̈ at the candidate: the next step's first stage.
+            self.tree
+                .accelerations(d, theta, rate, t0 + h, &mut self.a1)?;
+        } else {
+            // The state alone, for the switches the driver reads.
+            self.tree.place(d, theta, rate, t0 + h);
+        }
+        Ok(Attempt::Converged { err, worst })
+    }
+}
+
+/// DOP853's combined error estimate of a step `h` over `components` components, from
+/// stage j's slope of component i, `slope(j, i)`, relative to the scales `scale(i)`;
+/// and the component where it is largest.
+fn estimate(
+    components: usize,
+    scale: impl Fn(usize) -> f64,
+    slope: impl Fn(usize, usize) -> f64,
+    h: f64,
+) -> (f64, usize) {
+    let (mut e5, mut e3, mut worst) = (0.0f64, 0.0f64, 0);
+    for i in 0..components {
+        let scale = scale(i);
+        let dot = |w: &[(usize, f64)]| w.iter().map(|&(j, x)| x * slope(j, i)).sum::<f64>();
+        let (s5, s3) = (
+            (dot(&ER) / scale).abs(),
+            ((dot(&B) - dot(&BHH)) / scale).abs(),
+        );
+        if s5 > e5 {
+            (e5, worst) = (s5, i);
+        }
+        e3 = e3.max(s3);
+    }
+    let denominator = (e5 * e5 + E3_WEIGHT * e3 * e3).sqrt();
+    match denominator > 0.0 {
+        true => (h.abs() * e5 * e5 / denominator, worst),
+        false => (0.0, worst),
     }
 }
 

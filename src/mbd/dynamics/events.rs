@@ -160,6 +160,20 @@ impl Events {
         self.judge(d.sys.time, h, hmin)
     }
 
+    /// Whether the candidate in `d` has a switching value of another sign than at the
+    /// last accepted state (a switch inside the step), judging nothing.
+    pub fn crosses(&mut self, d: &Dynamics) -> bool {
+        if self.at.is_empty() {
+            return false;
+        }
+        self.next.clear();
+        d.forces.switches(&d.sys, &mut self.next);
+        self.at
+            .iter()
+            .zip(&self.next)
+            .any(|(&s0, &s1)| !(s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0)))
+    }
+
     /// [`Events::check`] with the candidate's switching values in `self.next` and its
     /// time `t1`.
     fn judge(&mut self, t1: f64, h: f64, hmin: f64) -> Verdict {

@@ -98,6 +98,20 @@ pub trait Integrator {
     fn order(&self) -> Option<u32> {
         None
     }
+    /// How it formulated the model's equations when that is worth saying (a form other
+    /// than the one its name implies); read after [`Integrator::start`].
+    fn formulation(&self) -> Option<String> {
+        None
+    }
+    /// Makes `d`'s accelerations and multipliers those of its state before an output,
+    /// where the method does not keep them at every step.
+    fn prepare_output(&mut self, _d: &mut Dynamics) -> Result<(), DynError> {
+        Ok(())
+    }
+    /// The largest factor a step may grow by after an accepted one (the driver's rule).
+    fn max_growth(&self) -> f64 {
+        2.0
+    }
     /// The factor the integrator wants the next step scaled by after the last accept or
     /// error rejection, when it chooses (a variable-order method compares orders);
     /// `None` leaves it to the driver's rule from [`Integrator::error_order`].
@@ -148,6 +162,8 @@ pub fn simulate(
             integrator.first_step(d, h0, &s.for_step(h0, span))
         }
     };
+    // The last error rejection: time, step, estimate.
+    let mut last_rejection: Option<(f64, f64, f64)> = None;
     for &t_out in outputs {
         while d.sys.time < t_out {
             let t = d.sys.time;
@@ -192,11 +208,33 @@ pub fn simulate(
                     want = h * 0.25;
                 }
                 Attempt::Converged { err, worst } if err > 1.0 && s.fixed_step.is_none() => {
+                    // A candidate over a force law's switch integrated two laws: its
+                    // error says nothing of either, and shrinking by it only creeps up
+                    // on the switch. Locate the switch instead (the secant aims at it).
+                    d.sys.time = end;
+                    if events.crosses(d) && events.check(d, h, s.hmin) == Verdict::Locate {
+                        integrator.reject(d);
+                        d.stats.rejected += 1;
+                        continue;
+                    }
                     integrator.reject(d);
                     d.stats.rejected += 1;
-                    let shrink = integrator.step_factor().unwrap_or_else(|| {
-                        (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.1, 0.9)
-                    });
+                    // Where the solution is less smooth than the method's order assumes
+                    // (a contact's first instants: k·δ^1.5 has no second derivative at
+                    // δ = 0), the estimate falls slower with h than h^order, and shrinking
+                    // by that order creeps down in many rejections. A second rejection at
+                    // the same time measures the order the estimate shows and shrinks by
+                    // it (no more than the method's, no less than one).
+                    let order = match last_rejection {
+                        Some((t1, h1, e1)) if t1 == t && h1 > h && e1 > err => {
+                            ((e1 / err).ln() / (h1 / h).ln()).clamp(1.0, integrator.error_order())
+                        }
+                        _ => integrator.error_order(),
+                    };
+                    last_rejection = Some((t, h, err));
+                    let shrink = integrator
+                        .step_factor()
+                        .unwrap_or_else(|| (0.9 * err.powf(-1.0 / order)).clamp(0.1, 0.9));
                     want = h * shrink;
                     if want < s.hmin {
                         return Err(DynError::StepTooSmall {
@@ -233,17 +271,26 @@ pub fn simulate(
                     measures.commit(&d.sys);
                     d.sys.measures = measures;
                     if s.fixed_step.is_none() {
+                        let most = integrator.max_growth();
                         let grow = if let Some(f) = integrator.step_factor() {
                             f
                         } else if err > 0.0 {
-                            (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.2, 2.0)
+                            (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.2, most)
                         } else {
-                            2.0
+                            most
+                        };
+                        // Not longer right after a rejection (Hairer & Wanner's rule): the
+                        // estimate that accepted this step just refused a longer one.
+                        let grow = match last_rejection {
+                            Some((t1, ..)) if t1 == t => grow.min(1.0),
+                            _ => grow,
                         };
                         let next = (h * grow).min(s.hmax);
-                        // A step cut short to land on an output or a switch says little about
-                        // a longer one unless its error was large.
-                        want = if clipped && err < 0.5 {
+                        // A step cut short to land on an output says little about a longer
+                        // one unless its error was large. One across a switch starts a new
+                        // law, whose pace the steps before it do not know: its own
+                        // estimate sets the next.
+                        want = if clipped && err < 0.5 && !event {
                             want.max(next)
                         } else {
                             next
@@ -252,6 +299,7 @@ pub fn simulate(
                 }
             }
         }
+        integrator.prepare_output(d)?;
         output(d)?;
     }
     Ok(())

@@ -24,6 +24,7 @@ pub mod outputs;
 mod reuse;
 pub mod schur;
 mod stiffness;
+pub mod tree;
 
 use super::constraints::{Primitive, Row};
 use super::error::{element_name, MbdError};
