@@ -111,6 +111,7 @@ pub const DEFAULT_WP: &[&str] = &[
     "hht",
     "galpha",
     "dopri853",
+    "dopri853-cartesian",
     "hht-fixed",
 ];
 

@@ -41,7 +41,8 @@ pub struct WpArgs {
     /// Where the scenes' truth files are.
     #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
     dir: PathBuf,
-    /// Methods, comma-separated [default: gstiff,gstiff-si2,wstiff,hht,galpha,dopri853,hht-fixed].
+    /// Methods, comma-separated [default: gstiff,gstiff-si2,wstiff,hht,galpha,dopri853,
+    /// dopri853-cartesian,hht-fixed].
     #[arg(long, value_delimiter = ',')]
     integrators: Vec<String>,
     /// Tolerances: A..B (the Test Set ladder 10^-(2+m/2) between them) or a list.

@@ -75,10 +75,11 @@ pub fn func_name(func: Func) -> String {
 /// `f`'s second partials with respect to `wrt` (k inputs): the outputs of
 /// [`gradient`]`(gradient(f))`, so for a scalar f, ∂²f/∂xᵢ∂xⱼ is output
 /// `(1 + k) + (1 + i)·k + j`. Fails naming the library function whose second derivative
-/// mbfx does not have (IMPACT and BISTOP with varying parameters, SWEEP in arguments
-/// other than x and its amplitude).
+/// mbfx does not have (SWEEP in arguments other than x and its amplitude). Every IMPACT
+/// and BISTOP is written out first ([`super::lower::lower_all_contacts`]), those with
+/// varying parameters too.
 pub fn hessian(f: &Function, wrt: &[Input]) -> Result<Function, DerivError> {
-    let g = differentiate(&super::lower::lower(f), wrt, true)?;
+    let g = differentiate(&super::lower::lower_all_contacts(f), wrt, true)?;
     gradient(&g, wrt)
 }
 

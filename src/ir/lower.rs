@@ -41,16 +41,43 @@ use rustc_hash::FxHashMap;
 
 /// The function with its cheap library calls lowered to branch-free IR.
 pub fn lower(f: &Function) -> Function {
-    let mut b = Builder::new();
-    let mut m = constants(f, &mut b, None);
-    let mut ifs = FxHashMap::default();
-    let contacts = f
+    let count = f
         .insts
         .iter()
         .filter(|i| matches!(i, Inst::Call(Func::Impact | Func::Bistop, _)))
         .count();
-    let branch_on_contact = contacts <= CONTACT_INLINE_LIMIT;
-    list(f, &mut b, &mut m, &mut ifs, branch_on_contact, &f.body);
+    let contacts = match count <= CONTACT_INLINE_LIMIT {
+        true => Contacts::Constant,
+        false => Contacts::Calls,
+    };
+    lower_with(f, contacts)
+}
+
+/// [`lower`] for a function that will be differentiated twice
+/// ([`super::deriv::hessian`]): every IMPACT and BISTOP is written out, those whose
+/// parameters vary too, guarded to be NaN where the runtime's parameter check refuses
+/// (k < 0, e ≤ 0, CMAX < 0, d ≤ 0, an edge not finite, x1 ≥ x2), so the second pass
+/// differentiates their arithmetic.
+pub fn lower_all_contacts(f: &Function) -> Function {
+    lower_with(f, Contacts::All)
+}
+
+/// What the lowering does with IMPACT and BISTOP calls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Contacts {
+    /// Keep them runtime calls.
+    Calls,
+    /// Write out those with constant, valid parameters.
+    Constant,
+    /// Write out every one (parameters that vary are checked by selects).
+    All,
+}
+
+fn lower_with(f: &Function, contacts: Contacts) -> Function {
+    let mut b = Builder::new();
+    let mut m = constants(f, &mut b, None);
+    let mut ifs = FxHashMap::default();
+    list(f, &mut b, &mut m, &mut ifs, contacts, &f.body);
     let outputs: Vec<Value> = f.outputs.iter().map(|&o| m[o as usize]).collect();
     b.finish(&outputs)
 }
@@ -60,7 +87,7 @@ fn list(
     b: &mut Builder,
     m: &mut [Value],
     ifs: &mut FxHashMap<Value, Vec<Value>>,
-    contact: bool,
+    contact: Contacts,
     values: &[Value],
 ) {
     for &v in values {
@@ -165,8 +192,8 @@ pub const CONTACT_INLINE_LIMIT: usize = 64;
 
 /// Emits `func(args)`, branch-free when it is one of the cheap functions and not every
 /// argument is constant (constant calls fold through the runtime as usual); IMPACT and
-/// BISTOP branch on contact when `contact` allows it.
-pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span, contact: bool) -> Value {
+/// BISTOP branch on contact as `contact` says.
+pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span, contact: Contacts) -> Value {
     if args.iter().all(|&a| b.get_const(a).is_some()) {
         return b.call(func, args.to_vec(), span);
     }
@@ -224,15 +251,14 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span, contact: 
             }
             acc
         }
-        (Func::Impact | Func::Bistop, _) if !contact => l.call(func, args),
+        (Func::Impact | Func::Bistop, _) if contact == Contacts::Calls => l.call(func, args),
         (Func::Impact, &[x, xd, x1, k, e, cmax, d]) => match l.consts([x1, k, e, cmax, d]) {
             Some([c1, ck, ce, cc, cd]) if contact_valid(c1, ck, ce, cc, cd) => {
-                let zero = l.resting(xd);
-                let test = l.sub(x, x1);
-                let lower = l.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
-                let rest = l.arm(|_| zero);
-                let rest2 = l.arm(|_| zero);
-                l.b.if_(test, [lower, rest, rest2], l.span.clone())
+                l.impact(x, xd, x1, k, e, cmax, d)
+            }
+            None if contact == Contacts::All => {
+                let f = l.impact(x, xd, x1, k, e, cmax, d);
+                l.checked(f, &[x1], [k, e, cmax, d])
             }
             _ => l.call(func, args),
         },
@@ -241,17 +267,13 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span, contact: 
                 Some([c1, c2, ck, ce, cc, cd])
                     if c1.is_finite() && c1 < c2 && contact_valid(c2, ck, ce, cc, cd) =>
                 {
-                    let zero = l.resting(xd);
-                    let test = l.sub(x, x1);
-                    let lower = l.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
-                    let rest = l.arm(|_| zero);
-                    let above = l.arm(|l| {
-                        let test = l.sub(x, x2);
-                        let (free, free2) = (l.arm(|_| zero), l.arm(|_| zero));
-                        let upper = l.arm(|l| l.contact(Side::Above, x, xd, x2, k, e, cmax, d));
-                        l.b.if_(test, [free, free2, upper], l.span.clone())
-                    });
-                    l.b.if_(test, [lower, rest, above], l.span.clone())
+                    l.bistop(x, xd, x1, x2, k, e, cmax, d)
+                }
+                None if contact == Contacts::All => {
+                    let f = l.bistop(x, xd, x1, x2, k, e, cmax, d);
+                    let f = l.checked(f, &[x1, x2], [k, e, cmax, d]);
+                    let nan = l.c(f64::NAN);
+                    l.sel(Cmp::Lt, x1, x2, f, nan)
                 }
                 _ => l.call(func, args),
             }
@@ -324,6 +346,68 @@ impl Lower<'_> {
         self.b.begin_block();
         let r = body(self);
         self.b.end_block(r)
+    }
+
+    /// IMPACT written out: an arithmetic IF on x − x1, the contact arm below.
+    #[allow(clippy::too_many_arguments)] // the contact parameters
+    fn impact(
+        &mut self,
+        x: Value,
+        xd: Value,
+        x1: Value,
+        k: Value,
+        e: Value,
+        cmax: Value,
+        d: Value,
+    ) -> Value {
+        let zero = self.resting(xd);
+        let test = self.sub(x, x1);
+        let lower = self.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
+        let rest = self.arm(|_| zero);
+        let rest2 = self.arm(|_| zero);
+        self.b.if_(test, [lower, rest, rest2], self.span.clone())
+    }
+
+    /// BISTOP written out: arithmetic IFs on x − x1 and x − x2.
+    #[allow(clippy::too_many_arguments)] // the contact parameters
+    fn bistop(
+        &mut self,
+        x: Value,
+        xd: Value,
+        x1: Value,
+        x2: Value,
+        k: Value,
+        e: Value,
+        cmax: Value,
+        d: Value,
+    ) -> Value {
+        let zero = self.resting(xd);
+        let test = self.sub(x, x1);
+        let lower = self.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
+        let rest = self.arm(|_| zero);
+        let above = self.arm(|l| {
+            let test = l.sub(x, x2);
+            let (free, free2) = (l.arm(|_| zero), l.arm(|_| zero));
+            let upper = l.arm(|l| l.contact(Side::Above, x, xd, x2, k, e, cmax, d));
+            l.b.if_(test, [free, free2, upper], l.span.clone())
+        });
+        self.b.if_(test, [lower, rest, above], self.span.clone())
+    }
+
+    /// `f`, or NaN where the runtime refuses the parameters: an edge not finite, k < 0,
+    /// e ≤ 0, CMAX < 0 or d ≤ 0 (a NaN fails every comparison, so it is NaN too).
+    fn checked(&mut self, f: Value, edges: &[Value], [k, e, cmax, d]: [Value; 4]) -> Value {
+        let (zero, nan) = (self.c(0.0), self.c(f64::NAN));
+        let mut r = f;
+        for (cmp, v) in [(Cmp::Gt, d), (Cmp::Ge, cmax), (Cmp::Gt, e), (Cmp::Ge, k)] {
+            r = self.sel(cmp, v, zero, r, nan);
+        }
+        for &edge in edges {
+            // edge − edge is NaN for ±∞ and NaN.
+            let t = self.sub(edge, edge);
+            r = self.sel(Cmp::Uno, t, t, nan, r);
+        }
+        r
     }
 
     /// A contact function out of contact: 0, or NaN when ẋ is (the runtime checks every

@@ -46,9 +46,10 @@ impl System {
     pub fn resolve_slots(&mut self, model: &Model, slots: &[u32]) -> Result<Vec<usize>, MbdError> {
         let mut map = Vec::with_capacity(slots.len());
         for &s in slots {
-            let slot = model.measures.get(s as usize).ok_or_else(|| {
-                MbdError::Unsupported(format!("measure slot {s} is not in the model"))
-            })?;
+            let slot = model
+                .measures
+                .get(s as usize)
+                .ok_or(MbdError::UnknownMeasureSlot(s))?;
             let m = Measure::resolve(slot, &|id| self.marker_or_ground(id))?;
             map.push(self.measures.add(m));
         }
@@ -141,16 +142,12 @@ impl System {
             let r = elref(ElementKind::Motion, &m.el);
             let measure = match m.target {
                 MotionTarget::Joint { joint, rotation } => {
-                    let j = model
-                        .joints
-                        .iter()
-                        .find(|j| j.el.id == joint)
-                        .ok_or_else(|| {
-                            MbdError::Unsupported(format!(
-                                "MOTION/{}: JOINT/{joint} does not exist",
-                                m.el.id
-                            ))
-                        })?;
+                    let j = model.joints.iter().find(|j| j.el.id == joint).ok_or(
+                        MbdError::UnknownMotionJoint {
+                            motion: m.el.id,
+                            joint: joint as i64,
+                        },
+                    )?;
                     let (i, jm) = (Some(marker(j.i)?), Some(marker(j.j)?));
                     if rotation {
                         Measure::Angle { i, j: jm, axis: 2 }

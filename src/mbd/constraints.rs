@@ -275,12 +275,7 @@ impl System {
                     drive: None,
                 }
             }
-            Rackpin | Screw | Gcon | Motion => {
-                return Err(MbdError::Unsupported(format!(
-                    "{} is not a primitive equation",
-                    eq.label()
-                )))
-            }
+            Rackpin | Screw | Gcon | Motion => return Err(MbdError::NotPrimitive(eq.label())),
         };
         Ok(Equ::new(row, eq, matches!(eq, XDelta | YDelta | ZDelta)))
     }
@@ -406,12 +401,11 @@ impl System {
             ..elref
         };
         if map.len() != f.slots().len() || map.iter().any(|&m| m >= self.measures.list.len()) {
-            return Err(MbdError::Unsupported(format!(
-                "GCON/{}: its FUNCTION reads {} measure slots but {} measures were given",
-                elref.id,
-                f.slots().len(),
-                map.len()
-            )));
+            return Err(MbdError::GconSlots {
+                id: elref.id,
+                slots: f.slots().len(),
+                measures: map.len(),
+            });
         }
         let row = Row::Gcon { f, map };
         Ok(self.add_element(elref, vec![Equ::new(row, Equation::Gcon, false)]))
@@ -432,11 +426,7 @@ impl System {
             Measure::Angle { i, j, .. }
             | Measure::Disp { i, j, .. }
             | Measure::Body123 { i, j, .. } => (i, j),
-            _ => {
-                return Err(MbdError::Unsupported(
-                    "a MOTION drives an angle, a displacement or a B1/B2/B3 angle".into(),
-                ))
-            }
+            _ => return Err(MbdError::MotionMeasure),
         };
         if let (Some(i), Some(j)) = markers {
             self.check_pair(&elref, i, j)?;

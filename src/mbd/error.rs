@@ -21,8 +21,61 @@ pub enum MbdError {
     SamePart(ElementRef),
     /// A floating marker used where a fixed one is needed.
     Floating(ElementRef, i64),
-    /// A construct the core does not support yet.
-    Unsupported(String),
+    /// A row kind asked of the primitive builder that no primitive equation is (its
+    /// label): a fault of the caller, reported rather than panicking.
+    NotPrimitive(&'static str),
+    /// A GCON whose FUNCTION reads a number of measure slots other than the measures it
+    /// was given.
+    GconSlots {
+        /// The GCON's id.
+        id: u32,
+        /// Slots the FUNCTION reads.
+        slots: usize,
+        /// Measures given.
+        measures: usize,
+    },
+    /// A MOTION on a measure that is not an angle, a displacement or a B1/B2/B3 angle.
+    MotionMeasure,
+    /// A force element reading more moving parts than its Jacobian holds (four).
+    TooManyParts(ElementRef),
+    /// A measure slot index outside the model's table.
+    UnknownMeasureSlot(u32),
+    /// ORIENT with a code or component mbfx does not know.
+    OrientCode {
+        /// The orientation code.
+        code: i64,
+        /// The component asked for.
+        comp: i64,
+    },
+    /// A force measure (FX…TM) whose marker i is ground.
+    GroundForceMarker(String),
+    /// A force function `name(id, jflag, comp, rm)` with a component outside 1..8.
+    ForceComponent {
+        /// The function as written.
+        name: String,
+        /// The element id.
+        id: i64,
+        /// The component.
+        comp: i64,
+    },
+    /// A force function naming an element the model does not have.
+    UnknownForceElement {
+        /// The function as written.
+        name: String,
+        /// The element id.
+        id: i64,
+    },
+    /// A MOTION on a JOINT the model does not have.
+    UnknownMotionJoint {
+        /// The MOTION's id.
+        motion: u32,
+        /// The joint id it names.
+        joint: i64,
+    },
+    /// VARVAL of a VARIABLE without a FUNCTION mbfx can evaluate.
+    Variable(i64),
+    /// The model's SPLINE data cannot be used (why, in the model's words).
+    Spline(String),
     /// An expression's value or derivative could not be computed.
     Expression(ElementRef, ExprError),
     /// Consistent accelerations need a second derivative the row's equation does not
@@ -86,7 +139,47 @@ impl fmt::Display for MbdError {
                 "{}: MARKER/{id} is FLOATING; constraints need fixed markers",
                 element_name(e)
             ),
-            MbdError::Unsupported(s) => write!(f, "{s}"),
+            MbdError::NotPrimitive(label) => write!(f, "{label} is not a primitive equation"),
+            MbdError::GconSlots {
+                id,
+                slots,
+                measures,
+            } => write!(
+                f,
+                "GCON/{id}: its FUNCTION reads {slots} measure slots but {measures} measures were given"
+            ),
+            MbdError::MotionMeasure => {
+                f.write_str("a MOTION drives an angle, a displacement or a B1/B2/B3 angle")
+            }
+            MbdError::TooManyParts(e) => write!(
+                f,
+                "{}: it reads more than four moving parts, which the force Jacobian does not hold",
+                element_name(e)
+            ),
+            MbdError::UnknownMeasureSlot(slot) => {
+                write!(f, "measure slot {slot} is not in the model")
+            }
+            MbdError::OrientCode { code, comp } => write!(
+                f,
+                "ORIENT({code}, {comp}, …): only code 27 (Euler parameters e0..e3, components 1..4) is known"
+            ),
+            MbdError::GroundForceMarker(name) => {
+                write!(f, "{name} needs a marker i other than ground")
+            }
+            MbdError::ForceComponent { name, id, comp } => {
+                write!(f, "{name}({id}, …): component {comp} is not 1..8")
+            }
+            MbdError::UnknownForceElement { name, id } => {
+                write!(f, "{name}({id}, …): no such element in the model")
+            }
+            MbdError::UnknownMotionJoint { motion, joint } => {
+                write!(f, "MOTION/{motion}: JOINT/{joint} does not exist")
+            }
+            MbdError::Variable(id) => write!(
+                f,
+                "it reads VARVAL({id}), and VARIABLE/{id} has no FUNCTION mbfx can evaluate (a USER subroutine, or no such VARIABLE)"
+            ),
+            MbdError::Spline(why) => f.write_str(why),
             MbdError::Expression(e, s) => write!(f, "{}: {s}", element_name(e)),
             MbdError::NoSecondDerivative(e, equation, why) => write!(
                 f,

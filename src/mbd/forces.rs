@@ -23,7 +23,7 @@
 use super::dual::{Scalar as ScalarT, D, N, PER_PART, V};
 use super::dynamics::events::contact::ContactProbe;
 use super::dynamics::outputs::OutputSlot;
-use super::error::{element_name, MbdError};
+use super::error::MbdError;
 use super::expr::ExprFn;
 use super::measures::{dual_frame, value_frame, Frame, Measure, PartSlots, M};
 use super::system::{MarkerHandle, PartHandle, System};
@@ -430,10 +430,7 @@ impl ForceSet {
                     _ => true,
                 };
             if !fits {
-                return Err(MbdError::Unsupported(format!(
-                    "{}: it reads more than four moving parts, which the force Jacobian does not hold",
-                    element_name(&el.elref)
-                )));
+                return Err(MbdError::TooManyParts(el.elref.clone()));
             }
             el.slots = slots;
         }
@@ -547,12 +544,10 @@ impl ForceElement {
         duals.clear();
         for (&src, &slot) in s.map.iter().zip(slot_ids) {
             let d = match src {
-                Source::Measure(m) => sys.measures.eval_in(sys, m, slots).ok_or_else(|| {
-                    MbdError::Unsupported(format!(
-                        "{}: too many parts for the force Jacobian",
-                        element_name(&self.elref)
-                    ))
-                })?,
+                Source::Measure(m) => sys
+                    .measures
+                    .eval_in(sys, m, slots)
+                    .ok_or_else(|| MbdError::TooManyParts(self.elref.clone()))?,
                 Source::Solution(k) => D::c(solved[k]),
             };
             vals[slot as usize] = d.v;

@@ -286,9 +286,7 @@ impl Measure {
             // FUNCTION for.
             "VARVAL" => {
                 let id = slot.ids.first().copied().unwrap_or(0);
-                return Err(MbdError::Unsupported(format!(
-                    "it reads VARVAL({id}), and VARIABLE/{id} has no FUNCTION mbfx can evaluate (a USER subroutine, or no such VARIABLE)"
-                )));
+                return Err(MbdError::Variable(id));
             }
             _ => return Err(MbdError::NotKinematic(slot.name.clone())),
         })

@@ -183,7 +183,7 @@ pub fn analyze_model_with(
     };
     let splines: Arc<[Spline]> = model
         .runtime_splines()
-        .map_err(|why| Failure::Build(crate::mbd::MbdError::Unsupported(why)))?
+        .map_err(|why| Failure::Build(crate::mbd::MbdError::Spline(why)))?
         .into();
     let exprs = if interpret {
         CompiledExprs::interpreted()

@@ -11,10 +11,10 @@
 //! constants, whose own derivative is zero. Every partial is NaN where the call's value
 //! is NaN, as every companion's is.
 //!
-//! STEP, STEP5, HAVSIN and IMPACT and BISTOP with constant parameters are lowered to
-//! arithmetic before the first derivative ([`crate::ir::lower`]), so they never reach
-//! here; IMPACT or BISTOP whose parameters vary, and SWEEP in arguments other than x and
-//! its amplitude, have no formula: their second derivative is an error naming the
+//! STEP, STEP5, HAVSIN, IMPACT and BISTOP are lowered to arithmetic before the first
+//! derivative ([`crate::ir::lower::lower_all_contacts`]: the contacts whose parameters
+//! vary too, checked by selects), so they never reach here; SWEEP in arguments other than
+//! x and its amplitude has no formula: its second derivative is an error naming the
 //! function.
 
 use super::DerivError;

@@ -297,9 +297,43 @@ fn functions_without_a_second_derivative_are_named() {
     let err = hessian(&ir("SWEEP(x, 1, 0, y, 5, 10, 0.5)"), &[X, Y]).unwrap_err();
     assert_eq!(err, DerivError::SecondOrder(Func::Sweep));
     assert_eq!(err.to_string(), "mbfx has no second derivative of SWEEP");
-    // IMPACT whose stiffness varies stays a call.
-    let err = hessian(&ir("IMPACT(x, 0, 1, y, 2, 0, 0.1)"), &[X]).unwrap_err();
-    assert_eq!(err, DerivError::SecondOrder(Func::Impact));
+}
+
+/// IMPACT and BISTOP whose parameters vary differentiate twice in them too, by calculus
+/// on the contact law (spec expr-language §5.4–5.5), and are NaN where the runtime
+/// refuses the parameters.
+#[test]
+fn contacts_with_varying_parameters_differentiate_twice() {
+    // IMPACT(x, 0, 1, k = y, 2.5, 0, 0.1): y·(1 − x)^2.5 below x1 = 1, no damping.
+    for (x, y) in [(0.3, 80.0), (0.9, 5.0), (1.2, 50.0)] {
+        let h = hess("IMPACT(x, 0, 1, y, 2.5, 0, 0.1)", &[X, Y], x, y, 0.0);
+        let p = (1.0 - x).max(0.0);
+        let what = format!("IMPACT at x = {x}, k = {y}");
+        close(h[0][0], y * 2.5 * 1.5 * p.powf(0.5), &what);
+        close(h[0][1], -2.5 * p.powf(1.5), &what);
+        close(h[1][0], -2.5 * p.powf(1.5), &what);
+        close(h[1][1], 0.0, &what);
+    }
+    // Parameters the runtime refuses make the written-out function NaN, as the call is
+    // (a NaN value stops the evaluation that reads it before any derivative is used).
+    let value = |src: &str, y: f64| {
+        let h = hessian(&ir(src), &[X, Y]).unwrap();
+        let mut out = vec![0.0; h.outputs.len()];
+        Program::new(h).eval_into(&Context::new(0.0, &[0.2, y]), &mut out);
+        out[0]
+    };
+    assert!(value("IMPACT(x, 0, 1, y, 2.5, 0, 0.1)", -1.0).is_nan());
+    assert!(value("IMPACT(x, 0, 1, 5, y, 0, 0.1)", 0.0).is_nan());
+    // BISTOP(x, 0, −1, x2 = y, 100, 2, 0, 0.1): −100·(x − y)² above x2.
+    for (x, y) in [(0.8, 0.5), (0.2, 0.5)] {
+        let h = hess("BISTOP(x, 0, -1, y, 100, 2, 0, 0.1)", &[X, Y], x, y, 0.0);
+        let s = if x > y { 200.0 } else { 0.0 };
+        let what = format!("BISTOP at x = {x}, x2 = {y}");
+        close(h[0][0], -s, &what);
+        close(h[0][1], s, &what);
+        close(h[1][1], -s, &what);
+    }
+    assert!(value("BISTOP(x, 0, -1, y, 100, 2, 0, 0.1)", -2.0).is_nan());
 }
 
 /// A spline differentiates twice in x: d²/dx² CUBSPL(x², 0, 1) = S″(x²)·4x² + S′(x²)·2,

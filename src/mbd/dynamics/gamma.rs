@@ -13,8 +13,8 @@
 //! Rows built on measures (GCON, MOTION, RACKPIN, SCREW, CONVEL) take the measures'
 //! second time derivatives from jets ([`crate::mbd::measures::MeasureSet::jet`]) and the
 //! expression's Hessian from the IR derivative applied twice (`ir::deriv::hessian`); where
-//! mbfx has no second derivative (IMPACT or BISTOP with varying parameters), that
-//! is an error naming the element and the function, never a silently wrong γ. A VELOCITY
+//! mbfx has no second derivative (SWEEP in arguments other than x and its amplitude),
+//! that is an error naming the element and the function, never a silently wrong γ. A VELOCITY
 //! or ACCELERATION MOTION's drive is the integral of its function, so its g̈ is ḟ or f.
 
 use super::Dynamics;

@@ -136,9 +136,10 @@ impl OutputSlot {
     /// Resolves model slot `slot` for the dynamics: kinematic measures through the
     /// system's measure set, the rest here.
     pub fn resolve(sys: &mut System, model: &Model, slot: u32) -> Result<OutputSlot, MbdError> {
-        let ms: &MeasureSlot = model.measures.get(slot as usize).ok_or_else(|| {
-            MbdError::Unsupported(format!("measure slot {slot} is not in the model"))
-        })?;
+        let ms: &MeasureSlot = model
+            .measures
+            .get(slot as usize)
+            .ok_or(MbdError::UnknownMeasureSlot(slot))?;
         let name = ms.name.as_str();
         let ids = &ms.ids;
         let marker = |n: usize| sys.marker_or_ground(ids.get(n).copied().unwrap_or(0));
@@ -157,9 +158,7 @@ impl OutputSlot {
                 let code = ids.first().copied().unwrap_or(0);
                 let comp = ids.get(1).copied().unwrap_or(0);
                 if code != 27 || !(1..=4).contains(&comp) {
-                    return Err(MbdError::Unsupported(format!(
-                        "ORIENT({code}, {comp}, …): only code 27 (Euler parameters e0..e3, components 1..4) is known"
-                    )));
+                    return Err(MbdError::OrientCode { code, comp });
                 }
                 OutputSlot::EulerParameter {
                     i: marker(2)?,
@@ -189,9 +188,7 @@ impl OutputSlot {
             }
             "FX" | "FY" | "FZ" | "TX" | "TY" | "TZ" | "FXYZ" | "TXYZ" | "FM" | "TM" => {
                 let [i, j, k, _] = four()?;
-                let i = i.ok_or_else(|| {
-                    MbdError::Unsupported(format!("{name} needs a marker i other than ground"))
-                })?;
+                let i = i.ok_or_else(|| MbdError::GroundForceMarker(name.to_string()))?;
                 let c = match name {
                     "FM" => 6,
                     "TM" => 7,
@@ -206,9 +203,11 @@ impl OutputSlot {
                 let jflag = ids.get(1).copied().unwrap_or(0) != 0;
                 let c = ids.get(2).copied().unwrap_or(1);
                 if !(1..=8).contains(&c) {
-                    return Err(MbdError::Unsupported(format!(
-                        "{name}({id}, …): component {c} is not 1..8"
-                    )));
+                    return Err(MbdError::ForceComponent {
+                        name: name.to_string(),
+                        id,
+                        comp: c,
+                    });
                 }
                 let rm = marker(3)?;
                 let want_constraint = |k: ElementKind| match name {
@@ -233,8 +232,9 @@ impl OutputSlot {
                         .map(|e| (true, e)),
                     Some(fk) => model_force_index(model, fk, id).map(|e| (false, e)),
                 };
-                let (constraint, element) = found.ok_or_else(|| {
-                    MbdError::Unsupported(format!("{name}({id}, …): no such element in the model"))
+                let (constraint, element) = found.ok_or_else(|| MbdError::UnknownForceElement {
+                    name: name.to_string(),
+                    id,
                 })?;
                 OutputSlot::ElementForce {
                     constraint,
