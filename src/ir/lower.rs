@@ -254,10 +254,10 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span, contact: 
         (Func::Impact | Func::Bistop, _) if contact == Contacts::Calls => l.call(func, args),
         (Func::Impact, &[x, xd, x1, k, e, cmax, d]) => match l.consts([x1, k, e, cmax, d]) {
             Some([c1, ck, ce, cc, cd]) if contact_valid(c1, ck, ce, cc, cd) => {
-                l.impact(x, xd, x1, k, e, cmax, d)
+                l.contact_if(x, xd, x1, None, k, e, cmax, d)
             }
             None if contact == Contacts::All => {
-                let f = l.impact(x, xd, x1, k, e, cmax, d);
+                let f = l.contact_if(x, xd, x1, None, k, e, cmax, d);
                 l.checked(f, &[x1], [k, e, cmax, d])
             }
             _ => l.call(func, args),
@@ -267,10 +267,10 @@ pub fn inline(b: &mut Builder, func: Func, args: &[Value], span: Span, contact: 
                 Some([c1, c2, ck, ce, cc, cd])
                     if c1.is_finite() && c1 < c2 && contact_valid(c2, ck, ce, cc, cd) =>
                 {
-                    l.bistop(x, xd, x1, x2, k, e, cmax, d)
+                    l.contact_if(x, xd, x1, Some(x2), k, e, cmax, d)
                 }
                 None if contact == Contacts::All => {
-                    let f = l.bistop(x, xd, x1, x2, k, e, cmax, d);
+                    let f = l.contact_if(x, xd, x1, Some(x2), k, e, cmax, d);
                     let f = l.checked(f, &[x1, x2], [k, e, cmax, d]);
                     let nan = l.c(f64::NAN);
                     l.sel(Cmp::Lt, x1, x2, f, nan)
@@ -348,13 +348,15 @@ impl Lower<'_> {
         self.b.end_block(r)
     }
 
-    /// IMPACT written out: an arithmetic IF on x − x1, the contact arm below.
+    /// IMPACT (`x2` None) or BISTOP written out: an arithmetic IF on x − x1 with the
+    /// contact arm below, and for BISTOP one on x − x2 above it.
     #[allow(clippy::too_many_arguments)] // the contact parameters
-    fn impact(
+    fn contact_if(
         &mut self,
         x: Value,
         xd: Value,
         x1: Value,
+        x2: Option<Value>,
         k: Value,
         e: Value,
         cmax: Value,
@@ -364,32 +366,14 @@ impl Lower<'_> {
         let test = self.sub(x, x1);
         let lower = self.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
         let rest = self.arm(|_| zero);
-        let rest2 = self.arm(|_| zero);
-        self.b.if_(test, [lower, rest, rest2], self.span.clone())
-    }
-
-    /// BISTOP written out: arithmetic IFs on x − x1 and x − x2.
-    #[allow(clippy::too_many_arguments)] // the contact parameters
-    fn bistop(
-        &mut self,
-        x: Value,
-        xd: Value,
-        x1: Value,
-        x2: Value,
-        k: Value,
-        e: Value,
-        cmax: Value,
-        d: Value,
-    ) -> Value {
-        let zero = self.resting(xd);
-        let test = self.sub(x, x1);
-        let lower = self.arm(|l| l.contact(Side::Below, x, xd, x1, k, e, cmax, d));
-        let rest = self.arm(|_| zero);
-        let above = self.arm(|l| {
-            let test = l.sub(x, x2);
-            let (free, free2) = (l.arm(|_| zero), l.arm(|_| zero));
-            let upper = l.arm(|l| l.contact(Side::Above, x, xd, x2, k, e, cmax, d));
-            l.b.if_(test, [free, free2, upper], l.span.clone())
+        let above = self.arm(|l| match x2 {
+            None => zero,
+            Some(x2) => {
+                let test = l.sub(x, x2);
+                let (free, free2) = (l.arm(|_| zero), l.arm(|_| zero));
+                let upper = l.arm(|l| l.contact(Side::Above, x, xd, x2, k, e, cmax, d));
+                l.b.if_(test, [free, free2, upper], l.span.clone())
+            }
         });
         self.b.if_(test, [lower, rest, above], self.span.clone())
     }
