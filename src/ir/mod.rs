@@ -11,6 +11,7 @@
 
 pub mod builder;
 pub mod deriv;
+pub mod fuse;
 pub mod inline;
 pub mod lower;
 pub mod print;

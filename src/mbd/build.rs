@@ -5,7 +5,7 @@
 
 use super::dynamics::outputs::OutputSlot;
 use super::error::MbdError;
-use super::expr::{ExprError, ExprFn, Integrated, Integration::*, Interpreted};
+use super::expr::{ExprError, ExprFn, FusedFn, Integrated, Integration::*, Interpreted};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar, Source};
 use super::inertia::mass_properties;
 use super::measures::Measure;
@@ -20,6 +20,11 @@ use std::collections::HashMap;
 pub trait ExprCompiler {
     /// The evaluator of `e`.
     fn compile(&self, e: &Expr) -> Box<dyn ExprFn>;
+    /// One evaluator of every value of `functions` ([`crate::mbd::expr::FusedFn`]), when
+    /// the compiler fuses (None: each expression is evaluated on its own).
+    fn fuse(&self, _functions: &[&crate::ir::Function]) -> Option<Box<dyn FusedFn>> {
+        None
+    }
 }
 
 /// Values through the interpreter, no derivatives.
@@ -314,6 +319,7 @@ impl System {
             };
             set.elements.push(ForceElement::new(r, i, Some(j), law));
         }
+        set.fuse(exprs);
         Ok(set)
     }
 
@@ -352,6 +358,8 @@ impl System {
                 Err(err) => return Err(other(err)),
             }
         }
-        Ok(Scalar::new(f, map).watching(&e.function))
+        Ok(Scalar::new(f, map)
+            .watching(&e.function)
+            .with_ir(e.function))
     }
 }

@@ -7,15 +7,17 @@
 //!
 //! Compilation is batched: [`CompiledExprs::compile`] only records the function, and the
 //! first evaluation compiles everything recorded so far into one JIT module (assembly
-//! needs the constraints' code before a run records its forces). Once a run has recorded
-//! every expression of the model (constraints, forces, output columns:
-//! [`CompiledExprs::output`]), [`CompiledExprs::unify`] compiles all of them again into
-//! one module, which the run then uses alone. Evaluations write into buffers the function
+//! needs the constraints' code before a run records its forces). Expressions evaluated
+//! together at one state are fused into one function ([`crate::ir::fuse`]) as well: the
+//! force expressions' values and their partials ([`crate::mbd::forces::ForceSet::fuse`])
+//! and the output columns, so one call gives every value. Once a run has recorded every
+//! expression of the model (constraints, forces, output columns), [`CompiledExprs::unify`]
+//! compiles all of them again into one module, which the run then uses alone. Evaluations write into buffers the function
 //! keeps: no allocation per call. A JIT failure is kept ([`CompiledExprs::jit_error`])
 //! and the interpreter runs those functions instead.
 
 use super::build::ExprCompiler;
-use super::expr::{ExprError, ExprFn};
+use super::expr::{ExprError, ExprFn, FusedFn};
 use crate::context::Context;
 use crate::interp::Program;
 use crate::ir::deriv::{gradient, hessian, Input};
@@ -139,17 +141,6 @@ impl CompiledExprs {
         self.batch.modules.get()
     }
 
-    /// Records a value-only function (an output column) in the batch.
-    pub fn output(&self, function: crate::ir::Function) -> OutputFn {
-        let program = Program::new(function.clone());
-        OutputFn {
-            batch: self.batch.clone(),
-            index: self.batch.record(function),
-            program,
-            splines: self.splines.clone(),
-        }
-    }
-
     /// The same compiler with the model's splines (`Model::runtime_splines`) for the
     /// expressions to read.
     pub fn with_splines(mut self, splines: Arc<[Spline]>) -> Self {
@@ -185,8 +176,8 @@ struct WithGradient {
     hessian: Result<Box<Program>, String>,
 }
 
-/// A value-only function of the batch: an output column.
-pub struct OutputFn {
+/// Several expressions' values from one function of the batch ([`crate::ir::fuse`]).
+struct Fused {
     batch: Rc<Batch>,
     index: usize,
     /// The interpreter's form (the interpreted engine, or a JIT failure).
@@ -194,17 +185,15 @@ pub struct OutputFn {
     splines: Arc<[Spline]>,
 }
 
-impl OutputFn {
-    /// The value at time `t` with model measure slots `measures` (NaN and infinity
-    /// pass through: an output prints what the expression gives).
-    pub fn eval(&self, t: f64, measures: &[f64]) -> f64 {
+impl FusedFn for Fused {
+    fn eval_into(&self, t: f64, measures: &[f64], out: &mut [f64]) {
         let ctx = Context::new(t, &[])
             .with_measures(measures)
             .with_splines(&self.splines);
         self.batch.flush();
         match &self.batch.code.borrow()[self.index] {
-            Some(c) => c.eval(&ctx),
-            None => self.program.eval(&ctx),
+            Some(c) => c.eval_into(&ctx, out),
+            None => self.program.eval_into(&ctx, out),
         }
     }
 }
@@ -218,6 +207,16 @@ struct ValueOnly {
 }
 
 impl ExprCompiler for CompiledExprs {
+    fn fuse(&self, functions: &[&crate::ir::Function]) -> Option<Box<dyn FusedFn>> {
+        let fused = crate::ir::fuse::fuse(functions);
+        Some(Box::new(Fused {
+            program: Program::new(fused.clone()),
+            index: self.batch.record(fused),
+            batch: self.batch.clone(),
+            splines: self.splines.clone(),
+        }))
+    }
+
     fn compile(&self, e: &Expr) -> Box<dyn ExprFn> {
         let slots = e.function.uses.measures.clone();
         let wrt: Vec<Input> = slots

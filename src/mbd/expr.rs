@@ -36,6 +36,14 @@ impl std::fmt::Display for ExprError {
     }
 }
 
+/// Several expressions evaluated by one call ([`crate::ir::fuse`]): every value at time
+/// `t` from the model's measure slots `measures` into `out`, in the order they were
+/// fused (NaN and infinity pass through; the caller checks what it reads).
+pub trait FusedFn {
+    /// Every value into `out`.
+    fn eval_into(&self, t: f64, measures: &[f64], out: &mut [f64]);
+}
+
 /// An expression f(t, m) of time and measure slots m.
 pub trait ExprFn {
     /// Measure slots read, sorted (the model's slot numbers).

@@ -24,7 +24,7 @@ use super::dual::{Scalar as ScalarT, D, N, PER_PART, V};
 use super::dynamics::events::contact::ContactProbe;
 use super::dynamics::outputs::OutputSlot;
 use super::error::MbdError;
-use super::expr::ExprFn;
+use super::expr::{ExprError, ExprFn, FusedFn};
 use super::measures::{dual_frame, value_frame, Frame, Measure, PartSlots, M};
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::elements::ElementRef;
@@ -51,6 +51,12 @@ pub struct Scalar {
     scratch: std::cell::RefCell<(Vec<D>, Vec<f64>)>,
     /// The switching functions of its contact calls, when it has any.
     probe: Option<ContactProbe>,
+    /// Its IR, for [`ForceSet::fuse`] (None once fused or when not given).
+    ir: Option<crate::ir::Function>,
+    /// Its output in the set's fused evaluation, and where its value and partials
+    /// start in the fused gradients ([`ForceSet::fuse`]).
+    fused: Option<usize>,
+    fused_gradient: Option<usize>,
 }
 
 impl Scalar {
@@ -62,7 +68,16 @@ impl Scalar {
             map,
             scratch: std::cell::RefCell::new((Vec::with_capacity(n), vec![0.0; n])),
             probe: None,
+            ir: None,
+            fused: None,
+            fused_gradient: None,
         }
+    }
+
+    /// The same expression with its IR kept for [`ForceSet::fuse`].
+    pub fn with_ir(mut self, function: crate::ir::Function) -> Scalar {
+        self.ir = Some(function);
+        self
     }
 
     /// The same expression with the switching functions of the IMPACT and BISTOP calls
@@ -236,6 +251,29 @@ pub struct ForceSet {
     pub reads: Vec<Vec<usize>>,
     /// The order of evaluation: an element reading another's force comes after it.
     pub order: Vec<usize>,
+    /// Every expression's value in one call, when the compiler fuses and no expression
+    /// reads the solution ([`ForceSet::fuse`]).
+    fused: Option<Fused>,
+}
+
+/// What an element's expressions read besides the state: the solution values
+/// ([`ForceSet::solved`]) and the set's fused values at this state, when it has them.
+struct Inputs<'a> {
+    solved: &'a [f64],
+    /// The fused values, or with Jacobians the fused values and partials.
+    fused: Option<&'a [f64]>,
+}
+
+/// The fused evaluation of a set's expressions: the function of their values and, when
+/// every one has a derivative, the function of their values and partials (f, ∂f/∂slot,
+/// ∂f/∂t each); the (slot, measure) pairs they read (each filled once a state); and
+/// their outputs at the last evaluation.
+struct Fused {
+    f: Box<dyn FusedFn>,
+    gradients: Option<Box<dyn FusedFn>>,
+    slots: Vec<(u32, usize)>,
+    values: std::cell::RefCell<Vec<f64>>,
+    partials: std::cell::RefCell<Vec<f64>>,
 }
 
 /// Q and its Jacobians over velocity-level columns: `dq` holds ∂Q/∂q, `dv` ∂Q/∂v as
@@ -305,11 +343,11 @@ trait Num: ScalarT {
     fn measure(sys: &System, m: usize, slots: &mut PartSlots) -> Self;
     /// The reference point of `part`.
     fn reference(sys: &System, part: PartHandle, slots: &PartSlots) -> V<Self>;
-    /// Expression `s` of element `el` (solution values from `solved`).
+    /// Expression `s` of element `el` (solution and fused values from `inputs`).
     fn expression(
         el: &ForceElement,
         sys: &System,
-        solved: &[f64],
+        inputs: &Inputs,
         s: &Scalar,
         slots: &mut PartSlots,
     ) -> Result<Self, MbdError>;
@@ -343,11 +381,11 @@ impl Num for D {
     fn expression(
         el: &ForceElement,
         sys: &System,
-        solved: &[f64],
+        inputs: &Inputs,
         s: &Scalar,
         slots: &mut PartSlots,
     ) -> Result<D, MbdError> {
-        el.scalar_dual(sys, solved, s, slots)
+        el.scalar_dual(sys, inputs, s, slots)
     }
 
     fn load(x: &D, row: usize, sys: &System, slots: &PartSlots, out: &mut Generalized) {
@@ -381,11 +419,11 @@ impl Num for f64 {
     fn expression(
         el: &ForceElement,
         sys: &System,
-        solved: &[f64],
+        inputs: &Inputs,
         s: &Scalar,
         _: &mut PartSlots,
     ) -> Result<f64, MbdError> {
-        el.scalar_value(sys, solved, s)
+        el.scalar_value(sys, inputs, s)
     }
 
     fn load(x: &f64, row: usize, _: &System, _: &PartSlots, out: &mut Generalized) {
@@ -394,6 +432,93 @@ impl Num for f64 {
 }
 
 impl ForceSet {
+    /// Fuses every expression's value into one function of `exprs` (when it fuses and no
+    /// expression reads the solution, whose values are filled in element by element):
+    /// the values without Jacobians then come from one call a state, the measures it
+    /// reads filled once.
+    pub fn fuse(&mut self, exprs: &dyn crate::mbd::build::ExprCompiler) {
+        if self.reads_solution() {
+            return;
+        }
+        let mut functions = Vec::new();
+        let mut slots = Vec::new();
+        for s in self.elements.iter().flat_map(|e| e.expressions()) {
+            let Some(ir) = &s.ir else { return };
+            functions.push(ir);
+            for (&src, &slot) in s.map.iter().zip(s.f.slots()) {
+                if let Source::Measure(m) = src {
+                    slots.push((slot, m));
+                }
+            }
+        }
+        if functions.is_empty() {
+            return;
+        }
+        let Some(f) = exprs.fuse(&functions) else {
+            return;
+        };
+        // The partials in the slots each expression reads, then TIME (as its own
+        // compiled gradient has them).
+        use crate::ir::deriv::{gradient, Input};
+        let derivatives: Option<Vec<crate::ir::Function>> = functions
+            .iter()
+            .map(|ir| {
+                let wrt: Vec<Input> = ir
+                    .uses
+                    .measures
+                    .iter()
+                    .map(|&s| Input::Measure(s))
+                    .chain([Input::Time])
+                    .collect();
+                gradient(ir, &wrt).ok()
+            })
+            .collect();
+        let (mut offsets, mut width) = (Vec::new(), 0);
+        let gradients = derivatives.and_then(|ds| {
+            for d in &ds {
+                offsets.push(width);
+                width += d.outputs.len();
+            }
+            exprs.fuse(&ds.iter().collect::<Vec<_>>())
+        });
+        slots.sort_unstable();
+        slots.dedup();
+        let count = functions.len();
+        let fused_gradients = gradients.is_some();
+        for (k, s) in self
+            .elements
+            .iter_mut()
+            .flat_map(|e| e.expressions_mut())
+            .enumerate()
+        {
+            (s.fused, s.ir) = (Some(k), None);
+            s.fused_gradient = fused_gradients.then(|| offsets[k]);
+        }
+        self.fused = Some(Fused {
+            f,
+            gradients,
+            slots,
+            values: std::cell::RefCell::new(vec![0.0; count]),
+            partials: std::cell::RefCell::new(vec![0.0; width]),
+        });
+    }
+
+    /// Every fused value (with `jacobians`, every value and partial) at the state of
+    /// `sys` (nothing when the set is not fused).
+    fn eval_fused(&self, sys: &System, jacobians: bool) {
+        let Some(fz) = &self.fused else { return };
+        let mut shared = sys.scratch.borrow_mut();
+        let vals = shared.slots_to(fz.slots.last().map(|s| s.0));
+        for &(slot, m) in &fz.slots {
+            vals[slot as usize] = measure_value(sys, m);
+        }
+        match (jacobians, &fz.gradients) {
+            (false, _) => fz.f.eval_into(sys.time, vals, &mut fz.values.borrow_mut()),
+            (true, Some(g)) => g.eval_into(sys.time, vals, &mut fz.partials.borrow_mut()),
+            (true, None) => {}
+        }
+    }
+
     /// How many compiled expressions one evaluation of every element runs.
     pub fn expression_count(&self) -> usize {
         self.elements.iter().map(|e| e.expressions().count()).sum()
@@ -459,6 +584,7 @@ impl ForceSet {
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<(), MbdError> {
+        self.eval_fused(sys, jacobians);
         for k in 0..self.elements.len() {
             self.eval_element(k, sys, out, jacobians)?;
         }
@@ -473,7 +599,16 @@ impl ForceSet {
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<(), MbdError> {
-        self.loads[k] = self.elements[k].eval(sys, &self.solved, out, jacobians)?;
+        let fused = match (&self.fused, jacobians) {
+            (Some(fz), false) => Some(fz.values.borrow()),
+            (Some(fz), true) if fz.gradients.is_some() => Some(fz.partials.borrow()),
+            _ => None,
+        };
+        let inputs = Inputs {
+            solved: &self.solved,
+            fused: fused.as_deref().map(Vec::as_slice),
+        };
+        self.loads[k] = self.elements[k].eval(sys, &inputs, out, jacobians)?;
         Ok(())
     }
 }
@@ -489,6 +624,19 @@ impl ForceElement {
         let three = three
             .into_iter()
             .flat_map(|(f, t)| f.iter().chain(t.iter()).flat_map(|b| b.iter()));
+        one.into_iter().chain(three)
+    }
+
+    /// The element's expressions, mutable, in the order of [`ForceElement::expressions`].
+    fn expressions_mut(&mut self) -> impl Iterator<Item = &mut Scalar> {
+        let (one, three) = match &mut self.law {
+            ForceLaw::Line { f, .. } | ForceLaw::Torque { f, .. } => (Some(f), None),
+            ForceLaw::Vector { force, torque, .. } => (None, Some((force, torque))),
+            _ => (None, None),
+        };
+        let three = three
+            .into_iter()
+            .flat_map(|(f, t)| f.iter_mut().chain(t.iter_mut()).flat_map(|b| b.iter_mut()));
         one.into_iter().chain(three)
     }
 
@@ -510,9 +658,23 @@ impl ForceElement {
         out
     }
 
-    /// An expression's value alone, from the measures' values (no duals, no gradient;
-    /// solution values from `solved`).
-    fn scalar_value(&self, sys: &System, solved: &[f64], s: &Scalar) -> Result<f64, MbdError> {
+    /// An expression's value alone: the set's fused evaluation's when there is one, else
+    /// from the measures' values (no duals, no gradient; solution values from `inputs`).
+    fn scalar_value(&self, sys: &System, inputs: &Inputs, s: &Scalar) -> Result<f64, MbdError> {
+        if let (Some(k), Some(values)) = (s.fused, inputs.fused) {
+            let v = values[k];
+            return match v.is_finite() {
+                true => Ok(v),
+                false => Err(MbdError::Expression(
+                    self.elref.clone(),
+                    ExprError::NotFinite {
+                        value: v,
+                        time: sys.time,
+                    },
+                )),
+            };
+        }
+        let solved = inputs.solved;
         let slot_ids = s.f.slots();
         let mut shared = sys.scratch.borrow_mut();
         let vals = shared.slots_to(slot_ids.last().copied());
@@ -531,10 +693,11 @@ impl ForceElement {
     fn scalar_dual(
         &self,
         sys: &System,
-        solved: &[f64],
+        inputs: &Inputs,
         s: &Scalar,
         slots: &mut PartSlots,
     ) -> Result<D, MbdError> {
+        let (solved, fused) = (inputs.solved, inputs.fused);
         let slot_ids = s.f.slots();
         let mut shared = sys.scratch.borrow_mut();
         let vals = shared.slots_to(slot_ids.last().copied());
@@ -553,7 +716,25 @@ impl ForceElement {
             vals[slot as usize] = d.v;
             duals.push(d);
         }
-        let (v, _) = s.f.value_gradient(sys.time, vals, grad).map_err(err)?;
+        let v = match (s.fused_gradient, fused) {
+            // The set's one call computed f and its partials at this state.
+            (Some(at), Some(out)) => {
+                let k = duals.len();
+                let finite = |x: f64| match x.is_finite() {
+                    true => Ok(x),
+                    false => Err(err(ExprError::NotFinite {
+                        value: x,
+                        time: sys.time,
+                    })),
+                };
+                for (g, &x) in grad.iter_mut().zip(&out[at + 1..=at + k]) {
+                    *g = finite(x)?;
+                }
+                finite(out[at + k + 1])?;
+                finite(out[at])?
+            }
+            _ => s.f.value_gradient(sys.time, vals, grad).map_err(err)?.0,
+        };
         let mut g = [0.0; N];
         for (d, &c) in duals.iter().zip(grad.iter()) {
             if c != 0.0 {
@@ -570,20 +751,20 @@ impl ForceElement {
     fn eval(
         &self,
         sys: &System,
-        solved: &[f64],
+        inputs: &Inputs,
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<Loads, MbdError> {
         match jacobians {
-            true => self.eval_as::<D>(sys, solved, out),
-            false => self.eval_as::<f64>(sys, solved, out),
+            true => self.eval_as::<D>(sys, inputs, out),
+            false => self.eval_as::<f64>(sys, inputs, out),
         }
     }
 
     fn eval_as<T: Num>(
         &self,
         sys: &System,
-        solved: &[f64],
+        inputs: &Inputs,
         out: &mut Generalized,
     ) -> Result<Loads, MbdError> {
         let mut slots = self.slots;
@@ -594,7 +775,7 @@ impl ForceElement {
         // applied at I's origin except the line forces' reaction at J's.
         let (f_i, t_i, f_j, t_j, j_at_i) = match &self.law {
             ForceLaw::Line { f, action_only } => {
-                let f = T::expression(self, sys, solved, f, &mut slots)?;
+                let f = T::expression(self, sys, inputs, f, &mut slots)?;
                 if *action_only {
                     (scale_v(&fj.axes[2], f), zero, zero, zero, true)
                 } else {
@@ -605,7 +786,7 @@ impl ForceElement {
                 }
             }
             ForceLaw::Torque { f, action_only } => {
-                let f = T::expression(self, sys, solved, f, &mut slots)?;
+                let f = T::expression(self, sys, inputs, f, &mut slots)?;
                 let t = scale_v(&fj.axes[2], f);
                 let tj = if *action_only { zero } else { neg_v(&t) };
                 (zero, t, zero, tj, true)
@@ -617,7 +798,7 @@ impl ForceElement {
                     Some(xs) => {
                         let mut c = [T::c(0.0); 3];
                         for (k, x) in xs.iter().enumerate() {
-                            c[k] = T::expression(self, sys, solved, x, slots)?;
+                            c[k] = T::expression(self, sys, inputs, x, slots)?;
                         }
                         Ok::<V<T>, MbdError>(in_axes(&frm.axes, c))
                     }
@@ -851,5 +1032,67 @@ mod tests {
             m += tp - gyro + p.r.cross(&fp);
         }
         assert!(f.norm() < 1e-12 && m.norm() < 1e-12, "{f} {m}");
+    }
+}
+
+#[cfg(test)]
+mod fused_tests {
+    //! The fused evaluation ([`super::ForceSet::fuse`]) against each expression on its
+    //! own: the same values, bit for bit, from one call.
+    use super::*;
+    use crate::mbd::build::InterpretOnly;
+    use crate::mbd::compiled::CompiledExprs;
+    use crate::mbd::planar::Dim;
+    use crate::model::read_model;
+
+    const MODEL: &str = "fused\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        MARKER/11, PART = 1, FLOATING\n\
+        PART/2, MASS = 2, CM = 20, IP = 1, 2, 3, QG = 0.1, 0.2, 0.3, VX = 0.3, WZ = 0.7\n\
+        MARKER/20, PART = 2\n\
+        SFORCE/1, TRANSLATION, I = 20, J = 10, FUNCTION = -50*(DM(20,10) - 1) - 3*VR(20,10)\n\
+        SFORCE/2, ROTATION, I = 20, J = 10, FUNCTION = IMPACT(DX(20,10), VX(20,10), 0.5, 1E4, 1.5, 10, 0.1)\n\
+        GFORCE/1, I = 20, JFLOAT = 11, RM = 10, FX = VX(20,10)\\ FY = 2*DZ(20,10)\\ FZ = SIN(TIME)\\ TX = WX(20,10)\\ TY = 0.5\\ TZ = DM(20,10)\\\n\
+        END\n";
+
+    /// Q (and with `jacobians` its Jacobian entries) as bits, the set fused when `fuse`
+    /// (and the compiler fuses).
+    fn q(exprs: &dyn crate::mbd::build::ExprCompiler, fuse: bool, jacobians: bool) -> Vec<u64> {
+        let read = read_model(MODEL);
+        assert!(!read.has_errors(), "{:?}", read.diagnostics);
+        let mut sys = System::from_model(&read.model, Dim::Three, exprs).unwrap();
+        sys.time = 0.3;
+        let mut forces = sys.forces_from_model(&read.model, exprs).unwrap();
+        if !fuse {
+            forces.fused = None;
+        }
+        forces.prepare(&sys).unwrap();
+        let mut out = Generalized::new(sys.ncols());
+        forces.eval(&sys, &mut out, jacobians).unwrap();
+        let entries = out.dq.iter().chain(&out.dv).map(|e| e.2);
+        out.q
+            .iter()
+            .copied()
+            .chain(entries)
+            .map(f64::to_bits)
+            .collect()
+    }
+
+    #[test]
+    fn fused_values_and_partials_are_each_expressions_own() {
+        // CompiledExprs fuses values and partials (JIT and interpreter alike);
+        // InterpretOnly does not fuse (and has no partials).
+        let read = read_model(MODEL);
+        let mut sys = System::from_model(&read.model, Dim::Three, &InterpretOnly).unwrap();
+        let forces = sys.forces_from_model(&read.model, &InterpretOnly).unwrap();
+        assert!(forces.fused.is_none());
+        let fused = sys
+            .forces_from_model(&read.model, &CompiledExprs::new())
+            .unwrap();
+        assert!(fused.fused.as_ref().is_some_and(|f| f.gradients.is_some()));
+        let alone = q(&InterpretOnly, false, false);
+        for exprs in [CompiledExprs::new(), CompiledExprs::interpreted()] {
+            assert_eq!(q(&exprs, true, false), alone);
+            assert_eq!(q(&exprs, true, true), q(&exprs, false, true));
+        }
     }
 }

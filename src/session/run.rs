@@ -11,11 +11,12 @@ use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
-use crate::mbd::compiled::OutputFn;
+use crate::mbd::build::ExprCompiler as _;
 use crate::mbd::dynamics::integrator::simulate;
 use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
+use crate::mbd::expr::FusedFn;
 use crate::model::elements::{Expr, RequestKind};
 use crate::model::integrator_settings::{Formulation, IntegratorStatement};
 use crate::model::{read_model, ModelRead};
@@ -209,7 +210,8 @@ struct Outputs {
     slots: Vec<(u32, OutputSlot)>,
     /// Some column reads velocities, accelerations or forces: each row reconciles.
     reconcile: bool,
-    code: Vec<OutputFn>,
+    /// Every column's value from one call ([`crate::ir::fuse`]), the slots filled once.
+    code: Option<Box<dyn FusedFn>>,
     measures: Vec<f64>,
     /// The compiler all of the model's expressions went through.
     exprs: crate::mbd::compiled::CompiledExprs,
@@ -409,10 +411,11 @@ impl Simulation {
             None
         };
         // Every expression of the model is recorded now: constraints, forces, outputs.
-        let code: Vec<OutputFn> = columns
-            .iter()
-            .map(|c| exprs.output(c.function.clone()))
-            .collect();
+        let functions: Vec<&crate::ir::Function> = columns.iter().map(|c| &c.function).collect();
+        let code = match functions.is_empty() {
+            true => None,
+            false => exprs.fuse(&functions),
+        };
         exprs.unify();
         if let Some(e) = exprs.jit_error() {
             notes.push(format!(
@@ -481,7 +484,10 @@ impl Outputs {
         let t = d.sys.time;
         let mut row = Vec::with_capacity(self.columns.len() + 1);
         row.push(t);
-        row.extend(self.code.iter().map(|c| c.eval(t, &self.measures)));
+        row.resize(self.columns.len() + 1, 0.0);
+        if let Some(code) = &self.code {
+            code.eval_into(t, &self.measures, &mut row[1..]);
+        }
         Ok(row)
     }
 }

@@ -103,6 +103,11 @@ pub trait Integrator {
     fn formulation(&self) -> Option<String> {
         None
     }
+    /// The last attempt's error estimate as the run's monitors should count it, given the
+    /// one step control used (`err`); a method may watch more than it controls.
+    fn monitored_error(&self, err: f64) -> f64 {
+        err
+    }
     /// Makes `d`'s accelerations and multipliers those of its state before an output,
     /// where the method does not keep them at every step.
     fn prepare_output(&mut self, _d: &mut Dynamics) -> Result<(), DynError> {
@@ -262,9 +267,10 @@ pub fn simulate(
                     }
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
-                    d.stats.error_sum += err * step_settings.error / s.error;
-                    if err > d.stats.worst_error {
-                        (d.stats.worst_error, d.stats.worst_error_time) = (err, end);
+                    let watched = integrator.monitored_error(err);
+                    d.stats.error_sum += watched * step_settings.error / s.error;
+                    if watched > d.stats.worst_error {
+                        (d.stats.worst_error, d.stats.worst_error_time) = (watched, end);
                     }
                     d.check_dropped(drift_tol)?;
                     let mut measures = std::mem::take(&mut d.sys.measures);
