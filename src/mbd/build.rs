@@ -27,6 +27,36 @@ pub trait ExprCompiler {
     }
 }
 
+/// One evaluator of the values and partials of `functions` (for each, f, ∂f/∂slot in the
+/// slots it reads, ∂f/∂t), with where each one's outputs start and their total count;
+/// None when one has no derivative or `exprs` does not fuse.
+pub fn fuse_partials(
+    exprs: &dyn ExprCompiler,
+    functions: &[&crate::ir::Function],
+) -> Option<(Box<dyn FusedFn>, Vec<usize>, usize)> {
+    use crate::ir::deriv::{gradient, Input};
+    let derivatives = functions
+        .iter()
+        .map(|ir| {
+            let wrt: Vec<Input> = ir
+                .uses
+                .measures
+                .iter()
+                .map(|&s| Input::Measure(s))
+                .chain([Input::Time])
+                .collect();
+            gradient(ir, &wrt).ok()
+        })
+        .collect::<Option<Vec<_>>>()?;
+    let (mut offsets, mut width) = (Vec::new(), 0);
+    for d in &derivatives {
+        offsets.push(width);
+        width += d.outputs.len();
+    }
+    let fused = exprs.fuse(&derivatives.iter().collect::<Vec<_>>())?;
+    Some((fused, offsets, width))
+}
+
 /// Values through the interpreter, no derivatives.
 pub struct InterpretOnly;
 
@@ -135,14 +165,17 @@ impl System {
                 marker(j.j)?,
             )?;
         }
+        let mut gcons = Vec::new();
         for g in &model.gcons {
             let e = model.inline_variables(&g.function).map_err(|s| {
                 MbdError::Expression(elref(ElementKind::Gcon, &g.el), ExprError::Other(s))
             })?;
             let f = exprs.compile(&e);
             let map = sys.resolve_slots(model, f.slots())?;
-            sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
+            let h = sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
+            gcons.push((h.0 as usize, e.function));
         }
+        sys.fuse_gcons(exprs, &gcons);
         for m in &model.motions {
             let r = elref(ElementKind::Motion, &m.el);
             let measure = match m.target {

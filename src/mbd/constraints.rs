@@ -656,15 +656,24 @@ impl System {
                     sc.evs.push(ev);
                 }
                 let err = |s| MbdError::Expression(el.clone(), s);
-                if !derivs {
-                    out.value = f.value(self.time, &sc.slots).map_err(err)?;
-                    return Ok(());
-                }
                 sc.grad.clear();
                 sc.grad.resize(slots.len(), 0.0);
-                (out.value, out.dt) = f
-                    .value_gradient(self.time, &sc.slots, &mut sc.grad)
-                    .map_err(err)?;
+                // The dynamics' one call a state for every GCON, when it made it.
+                if let Some(row) = self.fused_gcon(e, derivs, &mut sc.grad) {
+                    let row = row.map_err(err)?;
+                    out.value = row.value;
+                    if !derivs {
+                        return Ok(());
+                    }
+                    out.dt = row.dt;
+                } else if !derivs {
+                    out.value = f.value(self.time, &sc.slots).map_err(err)?;
+                    return Ok(());
+                } else {
+                    (out.value, out.dt) = f
+                        .value_gradient(self.time, &sc.slots, &mut sc.grad)
+                        .map_err(err)?;
+                }
                 for (ev, &c) in sc.evs.iter().zip(&sc.grad) {
                     if c != 0.0 {
                         ev.scatter(

@@ -113,7 +113,7 @@ impl Scalar {
 
 /// Measure `m`'s value alone: the jet is a few scalars where the dual carries a gradient
 /// over four parts; only an unwrapped angle needs the dual's unwrapping.
-fn measure_value(sys: &System, m: usize) -> f64 {
+pub(crate) fn measure_value(sys: &System, m: usize) -> f64 {
     let ms = &sys.measures;
     if ms.list[m].unwrapped() {
         ms.eval(sys, m).value()
@@ -459,28 +459,11 @@ impl ForceSet {
         };
         // The partials in the slots each expression reads, then TIME (as its own
         // compiled gradient has them).
-        use crate::ir::deriv::{gradient, Input};
-        let derivatives: Option<Vec<crate::ir::Function>> = functions
-            .iter()
-            .map(|ir| {
-                let wrt: Vec<Input> = ir
-                    .uses
-                    .measures
-                    .iter()
-                    .map(|&s| Input::Measure(s))
-                    .chain([Input::Time])
-                    .collect();
-                gradient(ir, &wrt).ok()
-            })
-            .collect();
-        let (mut offsets, mut width) = (Vec::new(), 0);
-        let gradients = derivatives.and_then(|ds| {
-            for d in &ds {
-                offsets.push(width);
-                width += d.outputs.len();
-            }
-            exprs.fuse(&ds.iter().collect::<Vec<_>>())
-        });
+        let (gradients, offsets, width) = match crate::mbd::build::fuse_partials(exprs, &functions)
+        {
+            Some((g, o, w)) => (Some(g), o, w),
+            None => (None, Vec::new(), 0),
+        };
         slots.sort_unstable();
         slots.dedup();
         let count = functions.len();

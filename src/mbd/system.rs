@@ -186,6 +186,8 @@ pub struct System {
     marker_ids: HashMap<Id, MarkerHandle>,
     /// What the expressions share ([`ExprScratch`]).
     pub(crate) scratch: std::cell::RefCell<ExprScratch>,
+    /// The GCONs' expressions fused into one call ([`super::fused_gcons`]).
+    pub(crate) fused_gcons: Option<super::fused_gcons::FusedGcons>,
 }
 
 impl Default for System {
@@ -216,6 +218,7 @@ impl System {
             moving: 0,
             marker_ids: HashMap::new(),
             scratch: Default::default(),
+            fused_gcons: None,
         }
     }
 

@@ -685,6 +685,15 @@ impl Dynamics {
     /// Φ over the kept rows (into `self.phi`) and, with `jacobian`, Φ_q (into
     /// `self.jac`; a non-holonomic row holds ∂f/∂v).
     pub fn eval_constraints(&mut self, jacobian: bool) -> Result<(), MbdError> {
+        // Every GCON in one call at this state; the rows read it, and only they.
+        self.sys.eval_fused_gcons(jacobian);
+        let rows = self.eval_rows(jacobian);
+        self.sys.forget_fused_gcons();
+        rows
+    }
+
+    /// [`Dynamics::eval_constraints`]' rows.
+    fn eval_rows(&mut self, jacobian: bool) -> Result<(), MbdError> {
         let bs = self.sys.dim.cols();
         let comps = self.sys.column_components();
         for (r, &(e, q)) in self.rows.iter().enumerate() {

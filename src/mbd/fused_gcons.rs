@@ -1,0 +1,202 @@
+//! The GCONs' expressions evaluated by one call a state ([`crate::ir::fuse`]), as the
+//! force expressions are ([`super::forces::ForceSet::fuse`]): their values and, when the
+//! Newton matrix is built, their values and partials (f, ∂f/∂slot, ∂f/∂t each), the
+//! measure slots they read filled once. The dynamics computes them before it evaluates
+//! the rows ([`System::eval_fused_gcons`]) and the rows read them
+//! ([`System::fused_gcon`]); other callers (assembly) evaluate each row on its own.
+
+use super::expr::{ExprError, FusedFn};
+use super::system::System;
+use crate::ir::Function;
+use std::cell::{Cell, RefCell};
+use std::collections::HashMap;
+
+/// The fused GCON expressions and their outputs at the last evaluation.
+pub struct FusedGcons {
+    values: Box<dyn FusedFn>,
+    partials: Option<Box<dyn FusedFn>>,
+    /// The (slot, measure) pairs read.
+    slots: Vec<(u32, usize)>,
+    /// Per element: its value's output and where its value and partials start.
+    at: HashMap<usize, (usize, usize)>,
+    out_values: RefCell<Vec<f64>>,
+    out_partials: RefCell<Vec<f64>>,
+    /// The outputs are the current state's (Some(true): with the partials).
+    current: Cell<Option<bool>>,
+}
+
+/// What a GCON row reads from the fused evaluation: f, and with the partials
+/// ∂f/∂slot (into `grad`) and ∂f/∂t.
+pub struct FusedRow {
+    /// f.
+    pub value: f64,
+    /// ∂f/∂t (NaN when only values were computed).
+    pub dt: f64,
+}
+
+impl System {
+    /// Fuses the GCONs `gcons` (element index, the expression's IR) with `exprs`, when it
+    /// fuses.
+    pub fn fuse_gcons(
+        &mut self,
+        exprs: &dyn super::build::ExprCompiler,
+        gcons: &[(usize, Function)],
+    ) {
+        if gcons.is_empty() {
+            return;
+        }
+        let functions: Vec<&Function> = gcons.iter().map(|(_, f)| f).collect();
+        let Some(values) = exprs.fuse(&functions) else {
+            return;
+        };
+        let (partials, offsets, width) = match super::build::fuse_partials(exprs, &functions) {
+            Some((p, o, w)) => (Some(p), o, w),
+            None => (None, Vec::new(), 0),
+        };
+        let mut slots = Vec::new();
+        let mut at = HashMap::new();
+        for (k, (e, _)) in gcons.iter().enumerate() {
+            for eq in &self.elements[*e].eqs {
+                if let super::constraints::Row::Gcon { f, map } = &eq.row {
+                    slots.extend(f.slots().iter().copied().zip(map.iter().copied()));
+                }
+            }
+            at.insert(*e, (k, offsets.get(k).copied().unwrap_or(usize::MAX)));
+        }
+        slots.sort_unstable();
+        slots.dedup();
+        self.fused_gcons = Some(FusedGcons {
+            values,
+            partials,
+            slots,
+            at,
+            out_values: RefCell::new(vec![0.0; gcons.len()]),
+            out_partials: RefCell::new(vec![0.0; width]),
+            current: Cell::new(None),
+        });
+    }
+
+    /// Evaluates the fused GCONs at the current state (with `partials`, their partials
+    /// too, when they have them); [`System::fused_gcon`] reads them until
+    /// [`System::forget_fused_gcons`].
+    pub fn eval_fused_gcons(&self, partials: bool) {
+        let Some(fz) = &self.fused_gcons else { return };
+        let partials = partials && fz.partials.is_some();
+        let mut shared = self.scratch.borrow_mut();
+        let vals = shared.slots_to(fz.slots.last().map(|s| s.0));
+        for &(slot, m) in &fz.slots {
+            vals[slot as usize] = super::forces::measure_value(self, m);
+        }
+        match (partials, &fz.partials) {
+            (true, Some(p)) => p.eval_into(self.time, vals, &mut fz.out_partials.borrow_mut()),
+            _ => fz
+                .values
+                .eval_into(self.time, vals, &mut fz.out_values.borrow_mut()),
+        }
+        fz.current.set(Some(partials));
+    }
+
+    /// The fused outputs no longer describe the state.
+    pub fn forget_fused_gcons(&self) {
+        if let Some(fz) = &self.fused_gcons {
+            fz.current.set(None);
+        }
+    }
+
+    /// GCON element `e`'s value (and with `partials`, its partials into `grad` and
+    /// ∂f/∂t) from the current fused evaluation; None when there is none that has them.
+    pub fn fused_gcon(
+        &self,
+        e: usize,
+        partials: bool,
+        grad: &mut [f64],
+    ) -> Option<Result<FusedRow, ExprError>> {
+        let fz = self.fused_gcons.as_ref()?;
+        let with_partials = fz.current.get()?;
+        let &(v, at) = fz.at.get(&e)?;
+        let finite = |x: f64| match x.is_finite() {
+            true => Ok(x),
+            false => Err(ExprError::NotFinite {
+                value: x,
+                time: self.time,
+            }),
+        };
+        if !with_partials {
+            if partials {
+                return None;
+            }
+            let value = fz.out_values.borrow()[v];
+            return Some(finite(value).map(|value| FusedRow {
+                value,
+                dt: f64::NAN,
+            }));
+        }
+        let out = fz.out_partials.borrow();
+        let k = grad.len();
+        let mut row = || -> Result<FusedRow, ExprError> {
+            for (g, &x) in grad.iter_mut().zip(&out[at + 1..=at + k]) {
+                *g = finite(x)?;
+            }
+            let dt = finite(out[at + k + 1])?;
+            Ok(FusedRow {
+                value: finite(out[at])?,
+                dt,
+            })
+        };
+        Some(row())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::mbd::compiled::CompiledExprs;
+    use crate::mbd::planar::Dim;
+    use crate::mbd::system::System;
+    use crate::model::read_model;
+
+    /// A slider held by two GCONs (one reading TIME), every row's value, partials and
+    /// ∂/∂t from the fused call equal to the row's own evaluation, bit for bit.
+    #[test]
+    fn fused_gcon_rows_are_each_rows_own() {
+        let text = "two gcons\nPART/1, GROUND\nMARKER/101, PART = 1\n\
+            MARKER/102, PART = 1, REULER = 120D, 90D, 0D\n\
+            PART/2, MASS = 2, CM = 201, IP = 1, 1, 1, VX = 0.2\nMARKER/201, PART = 2\n\
+            MARKER/202, PART = 2, REULER = 120D, 90D, 0D\n\
+            GCON/1, I = 202, FUNCTION = SIN(DZ(202, 102, 102)) - 0.5*SIN(2*TIME)\n\
+            GCON/2, I = 202, FUNCTION = DX(202, 102)*VY(202, 102) + DY(202, 102)**2\n\
+            END\n";
+        let read = read_model(text);
+        assert!(!read.has_errors(), "{:?}", read.diagnostics);
+        for exprs in [CompiledExprs::new(), CompiledExprs::interpreted()] {
+            let mut sys = System::from_model(&read.model, Dim::Three, &exprs).unwrap();
+            sys.time = 0.37;
+            assert!(sys.fused_gcons.is_some());
+            let bits = |sys: &System| -> Vec<u64> {
+                let mut out = Vec::new();
+                for e in 0..sys.elements.len() {
+                    let r = sys.eval_row(e, 0).unwrap();
+                    out.push(r.value.to_bits());
+                    out.push(r.dt.to_bits());
+                    out.extend(r.dq.iter().chain(&r.dv).map(|x| x.1.to_bits()));
+                    out.push(sys.row_value(e, 0).unwrap().to_bits());
+                }
+                out
+            };
+            let alone = bits(&sys);
+            sys.eval_fused_gcons(true);
+            // Both GCONs are read from the fused call (each reads 1 and 2 slots).
+            for (e, k) in [(0, 1), (1, 3)] {
+                let mut grad = vec![0.0; k];
+                assert!(sys
+                    .fused_gcon(e, true, &mut grad)
+                    .is_some_and(|r| r.is_ok()));
+            }
+            let with_partials = bits(&sys);
+            sys.eval_fused_gcons(false);
+            let values_only = bits(&sys);
+            sys.forget_fused_gcons();
+            assert_eq!(with_partials, alone);
+            assert_eq!(values_only, alone);
+        }
+    }
+}
