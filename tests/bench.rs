@@ -3,7 +3,7 @@
 //! exact A01 and A02 solutions of reference-problems §4.1–4.2) fall as the tolerance
 //! tightens, and `mbfx bench wp|stability|scaling|orders` write what they promise.
 
-use mbfx::bench::point::{measure, variant_named, Control, Options, Status};
+use mbfx::bench::point::{measure, variant_named, Control, Options, Point, Status};
 use mbfx::bench::scene::{load_dir, Scene};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -16,6 +16,19 @@ fn scene(name: &str) -> Scene {
     Scene::load(&scenes_dir().join(format!("{name}.toml"))).unwrap()
 }
 
+/// `scene` (dataset `text`) run by `method` at ERROR `error`, everything else as the
+/// scene says.
+fn at_tolerance(scene: &Scene, text: &str, method: &str, error: f64) -> Point {
+    let v = variant_named(method).unwrap_or_else(|| panic!("no method {method}"));
+    measure(
+        scene,
+        text,
+        v,
+        Control::Tolerance(error),
+        Options::default(),
+    )
+}
+
 #[test]
 fn every_scene_loads_and_its_dataset_builds() {
     let scenes = load_dir(&scenes_dir()).unwrap();
@@ -26,14 +39,7 @@ fn every_scene_loads_and_its_dataset_builds() {
         let mut short = s.clone();
         short.end = short.output_step * short.stride() as f64;
         short.references.retain(|r| r.row == 0);
-        let v = variant_named("gstiff").unwrap();
-        let p = measure(
-            &short,
-            &text,
-            v,
-            Control::Tolerance(1e-3),
-            Options::default(),
-        );
+        let p = at_tolerance(&short, &text, "gstiff", 1e-3);
         if let Status::Failed(why) = &p.status {
             // Only a scene whose truth is that the run must stop may fail, and not at build.
             assert!(
@@ -50,13 +56,7 @@ fn a01_error_against_the_exact_solution_falls_with_the_tolerance() {
     let s = scene("a01_pendulum");
     let text = s.dataset_text().unwrap();
     let run = |name: &str, e: f64| {
-        let p = measure(
-            &s,
-            &text,
-            variant_named(name).unwrap(),
-            Control::Tolerance(e),
-            Options::default(),
-        );
+        let p = at_tolerance(&s, &text, name, e);
         assert_eq!(p.status, Status::Ok, "{name} {e}");
         p.errors.position.unwrap()
     };
@@ -82,13 +82,7 @@ fn trees_in_joint_coordinates_meet_the_truth_as_the_cartesian_form_does() {
         let s = scene(name);
         let text = s.dataset_text().unwrap();
         for method in ["dopri853", "dopri853-cartesian"] {
-            let p = measure(
-                &s,
-                &text,
-                variant_named(method).unwrap(),
-                Control::Tolerance(error),
-                Options::default(),
-            );
+            let p = at_tolerance(&s, &text, method, error);
             assert_eq!(p.status, Status::Ok, "{name} {method}");
             let e = p.errors.position.unwrap();
             assert!(e < bound, "{name} {method}: error {e:e}");
@@ -104,13 +98,7 @@ fn trees_in_joint_coordinates_meet_the_truth_as_the_cartesian_form_does() {
 fn a02_scene_is_scored_against_the_exact_parallelogram_solution() {
     // The 3D build keeps 3 redundant equations out, and still follows §4.2's θ(t).
     let s = scene("a02_n1_3d");
-    let p = measure(
-        &s,
-        &s.dataset_text().unwrap(),
-        variant_named("gstiff").unwrap(),
-        Control::Tolerance(1e-10),
-        Options::default(),
-    );
+    let p = at_tolerance(&s, &s.dataset_text().unwrap(), "gstiff", 1e-10);
     assert_eq!((p.status, p.dim), (Status::Ok, 3));
     assert!(p.errors.position.unwrap() < 1e-4, "{:?}", p.errors);
 }
@@ -190,13 +178,7 @@ fn bench_generate_prints_a_dataset_that_runs() {
 fn a_motion_driven_into_its_dead_centre_stops_there_named_as_a_lock_up() {
     // The slider reaches its outer dead centre at t = 1 exactly (the scene's geometry).
     let s = scene("motion_lockup");
-    let p = measure(
-        &s,
-        &s.dataset_text().unwrap(),
-        variant_named("gstiff").unwrap(),
-        Control::Tolerance(1e-9),
-        Options::default(),
-    );
+    let p = at_tolerance(&s, &s.dataset_text().unwrap(), "gstiff", 1e-9);
     let Status::Failed(why) = &p.status else {
         panic!("ran through the lock-up: {:?}", p.errors)
     };
@@ -220,13 +202,7 @@ fn a_stiff_contact_at_a_loose_tolerance_keeps_bouncing() {
     let s = scene("impact_stiff_k1e9");
     let text = s.dataset_text().unwrap();
     for name in ["gstiff", "wstiff"] {
-        let p = measure(
-            &s,
-            &text,
-            variant_named(name).unwrap(),
-            Control::Tolerance(1e-3),
-            Options::default(),
-        );
+        let p = at_tolerance(&s, &text, name, 1e-3);
         assert_eq!(p.status, Status::Ok, "{name}");
         assert!(p.errors.position.unwrap() < 1e-2, "{name}: {:?}", p.errors);
     }
@@ -255,14 +231,7 @@ fn a_run_whose_local_errors_add_up_past_ten_errors_says_so() {
         p.warnings
     );
     // ERROR per run: the answer's error follows ERROR (dopri853 on A01, exact truth).
-    let per_run = variant_named("dopri853-run").unwrap();
-    let p = measure(
-        &s,
-        &s.dataset_text().unwrap(),
-        per_run,
-        Control::Tolerance(1e-6),
-        Options::default(),
-    );
+    let p = at_tolerance(&s, &s.dataset_text().unwrap(), "dopri853-run", 1e-6);
     assert!(
         p.errors.position.unwrap() < 1e-6 && p.warnings.is_empty(),
         "{:?} {:?}",

@@ -155,15 +155,13 @@ impl Default for CompiledExprs {
     }
 }
 
-/// f and its partials: outputs are f, ∂f/∂slot for each slot read, ∂f/∂t; and f alone,
-/// a function of its own, for the evaluations that need no derivative.
+/// f and its partials: outputs are f, ∂f/∂slot for each slot read, ∂f/∂t. (The
+/// evaluations a state makes of many expressions at once go through fused functions,
+/// [`FusedFn`]; one expression alone takes its value from the same function.)
 struct WithGradient {
     batch: Rc<Batch>,
     /// Its place in the batch.
     index: usize,
-    /// The value function's place in the batch, and its interpreter form.
-    value_index: usize,
-    value_program: Box<Program>,
     /// The same function for the interpreter (the interpreted engine, or a JIT failure).
     program: Box<Program>,
     /// f, the slot partials, ∂f/∂t of the last evaluation.
@@ -245,13 +243,9 @@ impl ExprCompiler for CompiledExprs {
         let outputs = slots.len() + 2;
         let program = Box::new(Program::new(g.clone()));
         let index = self.batch.record(g);
-        let value_program = Box::new(Program::new(e.function.clone()));
-        let value_index = self.batch.record(e.function.clone());
         Box::new(WithGradient {
             batch: self.batch.clone(),
             index,
-            value_index,
-            value_program,
             program,
             out: RefCell::new(vec![f64::NAN; outputs]),
             slots,
@@ -307,15 +301,7 @@ impl ExprFn for WithGradient {
     }
 
     fn value(&self, t: f64, measures: &[f64]) -> Result<f64, ExprError> {
-        let ctx = Context::new(t, &[])
-            .with_measures(measures)
-            .with_splines(&self.splines);
-        self.batch.flush();
-        let v = match &self.batch.code.borrow()[self.value_index] {
-            Some(c) => c.eval(&ctx),
-            None => self.value_program.eval(&ctx),
-        };
-        finite(v, t)
+        finite(self.run(t, measures)[0], t)
     }
 
     fn gradient(&self, t: f64, measures: &[f64], grad: &mut [f64]) -> Result<f64, ExprError> {

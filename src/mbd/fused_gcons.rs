@@ -9,7 +9,6 @@ use super::expr::{ExprError, FusedFn};
 use super::system::System;
 use crate::ir::Function;
 use std::cell::{Cell, RefCell};
-use std::collections::HashMap;
 
 /// The fused GCON expressions and their outputs at the last evaluation.
 pub struct FusedGcons {
@@ -17,8 +16,9 @@ pub struct FusedGcons {
     partials: Option<Box<dyn FusedFn>>,
     /// The (slot, measure) pairs read.
     slots: Vec<(u32, usize)>,
-    /// Per element: its value's output and where its value and partials start.
-    at: HashMap<usize, (usize, usize)>,
+    /// Per element (None: not a fused GCON): its value's output and where its value and
+    /// partials start.
+    at: Vec<Option<(usize, usize)>>,
     out_values: RefCell<Vec<f64>>,
     out_partials: RefCell<Vec<f64>>,
     /// The outputs are the current state's (Some(true): with the partials).
@@ -54,14 +54,14 @@ impl System {
             None => (None, Vec::new(), 0),
         };
         let mut slots = Vec::new();
-        let mut at = HashMap::new();
+        let mut at = vec![None; self.elements.len()];
         for (k, (e, _)) in gcons.iter().enumerate() {
             for eq in &self.elements[*e].eqs {
                 if let super::constraints::Row::Gcon { f, map } = &eq.row {
                     slots.extend(f.slots().iter().copied().zip(map.iter().copied()));
                 }
             }
-            at.insert(*e, (k, offsets.get(k).copied().unwrap_or(usize::MAX)));
+            at[*e] = Some((k, offsets.get(k).copied().unwrap_or(usize::MAX)));
         }
         slots.sort_unstable();
         slots.dedup();
@@ -113,7 +113,7 @@ impl System {
     ) -> Option<Result<FusedRow, ExprError>> {
         let fz = self.fused_gcons.as_ref()?;
         let with_partials = fz.current.get()?;
-        let &(v, at) = fz.at.get(&e)?;
+        let (v, at) = (*fz.at.get(e)?)?;
         let finite = |x: f64| match x.is_finite() {
             true => Ok(x),
             false => Err(ExprError::NotFinite {

@@ -186,14 +186,12 @@ impl SparseLu {
     /// Factors the matrix whose values (one per pattern slot) are `values`.
     pub fn factor(&mut self, values: &[f64]) -> Result<(), FactorError> {
         self.factored = false;
-        if values.iter().any(|x| !x.is_finite()) {
-            return Err(FactorError::NotFinite);
-        }
         if let Some(lu) = &mut self.dense {
             self.pattern.scatter(values, false, lu.matrix_mut());
-            lu.factor()?;
-            self.factored = true;
-            return Ok(());
+            return self.factor_dense();
+        }
+        if values.iter().any(|x| !x.is_finite()) {
+            return Err(FactorError::NotFinite);
         }
         let sym = Self::symbolic_of(&self.pattern);
         let a = faer::sparse::SparseColMatRef::new(sym, values);

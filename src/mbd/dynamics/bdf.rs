@@ -40,9 +40,9 @@ mod history;
 
 use super::dopri853::rotation_vector_rate;
 use super::integrator::{Attempt, Integrator, Settings};
-use super::newmark::{copy_into, largest_magnitude};
+use super::newmark::largest_magnitude;
 use super::reuse::{self, Reuse};
-use super::{DynError, Dynamics, Weights};
+use super::{copy_into, DynError, Dynamics, Weights};
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
 use history::{lagrange, History};
@@ -392,7 +392,7 @@ impl Bdf {
             self.place(d, a1, t1);
             let w = (g, Self::weights(g));
             let refactor = reuse::evaluate(d, &mut self.reuse, (iter, w.0, w.1), lambda, |a| {
-                copy_into(a, a1)
+                copy_into(a, a1.as_slice())
             })?;
             let r1 = &mut self.res;
             r1.fill(0.0);

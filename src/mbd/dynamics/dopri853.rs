@@ -237,13 +237,13 @@ impl Integrator for Dopri853 {
     }
 
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        if let Some(j) = &mut self.joint {
+            return j.attempt(d, h, st);
+        }
         let n = d.n;
         self.size(n);
         if self.tol.0 != st.error || self.tol.1.len() != n {
             self.tol = (st.error, d.tolerances(st.error));
-        }
-        if let Some(j) = &mut self.joint {
-            return j.attempt(d, h, st);
         }
         let base = self.base.take().expect("started");
         let outcome = self.stages(d, &base, h, st);
@@ -326,9 +326,9 @@ impl Joints {
         self.y.iter().all(|x| x.is_finite())
     }
 
-    /// One step of `h` from the accepted state: the stages, the estimate, and at an
-    /// accepted candidate the Cartesian accelerations and multipliers (for outputs and
-    /// reactions).
+    /// One step of `h` from the accepted state: the stages, the estimate, and θ̈ at a
+    /// candidate error control accepts (the next step's first stage; the Cartesian
+    /// accelerations and multipliers wait for an output, [`Integrator::prepare_output`]).
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
         let f = self.tree.coordinates();
         if self.tol_error != st.error || self.tol.len() != 2 * f {

@@ -106,6 +106,12 @@ impl Target {
     }
 }
 
+/// Whether a switching function went from `s0` to `s1` across a switch (both defined,
+/// on different branches).
+fn switched(s0: f64, s1: f64) -> bool {
+    !(s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0))
+}
+
 impl Events {
     /// The switching values of `d`'s forces at its current state (none: nothing to
     /// watch, and the step control runs as without events).
@@ -161,7 +167,8 @@ impl Events {
     }
 
     /// Whether the candidate in `d` has a switching value of another sign than at the
-    /// last accepted state (a switch inside the step), judging nothing.
+    /// last accepted state (a switch inside the step), judging nothing; its values are
+    /// kept for [`Events::judge`].
     pub fn crosses(&mut self, d: &Dynamics) -> bool {
         if self.at.is_empty() {
             return false;
@@ -171,16 +178,16 @@ impl Events {
         self.at
             .iter()
             .zip(&self.next)
-            .any(|(&s0, &s1)| !(s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0)))
+            .any(|(&s0, &s1)| switched(s0, s1))
     }
 
-    /// [`Events::check`] with the candidate's switching values in `self.next` and its
-    /// time `t1`.
-    fn judge(&mut self, t1: f64, h: f64, hmin: f64) -> Verdict {
+    /// [`Events::check`] with the candidate's switching values in `self.next` (as
+    /// [`Events::crosses`] leaves them) and its time `t1`.
+    pub fn judge(&mut self, t1: f64, h: f64, hmin: f64) -> Verdict {
         // The earliest sign change by the secant, as a fraction of the step.
         let mut first: Option<(usize, f64)> = None;
         for (k, (&s0, &s1)) in self.at.iter().zip(&self.next).enumerate() {
-            if s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0) {
+            if !switched(s0, s1) {
                 continue;
             }
             let theta = s0 / (s0 - s1);

@@ -217,7 +217,7 @@ pub fn simulate(
                     // error says nothing of either, and shrinking by it only creeps up
                     // on the switch. Locate the switch instead (the secant aims at it).
                     d.sys.time = end;
-                    if events.crosses(d) && events.check(d, h, s.hmin) == Verdict::Locate {
+                    if events.crosses(d) && events.judge(end, h, s.hmin) == Verdict::Locate {
                         integrator.reject(d);
                         d.stats.rejected += 1;
                         continue;

@@ -403,7 +403,7 @@ pub struct Dynamics {
 
 /// `x` made a copy of `from`, reallocated only when the length differs (nalgebra's
 /// resize always reallocates).
-fn copy_into(x: &mut DVec, from: &[f64]) {
+pub(super) fn copy_into(x: &mut DVec, from: &[f64]) {
     if x.len() == from.len() {
         x.copy_from_slice(from);
     } else {
@@ -903,7 +903,7 @@ impl Dynamics {
             None => self.mass_blocks().into_owned(),
         };
         let factored = self.factor_blocks(which, w, &blocks, top);
-        if self.constant_mass.is_none() && (self.sys.dim == Dimension::Two || self.isotropic) {
+        if self.mass_is_constant() {
             self.constant_mass = Some(blocks);
         }
         factored

@@ -31,7 +31,7 @@
 
 use super::integrator::{Attempt, Integrator, Settings};
 use super::reuse::{self, Reuse};
-use super::{DynError, Dynamics, Snapshot, Weights};
+use super::{copy_into, DynError, Dynamics, Snapshot, Weights};
 use crate::vocab::math::DVec;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
@@ -363,7 +363,7 @@ impl Newmark {
     /// turns): forces that read accelerations must see a(t₁) = (a₁ + r·a(t₀))/s, or
     /// they would act at t₁ + α·h. Generalized-α's a₁ is physical (s = 1, r = 0).
     fn physical_accelerations(&self, a1: &DVec, out: &mut DVec) {
-        copy_into(out, a1);
+        copy_into(out, a1.as_slice());
         if self.r != 0.0 && self.a_phys0.len() == a1.len() {
             for (x, p) in out.iter_mut().zip(self.a_phys0.iter()) {
                 *x = (*x + self.r * p) / self.s;
@@ -453,9 +453,9 @@ impl Integrator for Newmark {
         // The previous values move back a slot; their buffers are reused.
         std::mem::swap(&mut self.a_prev, &mut self.a0);
         std::mem::swap(&mut self.lambda_prev, &mut self.lambda0);
-        copy_into(&mut self.a0, &d.a);
-        copy_into(&mut self.lambda0, &d.lambda);
-        copy_into(&mut self.at0, &self.at1);
+        copy_into(&mut self.a0, d.a.as_slice());
+        copy_into(&mut self.lambda0, d.lambda.as_slice());
+        copy_into(&mut self.at0, self.at1.as_slice());
         self.h0 = Some(self.h1);
         d.store_accelerations();
         if d.forces.reads_solution() {
@@ -484,13 +484,4 @@ pub(super) fn largest_magnitude(x: &[f64]) -> f64 {
             m
         }
     })
-}
-
-/// `dst` = `src`, reusing `dst`'s buffer when the sizes agree.
-pub(super) fn copy_into(dst: &mut DVec, src: &DVec) {
-    if dst.len() == src.len() {
-        dst.copy_from(src);
-    } else {
-        *dst = src.clone();
-    }
 }

@@ -136,7 +136,7 @@ pub fn evaluate(
     d.eval_constraints(true)?;
     if d.forces.reads_solution() {
         accelerations(&mut d.a);
-        super::newmark::copy_into(&mut d.lambda, lambda);
+        super::copy_into(&mut d.lambda, lambda.as_slice());
         d.store_accelerations();
     }
     d.eval_forces(refactor)?;

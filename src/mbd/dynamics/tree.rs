@@ -57,8 +57,6 @@ pub struct JointTree {
     origin: Snapshot,
     /// Each moving part's centre at the start (plane coordinates).
     r0: Vec<[f64; 2]>,
-    /// Per joint coordinate: a rotation (else a travel).
-    rotational: Vec<bool>,
     /// Per part: pose (rₐ, r_b, φ), velocity and bias acceleration in the 2D layout,
     /// and B's three rows (f joint columns each).
     pose: Vec<[f64; 3]>,
@@ -182,10 +180,6 @@ impl JointTree {
         }
         let f = joints.len();
         Some(JointTree {
-            rotational: joints
-                .iter()
-                .map(|j| matches!(j.kind, Kind::Revolute { .. }))
-                .collect(),
             joints,
             origin: d.snapshot(),
             r0,
@@ -211,7 +205,7 @@ impl JointTree {
 
     /// Whether joint coordinate `k` is an angle (else a travel).
     pub fn rotational(&self, k: usize) -> bool {
-        self.rotational[k]
+        matches!(self.joints[k].kind, Kind::Revolute { .. })
     }
 
     /// Poses, velocities, bias accelerations and B at coordinates `theta`, rates `rate`.

@@ -84,10 +84,10 @@ impl History {
             },
         };
         p.t = d.sys.time;
-        super::super::newmark::copy_into(&mut p.v, &d.sys.v());
-        super::super::newmark::copy_into(&mut p.lambda, &d.lambda);
+        super::super::copy_into(&mut p.v, d.sys.v().as_slice());
+        super::super::copy_into(&mut p.lambda, d.lambda.as_slice());
         self.points.push_front(p);
-        super::super::newmark::copy_into(&mut self.a, &d.a);
+        super::super::copy_into(&mut self.a, d.a.as_slice());
         self.seed = None;
         let (newest, rest) = self
             .points
