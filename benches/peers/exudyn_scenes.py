@@ -198,6 +198,21 @@ def kinematic_tree(n, l, masses, coms, izz, gravity, sensors):
     return sc, mbs, sens
 
 
+def pendulum_point_mass(mbs):
+    """A01 in Cartesian coordinates in mbs: a 1 kg point mass released at rest at (1, 0),
+    a distance constraint of 1 m to the pivot at the origin (index 3), gravity -y.
+    Returns its node."""
+    n = mbs.AddNode(NodePoint2D(referenceCoordinates=[1., 0.], initialCoordinates=[0., 0.],
+                                initialVelocities=[0., 0.]))
+    mbs.AddObject(ObjectMassPoint2D(nodeNumber=n, mass=1.0))
+    g = mbs.AddObject(ObjectGround())
+    mg = mbs.AddMarker(MarkerBodyPosition(bodyNumber=g, localPosition=[0., 0., 0.]))
+    mn = mbs.AddMarker(MarkerNodePosition(nodeNumber=n))
+    mbs.AddObject(ObjectConnectorDistance(markerNumbers=[mg, mn], distance=1.0))
+    mbs.AddLoad(LoadForceVector(markerNumber=mn, loadVector=[0., -G, 0.]))
+    return n
+
+
 def scene_a01(sw):
     check_probes(sw.truth, ["x", "y"])
 
@@ -215,14 +230,7 @@ def scene_a01(sw):
         # Cartesian point mass with a distance constraint to the pivot (index 3)
         sc = exu.SystemContainer()
         mbs = sc.AddSystem()
-        n = mbs.AddNode(NodePoint2D(referenceCoordinates=[1., 0.], initialCoordinates=[0., 0.],
-                                    initialVelocities=[0., 0.]))
-        mbs.AddObject(ObjectMassPoint2D(nodeNumber=n, mass=1.0))
-        g = mbs.AddObject(ObjectGround())
-        mg = mbs.AddMarker(MarkerBodyPosition(bodyNumber=g, localPosition=[0., 0., 0.]))
-        mn = mbs.AddMarker(MarkerNodePosition(nodeNumber=n))
-        mbs.AddObject(ObjectConnectorDistance(markerNumbers=[mg, mn], distance=1.0))
-        mbs.AddLoad(LoadForceVector(markerNumber=mn, loadVector=[0., -G, 0.]))
+        n = pendulum_point_mass(mbs)
         mbs.Assemble()
 
         def p(mbs):
@@ -331,6 +339,33 @@ def scene_impact(k):
 
 # ---------------------------------------------------------------- driven slider-crank
 
+def slider_crank_2d(mbs, r, l, crank, rod, slider):
+    """The scenes' slider-crank in mbs: crank (1 kg, length r, m r^2/12) pinned at the
+    origin, rod (2 kg, length l), slider (0.5 kg point) held on the x axis, gravity -y.
+    `crank`, `rod`: (reference coordinates [x, y, phi], initial velocities) of their CM
+    nodes; `slider`: ([x, y], [vx, vy]). Returns the items a drive and probes need."""
+    g = mbs.AddObject(ObjectGround())
+    ng = mbs.AddNode(NodePointGround(referenceCoordinates=[0., 0., 0.]))
+    nc = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=crank[0], initialVelocities=crank[1]))
+    crank_body = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nc, mass=1.0, inertia=1.0 * r * r / 12))
+    nr = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=rod[0], initialVelocities=rod[1]))
+    rod_body = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nr, mass=2.0, inertia=2.0 * l * l / 12))
+    ns = mbs.AddNode(NodePoint2D(referenceCoordinates=slider[0], initialVelocities=slider[1]))
+    slider_body = mbs.AddObject(ObjectMassPoint2D(nodeNumber=ns, mass=0.5))
+    mk = lambda b, x: mbs.AddMarker(MarkerBodyPosition(bodyNumber=b, localPosition=[x, 0., 0.]))
+    mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk(g, 0.), mk(crank_body, -r / 2)]))
+    mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk(crank_body, r / 2), mk(rod_body, -l / 2)]))
+    ms = mbs.AddMarker(MarkerNodePosition(nodeNumber=ns))
+    mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk(rod_body, l / 2), ms]))
+    mgc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ng, coordinate=0))
+    mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mgc, mbs.AddMarker(
+        MarkerNodeCoordinate(nodeNumber=ns, coordinate=1))]))          # slider on the x axis
+    for b in (crank_body, rod_body, slider_body):
+        mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=b)),
+                                         loadVector=[0., -G, 0.]))
+    return {"nc": nc, "crank": crank_body, "ns": ns, "mgc": mgc}
+
+
 def scene_slider_crank(sw):
     check_probes(sw.truth, ["torque", "slider_x"])
     R, L = 0.1, 0.4
@@ -339,28 +374,11 @@ def scene_slider_crank(sw):
     def build():
         sc = exu.SystemContainer()
         mbs = sc.AddSystem()
-        g = mbs.AddObject(ObjectGround())
-        ng = mbs.AddNode(NodePointGround(referenceCoordinates=[0., 0., 0.]))
         # crank: CM at (0.05, 0), omega = 2 pi; rod: CM at (0.3, 0), omega = -pi/2 (consistent)
-        nc = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[R / 2, 0., 0.],
-                                         initialVelocities=[0., W * R / 2, W]))
-        crank = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nc, mass=1.0, inertia=1.0 * R * R / 12))
-        nr = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[R + L / 2, 0., 0.],
-                                         initialVelocities=[0., W * R / 2, -W * R / L]))
-        rod = mbs.AddObject(ObjectRigidBody2D(nodeNumber=nr, mass=2.0, inertia=2.0 * L * L / 12))
-        ns = mbs.AddNode(NodePoint2D(referenceCoordinates=[R + L, 0.], initialVelocities=[0., 0.]))
-        slider = mbs.AddObject(ObjectMassPoint2D(nodeNumber=ns, mass=0.5))
-        mk = lambda b, x: mbs.AddMarker(MarkerBodyPosition(bodyNumber=b, localPosition=[x, 0., 0.]))
-        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk(g, 0.), mk(crank, -R / 2)]))
-        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk(crank, R / 2), mk(rod, -L / 2)]))
-        ms = mbs.AddMarker(MarkerNodePosition(nodeNumber=ns))
-        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[mk(rod, L / 2), ms]))
-        mgc = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ng, coordinate=0))
-        mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[mgc, mbs.AddMarker(
-            MarkerNodeCoordinate(nodeNumber=ns, coordinate=1))]))          # slider on the x axis
-        for b in (crank, rod, slider):
-            mbs.AddLoad(LoadMassProportional(markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=b)),
-                                             loadVector=[0., -G, 0.]))
+        sc2 = slider_crank_2d(mbs, R, L, ([R / 2, 0., 0.], [0., W * R / 2, W]),
+                              ([R + L / 2, 0., 0.], [0., W * R / 2, -W * R / L]),
+                              ([R + L, 0.], [0., 0.]))
+        nc, ns, mgc = sc2["nc"], sc2["ns"], sc2["mgc"]
 
         def off(mbs, t, itemNumber, lOffset):
             return W * t

@@ -9,11 +9,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 out="${1:-$root/target/peers}"
 [ $# -gt 0 ] && shift
-venv="${PEERS_VENV:-/tmp/mbfx-peers-venv}"
-if [ ! -x "$venv/bin/python" ]; then
-  python3 -m venv "$venv"
-fi
-"$venv/bin/python" -m pip install -q -r "$here/requirements.txt"
+source "$here/venv.sh"
 mkdir -p "$out"
 # each script appends its rows to OUT/<scene>.csv: start from empty files
 for s in a01_pendulum chain_n100 impact_block_k1e5 impact_block_k1e7 slider_crank_driven; do

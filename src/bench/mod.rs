@@ -1,5 +1,5 @@
 //! Speed against accuracy: the scenes with truth ([`scene`]), one measured run
-//! ([`point`]), the work-precision grid ([`wp`]), the stability suite ([`stability`]),
+//! ([`point`]), the work-precision grid ([`wp`]), the stability suite ([`stability`]) with the peers' cells ([`peer_cells`]),
 //! scaling with model size ([`scaling`]), the charts ([`chart`]) and the datasets
 //! written for any size ([`generate`]). `mbfx bench` is the command-line face.
 
@@ -7,6 +7,7 @@ pub mod chart;
 pub mod generate;
 pub mod orders;
 pub mod output;
+pub mod peer_cells;
 pub mod point;
 pub mod scaling;
 pub mod scene;

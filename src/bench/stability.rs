@@ -5,6 +5,7 @@
 //! silently** (reported success with a larger error). The matrix is written as
 //! markdown and as an SVG heat map.
 
+use super::peer_cells::PeerCell;
 use super::point::{measure, variant_named, Control, Options, Point, Status};
 use super::scene::{Group, Scene};
 use crate::font::font;
@@ -15,6 +16,8 @@ use std::path::Path;
 /// One row of the suite: a scene, what it tests, and the setting every method runs at.
 #[derive(Clone, Copy, Debug)]
 pub struct Case {
+    /// The case's name (the peers' cells name their case by it).
+    pub id: &'static str,
     /// The scene's name.
     pub scene: &'static str,
     /// What fails there, in words.
@@ -43,6 +46,7 @@ const FIXED: &[&str] = &["hht-fixed", "galpha-fixed"];
 /// The suite.
 pub const CASES: &[Case] = &[
     Case {
+        id: "cart_pole",
         scene: "cart_pole",
         what: "light cart-pole: near-singular mass matrix, a 1 µs spike at each vertical crossing",
         methods: CONTROLLED,
@@ -50,6 +54,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "cart_pole_fixed",
         scene: "cart_pole",
         what: "light cart-pole, fixed steps",
         methods: FIXED,
@@ -57,6 +62,7 @@ pub const CASES: &[Case] = &[
         step: Some(1e-3),
     },
     Case {
+        id: "a02_n1",
         scene: "a02_n1",
         what: "A02 four-bar through its singular positions (branch jumping)",
         methods: CONTROLLED,
@@ -64,6 +70,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "a02_n40",
         scene: "a02_n40",
         what: "A02 with N = 40: rank drops by 40 at each horizontal crossing",
         methods: CONTROLLED,
@@ -71,6 +78,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "a02_n1_3d",
         scene: "a02_n1_3d",
         what: "the redundant 3D four-bar (3 redundant equations dropped)",
         methods: CONTROLLED,
@@ -78,6 +86,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "andrews_loose",
         scene: "andrews",
         what: "Andrews' squeezer in index 3 at a loose tolerance",
         methods: CONTROLLED,
@@ -85,6 +94,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "a01_rho1",
         scene: "a01_pendulum",
         what: "generalized-α with ρ∞ = 1 on the index-3 pendulum",
         methods: &["galpha-rho1", "galpha"],
@@ -92,6 +102,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "a01_rho1_fixed",
         scene: "a01_pendulum",
         what: "generalized-α with ρ∞ = 1 on the index-3 pendulum, fixed steps",
         methods: &["galpha-rho1-fixed", "galpha-fixed", "hht-fixed"],
@@ -99,6 +110,7 @@ pub const CASES: &[Case] = &[
         step: Some(1e-2),
     },
     Case {
+        id: "k1e9_loose",
         scene: "impact_stiff_k1e9",
         what: "stiff IMPACT (k = 1e9) at a loose tolerance",
         methods: CONTROLLED,
@@ -106,6 +118,7 @@ pub const CASES: &[Case] = &[
         step: None,
     },
     Case {
+        id: "k1e9_fixed",
         scene: "impact_stiff_k1e9",
         what: "stiff IMPACT (k = 1e9), large fixed steps",
         methods: FIXED,
@@ -113,6 +126,7 @@ pub const CASES: &[Case] = &[
         step: Some(1e-2),
     },
     Case {
+        id: "contact_fixed",
         scene: "impact_block_k1e5",
         what: "fixed steps across contact",
         methods: FIXED,
@@ -120,6 +134,7 @@ pub const CASES: &[Case] = &[
         step: Some(1e-3),
     },
     Case {
+        id: "motion_lockup",
         scene: "motion_lockup",
         what: "a MOTION driven through a lock-up position",
         methods: CONTROLLED,
@@ -137,6 +152,10 @@ pub enum Verdict {
     FailedNamed,
     /// Reported success with a larger error.
     WrongSilently,
+    /// The process died (a peer's segmentation fault): not silent, but nothing named.
+    Crashed,
+    /// The method cannot build or run the scene (a peer's limitation).
+    Unsupported,
 }
 
 impl Verdict {
@@ -146,6 +165,8 @@ impl Verdict {
             Verdict::Accurate => "accurate",
             Verdict::FailedNamed => "failed, named",
             Verdict::WrongSilently => "wrong, silently",
+            Verdict::Crashed => "crashed",
+            Verdict::Unsupported => "unsupported",
         }
     }
 }
@@ -280,20 +301,48 @@ pub fn details(cases: &[Case], cells: &[Cell]) -> String {
     s
 }
 
-/// The matrix as an SVG heat map: green accurate, amber failed-named, red wrong-silently.
-pub fn heat_map(path: &Path, cases: &[Case], cells: &[Cell]) -> Result<(), String> {
+/// The matrix as an SVG heat map: green accurate, amber failed-named, red
+/// wrong-silently; then one column per peer method (grey unsupported, purple crashed),
+/// a cell striped when the peer ran the case in several formulations.
+pub fn heat_map(
+    path: &Path,
+    cases: &[Case],
+    cells: &[Cell],
+    peers: &[PeerCell],
+) -> Result<(), String> {
     font()?;
-    let mut methods: Vec<&str> = Vec::new();
-    for c in cells {
-        if !methods.contains(&c.point.variant.name) {
-            methods.push(c.point.variant.name);
+    // Each column: its name and, per case, the verdicts of its runs.
+    let mut names: Vec<&str> = Vec::new();
+    for n in cells.iter().map(|c| c.point.variant.name) {
+        if !names.contains(&n) {
+            names.push(n);
+        }
+    }
+    let ours = names.len();
+    for n in peers.iter().map(|p| p.method.as_str()) {
+        if !names.contains(&n) {
+            names.push(n);
+        }
+    }
+    let mut columns: Vec<(&str, Vec<Vec<Verdict>>)> = names
+        .iter()
+        .map(|&n| (n, vec![Vec::new(); cases.len()]))
+        .collect();
+    let marks = cells
+        .iter()
+        .map(|c| (c.point.variant.name, c.case, c.verdict))
+        .chain(peers.iter().map(|p| (p.method.as_str(), p.case, p.verdict)));
+    for (name, case, verdict) in marks {
+        if let Some(k) = names.iter().position(|n| *n == name) {
+            columns[k].1[case].push(verdict);
         }
     }
     let rows: Vec<usize> = (0..cases.len())
-        .filter(|i| cells.iter().any(|c| c.case == *i))
+        .filter(|&i| columns.iter().any(|(_, of)| !of[i].is_empty()))
         .collect();
-    let (left, top, cw, ch) = (360i32, 60i32, 120i32, 34i32);
-    let w = (left + cw * methods.len() as i32 + 20) as u32;
+    let (left, top, cw, ch, gap) = (360i32, 60i32, 120i32, 34i32, 24i32);
+    let x_of = |k: usize| left + cw * k as i32 + if k >= ours { gap } else { 0 };
+    let w = (x_of(columns.len()) + 20) as u32;
     let h = (top + ch * rows.len() as i32 + 50) as u32;
     let root = SVGBackend::new(path, (w, h)).into_drawing_area();
     let err = |e: DrawingAreaErrorKind<_>| format!("{}: {e}", path.display());
@@ -308,9 +357,29 @@ pub fn heat_map(path: &Path, cases: &[Case], cells: &[Cell]) -> Result<(), Strin
         16,
     ))
     .map_err(err)?;
-    for (k, m) in methods.iter().enumerate() {
-        root.draw(&text(m, left + cw * k as i32 + 4, top - 20, 12))
-            .map_err(err)?;
+    if columns.len() > ours {
+        root.draw(&text(
+            "peers (a striped cell: one stripe per formulation)",
+            x_of(ours),
+            28,
+            12,
+        ))
+        .map_err(err)?;
+    }
+    for (k, (name, _)) in columns.iter().enumerate() {
+        // a peer's name without its prefix fits the column
+        let short = name
+            .strip_prefix("exudyn-")
+            .map(|n| format!("exudyn {n}"))
+            .or_else(|| name.strip_prefix("mujoco-").map(|n| format!("mujoco {n}")))
+            .unwrap_or(name.to_string());
+        root.draw(&text(
+            &short,
+            x_of(k) + 4,
+            top - 20,
+            if k >= ours { 10 } else { 12 },
+        ))
+        .map_err(err)?;
     }
     for (r, &i) in rows.iter().enumerate() {
         let y = top + ch * r as i32;
@@ -327,31 +396,39 @@ pub fn heat_map(path: &Path, cases: &[Case], cells: &[Cell]) -> Result<(), Strin
             _ => format!("{} (ERROR {:e})", case.scene, case.tolerance),
         };
         root.draw(&text(&label, 6, y + 10, 12)).map_err(err)?;
-        for (k, m) in methods.iter().enumerate() {
-            let Some(c) = cells
-                .iter()
-                .find(|c| c.case == i && c.point.variant.name == *m)
-            else {
+        for (k, (_, of)) in columns.iter().enumerate() {
+            let runs = &of[i];
+            if runs.is_empty() {
                 continue;
+            }
+            let x = x_of(k);
+            let n = runs.len() as i32;
+            for (s, verdict) in runs.iter().enumerate() {
+                let color = match verdict {
+                    Verdict::Accurate => RGBColor(120, 200, 120),
+                    Verdict::FailedNamed => RGBColor(240, 190, 80),
+                    Verdict::WrongSilently => RGBColor(220, 70, 60),
+                    Verdict::Crashed => RGBColor(170, 120, 200),
+                    Verdict::Unsupported => RGBColor(200, 200, 200),
+                };
+                let (y0, y1) = (
+                    y + (ch - 3) * s as i32 / n,
+                    y + (ch - 3) * (s as i32 + 1) / n,
+                );
+                root.draw(&Rectangle::new([(x, y0), (x + cw - 3, y1)], color.filled()))
+                    .map_err(err)?;
+            }
+            let label = match runs.iter().all(|v| *v == runs[0]) {
+                true if n > 1 => format!("{} ×{n}", runs[0].name()),
+                true => runs[0].name().to_string(),
+                false => format!("{n} formulations"),
             };
-            let color = match c.verdict {
-                Verdict::Accurate => RGBColor(120, 200, 120),
-                Verdict::FailedNamed => RGBColor(240, 190, 80),
-                Verdict::WrongSilently => RGBColor(220, 70, 60),
-            };
-            let x = left + cw * k as i32;
-            root.draw(&Rectangle::new(
-                [(x, y), (x + cw - 3, y + ch - 3)],
-                color.filled(),
-            ))
-            .map_err(err)?;
-            root.draw(&text(c.verdict.name(), x + 4, y + 10, 11))
-                .map_err(err)?;
+            root.draw(&text(&label, x + 4, y + 10, 11)).map_err(err)?;
         }
     }
     let legend_y = top + ch * rows.len() as i32 + 16;
     root.draw(&text(
-        "green: error within 10× the tolerance; amber: stopped with a diagnostic or warned; red: reported success, wrong",
+        "green: error within 10× the tolerance; amber: stopped with a diagnostic or warned; red: reported success, wrong; purple: crashed; grey: cannot model it",
         6,
         legend_y,
         12,

@@ -24,7 +24,7 @@ pub enum BenchCommand {
     /// stability, scaling and orders.
     All(AllArgs),
     /// Orders of convergence of every method on the A01 scene.
-    Orders(StabilityArgs),
+    Orders(OrdersArgs),
     /// Print a generated dataset (`chain` or `four_bar`, size N) on stdout.
     Generate {
         /// `chain` or `four_bar`.
@@ -86,6 +86,20 @@ pub struct StabilityArgs {
     #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
     dir: PathBuf,
     /// Where stability.md and stability.svg go.
+    #[arg(long, default_value = "target/bench-wp")]
+    out: PathBuf,
+    /// A directory with the peers' cells (`stability.csv`, benches/peers/run_stability.sh),
+    /// shown beside mbfx's.
+    #[arg(long, value_name = "DIR")]
+    peers: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct OrdersArgs {
+    /// Where the scenes' truth files are.
+    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    dir: PathBuf,
+    /// Where orders.md goes.
     #[arg(long, default_value = "target/bench-wp")]
     out: PathBuf,
 }
@@ -337,10 +351,26 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
 }
 
 fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
+    use crate::bench::peer_cells;
     use crate::bench::stability::{details, heat_map, markdown, run_case, Cell, Verdict, CASES};
     let scenes = match load_dir(&a.dir) {
         Ok(s) => s,
         Err(e) => return fail(e, o),
+    };
+    let stops: Vec<bool> = CASES
+        .iter()
+        .map(|c| {
+            scenes
+                .iter()
+                .any(|s| s.name == c.scene && crate::bench::stability::must_stop(s))
+        })
+        .collect();
+    let peers = match &a.peers {
+        Some(d) => match peer_cells::read(&d.join("stability.csv"), CASES, &stops) {
+            Ok(p) => p,
+            Err(e) => return fail(e, o),
+        },
+        None => Vec::new(),
     };
     if let Err(e) = std::fs::create_dir_all(&a.out) {
         return fail(format!("{}: {e}", a.out.display()), o);
@@ -377,6 +407,22 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
         silent.iter().filter(|c| !c.point.variant.fixed).count(),
         clock.elapsed().as_secs_f64()
     );
+    if !peers.is_empty() {
+        md += "\n## The peers on the same cases\n\nExudyn and MuJoCo (benches/peers/), judged by the same rule; **crashed**: the process died; **unsupported**: the peer cannot model the scene. A cell: verdict (error), setting.\n\n";
+        md += &peer_cells::markdown(CASES, &peers);
+        md += "\nWhat the peers' failed, crashed, unsupported or warned cells said:\n\n";
+        md += &peer_cells::details(CASES, &peers);
+        let count = |v: Verdict| peers.iter().filter(|c| c.verdict == v).count();
+        md += &format!(
+            "\n{} peer cells: {} accurate, {} failed named, {} wrong silently, {} crashed, {} unsupported.\n",
+            peers.len(),
+            count(Verdict::Accurate),
+            count(Verdict::FailedNamed),
+            count(Verdict::WrongSilently),
+            count(Verdict::Crashed),
+            count(Verdict::Unsupported)
+        );
+    }
     if !missing.is_empty() {
         md += &format!(
             "\nScenes not found in {}: {}\n",
@@ -388,7 +434,7 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
     if let Err(e) = std::fs::write(&path, &md) {
         return fail(format!("{}: {e}", path.display()), o);
     }
-    if let Err(e) = heat_map(&a.out.join("stability.svg"), CASES, &cells) {
+    if let Err(e) = heat_map(&a.out.join("stability.svg"), CASES, &cells, &peers) {
         return fail(e, o);
     }
     writeln!(
@@ -443,7 +489,7 @@ fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
     }
 }
 
-fn orders(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
+fn orders(a: &OrdersArgs, o: &mut Output) -> Result<i32, Stop> {
     use crate::bench::orders::{markdown, measure_orders};
     let scene = match select(&a.dir, &["a01_pendulum".to_string()]) {
         Ok(mut s) => s.remove(0),
@@ -481,9 +527,11 @@ fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
         variations: true,
     };
     let mut code = wp(&wp_args, o)?;
+    // the peers' stability cells are in the same directory as their points, when run
     let st = StabilityArgs {
         dir: a.dir.clone(),
         out: a.out.clone(),
+        peers: a.peers.clone().filter(|d| d.join("stability.csv").exists()),
     };
     code = code.max(stability(&st, o)?);
     let sc = ScalingArgs {
@@ -493,7 +541,11 @@ fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
         end: 1.0,
     };
     code = code.max(scaling(&sc, o)?);
-    code = code.max(orders(&st, o)?);
+    let or = OrdersArgs {
+        dir: a.dir.clone(),
+        out: a.out.clone(),
+    };
+    code = code.max(orders(&or, o)?);
     writeln!(o.err(), "bench all: {:.0} s", clock.elapsed().as_secs_f64()).map_err(Stop::Io)?;
     Ok(code)
 }
