@@ -95,6 +95,27 @@ fn trees_in_joint_coordinates_meet_the_truth_as_the_cartesian_form_does() {
 }
 
 #[test]
+fn dopri853_fixed_steps_give_an_independent_dop853s_errors_on_a01() {
+    // benches/orders/dop853_reference.py (DOP853's tableau as scipy 1.17.1 ships it, in
+    // plain numpy, scored against the exact A01 values as the bench scores) prints these
+    // errors for fixed steps of 0.25, 0.125 and 0.0625 s. The same formula on the same
+    // problem must give them to the three digits printed: its slope of 8.9–9.9 on A01 is
+    // then the method's, not mbfx's.
+    let s = scene("a01_pendulum");
+    let text = s.dataset_text().unwrap();
+    let v = variant_named("dopri853-fixed").unwrap();
+    for (h, want) in [(0.25, 3.399e-5), (0.125, 7.229e-8), (0.0625, 1.189e-10)] {
+        let p = measure(&s, &text, v, Control::FixedStep(h), Options::default());
+        assert_eq!(p.status, Status::Ok, "h = {h}");
+        let got = p.errors.position.unwrap();
+        assert!(
+            (got / want - 1.0).abs() < 2e-3,
+            "h = {h}: {got:e} vs {want:e}"
+        );
+    }
+}
+
+#[test]
 fn a02_scene_is_scored_against_the_exact_parallelogram_solution() {
     // The 3D build keeps 3 redundant equations out, and still follows §4.2's θ(t).
     let s = scene("a02_n1_3d");

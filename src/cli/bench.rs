@@ -490,7 +490,7 @@ fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
 }
 
 fn orders(a: &OrdersArgs, o: &mut Output) -> Result<i32, Stop> {
-    use crate::bench::orders::{markdown, measure_orders};
+    use crate::bench::orders::{markdown, measure_orders, run_count};
     let scene = match select(&a.dir, &["a01_pendulum".to_string()]) {
         Ok(mut s) => s.remove(0),
         Err(e) => return fail(e, o),
@@ -498,7 +498,7 @@ fn orders(a: &OrdersArgs, o: &mut Output) -> Result<i32, Stop> {
     if let Err(e) = std::fs::create_dir_all(&a.out) {
         return fail(format!("{}: {e}", a.out.display()), o);
     }
-    let ticker = Ticker::new(48);
+    let ticker = Ticker::new(run_count() as u64);
     let result = measure_orders(&scene, &mut |p| ticker.point(p));
     ticker.finish();
     let md = match result {
