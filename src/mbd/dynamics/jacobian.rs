@@ -148,8 +148,13 @@ impl Jacobian {
             .zip(&self.slot_part)
         {
             let y = w * lambda[r];
-            for (o, g) in out[p * BS..(p + 1) * BS].iter_mut().zip(g) {
-                *o += y * g;
+            // fixed-size blocks: the compiler unrolls the product without bounds checks
+            let o: &mut [f64; BS] = (&mut out[p * BS..(p + 1) * BS])
+                .try_into()
+                .expect("BS columns");
+            let g: &[f64; BS] = g.try_into().expect("BS values");
+            for k in 0..BS {
+                o[k] += y * g[k];
             }
         }
     }
@@ -169,8 +174,14 @@ impl Jacobian {
             .zip(&self.slot_row)
             .zip(&self.slot_part)
         {
-            let z = &x[p * BS..(p + 1) * BS];
-            out[r] += g.iter().zip(z).map(|(g, z)| g * z).sum::<f64>();
+            let z: &[f64; BS] = x[p * BS..(p + 1) * BS].try_into().expect("BS columns");
+            let g: &[f64; BS] = g.try_into().expect("BS values");
+            // summed from −0.0 in order, as `Iterator::sum` does
+            let mut dot = -0.0;
+            for k in 0..BS {
+                dot += g[k] * z[k];
+            }
+            out[r] += dot;
         }
     }
 
@@ -179,12 +190,13 @@ impl Jacobian {
         self.vals.iter().fold(0.0f64, |m, x| m.max(x.abs()))
     }
 
-    /// The largest magnitude in row `r`.
-    pub fn row_amax(&self, r: usize) -> f64 {
+    /// Whether some entry of row `r` exceeds `floor` in magnitude (NaN does not): the
+    /// vanished-row check, which stops at the first entry of a live row.
+    pub fn row_exceeds(&self, r: usize, floor: f64) -> bool {
         let s = self.row_slots(r);
         self.vals[s.start * self.bs..s.end * self.bs]
             .iter()
-            .fold(0.0f64, |m, x| m.max(x.abs()))
+            .any(|x| x.abs() > floor)
     }
 }
 
@@ -209,6 +221,7 @@ mod tests {
         let nz: Vec<_> = j.entries().filter(|e| e.2 != 0.0).collect();
         assert_eq!(nz, vec![(0, 1, 2.0), (0, 5, -1.0), (1, 3, 4.0)]);
         j.clear_row(0);
-        assert_eq!((j.amax(), j.row_amax(0), j.row_amax(1)), (4.0, 0.0, 4.0));
+        assert_eq!(j.amax(), 4.0);
+        assert!(!j.row_exceeds(0, 0.0) && j.row_exceeds(1, 3.9) && !j.row_exceeds(1, 4.0));
     }
 }

@@ -707,8 +707,14 @@ impl Dynamics {
                     // once): each block is written whole.
                     for ((_, g), k) in sides.iter().zip(slots) {
                         let Some(k) = *k else { continue };
-                        for (b, &c) in self.jac.block_at_mut(k).iter_mut().zip(&comps[..bs]) {
-                            *b = g[c];
+                        let block = self.jac.block_at_mut(k);
+                        if bs == 6 {
+                            // 3D: the columns are the six components in order
+                            block.copy_from_slice(g);
+                        } else {
+                            for (b, &c) in block.iter_mut().zip(&comps[..bs]) {
+                                *b = g[c];
+                            }
                         }
                     }
                 }
@@ -830,14 +836,16 @@ impl Dynamics {
         if let Some(b) = &self.constant_mass {
             return std::borrow::Cow::Borrowed(b);
         }
-        std::borrow::Cow::Owned(
+        // sized up front: a filtered collect grows by reallocation, a copy each time
+        let mut blocks = Vec::with_capacity(self.sys.parts.len());
+        blocks.extend(
             self.sys
                 .parts
                 .iter()
                 .filter(|p| p.index.is_some())
-                .map(|p| self.mass_block(p))
-                .collect(),
-        )
+                .map(|p| self.mass_block(p)),
+        );
+        std::borrow::Cow::Owned(blocks)
     }
 
     /// w·M·x added to `out` (x in the velocity layout), M given by its `blocks`.
@@ -1056,7 +1064,7 @@ impl Dynamics {
         self.may_vanish
             .iter()
             .copied()
-            .find(|&r| self.jac.row_amax(r) <= floor)
+            .find(|&r| !self.jac.row_exceeds(r, floor))
     }
 
     /// Names what makes the Newton matrix singular: a kept row whose Jacobian vanishes

@@ -45,7 +45,11 @@ pub struct Schur {
     a: Vec<f64>,
     ainv: Vec<f64>,
     values: Vec<f64>,
-    lu: SparseLu,
+    /// The complement's pattern, and its LU, made the first time a complement is not
+    /// positive definite (its column ordering costs as much as a dozen steps of a long
+    /// chain, and symmetric blocks never need it).
+    pattern: Pattern,
+    lu: Option<SparseLu>,
     /// Cholesky of the complement, used when every block is symmetric (then the
     /// complement is symmetric positive definite); `via_llt` says it holds the factors.
     llt: Option<SparseLlt>,
@@ -92,7 +96,8 @@ impl Schur {
             values: vec![0.0; pattern.nnz()],
             llt: SparseLlt::new(pattern.clone()).ok(),
             via_llt: false,
-            lu: SparseLu::new(pattern)?,
+            pattern,
+            lu: None,
             w_l: 1.0,
             frozen: jac.clone(),
             split: false,
@@ -194,7 +199,11 @@ impl Schur {
             }
         }
         self.fill(jac, w.w_l, eps, false);
-        self.lu.factor(&self.values)?;
+        let lu = match &mut self.lu {
+            Some(lu) => lu,
+            None => self.lu.insert(SparseLu::new(self.pattern.clone())?),
+        };
+        lu.factor(&self.values)?;
         Ok(true)
     }
 
@@ -263,14 +272,22 @@ impl Schur {
         jac.add_times(top, bottom);
         match (&mut self.llt, self.via_llt) {
             (Some(llt), true) => llt.solve(bottom)?,
-            _ => self.lu.solve(bottom)?,
+            _ => match &mut self.lu {
+                Some(lu) => lu.solve(bottom)?,
+                None => return Err(FactorError::Singular),
+            },
         }
         // x = z − w·A⁻¹·Bᵀ·y, with A⁻¹·Bᵀ kept per slot.
         for (k, g) in self.ainv_bt.chunks_exact(BS).enumerate() {
             let y = self.w_l * bottom[jac.slot_row(k)];
             let p = jac.slot_part(k);
-            for (x, g) in top[p * BS..(p + 1) * BS].iter_mut().zip(g) {
-                *x -= y * g;
+            // fixed-size blocks: unrolled, no bounds checks
+            let x: &mut [f64; BS] = (&mut top[p * BS..(p + 1) * BS])
+                .try_into()
+                .expect("BS columns");
+            let g: &[f64; BS] = g.try_into().expect("BS values");
+            for c in 0..BS {
+                x[c] -= y * g[c];
             }
         }
         Ok(())
