@@ -165,7 +165,8 @@ impl System {
                 marker(j.j)?,
             )?;
         }
-        let mut gcons = Vec::new();
+        // The GCONs' and displacement MOTIONs' expressions, fused once all are built.
+        let mut fused = Vec::new();
         for g in &model.gcons {
             let e = model.inline_variables(&g.function).map_err(|s| {
                 MbdError::Expression(elref(ElementKind::Gcon, &g.el), ExprError::Other(s))
@@ -173,9 +174,8 @@ impl System {
             let f = exprs.compile(&e);
             let map = sys.resolve_slots(model, f.slots())?;
             let h = sys.gcon(elref(ElementKind::Gcon, &g.el), f, map)?;
-            gcons.push((h.0 as usize, e.function));
+            fused.push((h.0 as usize, e.function));
         }
-        sys.fuse_gcons(exprs, &gcons);
         for m in &model.motions {
             let r = elref(ElementKind::Motion, &m.el);
             let measure = match m.target {
@@ -237,8 +237,13 @@ impl System {
                 MotionLevel::Velocity => Box::new(Integrated::new(f, Once, icdisp, icvel)),
                 MotionLevel::Acceleration => Box::new(Integrated::new(f, Twice, icdisp, icvel)),
             };
-            sys.motion(r, measure, drive)?;
+            let h = sys.motion(r, measure, drive)?;
+            // (a drive reading measures has no slots filled for it there: not fused)
+            if m.level == MotionLevel::Displacement && e.function.uses.measures.is_empty() {
+                fused.push((h.0 as usize, e.function));
+            }
         }
+        sys.fuse_rows(exprs, &fused);
         sys.gravity = model.gravity;
         sys.ucf = model.units.ucf;
         sys.prepare(dim);

@@ -537,25 +537,44 @@ impl System {
 
     /// The value of a primitive and its derivative over each of its two parts.
     pub fn eval_primitive(&self, p: &Primitive) -> (f64, [PartDerivative; 2]) {
+        let (mut gi, mut gj) = ([0.0; 6], [0.0; 6]);
+        let value = self.eval_primitive_into(p, &mut gi, &mut gj);
+        let (pi, pj) = match *p {
+            Primitive::Along(ref p) | Primitive::Fixed(ref p) => (p.pi, p.pj),
+            Primitive::Dot { pi, pj, .. } => (pi, pj),
+        };
+        (value, [(pi, gi), (pj, gj)])
+    }
+
+    /// The value of a primitive; its derivative over its I part's six components (δr,
+    /// δθ) written into `gi`, over its J part's into `gj`. The dynamics' row loop passes
+    /// the Jacobian's own blocks: derivatives returned through memory were stored and at
+    /// once reloaded with wider loads, a store-forwarding stall each (a tenth of a 3D
+    /// chain's step).
+    #[inline(always)]
+    pub fn eval_primitive_into(&self, p: &Primitive, gi: &mut [f64; 6], gj: &mut [f64; 6]) -> f64 {
         match *p {
-            Primitive::Along(ref p) => self.eval_point_axis(p, true),
-            Primitive::Fixed(ref p) => self.eval_point_axis(p, false),
+            Primitive::Along(ref p) => self.eval_point_axis(p, true, gi, gj),
+            Primitive::Fixed(ref p) => self.eval_point_axis(p, false, gi, gj),
             Primitive::Dot { pi, u, pj, w } => {
                 let (u, w) = (self.part(pi).rotation() * u, self.part(pj).rotation() * w);
                 let c = u.cross(&w);
-                (
-                    u.dot(&w),
-                    [
-                        (pi, [0.0, 0.0, 0.0, c.x, c.y, c.z]),
-                        (pj, [0.0, 0.0, 0.0, -c.x, -c.y, -c.z]),
-                    ],
-                )
+                *gi = [0.0, 0.0, 0.0, c.x, c.y, c.z];
+                *gj = [0.0, 0.0, 0.0, -c.x, -c.y, -c.z];
+                u.dot(&w)
             }
         }
     }
 
     /// (r_I − r_J)·e with e = R_J·axis (`turning`) or e = axis, and its derivatives.
-    fn eval_point_axis(&self, p: &PointAxis, turning: bool) -> (f64, [PartDerivative; 2]) {
+    #[inline(always)]
+    fn eval_point_axis(
+        &self,
+        p: &PointAxis,
+        turning: bool,
+        gi: &mut [f64; 6],
+        gj: &mut [f64; 6],
+    ) -> f64 {
         let (bi, bj) = (self.part(p.pi), self.part(p.pj));
         let (ai, aj) = (bi.rotation() * p.si, bj.rotation() * p.sj);
         let d = (bi.r + ai) - (bj.r + aj);
@@ -565,13 +584,9 @@ impl System {
             false => (p.axis, aj),
         };
         let (ti, tj) = (ai.cross(&e), -arm_j.cross(&e));
-        (
-            d.dot(&e),
-            [
-                (p.pi, [e.x, e.y, e.z, ti.x, ti.y, ti.z]),
-                (p.pj, [-e.x, -e.y, -e.z, tj.x, tj.y, tj.z]),
-            ],
-        )
+        *gi = [e.x, e.y, e.z, ti.x, ti.y, ti.z];
+        *gj = [-e.x, -e.y, -e.z, tj.x, tj.y, tj.z];
+        d.dot(&e)
     }
 
     /// Which component of a 3D derivative (δr x y z, δθ x y z) each of a part's columns
@@ -635,9 +650,13 @@ impl System {
                 }
                 if let Some(g) = drive {
                     let el = &self.elements[e].elref;
-                    let val = g
-                        .value(self.time, &[])
-                        .map_err(|s| MbdError::Expression(el.clone(), s))?;
+                    let err = |s| MbdError::Expression(el.clone(), s);
+                    // The dynamics' one call a state, when it made it (displacement
+                    // drives); ∂g/∂t is not read here.
+                    let val = match self.fused_row(e, false, &mut []) {
+                        Some(row) => row.map_err(err)?.value,
+                        None => g.value(self.time, &[]).map_err(err)?,
+                    };
                     out.value -= val;
                     // ∂g/∂t is needed only by the velocity solve; it asks for it lazily.
                     out.dt = f64::NAN;
@@ -659,7 +678,7 @@ impl System {
                 sc.grad.clear();
                 sc.grad.resize(slots.len(), 0.0);
                 // The dynamics' one call a state for every GCON, when it made it.
-                if let Some(row) = self.fused_gcon(e, derivs, &mut sc.grad) {
+                if let Some(row) = self.fused_row(e, derivs, &mut sc.grad) {
                     let row = row.map_err(err)?;
                     out.value = row.value;
                     if !derivs {

@@ -42,7 +42,7 @@ pub mod error;
 pub mod expr;
 mod force_order;
 pub mod forces;
-pub mod fused_gcons;
+pub mod fused_rows;
 pub mod inertia;
 pub mod measures;
 mod normal;

@@ -186,8 +186,8 @@ pub struct System {
     marker_ids: HashMap<Id, MarkerHandle>,
     /// What the expressions share ([`ExprScratch`]).
     pub(crate) scratch: std::cell::RefCell<ExprScratch>,
-    /// The GCONs' expressions fused into one call ([`super::fused_gcons`]).
-    pub(crate) fused_gcons: Option<super::fused_gcons::FusedGcons>,
+    /// The GCONs' expressions fused into one call ([`super::fused_rows`]).
+    pub(crate) fused_rows: Option<super::fused_rows::FusedRows>,
 }
 
 impl Default for System {
@@ -218,7 +218,7 @@ impl System {
             moving: 0,
             marker_ids: HashMap::new(),
             scratch: Default::default(),
-            fused_gcons: None,
+            fused_rows: None,
         }
     }
 
@@ -547,6 +547,7 @@ impl Part {
 
     /// The inertia tensor about the CM in global axes: R·J·Rᵀ (J itself when it is
     /// isotropic, as for a sphere or a cube: no rotation changes it).
+    #[inline(always)]
     pub fn inertia_global(&self) -> Mat3 {
         if self.isotropic() {
             return self.inertia;

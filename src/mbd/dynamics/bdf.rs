@@ -399,8 +399,8 @@ impl Bdf {
             d.add_constraint_forces(lambda, r1);
             *r1 -= &d.gen.q;
             d.add_blocks_times(&d.mass_blocks(), 1.0, a1.as_slice(), r1);
-            for k in 0..n {
-                rhs[k] = -r1[k];
+            for (x, &r) in rhs[..n].iter_mut().zip(r1.as_slice()) {
+                *x = -r;
             }
             self.constraint_rhs(d, rhs)?;
             d.solve(rhs)?;
@@ -419,11 +419,11 @@ impl Bdf {
                 .zip(tol)
                 .map(|(da, t)| g * da.abs() / (NEWTON_FRACTION * t + floor))
                 .fold(0.0, f64::max);
-            for k in 0..n {
-                a1[k] += rhs[k];
+            for (a, &x) in a1.as_mut_slice().iter_mut().zip(&rhs[..n]) {
+                *a += x;
             }
-            for k in 0..m {
-                lambda[k] += rhs[n + k];
+            for (l, &x) in lambda.as_mut_slice().iter_mut().zip(&rhs[n..n + m]) {
+                *l += x;
             }
             if self.formulation == Formulation::Si2 {
                 let moved = self.project(d, tol)?;

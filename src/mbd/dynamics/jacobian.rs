@@ -101,6 +101,31 @@ impl Jacobian {
         &mut self.vals[k * self.bs..(k + 1) * self.bs]
     }
 
+    /// The six-column blocks of two distinct slots, to write (None for a slot that is
+    /// None); `bs` must be 6.
+    pub fn six_blocks_mut(
+        &mut self,
+        a: Option<usize>,
+        b: Option<usize>,
+    ) -> (Option<&mut [f64; 6]>, Option<&mut [f64; 6]>) {
+        debug_assert!(self.bs == 6 && (a != b || a.is_none()));
+        match (a, b) {
+            (Some(a), Some(b)) => {
+                let (lo, hi) = (a.min(b), a.max(b));
+                let (head, tail) = self.vals.split_at_mut(hi * 6);
+                let (l, h) = (block(&mut head[lo * 6..lo * 6 + 6]), block(&mut tail[..6]));
+                if a < b {
+                    (Some(l), Some(h))
+                } else {
+                    (Some(h), Some(l))
+                }
+            }
+            (Some(a), None) => (Some(block(&mut self.vals[a * 6..a * 6 + 6])), None),
+            (None, Some(b)) => (None, Some(block(&mut self.vals[b * 6..b * 6 + 6]))),
+            (None, None) => (None, None),
+        }
+    }
+
     /// The block of row `r` over part `part`, if the row reads it.
     pub fn block_mut(&mut self, r: usize, part: usize) -> Option<&mut [f64]> {
         let k = self.slot_of(r, part)?;
@@ -198,6 +223,11 @@ impl Jacobian {
             .iter()
             .any(|x| x.abs() > floor)
     }
+}
+
+/// A slot's six values as an array.
+fn block(v: &mut [f64]) -> &mut [f64; 6] {
+    v.try_into().expect("six columns")
 }
 
 #[cfg(test)]

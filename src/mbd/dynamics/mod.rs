@@ -686,9 +686,9 @@ impl Dynamics {
     /// `self.jac`; a non-holonomic row holds ∂f/∂v).
     pub fn eval_constraints(&mut self, jacobian: bool) -> Result<(), MbdError> {
         // Every GCON in one call at this state; the rows read it, and only they.
-        self.sys.eval_fused_gcons(jacobian);
+        self.sys.eval_fused_rows(jacobian);
         let rows = self.eval_rows(jacobian);
-        self.sys.forget_fused_gcons();
+        self.sys.forget_fused_rows();
         rows
     }
 
@@ -700,6 +700,20 @@ impl Dynamics {
             // The primitives (nearly every row of a jointed model) write their blocks
             // directly.
             if let Some((p, slots)) = &self.prims[r] {
+                if bs == 6 {
+                    // 3D: the columns are the six components in order, written in place
+                    let (mut si, mut sj) = ([0.0; 6], [0.0; 6]);
+                    let (gi, gj) = match jacobian {
+                        true => self.jac.six_blocks_mut(slots[0], slots[1]),
+                        false => (None, None),
+                    };
+                    self.phi[r] = self.sys.eval_primitive_into(
+                        p,
+                        gi.unwrap_or(&mut si),
+                        gj.unwrap_or(&mut sj),
+                    );
+                    continue;
+                }
                 let (value, sides) = self.sys.eval_primitive(p);
                 self.phi[r] = value;
                 if jacobian {
@@ -707,14 +721,8 @@ impl Dynamics {
                     // once): each block is written whole.
                     for ((_, g), k) in sides.iter().zip(slots) {
                         let Some(k) = *k else { continue };
-                        let block = self.jac.block_at_mut(k);
-                        if bs == 6 {
-                            // 3D: the columns are the six components in order
-                            block.copy_from_slice(g);
-                        } else {
-                            for (b, &c) in block.iter_mut().zip(&comps[..bs]) {
-                                *b = g[c];
-                            }
+                        for (b, &c) in self.jac.block_at_mut(k).iter_mut().zip(&comps[..bs]) {
+                            *b = g[c];
                         }
                     }
                 }
@@ -765,7 +773,10 @@ impl Dynamics {
                     if p.isotropic() {
                         continue;
                     }
-                    let j = p.inertia_global() / self.sys.ucf;
+                    let j = match self.sys.ucf {
+                        1.0 => p.inertia_global(),
+                        u => p.inertia_global() / u,
+                    };
                     let jw = j * p.w;
                     let gyro = -p.w.cross(&jw);
                     for c in 0..3 {
@@ -810,9 +821,12 @@ impl Dynamics {
     }
 
     /// The mass matrix block of moving part `i` over its columns, divided by UCF.
+    #[inline(always)]
     pub fn mass_block(&self, p: &super::system::Part) -> Mat3Block {
         let u = self.sys.ucf;
         match self.sys.dim {
+            // (UCF is 1 in SI models: nine divisions saved, the same bits)
+            Dimension::Three if u == 1.0 => Mat3Block::Three(p.mass, p.inertia_global()),
             Dimension::Three => Mat3Block::Three(p.mass / u, p.inertia_global() / u),
             Dimension::Two => {
                 // n·(R·J·Rᵀ)·n = (Rᵀn)·J·(Rᵀn).

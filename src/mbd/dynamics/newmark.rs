@@ -198,10 +198,13 @@ impl Newmark {
         }
         let (c0, c1) = ((0.5 - self.beta) * h * h, self.beta * h * h);
         let (g0, g1) = ((1.0 - self.gamma) * h, self.gamma * h);
-        for k in 0..n {
-            let (v0, at0, at1) = (self.v0[k], self.at0[k], self.at1[k]);
-            self.dx[k] = v0 * h + at0 * c0 + at1 * c1;
-            self.v1[k] = v0 + at0 * g0 + at1 * g1;
+        // (over slices: indexing nalgebra vectors checks bounds twice an entry)
+        let (v0, at0, at1) = (self.v0.as_slice(), self.at0.as_slice(), self.at1.as_slice());
+        let states = v0.iter().zip(at0).zip(at1);
+        let outs = self.dx.iter_mut().zip(self.v1.as_mut_slice());
+        for (((&v0, &at0), &at1), (dx, v1)) in states.zip(outs) {
+            *dx = v0 * h + at0 * c0 + at1 * c1;
+            *v1 = v0 + at0 * g0 + at1 * g1;
         }
         let base = self.base.as_ref().expect("started");
         d.set_state(base, &self.dx, &self.v1, t1);
@@ -266,19 +269,22 @@ impl Newmark {
             let r1 = &mut self.res;
             r1.fill(0.0);
             d.add_constraint_forces(&lambda, r1);
-            for k in 0..n {
-                r1[k] = self.s * (r1[k] - d.gen.q[k]) - self.r * self.f0[k];
+            let (s, r) = (self.s, self.r);
+            let forces = d.gen.q.as_slice().iter().zip(self.f0.as_slice());
+            for (x, (&q, &f0)) in r1.as_mut_slice().iter_mut().zip(forces) {
+                *x = s * (*x - q) - r * f0;
             }
             d.add_blocks_times(&d.mass_blocks(), self.s, a1.as_slice(), r1);
             if self.r != 0.0 {
                 d.add_blocks_times(&self.m0, -self.r, a1.as_slice(), r1);
             }
-            for k in 0..n {
-                rhs[k] = -r1[k];
+            let (top, bottom) = rhs.split_at_mut(n);
+            for (x, &r) in top.iter_mut().zip(r1.as_slice()) {
+                *x = -r;
             }
             let inv_scale = 1.0 / scale;
-            for k in 0..m {
-                rhs[n + k] = -d.phi[k] * inv_scale;
+            for (x, &phi) in bottom[..m].iter_mut().zip(d.phi.as_slice()) {
+                *x = -phi * inv_scale;
             }
             d.solve(rhs)?;
             // The index-3 Newton matrix has condition O(h⁻²): positions converged to a
@@ -298,11 +304,11 @@ impl Newmark {
             if !norm.is_finite() {
                 return Ok(Attempt::Diverged);
             }
-            for k in 0..n {
-                a1[k] += rhs[k];
+            for (a, &x) in a1.as_mut_slice().iter_mut().zip(&rhs[..n]) {
+                *a += x;
             }
-            for k in 0..m {
-                lambda[k] += rhs[n + k];
+            for (l, &x) in lambda.as_mut_slice().iter_mut().zip(&rhs[n..n + m]) {
+                *l += x;
             }
             let rate = norm / prev_norm;
             if iter == 1 {

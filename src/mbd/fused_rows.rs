@@ -1,17 +1,19 @@
-//! The GCONs' expressions evaluated by one call a state ([`crate::ir::fuse`]), as the
-//! force expressions are ([`super::forces::ForceSet::fuse`]): their values and, when the
-//! Newton matrix is built, their values and partials (f, ∂f/∂slot, ∂f/∂t each), the
-//! measure slots they read filled once. The dynamics computes them before it evaluates
-//! the rows ([`System::eval_fused_gcons`]) and the rows read them
-//! ([`System::fused_gcon`]); other callers (assembly) evaluate each row on its own.
+//! The constraint rows' expressions evaluated by one call a state ([`crate::ir::fuse`]),
+//! as the force expressions are ([`super::forces::ForceSet::fuse`]): every GCON's and
+//! every displacement MOTION's drive g(t). Their values and, when the Newton matrix is
+//! built, their values and partials (f, ∂f/∂slot, ∂f/∂t each), the measure slots they
+//! read filled once. The dynamics computes them before it evaluates the rows
+//! ([`System::eval_fused_rows`]) and the rows read them ([`System::fused_row`]); other
+//! callers (assembly) evaluate each row on its own. (A VELOCITY or ACCELERATION MOTION
+//! integrates its function by quadrature, several values a call: not fused.)
 
 use super::expr::{ExprError, FusedFn};
 use super::system::System;
 use crate::ir::Function;
 use std::cell::{Cell, RefCell};
 
-/// The fused GCON expressions and their outputs at the last evaluation.
-pub struct FusedGcons {
+/// The fused row expressions and their outputs at the last evaluation.
+pub struct FusedRows {
     values: Box<dyn FusedFn>,
     partials: Option<Box<dyn FusedFn>>,
     /// The (slot, measure) pairs read.
@@ -25,7 +27,7 @@ pub struct FusedGcons {
     current: Cell<Option<bool>>,
 }
 
-/// What a GCON row reads from the fused evaluation: f, and with the partials
+/// What a fused row reads from the fused evaluation: f, and with the partials
 /// ∂f/∂slot (into `grad`) and ∂f/∂t.
 pub struct FusedRow {
     /// f.
@@ -35,17 +37,17 @@ pub struct FusedRow {
 }
 
 impl System {
-    /// Fuses the GCONs `gcons` (element index, the expression's IR) with `exprs`, when it
-    /// fuses.
-    pub fn fuse_gcons(
+    /// Fuses the rows' expressions `rows` (GCON or displacement-MOTION element index,
+    /// the expression's IR) with `exprs`, when it fuses.
+    pub fn fuse_rows(
         &mut self,
         exprs: &dyn super::build::ExprCompiler,
-        gcons: &[(usize, Function)],
+        rows: &[(usize, Function)],
     ) {
-        if gcons.is_empty() {
+        if rows.is_empty() {
             return;
         }
-        let functions: Vec<&Function> = gcons.iter().map(|(_, f)| f).collect();
+        let functions: Vec<&Function> = rows.iter().map(|(_, f)| f).collect();
         let Some(values) = exprs.fuse(&functions) else {
             return;
         };
@@ -55,7 +57,7 @@ impl System {
         };
         let mut slots = Vec::new();
         let mut at = vec![None; self.elements.len()];
-        for (k, (e, _)) in gcons.iter().enumerate() {
+        for (k, (e, _)) in rows.iter().enumerate() {
             for eq in &self.elements[*e].eqs {
                 if let super::constraints::Row::Gcon { f, map } = &eq.row {
                     slots.extend(f.slots().iter().copied().zip(map.iter().copied()));
@@ -65,22 +67,22 @@ impl System {
         }
         slots.sort_unstable();
         slots.dedup();
-        self.fused_gcons = Some(FusedGcons {
+        self.fused_rows = Some(FusedRows {
             values,
             partials,
             slots,
             at,
-            out_values: RefCell::new(vec![0.0; gcons.len()]),
+            out_values: RefCell::new(vec![0.0; rows.len()]),
             out_partials: RefCell::new(vec![0.0; width]),
             current: Cell::new(None),
         });
     }
 
-    /// Evaluates the fused GCONs at the current state (with `partials`, their partials
-    /// too, when they have them); [`System::fused_gcon`] reads them until
-    /// [`System::forget_fused_gcons`].
-    pub fn eval_fused_gcons(&self, partials: bool) {
-        let Some(fz) = &self.fused_gcons else { return };
+    /// Evaluates the fused rows at the current state (with `partials`, their partials
+    /// too, when they have them); [`System::fused_row`] reads them until
+    /// [`System::forget_fused_rows`].
+    pub fn eval_fused_rows(&self, partials: bool) {
+        let Some(fz) = &self.fused_rows else { return };
         let partials = partials && fz.partials.is_some();
         let mut shared = self.scratch.borrow_mut();
         let vals = shared.slots_to(fz.slots.last().map(|s| s.0));
@@ -97,21 +99,21 @@ impl System {
     }
 
     /// The fused outputs no longer describe the state.
-    pub fn forget_fused_gcons(&self) {
-        if let Some(fz) = &self.fused_gcons {
+    pub fn forget_fused_rows(&self) {
+        if let Some(fz) = &self.fused_rows {
             fz.current.set(None);
         }
     }
 
-    /// GCON element `e`'s value (and with `partials`, its partials into `grad` and
+    /// Element `e`'s expression value (and with `partials`, its partials into `grad` and
     /// ∂f/∂t) from the current fused evaluation; None when there is none that has them.
-    pub fn fused_gcon(
+    pub fn fused_row(
         &self,
         e: usize,
         partials: bool,
         grad: &mut [f64],
     ) -> Option<Result<FusedRow, ExprError>> {
-        let fz = self.fused_gcons.as_ref()?;
+        let fz = self.fused_rows.as_ref()?;
         let with_partials = fz.current.get()?;
         let (v, at) = (*fz.at.get(e)?)?;
         let finite = |x: f64| match x.is_finite() {
@@ -154,23 +156,26 @@ mod tests {
     use crate::mbd::system::System;
     use crate::model::read_model;
 
-    /// A slider held by two GCONs (one reading TIME), every row's value, partials and
-    /// ∂/∂t from the fused call equal to the row's own evaluation, bit for bit.
+    /// A part held by two GCONs (one reading TIME) and driven by a MOTION, every row's
+    /// value, partials and ∂/∂t from the fused call equal to the row's own evaluation,
+    /// bit for bit.
     #[test]
-    fn fused_gcon_rows_are_each_rows_own() {
+    fn fused_gcon_and_motion_rows_are_each_rows_own() {
         let text = "two gcons\nPART/1, GROUND\nMARKER/101, PART = 1\n\
             MARKER/102, PART = 1, REULER = 120D, 90D, 0D\n\
             PART/2, MASS = 2, CM = 201, IP = 1, 1, 1, VX = 0.2\nMARKER/201, PART = 2\n\
             MARKER/202, PART = 2, REULER = 120D, 90D, 0D\n\
             GCON/1, I = 202, FUNCTION = SIN(DZ(202, 102, 102)) - 0.5*SIN(2*TIME)\n\
             GCON/2, I = 202, FUNCTION = DX(202, 102)*VY(202, 102) + DY(202, 102)**2\n\
+            MOTION/3, I = 202, J = 102, X, \
+            FUNCTION = 0.1*SIN(3*TIME) + STEP(TIME, 0, 0, 1, 0.2)\n\
             END\n";
         let read = read_model(text);
         assert!(!read.has_errors(), "{:?}", read.diagnostics);
         for exprs in [CompiledExprs::new(), CompiledExprs::interpreted()] {
             let mut sys = System::from_model(&read.model, Dim::Three, &exprs).unwrap();
             sys.time = 0.37;
-            assert!(sys.fused_gcons.is_some());
+            assert!(sys.fused_rows.is_some());
             let bits = |sys: &System| -> Vec<u64> {
                 let mut out = Vec::new();
                 for e in 0..sys.elements.len() {
@@ -183,18 +188,16 @@ mod tests {
                 out
             };
             let alone = bits(&sys);
-            sys.eval_fused_gcons(true);
+            sys.eval_fused_rows(true);
             // Both GCONs are read from the fused call (each reads 1 and 2 slots).
-            for (e, k) in [(0, 1), (1, 3)] {
+            for (e, k) in [(0, 1), (1, 3), (2, 0)] {
                 let mut grad = vec![0.0; k];
-                assert!(sys
-                    .fused_gcon(e, true, &mut grad)
-                    .is_some_and(|r| r.is_ok()));
+                assert!(sys.fused_row(e, true, &mut grad).is_some_and(|r| r.is_ok()));
             }
             let with_partials = bits(&sys);
-            sys.eval_fused_gcons(false);
+            sys.eval_fused_rows(false);
             let values_only = bits(&sys);
-            sys.forget_fused_gcons();
+            sys.forget_fused_rows();
             assert_eq!(with_partials, alone);
             assert_eq!(values_only, alone);
         }
