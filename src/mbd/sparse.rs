@@ -127,8 +127,8 @@ impl SparseLu {
     /// The symbolic analysis of `pattern`.
     pub fn new(pattern: Pattern) -> Result<SparseLu, FactorError> {
         use faer::sparse::linalg::lu;
-        let sym = Self::symbolic_of(&pattern);
-        let symbolic = lu::factorize_symbolic_lu(sym, Default::default())
+        let sym = Self::owned_symbolic(&pattern);
+        let symbolic = lu::factorize_symbolic_lu(sym.as_ref(), Default::default())
             .map_err(|_| FactorError::Singular)?;
         let par = faer::Par::Seq;
         let factor_scratch = faer::dyn_stack::MemBuffer::new(
@@ -137,7 +137,7 @@ impl SparseLu {
         let solve_scratch =
             faer::dyn_stack::MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(SparseLu {
-            sym: Self::owned_symbolic(&pattern),
+            sym,
             symbolic,
             numeric: lu::NumericLu::new(),
             factor_scratch,
@@ -146,10 +146,6 @@ impl SparseLu {
             dense: (pattern.n <= DENSE_MAX).then(|| DenseLu::new(pattern.n)),
             pattern,
         })
-    }
-
-    fn symbolic_of(p: &Pattern) -> faer::sparse::SymbolicSparseColMatRef<'_, usize> {
-        faer::sparse::SymbolicSparseColMatRef::new_checked(p.n, p.n, &p.col_ptr, None, &p.row_idx)
     }
 
     fn owned_symbolic(p: &Pattern) -> faer::sparse::SymbolicSparseColMat<usize> {
@@ -225,24 +221,16 @@ impl SparseLu {
         let n = b.len();
         if let Some(lu) = &self.dense {
             lu.solve(b);
-            return if b.iter().all(|x| x.is_finite()) {
-                Ok(())
-            } else {
-                Err(FactorError::Singular)
-            };
-        }
-        let lu = faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, &self.numeric);
-        lu.solve_in_place_with_conj(
-            faer::Conj::No,
-            faer::MatMut::from_column_major_slice_mut(b, n, 1),
-            faer::Par::Seq,
-            faer::dyn_stack::MemStack::new(&mut self.solve_scratch),
-        );
-        if b.iter().all(|x| x.is_finite()) {
-            Ok(())
         } else {
-            Err(FactorError::Singular)
+            let lu = faer::sparse::linalg::lu::LuRef::new_unchecked(&self.symbolic, &self.numeric);
+            lu.solve_in_place_with_conj(
+                faer::Conj::No,
+                faer::MatMut::from_column_major_slice_mut(b, n, 1),
+                faer::Par::Seq,
+                faer::dyn_stack::MemStack::new(&mut self.solve_scratch),
+            );
         }
+        finite_solution(b)
     }
 }
 
@@ -268,9 +256,9 @@ impl SparseLlt {
     /// The symbolic analysis of `pattern`.
     pub fn new(pattern: Pattern) -> Result<SparseLlt, FactorError> {
         use faer::sparse::linalg::cholesky;
-        let sym = SparseLu::symbolic_of(&pattern);
+        let sym = SparseLu::owned_symbolic(&pattern);
         let symbolic = cholesky::factorize_symbolic_cholesky(
-            sym,
+            sym.as_ref(),
             faer::Side::Lower,
             Default::default(),
             Default::default(),
@@ -289,7 +277,7 @@ impl SparseLlt {
             solve_scratch,
             factored: false,
             dense: (pattern.n <= DENSE_MAX).then(|| DenseLlt::new(pattern.n)),
-            sym: SparseLu::owned_symbolic(&pattern),
+            sym,
             pattern,
         })
     }
@@ -332,11 +320,7 @@ impl SparseLlt {
         let n = b.len();
         if let Some(llt) = &self.dense {
             llt.solve(b);
-            return if b.iter().all(|x| x.is_finite()) {
-                Ok(())
-            } else {
-                Err(FactorError::Singular)
-            };
+            return finite_solution(b);
         }
         let llt = faer::sparse::linalg::cholesky::LltRef::new(&self.symbolic, &self.l_values);
         llt.solve_in_place_with_conj(
@@ -346,6 +330,14 @@ impl SparseLlt {
             faer::dyn_stack::MemStack::new(&mut self.solve_scratch),
         );
         Ok(())
+    }
+}
+
+/// A solve's answer: a non-finite entry means the matrix is numerically singular.
+fn finite_solution(x: &[f64]) -> Result<(), FactorError> {
+    match x.iter().all(|v| v.is_finite()) {
+        true => Ok(()),
+        false => Err(FactorError::Singular),
     }
 }
 

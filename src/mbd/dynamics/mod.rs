@@ -615,7 +615,7 @@ impl Dynamics {
                 return None;
             }
         }
-        schur::Schur::new(&self.jac, sys.moving_parts()).ok()
+        Some(schur::Schur::new(&self.jac, sys.moving_parts()))
     }
 
     /// A part must not have a direction of motion that is massless and free: one along
@@ -700,9 +700,9 @@ impl Dynamics {
             // The primitives (nearly every row of a jointed model) write their blocks
             // directly.
             if let Some((p, slots)) = &self.prims[r] {
+                let (mut si, mut sj) = ([0.0; 6], [0.0; 6]);
                 if bs == 6 {
                     // 3D: the columns are the six components in order, written in place
-                    let (mut si, mut sj) = ([0.0; 6], [0.0; 6]);
                     let (gi, gj) = match jacobian {
                         true => self.jac.six_blocks_mut(slots[0], slots[1]),
                         false => (None, None),
@@ -714,12 +714,11 @@ impl Dynamics {
                     );
                     continue;
                 }
-                let (value, sides) = self.sys.eval_primitive(p);
-                self.phi[r] = value;
+                self.phi[r] = self.sys.eval_primitive_into(p, &mut si, &mut sj);
                 if jacobian {
-                    // The two slots are distinct parts (a row within one part reads it
-                    // once): each block is written whole.
-                    for ((_, g), k) in sides.iter().zip(slots) {
+                    // 2D: each part's columns gather their components. The two slots are
+                    // distinct parts (a row within one part reads it once).
+                    for (g, k) in [&si, &sj].into_iter().zip(slots) {
                         let Some(k) = *k else { continue };
                         for (b, &c) in self.jac.block_at_mut(k).iter_mut().zip(&comps[..bs]) {
                             *b = g[c];
@@ -773,10 +772,7 @@ impl Dynamics {
                     if p.isotropic() {
                         continue;
                     }
-                    let j = match self.sys.ucf {
-                        1.0 => p.inertia_global(),
-                        u => p.inertia_global() / u,
-                    };
+                    let j = self.inertia_over_ucf(p);
                     let jw = j * p.w;
                     let gyro = -p.w.cross(&jw);
                     for c in 0..3 {
@@ -820,14 +816,22 @@ impl Dynamics {
         Ok(())
     }
 
+    /// R·J·Rᵀ of part `p` divided by UCF (1 in SI models: then not divided, nine
+    /// divisions saved a part, the same bits).
+    #[inline(always)]
+    fn inertia_over_ucf(&self, p: &super::system::Part) -> Mat3 {
+        match self.sys.ucf {
+            1.0 => p.inertia_global(),
+            u => p.inertia_global() / u,
+        }
+    }
+
     /// The mass matrix block of moving part `i` over its columns, divided by UCF.
     #[inline(always)]
     pub fn mass_block(&self, p: &super::system::Part) -> Mat3Block {
         let u = self.sys.ucf;
         match self.sys.dim {
-            // (UCF is 1 in SI models: nine divisions saved, the same bits)
-            Dimension::Three if u == 1.0 => Mat3Block::Three(p.mass, p.inertia_global()),
-            Dimension::Three => Mat3Block::Three(p.mass / u, p.inertia_global() / u),
+            Dimension::Three => Mat3Block::Three(p.mass / u, self.inertia_over_ucf(p)),
             Dimension::Two => {
                 // n·(R·J·Rᵀ)·n = (Rᵀn)·J·(Rᵀn).
                 let n = p

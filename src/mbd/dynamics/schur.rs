@@ -66,7 +66,7 @@ pub struct Schur {
 
 impl Schur {
     /// The structure for `parts` moving parts and the rows of `jac`.
-    pub fn new(jac: &Jacobian, parts: usize) -> Result<Schur, FactorError> {
+    pub fn new(jac: &Jacobian, parts: usize) -> Schur {
         let (bs, m) = (jac.bs, jac.rows());
         let part_slots = jac.part_slots(parts);
         let pairs = || {
@@ -83,7 +83,7 @@ impl Schur {
         let slot = |(r, c)| pattern.slot(r, c).expect("in the pattern");
         let pair_slot = pairs().map(slot).collect();
         let diag_slot = (0..m).map(|r| slot((r, r))).collect();
-        Ok(Schur {
+        Schur {
             bs,
             parts,
             m,
@@ -101,7 +101,7 @@ impl Schur {
             w_l: 1.0,
             frozen: jac.clone(),
             split: false,
-        })
+        }
     }
 
     /// Factors the Newton matrix with weights (w_m, w_k, w_c, w_l) from the mass
@@ -483,7 +483,7 @@ mod tests {
             w_l: 0.8,
         };
         let eps = 1e-3;
-        let mut schur = Schur::new(&jac, 2).unwrap();
+        let mut schur = Schur::new(&jac, 2);
         assert!(schur.factor(&jac, &blocks, &gen, &[], w, eps).unwrap());
         assert_eq!(schur.via_llt, !damped);
         let b = [1.0, -2.0, 0.5, 3.0, 0.25, -1.0, 0.1, 0.2, -0.3];
