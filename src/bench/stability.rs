@@ -342,7 +342,8 @@ pub fn heat_map(
         .collect();
     let (left, top, cw, ch, gap) = (360i32, 60i32, 120i32, 34i32, 24i32);
     let x_of = |k: usize| left + cw * k as i32 + if k >= ours { gap } else { 0 };
-    let w = (x_of(columns.len()) + 20) as u32;
+    // room for the last name, which may be wider than its column
+    let w = (x_of(columns.len()) + 80) as u32;
     let h = (top + ch * rows.len() as i32 + 50) as u32;
     let root = SVGBackend::new(path, (w, h)).into_drawing_area();
     let err = |e: DrawingAreaErrorKind<_>| format!("{}: {e}", path.display());
