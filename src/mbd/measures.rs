@@ -446,9 +446,9 @@ fn point_velocity(sys: &System, mk: M) -> Vec3 {
     if mk.is_none() {
         return Vec3::zeros();
     }
-    let f = sys.frame(mk);
-    let p = sys.part(f.part);
-    p.v + p.w.cross(&f.a)
+    let (_, a, part) = sys.origin(mk);
+    let p = sys.part(part);
+    p.v + p.w.cross(&a)
 }
 
 /// The measures of a system and their unwrapping state.
@@ -545,7 +545,7 @@ impl MeasureSet {
         // operations on the same numbers as through whole frames.
         match m {
             Measure::Disp { i, j, k, comp } if comp < 3 => {
-                let (a, b) = (sys.frame(i).r, sys.frame(j).r);
+                let (a, b) = (sys.origin(i).0, sys.origin(j).0);
                 let d = V([a.x - b.x, a.y - b.y, a.z - b.z]);
                 return d.dot(&axis_value(sys, k, comp));
             }

@@ -104,6 +104,9 @@ pub struct Part {
     pub alpha: Vec3,
     /// `rot` as a matrix, kept by [`Part::set_rot`] (every marker frame reads it).
     rotm: Mat3,
+    /// The bits of θ and the input orientation a 2D move last turned `rot` from: a move
+    /// that keeps both (along a translational joint) skips the sine, cosine and matrix.
+    planar_key: Option<(u64, Quat)>,
 }
 
 /// A marker: a frame fixed on a part.
@@ -303,6 +306,22 @@ impl System {
         self.moving * self.dim.cols()
     }
 
+    /// Global origin of marker `m` and its offset from its part's reference point
+    /// (None: the ground frame's origin): a frame without its axes, what displacements
+    /// and velocities read.
+    #[inline]
+    pub fn origin(&self, m: Option<MarkerHandle>) -> (Vec3, Vec3, PartHandle) {
+        match m {
+            None => (Vec3::zeros(), Vec3::zeros(), Self::GROUND),
+            Some(m) => {
+                let mk = self.marker(m);
+                let p = self.part(mk.part);
+                let a = p.rotation() * mk.s;
+                (p.r + a, a, mk.part)
+            }
+        }
+    }
+
     /// Global frame of marker `m` (None = the ground frame at the origin).
     pub fn frame(&self, m: Option<MarkerHandle>) -> Frame {
         match m {
@@ -405,7 +424,10 @@ impl System {
                 p.move_by(dx, dim, axes, r, rot, theta);
             } else {
                 (p.r, p.theta) = (r, theta);
-                p.set_rot(rot);
+                // Ground keeps its pose: no matrix to rebuild.
+                if p.rot != rot {
+                    p.set_rot(rot);
+                }
             }
         }
     }
@@ -488,10 +510,10 @@ impl Part {
             acc: Vec3::zeros(),
             alpha: Vec3::zeros(),
             rotm: rot.to_rotation_matrix().into_inner(),
+            planar_key: None,
         }
     }
 
-    /// Sets the orientation (and its matrix).
     /// Sets the pose to (`r`, `rot`, `theta`) moved by this part's columns of `dx` (a
     /// part without columns just takes the pose).
     fn move_by(
@@ -519,8 +541,12 @@ impl Part {
                 self.r[a] += d[0];
                 self.r[b] += d[1];
                 self.theta += d[2];
-                let axis = nalgebra::Unit::new_unchecked(Vec3::ith(n, 1.0));
-                self.set_rot(Quat::from_axis_angle(&axis, self.theta) * self.input_rot);
+                let key = Some((self.theta.to_bits(), self.input_rot));
+                if self.planar_key != key {
+                    let axis = nalgebra::Unit::new_unchecked(Vec3::ith(n, 1.0));
+                    self.set_rot(Quat::from_axis_angle(&axis, self.theta) * self.input_rot);
+                    self.planar_key = key;
+                }
             }
         }
     }
@@ -529,6 +555,7 @@ impl Part {
     pub fn set_rot(&mut self, rot: Quat) {
         self.rot = rot;
         self.rotm = rot.to_rotation_matrix().into_inner();
+        self.planar_key = None;
     }
 
     /// The orientation as a rotation matrix (columns: BCS axes, global).

@@ -73,9 +73,8 @@ fn cross(w: f64, r: [f64; 2]) -> [f64; 2] {
     [-w * r[1], w * r[0]]
 }
 
-/// R(φ)·x.
-fn rotate(phi: f64, x: [f64; 2]) -> [f64; 2] {
-    let (s, c) = phi.sin_cos();
+/// R(φ)·x, with (sin φ, cos φ) given.
+fn rotate((s, c): (f64, f64), x: [f64; 2]) -> [f64; 2] {
     [c * x[0] - s * x[1], s * x[0] + c * x[1]]
 }
 
@@ -227,11 +226,16 @@ impl JointTree {
                 }
             }
             let (w_p, a_p) = (pv[2], pb[2]);
+            // The parent's turn, once per joint; ground's is exactly (0, 1).
+            let turn_p = match jt.parent {
+                Some(_) => pp[2].sin_cos(),
+                None => (0.0, 1.0),
+            };
             match jt.kind {
                 Kind::Revolute { sp, sc } => {
                     let phi = pp[2] + theta[k];
                     let w = w_p + rate[k];
-                    let (gp, gc) = (rotate(pp[2], sp), rotate(phi, sc));
+                    let (gp, gc) = (rotate(turn_p, sp), rotate(phi.sin_cos(), sc));
                     let (vp, vc) = (cross(w_p, gp), cross(w, gc));
                     let (ap, ac) = (cross(a_p, gp), cross(a_p, gc));
                     self.pose[c] = [pp[0] + gp[0] - gc[0], pp[1] + gp[1] - gc[1], phi];
@@ -251,8 +255,8 @@ impl JointTree {
                     }
                 }
                 Kind::Translational { e0, u } => {
-                    let e = rotate(pp[2], [e0[0] + theta[k] * u[0], e0[1] + theta[k] * u[1]]);
-                    let ug = rotate(pp[2], u);
+                    let e = rotate(turn_p, [e0[0] + theta[k] * u[0], e0[1] + theta[k] * u[1]]);
+                    let ug = rotate(turn_p, u);
                     let (ve, ae) = (cross(w_p, e), cross(a_p, e));
                     let cor = cross(w_p, ug);
                     self.pose[c] = [pp[0] + e[0], pp[1] + e[1], pp[2]];
