@@ -267,6 +267,9 @@ pub fn simulate(
                     }
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
+                    if let Some(k) = d.stats.order {
+                        d.stats.steps_at_order[(k as usize).clamp(1, 6) - 1] += 1;
+                    }
                     let watched = integrator.monitored_error(err);
                     d.stats.error_sum += watched * step_settings.error / s.error;
                     if watched > d.stats.worst_error {

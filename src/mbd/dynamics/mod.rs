@@ -59,6 +59,8 @@ pub struct Stats {
     pub last_step: f64,
     /// The order used on the last accepted step (None for a fixed-order method).
     pub order: Option<u32>,
+    /// Accepted steps at each order 1…6 of a variable-order method (index k − 1).
+    pub steps_at_order: [usize; 6],
     /// The largest local error estimate of an accepted step, in units of ERROR: at most
     /// 1 under error control; with fixed steps, how far the run strayed from ERROR.
     pub worst_error: f64,
