@@ -155,6 +155,31 @@ fn a02_scene_is_scored_against_the_exact_parallelogram_solution() {
     assert!(p.errors.position.unwrap() < 1e-4, "{:?}", p.errors);
 }
 
+#[test]
+fn bench_stability_lists_its_cases_for_the_peers_script() {
+    let out = mbfx(&[
+        "bench",
+        "stability",
+        "--list",
+        "--scenes",
+        scenes_dir().to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows[0], "case,scene,tolerance,step,must_stop");
+    assert_eq!(rows.len(), 1 + mbfx::bench::stability::CASES.len());
+    // The MOTION driven into lock-up must stop; a tolerance case has no step.
+    assert!(
+        rows.contains(&"motion_lockup,motion_lockup,1e-6,,true"),
+        "{text}"
+    );
+    assert!(
+        rows.contains(&"cart_pole_fixed,cart_pole,1e-3,1e-3,false"),
+        "{text}"
+    );
+}
+
 fn mbfx(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_mbfx"))
         .args(args)

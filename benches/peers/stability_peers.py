@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Stability cells of the peers: the scenes of `mbfx bench stability` (src/bench/stability.rs)
+"""Stability cells of the peers: the cases of `mbfx bench stability` (read from its --list)
 built in Exudyn and in MuJoCo, every peer method run on every case, each cell judged like
 the mbfx suite: accurate | failed, named | crashed | wrong, silently | unsupported.
 
@@ -37,23 +37,22 @@ HEADER = ["case", "scene", "peer", "method", "formulation", "setting", "error", 
 MBFX = os.environ.get("MBFX", os.path.join(REPO, "target", "release", "mbfx"))
 G = 9.81
 
-# case id, scene, tolerance, fixed step (None: a tolerance case)
-CASES = [
-    ("cart_pole", "cart_pole", 1e-6, None),
-    ("cart_pole_fixed", "cart_pole", 1e-3, 1e-3),
-    ("a02_n1", "a02_n1", 1e-6, None),
-    ("a02_n40", "a02_n40", 1e-6, None),
-    ("a02_n1_3d", "a02_n1_3d", 1e-6, None),
-    ("andrews_loose", "andrews", 1e-3, None),
-    ("a01_rho1", "a01_pendulum", 1e-6, None),
-    ("a01_rho1_fixed", "a01_pendulum", 1e-3, 1e-2),
-    ("k1e9_loose", "impact_stiff_k1e9", 1e-3, None),
-    ("k1e9_fixed", "impact_stiff_k1e9", 1e-3, 1e-2),
-    ("contact_fixed", "impact_block_k1e5", 1e-3, 1e-3),
-    ("motion_lockup", "motion_lockup", 1e-6, None),
-]
+
+def suite_cases():
+    """The suite's cases as mbfx defines them (`mbfx bench stability --list`, one source
+    for both): [(case id, scene, tolerance, fixed step or None)], and the ids of the cases
+    whose motion must stop."""
+    out = subprocess.run([MBFX, "bench", "stability", "--list", "--scenes",
+                          os.path.join(REPO, "examples", "scenes")],
+                         capture_output=True, text=True, check=True).stdout
+    rows = list(csv.DictReader(out.splitlines()))
+    cases = [(r["case"], r["scene"], float(r["tolerance"]),
+              float(r["step"]) if r["step"] else None) for r in rows]
+    return cases, {r["case"] for r in rows if r["must_stop"] == "true"}
+
+
+CASES, MUST_STOP = suite_cases()
 CASE = {c[0]: c for c in CASES}
-MUST_STOP = {"motion_lockup"}
 
 
 # ================================================================ truth and scoring

@@ -92,6 +92,10 @@ pub struct StabilityArgs {
     /// shown beside mbfx's.
     #[arg(long, value_name = "DIR")]
     peers: Option<PathBuf>,
+    /// Print the cases as CSV (case, scene, tolerance, fixed step, whether the motion
+    /// must stop) on stdout and run nothing: the peers' script reads the suite from it.
+    #[arg(long)]
+    list: bool,
 }
 
 #[derive(clap::Args)]
@@ -365,6 +369,15 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
                 .any(|s| s.name == c.scene && crate::bench::stability::must_stop(s))
         })
         .collect();
+    if a.list {
+        let mut text = String::from("case,scene,tolerance,step,must_stop\n");
+        for (c, stop) in CASES.iter().zip(&stops) {
+            let step = c.step.map_or(String::new(), |h| format!("{h:e}"));
+            text += &format!("{},{},{:e},{step},{stop}\n", c.id, c.scene, c.tolerance);
+        }
+        o.out().write_all(text.as_bytes()).map_err(Stop::Io)?;
+        return Ok(0);
+    }
     let peers = match &a.peers {
         Some(d) => match peer_cells::read(&d.join("stability.csv"), CASES, &stops) {
             Ok(p) => p,
@@ -532,6 +545,7 @@ fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
         dir: a.dir.clone(),
         out: a.out.clone(),
         peers: a.peers.clone().filter(|d| d.join("stability.csv").exists()),
+        list: false,
     };
     code = code.max(stability(&st, o)?);
     let sc = ScalingArgs {
