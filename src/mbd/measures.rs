@@ -174,6 +174,16 @@ impl Measure {
         }
     }
 
+    /// How many of [`Measure::markers`] its formula reads (the others are always None).
+    pub fn frames_read(&self) -> usize {
+        use Measure::*;
+        match self {
+            Vel { .. } => 4,
+            Disp { .. } | IncAng { .. } | AngVel { .. } | VelMag { .. } | VelRad { .. } => 3,
+            _ => 2,
+        }
+    }
+
     /// True for measures that accumulate turns.
     pub fn unwrapped(&self) -> bool {
         matches!(
@@ -602,12 +612,15 @@ impl MeasureSet {
     /// parts do not fit in the slots.
     pub(crate) fn eval_in(&self, sys: &System, n: usize, slots: &mut PartSlots) -> Option<D> {
         let m = self.list[n];
-        let mut frames: [Option<DFrame>; 4] = [None; 4];
-        for (f, mk) in frames.iter_mut().zip(m.markers()) {
-            *f = Some(dual_frame(sys, mk, slots)?);
-        }
-        let frames = frames.map(|f| f.expect("every marker framed"));
-        Some(self.compute(n, &m, &frames))
+        let mk = m.markers();
+        let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
+        // Only the frames the formula reads, built in place: a dual frame is 7 KB, and
+        // unread ground frames and copies through options cost more than the formula.
+        Some(match m.frames_read() {
+            2 => self.compute(n, &m, &[frame(0)?, frame(1)?]),
+            3 => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?]),
+            _ => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?, frame(3)?]),
+        })
     }
 
     /// The raw (not unwrapped) value of measure `n` from its frames, in duals or jets.
