@@ -3,6 +3,7 @@
 //! here by the suite's own rule so that a peer's cell means what an mbfx cell means.
 
 use super::stability::{Case, Verdict};
+use super::wp::read_columns;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -37,16 +38,7 @@ impl PeerCell {
 /// Reads `path`. `stops[i]` says whether case `i`'s truth is that the run must stop.
 /// A row naming an unknown case is an error (the suite and the script disagree).
 pub fn read(path: &Path, cases: &[Case], stops: &[bool]) -> Result<Vec<PeerCell>, String> {
-    let at = |e: String| format!("{}: {e}", path.display());
-    let mut r = csv::Reader::from_path(path).map_err(|e| at(e.to_string()))?;
-    let headers = r.headers().map_err(|e| at(e.to_string()))?.clone();
-    let col = |name: &str| {
-        headers
-            .iter()
-            .position(|h| h == name)
-            .ok_or_else(|| at(format!("no column `{name}`")))
-    };
-    let [case, method, formulation, setting, error, status, verdict, note] = [
+    let names = [
         "case",
         "method",
         "formulation",
@@ -55,37 +47,32 @@ pub fn read(path: &Path, cases: &[Case], stops: &[bool]) -> Result<Vec<PeerCell>
         "status",
         "verdict",
         "note",
-    ]
-    .map(col);
-    let (case, method, formulation, setting) = (case?, method?, formulation?, setting?);
-    let (error, status, verdict, note) = (error?, status?, verdict?, note?);
+    ];
+    let at = |line: usize, e: String| format!("{}: row {line}: {e}", path.display());
     let mut cells = Vec::new();
-    for (line, row) in r.records().enumerate() {
-        let row = row.map_err(|e| at(e.to_string()))?;
-        let get = |i: usize| row.get(i).unwrap_or("").trim().to_string();
-        let id = get(case);
+    for (line, f) in read_columns(path, names)? {
+        let [id, method, formulation, setting, error, status, verdict, note] = f;
         let index = cases
             .iter()
             .position(|c| c.id == id)
-            .ok_or_else(|| at(format!("row {}: no case `{id}` in the suite", line + 2)))?;
-        let err = match get(error).as_str() {
+            .ok_or_else(|| at(line, format!("no case `{id}` in the suite")))?;
+        let err = match error.as_str() {
             "" => None,
             e => Some(
                 e.parse::<f64>()
-                    .map_err(|_| at(format!("row {}: error `{e}`", line + 2)))?,
+                    .map_err(|_| at(line, format!("error `{e}`")))?,
             ),
         };
-        let st = get(status);
-        let warned = get(verdict) == Verdict::FailedNamed.name();
+        let warned = verdict == Verdict::FailedNamed.name();
         cells.push(PeerCell {
             case: index,
-            verdict: judge(&st, err, warned, cases[index].tolerance, stops[index]),
-            method: get(method),
-            formulation: get(formulation),
-            setting: get(setting),
+            verdict: judge(&status, err, warned, cases[index].tolerance, stops[index]),
+            method,
+            formulation,
+            setting,
             error: err,
-            status: st,
-            note: get(note),
+            status,
+            note,
         });
     }
     Ok(cells)

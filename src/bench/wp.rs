@@ -214,43 +214,60 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
     w.flush().map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Reads a points CSV (mbfx's or a peer's) by its header's names.
-pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
-    let where_ = |e: String| format!("{}: {e}", path.display());
-    let mut r = csv::Reader::from_path(path).map_err(|e| where_(e.to_string()))?;
-    let header = r.headers().map_err(|e| where_(e.to_string()))?.clone();
-    let col = |name: &str| {
-        header
+/// The fields of every record of the CSV file at `path` under the columns `names`
+/// (found by the header; trimmed, "" where a record is short), each with its line in
+/// the file; or why the file, a record or a column could not be read.
+pub fn read_columns<const N: usize>(
+    path: &std::path::Path,
+    names: [&str; N],
+) -> Result<Vec<(usize, [String; N])>, String> {
+    let at = |e: String| format!("{}: {e}", path.display());
+    let mut r = csv::Reader::from_path(path).map_err(|e| at(e.to_string()))?;
+    let header = r.headers().map_err(|e| at(e.to_string()))?.clone();
+    let mut idx = [0; N];
+    for (i, name) in idx.iter_mut().zip(names) {
+        *i = header
             .iter()
             .position(|h| h == name)
-            .ok_or_else(|| where_(format!("no `{name}` column")))
-    };
-    let idx: Vec<usize> = HEADER.iter().map(|h| col(h)).collect::<Result<_, _>>()?;
+            .ok_or_else(|| at(format!("no `{name}` column")))?;
+    }
+    r.records()
+        .enumerate()
+        .map(|(line, rec)| {
+            let rec = rec.map_err(|e| at(e.to_string()))?;
+            Ok((
+                line + 2,
+                idx.map(|k| rec.get(k).unwrap_or("").trim().to_string()),
+            ))
+        })
+        .collect()
+}
+
+/// Reads a points CSV (mbfx's or a peer's) by its header's names.
+pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
     let mut rows = Vec::new();
-    for (line, rec) in r.records().enumerate() {
-        let rec = rec.map_err(|e| where_(e.to_string()))?;
-        let field = |k: usize| rec.get(idx[k]).unwrap_or("").trim();
+    for (line, f) in read_columns(path, HEADER)? {
         let float = |k: usize| -> Result<Option<f64>, String> {
-            let s = field(k);
+            let s = &f[k];
             if s.is_empty() {
                 return Ok(None);
             }
             s.parse::<f64>()
                 .map(Some)
-                .map_err(|_| where_(format!("row {}: `{s}` is not a number", line + 2)))
+                .map_err(|_| format!("{}: row {line}: `{s}` is not a number", path.display()))
         };
-        let count = |k: usize| field(k).parse::<usize>().ok();
+        let count = |k: usize| f[k].parse::<usize>().ok();
         rows.push(Row {
-            scene: field(0).into(),
-            method: field(1).into(),
-            formulation: field(2).into(),
-            control: field(3).into(),
+            scene: f[0].clone(),
+            method: f[1].clone(),
+            formulation: f[2].clone(),
+            control: f[3].clone(),
             setting: float(4)?.unwrap_or(f64::NAN),
             error_position: float(5)?,
             error_reaction: float(6)?,
             cpu: float(7)?.unwrap_or(f64::NAN),
             counters: [count(8), count(9), count(10), count(11), count(12)],
-            status: field(13).into(),
+            status: f[13].clone(),
         });
     }
     Ok(rows)
