@@ -189,7 +189,8 @@ mod tests {
             };
             let alone = bits(&sys);
             sys.eval_fused_rows(true);
-            // Both GCONs are read from the fused call (each reads 1 and 2 slots).
+            // Both GCONs and the MOTION are read from the fused call (they read 1, 3 and
+            // 0 slots).
             for (e, k) in [(0, 1), (1, 3), (2, 0)] {
                 let mut grad = vec![0.0; k];
                 assert!(sys.fused_row(e, true, &mut grad).is_some_and(|r| r.is_ok()));

@@ -189,7 +189,8 @@ pub struct System {
     marker_ids: HashMap<Id, MarkerHandle>,
     /// What the expressions share ([`ExprScratch`]).
     pub(crate) scratch: std::cell::RefCell<ExprScratch>,
-    /// The GCONs' expressions fused into one call ([`super::fused_rows`]).
+    /// The GCONs' and displacement MOTIONs' expressions fused into one call
+    /// ([`super::fused_rows`]).
     pub(crate) fused_rows: Option<super::fused_rows::FusedRows>,
 }
 
@@ -332,15 +333,12 @@ impl System {
                 part: Self::GROUND,
             },
             Some(m) => {
-                let mk = self.marker(m);
-                let p = self.part(mk.part);
-                let rp = p.rotation();
-                let a = rp * mk.s;
+                let (r, a, part) = self.origin(Some(m));
                 Frame {
-                    r: p.r + a,
-                    rot: rp * mk.rot,
+                    r,
+                    rot: self.part(part).rotation() * self.marker(m).rot,
                     a,
-                    part: mk.part,
+                    part,
                 }
             }
         }

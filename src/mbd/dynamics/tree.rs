@@ -60,6 +60,8 @@ pub struct JointTree {
     /// Per part: pose (rₐ, r_b, φ), velocity and bias acceleration in the 2D layout,
     /// and B's three rows (f joint columns each).
     pose: Vec<[f64; 3]>,
+    /// Per part: (sin φ, cos φ) of its angle, computed once where the angle is made.
+    turn: Vec<(f64, f64)>,
     vel: Vec<[f64; 3]>,
     bias: Vec<[f64; 3]>,
     b: Vec<f64>,
@@ -183,6 +185,7 @@ impl JointTree {
             origin: d.snapshot(),
             r0,
             pose: vec![[0.0; 3]; parts],
+            turn: vec![(0.0, 1.0); parts],
             vel: vec![[0.0; 3]; parts],
             bias: vec![[0.0; 3]; parts],
             b: vec![0.0; 3 * parts * f],
@@ -226,16 +229,18 @@ impl JointTree {
                 }
             }
             let (w_p, a_p) = (pv[2], pb[2]);
-            // The parent's turn, once per joint; ground's is exactly (0, 1).
+            // The parent's turn as its joint made it; ground's is exactly (0, 1).
             let turn_p = match jt.parent {
-                Some(_) => pp[2].sin_cos(),
+                Some(p) => self.turn[p],
                 None => (0.0, 1.0),
             };
             match jt.kind {
                 Kind::Revolute { sp, sc } => {
                     let phi = pp[2] + theta[k];
                     let w = w_p + rate[k];
-                    let (gp, gc) = (rotate(turn_p, sp), rotate(phi.sin_cos(), sc));
+                    let turn = phi.sin_cos();
+                    self.turn[c] = turn;
+                    let (gp, gc) = (rotate(turn_p, sp), rotate(turn, sc));
                     let (vp, vc) = (cross(w_p, gp), cross(w, gc));
                     let (ap, ac) = (cross(a_p, gp), cross(a_p, gc));
                     self.pose[c] = [pp[0] + gp[0] - gc[0], pp[1] + gp[1] - gc[1], phi];
@@ -257,6 +262,7 @@ impl JointTree {
                 Kind::Translational { e0, u } => {
                     let e = rotate(turn_p, [e0[0] + theta[k] * u[0], e0[1] + theta[k] * u[1]]);
                     let ug = rotate(turn_p, u);
+                    self.turn[c] = turn_p;
                     let (ve, ae) = (cross(w_p, e), cross(a_p, e));
                     let cor = cross(w_p, ug);
                     self.pose[c] = [pp[0] + e[0], pp[1] + e[1], pp[2]];
