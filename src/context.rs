@@ -29,7 +29,7 @@ const EMPTY: &[f64] = &[];
 
 impl<'a> Context<'a> {
     /// A context at `time` with user variables `vars` (slot order), mode 4 (dynamics).
-    pub fn new(time: f64, vars: &'a [f64]) -> Self {
+    pub const fn new(time: f64, vars: &'a [f64]) -> Self {
         Context {
             time,
             mode: 4.0,

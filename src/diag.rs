@@ -21,7 +21,8 @@ pub enum Severity {
 
 /// Stable diagnostic codes. The numeric families: `E01xx` lexical, `E02xx` syntax,
 /// `E03xx` semantic checks, `W04xx`/`E04xx` evaluation, `E05xx` input and command line,
-/// `E06xx`/`W06xx` dataset (`.adm`) statements.
+/// `E06xx`/`W06xx` dataset (`.adm`) statements and command files, `E07xx`/`W07xx` the
+/// multibody analysis, `E08xx` a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Code {
     /// A character that starts no token.
@@ -122,6 +123,9 @@ pub enum Code {
     Integration,
     /// A force or state became NaN or infinite during a run.
     NonFiniteForce,
+    /// The caller interrupted a run (a Python Ctrl-C, a C caller's flag): the rows before
+    /// the interruption were delivered.
+    Interrupted,
 }
 
 impl Code {
@@ -174,6 +178,7 @@ impl Code {
             CannotSimulate => "E0801",
             Integration => "E0802",
             NonFiniteForce => "E0803",
+            Interrupted => "E0804",
         }
     }
 }

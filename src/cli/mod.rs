@@ -6,7 +6,6 @@
 //! outcome becomes the exit code in one place ([`output::finish`]), so no write can
 //! panic and a closed pipe ends the program quietly.
 
-mod acf;
 mod bench;
 mod check_file;
 mod eval;

@@ -1,22 +1,23 @@
-//! `mbfx run MODEL.adm --end T …` and `mbfx run ANALYSIS.acf` ([`super::acf`]): simulates
-//! a dataset ([`crate::session::run`]) and writes the output rows as CSV (header `time`, the probes in the order given, then the
-//! REQUEST components; numbers as `{:?}` prints an f64), a progress bar on stderr when
-//! it is a terminal, a summary at the end, and `--plot` draws the columns against time.
-//! `--verbose` adds an Adams-like step table on stderr at each output time. A failure is
-//! a diagnostic at the statement of the element it names, with the time and the cause;
-//! the rows before it are written; the exit code is 1.
+//! `mbfx run MODEL.adm --end T …` and `mbfx run ANALYSIS.acf`: the command line's shell
+//! over [`crate::session::request::run`], which checks the options, reads the command
+//! file and the dataset, runs the simulation and words its failures. This module turns
+//! the arguments into a [`RunRequest`] and prints what comes back: the output rows as CSV
+//! (header `time`, the probes in the order given, then the REQUEST components; numbers as
+//! `{:?}` prints an f64), a progress bar on stderr when it is a terminal, a summary at
+//! the end, and `--plot` draws the columns against time. `--verbose` adds an Adams-like
+//! step table on stderr at each output time. A failure is a diagnostic at the statement
+//! of the element it names, with the time and the cause; the rows before it are written;
+//! the exit code is 1.
 
 use super::output::{Named, Output, Stop};
+use super::progress::Progress;
 use super::Dim;
-use crate::diag::{Code, Diagnostic, SourceFile};
-use crate::mbd::dynamics::{Culprit, DynError};
-use crate::mbd::error::MbdError;
-use crate::mbd::expr::ExprError;
+use crate::diag::{render, Code, Diagnostic, SourceFile};
 use crate::model::integrator_settings::Formulation;
-use crate::session::files::read_dataset;
-use crate::session::run::{Method, RunFailure, RunSpec, Segment, Simulation, Summary, TableRow};
-use crate::session::{report, DimRequest};
-use std::io::Write;
+use crate::session::request::{self, parse_probe, Built, RunObserver, RunRequest, Started};
+use crate::session::run::{Method, TableRow};
+use std::fs::File;
+use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
 
 /// `--integrator` values.
@@ -128,311 +129,229 @@ pub struct RunArgs {
     verbose: bool,
 }
 
+impl RunArgs {
+    /// The session's request for these arguments.
+    fn request(&self) -> RunRequest {
+        let mut r = RunRequest::file(&self.model);
+        (r.end, r.output_step) = (self.end, self.output_step);
+        r.method = self.integrator.map(|m| match m {
+            IntegratorArg::Hht => Method::Hht,
+            IntegratorArg::Galpha => Method::Galpha,
+            IntegratorArg::Newmark => Method::Newmark,
+            IntegratorArg::Dopri853 => Method::Dopri853,
+            IntegratorArg::Gstiff => Method::Gstiff,
+            IntegratorArg::Wstiff => Method::Wstiff,
+        });
+        (r.error, r.hmax, r.hinit, r.hmin) = (self.error, self.hmax, self.hinit, self.hmin);
+        r.error_per_run = self.error_per == ErrorPer::Run;
+        r.cartesian = self.cartesian;
+        (r.fixed_step, r.alpha, r.rho_inf) = (self.fixed_step, self.alpha, self.rho_inf);
+        r.formulation = self.formulation.map(|f| match f {
+            FormulationArg::I3 => Formulation::I3,
+            FormulationArg::Si2 => Formulation::Si2,
+        });
+        r.kmax = self.kmax;
+        r.dim = Dim::request(self.dim);
+        r.engine = self.engine.into();
+        r.probes = self.probes.iter().map(|p| parse_probe(p)).collect();
+        r
+    }
+}
+
 fn command_line_error(msg: String, o: &mut Output) -> Result<i32, Stop> {
     let d = Diagnostic::error(Code::CommandLine, 0..0, msg);
-    o.diagnostics(&[d], &SourceFile::new("command line", ""))?;
+    o.diagnostics(&[d], &SourceFile::new(request::COMMAND_LINE, ""))?;
     Err(Stop::Failed)
 }
 
-/// The diagnostic code of a dynamics failure.
-fn code_of(e: &DynError) -> Code {
-    match e {
-        DynError::DroppedViolated { .. } => Code::Conflicting,
-        DynError::NotFinite { .. } => Code::NonFiniteForce,
-        DynError::Model(MbdError::Expression(_, ExprError::NotFinite { .. })) => {
-            Code::NonFiniteForce
+/// Where the CSV goes: standard output, or the `--csv` file.
+enum Target<'o> {
+    Stdout(&'o mut dyn Write),
+    File(Named<BufWriter<File>>),
+}
+
+impl Write for Target<'_> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self {
+            Target::Stdout(w) => w.write(buf),
+            Target::File(f) => f.write(buf),
         }
-        DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {
-            Code::Integration
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Target::Stdout(w) => w.flush(),
+            Target::File(f) => f.flush(),
         }
-        DynError::Model(_)
-        | DynError::Massless { .. }
-        | DynError::Structure
-        | DynError::Output(_) => Code::CannotSimulate,
+    }
+}
+
+/// The run's observer: prints warnings and the step table on stderr, the rows as CSV,
+/// and keeps the first write error (a closed pipe ends the run quietly, others fail it)
+/// to report once the session has returned.
+struct Printer<'o> {
+    args: &'o RunArgs,
+    err: &'o mut dyn Write,
+    color: bool,
+    /// Standard output until the CSV takes it.
+    stdout: Option<&'o mut dyn Write>,
+    csv: Option<csv::Writer<Target<'o>>>,
+    progress: Option<Progress>,
+    /// The rows, kept for `--plot`.
+    rows: Vec<Vec<f64>>,
+    /// The first write error of the CSV or a diagnostic.
+    io_error: Option<io::Error>,
+    /// The step table's first write error: it does not stop the run, but ends it the
+    /// way the CSV's do.
+    table_error: Option<io::Error>,
+    /// The `--csv` file could not be created.
+    refused: Option<String>,
+}
+
+impl Printer<'_> {
+    /// Keeps `e` (the first one) and gives the session a copy that stops the run.
+    fn keep(&mut self, e: io::Error) -> io::Error {
+        let copy = io::Error::new(e.kind(), e.to_string());
+        self.io_error.get_or_insert(e);
+        copy
+    }
+
+    /// Flushes the CSV and clears the progress bar: the rows kept for the plot, the
+    /// first write error, and why the `--csv` file could not be created.
+    fn finish(self) -> (Vec<Vec<f64>>, Option<io::Error>, Option<String>) {
+        let mut io_error = self.io_error;
+        if let Some(mut csv) = self.csv {
+            // Through the CSV's buffer and the file's (a `--csv` file's writer flushes it).
+            if let Err(e) = csv.flush() {
+                io_error.get_or_insert(e);
+            }
+            if let Some(e) = self.table_error {
+                io_error.get_or_insert(e);
+            }
+            if let Some(p) = &self.progress {
+                p.finish();
+            }
+        }
+        (self.rows, io_error, self.refused)
+    }
+}
+
+impl RunObserver for Printer<'_> {
+    fn warnings(&mut self, diagnostics: &[Diagnostic], source: &SourceFile) -> io::Result<()> {
+        let text = render(diagnostics, source, self.color);
+        self.err
+            .write_all(text.as_bytes())
+            .map_err(|e| self.keep(e))
+    }
+
+    fn built(&mut self, built: &Built<'_>) -> io::Result<()> {
+        if self.args.dim.is_none() {
+            writeln!(self.err, "{}", built.dim_reason).map_err(|e| self.keep(e))?;
+        }
+        Ok(())
+    }
+
+    fn started(&mut self, started: &Started<'_>) -> io::Result<()> {
+        let target = match self.args.csv.as_deref() {
+            None | Some("-") => match self.stdout.take() {
+                Some(w) => Target::Stdout(w),
+                None => return Err(io::Error::other("standard output is taken")),
+            },
+            Some(path) => match File::create(path) {
+                Ok(f) => Target::File(Named::new(BufWriter::new(f), path)),
+                Err(e) => {
+                    self.refused = Some(format!("cannot write {path}: {e}"));
+                    return Err(io::Error::new(e.kind(), "the CSV file cannot be created"));
+                }
+            },
+        };
+        self.progress = Some(Progress::new(started.end));
+        if self.args.verbose {
+            if let Err(e) = self.err.write_all(TABLE_HEADER.as_bytes()) {
+                self.table_error = Some(e);
+            }
+        }
+        let mut csv = csv::Writer::from_writer(target);
+        let header = csv.write_record(started.header);
+        self.csv = Some(csv);
+        header.map_err(|e| self.keep(e.into()))
+    }
+
+    fn row(&mut self, row: &[f64]) -> io::Result<()> {
+        if let Some(p) = &self.progress {
+            p.at(row[0]);
+        }
+        if self.args.plot.is_some() {
+            self.rows.push(row.to_vec());
+        }
+        let Some(csv) = &mut self.csv else {
+            return Ok(());
+        };
+        let w = csv.write_record(row.iter().map(|x| format!("{x:?}")));
+        w.map_err(|e| self.keep(e.into()))
+    }
+
+    fn wants_table(&self) -> bool {
+        self.args.verbose
+    }
+
+    fn table(&mut self, row: &TableRow) {
+        if self.table_error.is_none() {
+            if let Err(e) = self.err.write_all(table_line(row).as_bytes()) {
+                self.table_error = Some(e);
+            }
+        }
     }
 }
 
 pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
-    if let Some(end) = a.end {
-        if !(end.is_finite() && end > 0.0) {
-            return command_line_error(format!("--end {end} must be a positive time"), o);
-        }
-    }
-    for (name, x) in [
-        ("--output-step", a.output_step),
-        ("--error", a.error),
-        ("--hmax", a.hmax),
-        ("--hinit", a.hinit),
-        ("--hmin", a.hmin),
-        ("--fixed-step", a.fixed_step),
-    ] {
-        if let Some(x) = x {
-            if !(x.is_finite() && x > 0.0) {
-                return command_line_error(format!("{name} {x} must be a positive number"), o);
-            }
-        }
-    }
-    if let Some(alpha) = a.alpha {
-        if !(-1.0 / 3.0..=0.0).contains(&alpha) {
-            return command_line_error(format!("--alpha {alpha} must lie in [-1/3, 0]"), o);
-        }
-    }
-    if let Some(rho) = a.rho_inf {
-        if !(0.0..=1.0).contains(&rho) {
-            return command_line_error(format!("--rho-inf {rho} must lie in [0, 1]"), o);
-        }
-    }
-    // A command file names the dataset and says how long to run; a dataset needs --end.
-    let commands = if super::acf::is_command_file(&a.model) {
-        Some(super::acf::read(&a.model, o)?)
-    } else if a.end.is_none() {
-        return command_line_error(
-            format!(
-                "--end is required to run a dataset ({}); a command file (.acf) may give it instead",
-                a.model.display()
-            ),
-            o,
-        );
-    } else {
-        None
+    let req = a.request();
+    let color = o.color;
+    let (stdout, err) = o.both();
+    let mut printer = Printer {
+        args: a,
+        err,
+        color,
+        stdout: Some(stdout),
+        csv: None,
+        progress: None,
+        rows: Vec::new(),
+        io_error: None,
+        table_error: None,
+        refused: None,
     };
-    if let Some(c) = commands.as_ref().filter(|_| a.end.is_none()) {
-        if c.file.simulations().next().is_none() {
-            let msg =
-                "the command file has no SIMULATE/DYNAMIC command: give --end (and --output-step)";
-            let d = Diagnostic::error(Code::MissingArgument, 0..0, msg);
-            o.diagnostics(&[d], &c.source)?;
-            return Err(Stop::Failed);
-        }
-    }
-    let model_path = commands
-        .as_ref()
-        .map_or(a.model.clone(), |c| c.model.clone());
-    let mut probes = Vec::new();
-    for p in &a.probes {
-        match p.split_once('=') {
-            Some((n, e)) if !n.trim().is_empty() => {
-                probes.push((n.trim().to_string(), e.to_string()))
-            }
-            _ => {
-                return command_line_error(
-                    format!("--probe {p}: expected NAME=EXPR, e.g. --probe x=DX(2,1)"),
-                    o,
-                )
-            }
-        }
-    }
-    let name = model_path.display().to_string();
-    let (text, warnings) = match read_dataset(&model_path) {
-        Ok(t) => t,
-        Err(u) => {
-            o.diagnostics(&[u.diagnostic], &u.source)?;
-            return Err(Stop::Failed);
-        }
-    };
-    // Replaced by the segments' own end and output step below.
-    let mut spec = RunSpec::new(a.end.unwrap_or(1.0), a.output_step.unwrap_or(1.0));
-    spec.method = a.integrator.map(|m| match m {
-        IntegratorArg::Hht => Method::Hht,
-        IntegratorArg::Galpha => Method::Galpha,
-        IntegratorArg::Newmark => Method::Newmark,
-        IntegratorArg::Dopri853 => Method::Dopri853,
-        IntegratorArg::Gstiff => Method::Gstiff,
-        IntegratorArg::Wstiff => Method::Wstiff,
-    });
-    spec.kmax = a.kmax;
-    spec.error_per_run = a.error_per == ErrorPer::Run;
-    spec.cartesian = a.cartesian;
-    spec.formulation = a.formulation.map(|f| match f {
-        FormulationArg::I3 => Formulation::I3,
-        FormulationArg::Si2 => Formulation::Si2,
-    });
-    (spec.error, spec.hmax, spec.hinit, spec.hmin) = (a.error, a.hmax, a.hinit, a.hmin);
-    (spec.fixed_step, spec.alpha, spec.rho_inf) = (a.fixed_step, a.alpha, a.rho_inf);
-    spec.dim = Dim::request(a.dim);
-    spec.engine = a.engine.into();
-    let source = SourceFile::new(name.clone(), text.clone());
-    o.diagnostics(&warnings, &source)?;
-    let mut sim = match Simulation::new(&text, spec, &probes) {
-        Ok(s) => s,
-        Err(RunFailure::Diagnostics {
-            probe: None,
-            diagnostics,
-        }) => {
-            o.diagnostics(&diagnostics, &source)?;
-            return Err(Stop::Failed);
-        }
-        Err(RunFailure::Diagnostics {
-            probe: Some(p),
-            diagnostics,
-        }) => {
-            let text = probes.iter().find(|(n, _)| *n == p).map_or("", |(_, e)| e);
-            o.diagnostics(&diagnostics, &SourceFile::new(format!("--probe {p}"), text))?;
-            return Err(Stop::Failed);
-        }
-        Err(RunFailure::Analysis(f)) => {
-            let model = crate::model::read_model(&text).model;
-            let mut diags = report::diagnostics(&f, &model);
-            for d in &mut diags {
-                d.severity = crate::diag::Severity::Error;
-            }
-            o.diagnostics(&diags, &source)?;
-            return Err(Stop::Failed);
-        }
-        Err(RunFailure::Dynamics(e)) => {
-            // Simulation::new kept its model to itself: read it again for the span.
-            let model = crate::model::read_model(&text).model;
-            report_failure(&e, &source, &model, o)?;
-            return Err(Stop::Failed);
-        }
-    };
-    if a.dim.is_none() && sim.spec.dim == DimRequest::Auto {
-        writeln!(o.err(), "{}", sim.dynamics.sys.dim_reason)?;
-    }
-    let dataset_integrator = sim.read.model.integrator.clone();
-    if let Some(i) = &dataset_integrator {
-        o.diagnostics(&i.warnings, &source)?;
-    }
-    let segments = match &commands {
-        None => {
-            let end = a.end.unwrap_or_default();
-            vec![Segment {
-                end,
-                output_step: a.output_step.unwrap_or(end / 100.0),
-                integrator: dataset_integrator,
-            }]
-        }
-        Some(c) => {
-            match super::acf::segments(&c.file, dataset_integrator.as_ref(), a.end, a.output_step) {
-                Ok(s) => s,
-                Err(msg) => {
-                    let d = Diagnostic::error(Code::MissingArgument, 0..0, msg);
-                    o.diagnostics(&[d], &c.source)?;
-                    return Err(Stop::Failed);
-                }
-            }
-        }
-    };
-    let end = segments.last().map_or(0.0, |s| s.end);
-    let header = sim.header();
-    let mut file = match a.csv.as_deref() {
-        None | Some("-") => None,
-        Some(path) => match std::fs::File::create(path) {
-            Ok(f) => Some(Named::new(std::io::BufWriter::new(f), path)),
-            Err(e) => return command_line_error(format!("cannot write {path}: {e}"), o),
-        },
-    };
-    let (mut rows, keep_rows) = (Vec::new(), a.plot.is_some());
-    let progress = super::progress::Progress::new(end);
-    // The first write error: a closed pipe ends the run quietly, others fail it.
-    let mut io_error: Option<std::io::Error> = None;
-    let (summary, failed) = {
-        let (stdout, stderr) = o.both();
-        let writer: &mut dyn Write = match &mut file {
-            Some(f) => f,
-            None => stdout,
-        };
-        // The step table's write errors end the run the way the CSV's do.
-        let mut table_error: Option<std::io::Error> = None;
-        if a.verbose {
-            if let Err(e) = stderr.write_all(TABLE_HEADER.as_bytes()) {
-                table_error = Some(e);
-            }
-        }
-        let mut table_row = |r: &TableRow| {
-            if table_error.is_none() {
-                if let Err(e) = stderr.write_all(table_line(r).as_bytes()) {
-                    table_error = Some(e);
-                }
-            }
-        };
-        let table: Option<&mut dyn FnMut(&TableRow)> = if a.verbose {
-            Some(&mut table_row)
-        } else {
-            None
-        };
-        let mut csv = csv::Writer::from_writer(writer);
-        let result = match csv.write_record(&header) {
-            Err(e) => {
-                io_error = Some(e.into());
-                (None, None)
-            }
-            Ok(()) => {
-                let (s, f) = sim.run_segments(
-                    &segments,
-                    &mut |row| {
-                        progress.at(row[0]);
-                        if keep_rows {
-                            rows.push(row.to_vec());
-                        }
-                        let w = csv.write_record(row.iter().map(|x| format!("{x:?}")));
-                        w.map_err(|e| {
-                            let e = std::io::Error::from(e);
-                            let copy = std::io::Error::new(e.kind(), e.to_string());
-                            io_error.get_or_insert(e);
-                            copy
-                        })
-                    },
-                    table,
-                );
-                (Some(s), f)
-            }
-        };
-        if let Err(e) = csv.flush() {
-            io_error.get_or_insert(e);
-        }
-        if let Some(e) = table_error {
-            io_error.get_or_insert(e);
-        }
-        result
-    };
-    progress.finish();
-    if let Some(f) = &mut file {
-        if let Err(e) = f.flush() {
-            io_error.get_or_insert(e);
-        }
+    let result = request::run(&req, &mut printer, None);
+    let (rows, io_error, refused) = printer.finish();
+    if let Some(msg) = refused {
+        return command_line_error(msg, o);
     }
     if let Some(e) = io_error {
         return Err(Stop::Io(e));
     }
-    if let Some(mut s) = summary {
-        if let Some(out) = commands.as_ref().and_then(|c| c.file.output.as_ref()) {
-            s.notes.push(format!(
-                "the command file's output files ({}.req, .res, …) are not written; the CSV goes to --csv (standard output by default)",
-                out.value
-            ));
-        }
-        write!(o.err(), "{}", summary_text(&s))?;
+    let (summary, header, failure) = match result {
+        Ok(done) => (Some(done.summary), done.header, None),
+        Err(mut f) => (
+            f.summary.take(),
+            f.header.take().unwrap_or_default(),
+            Some(f),
+        ),
+    };
+    if let Some(s) = summary {
+        write!(o.err(), "{}", s.text())?;
     }
     if let (Some(path), false) = (&a.plot, rows.is_empty()) {
-        if let Err(e) = super::plot::draw(path, &header, &rows, probes.len()) {
+        if let Err(e) = super::plot::draw(path, &header, &rows, req.probes.len()) {
             return command_line_error(
                 format!("the plot {} could not be drawn: {e}", path.display()),
                 o,
             );
         }
     }
-    if let Some(e) = failed {
-        report_failure(&e, &source, &sim.read.model, o)?;
+    if let Some(f) = failure {
+        o.diagnostics(&f.diagnostics, &f.source)?;
         return Err(Stop::Failed);
     }
     Ok(0)
-}
-
-/// A dynamics failure as a diagnostic at the statement of the element (or part) it names.
-fn report_failure(
-    e: &DynError,
-    source: &SourceFile,
-    model: &crate::model::Model,
-    o: &mut Output,
-) -> std::io::Result<()> {
-    let span = match e.culprit() {
-        Some(Culprit::Element(el)) => report::element_span(model, &el),
-        Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
-        None => 0..0,
-    };
-    let d = Diagnostic::error(code_of(e), span, e.to_string());
-    o.diagnostics(&[d], source)
 }
 
 /// The step table's header (`mbfx run --verbose`), Adams' columns without the function
@@ -465,43 +384,81 @@ fn fortran_e(x: f64, digits: usize) -> String {
     }
 }
 
-/// The end-of-run summary.
-pub fn summary_text(s: &Summary) -> String {
-    let st = &s.stats;
-    let mut out = format!(
-        "{}: {} steps ({} rejected), {} Newton iterations, {} Jacobian evaluations, {} factorizations, {} expression evaluations, {:.6} s CPU{}\nlargest constraint residual {:.3e}\n",
-        s.integrator,
-        st.steps,
-        st.rejected,
-        st.newton_iterations,
-        st.jacobian_evaluations,
-        st.factorizations,
-        st.expression_evaluations,
-        s.cpu_seconds,
-        // Runs with contact switches say how many were located; others print as before.
-        match st.events {
-            0 => String::new(),
-            n => format!(", {n} force switches located"),
-        },
-        s.max_residual
-    );
-    if let Some((e0, e1)) = s.energy {
-        out += &format!(
-            "energy (kinetic + gravity): {e0:.9e} at the start, {e1:.9e} at the end (change {:.3e})\n",
-            e1 - e0
-        );
-    }
-    for n in &s.notes {
-        out += &format!("note: {n}\n");
-    }
-    for w in &s.warnings {
-        out += &format!("warning: {w}\n");
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use clap::Parser;
+
+    /// `mbfx run`'s arguments alone.
+    #[derive(Parser)]
+    struct Args {
+        #[command(flatten)]
+        run: RunArgs,
+    }
+
+    fn request(args: &[&str]) -> RunRequest {
+        let args = Args::try_parse_from(std::iter::once("run").chain(args.iter().copied()));
+        args.map(|a| a.run.request())
+            .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn the_command_line_defaults_are_the_sessions() {
+        let want = RunRequest {
+            end: Some(2.0),
+            ..RunRequest::file("m.adm")
+        };
+        assert_eq!(request(&["m.adm", "--end", "2"]), want);
+    }
+
+    #[test]
+    fn every_option_reaches_the_request() {
+        let r = request(&[
+            "a.acf",
+            "--end=3",
+            "--output-step=0.5",
+            "--integrator=hht",
+            "--error=1e-5",
+            "--hmax=0.1",
+            "--hinit=0.01",
+            "--hmin=1e-9",
+            "--error-per=run",
+            "--cartesian",
+            "--fixed-step=0.001",
+            "--alpha=-0.2",
+            "--formulation=si2",
+            "--kmax=4",
+            "--rho-inf=0.5",
+            "--dim=3",
+            "--engine=interp",
+            "--probe",
+            " x =DX(2)",
+            "--probe",
+            "bad",
+        ]);
+        let want = RunRequest {
+            end: Some(3.0),
+            output_step: Some(0.5),
+            method: Some(Method::Hht),
+            error: Some(1e-5),
+            hmax: Some(0.1),
+            hinit: Some(0.01),
+            hmin: Some(1e-9),
+            error_per_run: true,
+            cartesian: true,
+            fixed_step: Some(0.001),
+            alpha: Some(-0.2),
+            formulation: Some(Formulation::Si2),
+            kmax: Some(4),
+            rho_inf: Some(0.5),
+            dim: crate::session::DimRequest::Three,
+            engine: crate::session::run::Engine::Interp,
+            probes: vec![("x".into(), "DX(2)".into()), (String::new(), "bad".into())],
+            ..RunRequest::file("a.acf")
+        };
+        assert_eq!(r, want);
+    }
+
     #[test]
     fn reals_print_as_adams_prints_them() {
         assert_eq!(super::fortran_e(0.01, 6), "1.000000E-02");

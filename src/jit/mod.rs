@@ -15,12 +15,14 @@
 //! runtime's operation order (checked by the differential tests in `tests/backends/`).
 
 mod anchor;
+pub mod entry;
 mod frame;
 #[cfg(all(target_os = "linux", target_arch = "x86_64"))]
 mod memory;
 mod symbols;
 mod translate;
 
+pub use entry::{EntryFn, ENTRY_SIGNATURE};
 pub use symbols::{
     lookup as runtime_symbol, names as symbol_name, params as symbol_params,
     spline as spline_symbol,
@@ -111,6 +113,8 @@ pub struct CompiledExpr {
     outputs: usize,
     /// Smallest variable, measure and spline arrays a context must provide.
     needs: [usize; 3],
+    /// The stable C entry ([`entry`]), when one was asked for.
+    entry: Option<EntryFn>,
     _owner: Arc<Code>,
 }
 
@@ -133,6 +137,13 @@ impl CompiledExpr {
     /// Identifies the module holding the code: equal for functions compiled together.
     pub fn module_id(&self) -> *const () {
         Arc::as_ptr(&self._owner).cast()
+    }
+
+    /// The stable C entry ([`entry`]) when it was compiled with one
+    /// ([`Jit::compile_with_entry`]). Calling it is sound while `self` (or a clone)
+    /// lives and under the argument rules of the [`entry`] module.
+    pub fn entry(&self) -> Option<EntryFn> {
+        self.entry
     }
 
     /// Whether this is a leaf function whose frame was elided (see `jit/frame.rs`).
@@ -339,6 +350,32 @@ impl Jit {
 
     /// Compiles many functions into one module with one finalisation.
     pub fn compile_batch(&mut self, fs: &[&Function]) -> Result<Vec<CompiledExpr>, JitError> {
+        self.compile_module(fs, None)
+    }
+
+    /// Compiles `f`, which reads `variables` user variables and no measure or spline,
+    /// with its stable C entry ([`entry`]). `None` when `f` reads measures or splines or
+    /// a variable slot at or above `variables` (the entry could not give them).
+    pub fn compile_with_entry(
+        &mut self,
+        f: &Function,
+        variables: usize,
+    ) -> Result<Option<CompiledExpr>, JitError> {
+        let [vars, measures, splines] = needs(f);
+        if vars > variables || measures > 0 || splines > 0 {
+            return Ok(None);
+        }
+        let mut v = self.compile_module(&[f], Some(variables))?;
+        Ok(v.pop())
+    }
+
+    /// Compiles `fs` into one module; with `entries`, each also gets a C entry taking
+    /// that many variables.
+    fn compile_module(
+        &mut self,
+        fs: &[&Function],
+        entries: Option<usize>,
+    ) -> Result<Vec<CompiledExpr>, JitError> {
         let mut module = self.module();
         let mut declared = FxHashMap::default();
         let mut ids = Vec::with_capacity(fs.len());
@@ -353,13 +390,23 @@ impl Jit {
                 f
             };
             let (id, frameless) = self.define(&mut module, &mut declared, f)?;
-            ids.push((
-                id,
-                translate::is_minimal(f),
-                frameless,
-                f.outputs.len(),
-                needs(f),
-            ));
+            let minimal = translate::is_minimal(f);
+            let entry = match entries {
+                Some(variables) => {
+                    let callee = entry::Callee {
+                        id,
+                        minimal,
+                        variables,
+                        outputs: f.outputs.len(),
+                    };
+                    let at = entry::define(&mut module, &mut self.ctx, &mut self.fctx, &callee);
+                    let defined = at.and_then(|at| self.emit(&mut module, at, false).map(|_| at));
+                    self.ctx.clear();
+                    Some(defined?)
+                }
+                None => None,
+            };
+            ids.push((id, minimal, frameless, f.outputs.len(), needs(f), entry));
             self.times.push(t0.elapsed().as_secs_f64());
         }
         module
@@ -370,7 +417,7 @@ impl Jit {
         });
         Ok(ids
             .into_iter()
-            .map(|(id, minimal, frameless, outputs, needs)| {
+            .map(|(id, minimal, frameless, outputs, needs, entry)| {
                 let ptr = owner.module.get_finalized_function(id);
                 // SAFETY: `ptr` is the finalised (non-null) code of a function declared with
                 // `expr_signature(_, minimal)` in the host's default calling convention
@@ -385,11 +432,19 @@ impl Jit {
                         Entry::General(std::mem::transmute::<*const u8, RawFn>(ptr))
                     }
                 };
+                // SAFETY: the entry was declared with `entry::define`'s signature, which is
+                // `EntryFn`'s in the default calling convention; `owner` keeps it alive.
+                let entry = entry.map(|at| unsafe {
+                    std::mem::transmute::<*const u8, EntryFn>(
+                        owner.module.get_finalized_function(at),
+                    )
+                });
                 CompiledExpr {
                     code,
                     frameless,
                     outputs,
                     needs,
+                    entry,
                     _owner: owner.clone(),
                 }
             })

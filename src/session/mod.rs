@@ -23,15 +23,21 @@
 //!
 //! Beside it: [`files`] reads input files as text, [`loaded`] keeps a dataset loaded for
 //! questions, [`evaluate`] takes one expression from text to value (`mbfx eval` and the
-//! REPL), [`run`] simulates a dataset (`mbfx run`) and [`plan`] decides which integrator and
-//! settings each stretch of a run gets.
+//! REPL), [`expression`] compiles one over named variables for evaluation at many points
+//! (the Python module and the C API), [`run`] simulates a dataset (`mbfx run`) and [`plan`] decides which integrator and
+//! settings each stretch of a run gets. [`request`] is the one call every shell runs a
+//! dataset with (a request in; the rows out as they come, then a result or a failure that
+//! keeps what it computed), reading command files with [`acf`].
 
+pub mod acf;
 pub mod evaluate;
+pub mod expression;
 pub mod files;
 pub mod lifted;
 pub mod loaded;
 pub mod plan;
 pub mod report;
+pub mod request;
 pub mod run;
 
 use crate::diag::Diagnostic;

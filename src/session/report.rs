@@ -1,10 +1,13 @@
 //! The multibody sections of the model report `mbfx check` prints (2D or 3D and why,
 //! degrees of freedom, assembly, redundant constraints), and the diagnostics of a failed
-//! analysis, placed on the statement of the element at fault.
+//! analysis or run, placed on the statement of the element at fault.
 
 use super::{Analysis, DimRequest, Failure};
 use crate::diag::{Code, Diagnostic, Span};
 use crate::mbd::assembly::AssemblyError;
+use crate::mbd::dynamics::{Culprit, DynError};
+use crate::mbd::error::MbdError;
+use crate::mbd::expr::ExprError;
 use crate::mbd::redundancy::AnalysisError;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
@@ -229,4 +232,41 @@ pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
             vec![multi_line(Code::Conflicting, span, &text, false)]
         }
     }
+}
+
+/// The diagnostic code of a dynamics failure: E0702 a dropped row violated, E0803 a
+/// non-finite force, E0802 the integration failed, E0804 the caller interrupted it, E0801
+/// anything else the model cannot be simulated for.
+pub fn code_of(e: &DynError) -> Code {
+    match e {
+        DynError::DroppedViolated { .. } => Code::Conflicting,
+        DynError::NotFinite { .. } => Code::NonFiniteForce,
+        DynError::Model(MbdError::Expression(_, ExprError::NotFinite { .. })) => {
+            Code::NonFiniteForce
+        }
+        DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {
+            Code::Integration
+        }
+        DynError::Interrupted { .. } => Code::Interrupted,
+        DynError::Model(_)
+        | DynError::Massless { .. }
+        | DynError::Structure
+        | DynError::Output(_) => Code::CannotSimulate,
+    }
+}
+
+/// The statement span of the element or part a dynamics failure names (0..0 when it
+/// names none, or one `model` does not have).
+pub fn culprit_span(e: &DynError, model: &Model) -> Span {
+    match e.culprit() {
+        Some(Culprit::Element(el)) => element_span(model, &el),
+        Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
+        None => 0..0,
+    }
+}
+
+/// A dynamics failure as an error at the statement of the element (or part) it names,
+/// its message the failure's own wording (with the time, when it has one).
+pub fn failure_diagnostic(e: &DynError, model: &Model) -> Diagnostic {
+    Diagnostic::error(code_of(e), culprit_span(e, model), e.to_string())
 }

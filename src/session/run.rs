@@ -86,7 +86,7 @@ pub struct RunSpec {
     pub end: f64,
     /// Time between output rows.
     pub output_step: f64,
-    /// None: the dataset's INTEGRATOR statement, else HHT.
+    /// None: the dataset's INTEGRATOR statement, else GSTIFF (as Adams).
     pub method: Option<Method>,
     /// ERROR: the local error tolerance (None: the dataset's, else the method's default).
     pub error: Option<f64>,
@@ -202,6 +202,44 @@ pub struct Summary {
     /// steps whose local error estimate left ERROR far behind, constraint drift): a
     /// run that reports success on a wrong answer must at least say so.
     pub warnings: Vec<String>,
+}
+
+impl Summary {
+    /// The end-of-run summary `mbfx run` prints (and Python's `Run.summary` holds).
+    pub fn text(&self) -> String {
+        let s = self;
+        let st = &s.stats;
+        let mut out = format!(
+            "{}: {} steps ({} rejected), {} Newton iterations, {} Jacobian evaluations, {} factorizations, {} expression evaluations, {:.6} s CPU{}\nlargest constraint residual {:.3e}\n",
+            s.integrator,
+            st.steps,
+            st.rejected,
+            st.newton_iterations,
+            st.jacobian_evaluations,
+            st.factorizations,
+            st.expression_evaluations,
+            s.cpu_seconds,
+            // Runs with contact switches say how many were located; others print as before.
+            match st.events {
+                0 => String::new(),
+                n => format!(", {n} force switches located"),
+            },
+            s.max_residual
+        );
+        if let Some((e0, e1)) = s.energy {
+            out += &format!(
+                "energy (kinetic + gravity): {e0:.9e} at the start, {e1:.9e} at the end (change {:.3e})\n",
+                e1 - e0
+            );
+        }
+        for n in &s.notes {
+            out += &format!("note: {n}\n");
+        }
+        for w in &s.warnings {
+            out += &format!("warning: {w}\n");
+        }
+        out
+    }
 }
 
 /// The output columns compiled, and the measure slots they read.
@@ -530,7 +568,19 @@ impl Simulation {
         &mut self,
         segments: &[Segment],
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+        table: Option<&mut dyn FnMut(&TableRow)>,
+    ) -> (Summary, Option<DynError>) {
+        self.run_interruptible(segments, out, table, None)
+    }
+
+    /// [`Simulation::run_segments`], stopped with [`DynError::Interrupted`] before the
+    /// first step attempt that finds `interrupt` set (read once per step, relaxed).
+    pub fn run_interruptible(
+        &mut self,
+        segments: &[Segment],
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
         mut table: Option<&mut dyn FnMut(&TableRow)>,
+        interrupt: Option<&std::sync::atomic::AtomicBool>,
     ) -> (Summary, Option<DynError>) {
         let clock = Instant::now();
         let e0 = self.conservative.then(|| self.energy());
@@ -584,6 +634,7 @@ impl Simulation {
                 &plan.settings,
                 &times,
                 &mut segment_emit,
+                interrupt,
             );
             if let Some(n) = integrator.formulation().filter(|n| !notes.contains(n)) {
                 notes.push(n);

@@ -167,6 +167,12 @@ pub enum DynError {
     Structure,
     /// An output row could not be written (the I/O error, worded).
     Output(String),
+    /// The caller's interrupt flag was set: the run stopped before its next step
+    /// ([`integrator::simulate`] reads the flag before every step attempt).
+    Interrupted {
+        /// Simulation time of the last accepted step.
+        time: f64,
+    },
 }
 
 /// Why the Newton matrix is singular.
@@ -197,14 +203,20 @@ pub enum NonFinite {
 }
 
 impl DynError {
-    /// The simulation time of the failure, when it has one.
+    /// The simulation time of the failure, when it has one (an expression that
+    /// evaluated to NaN or infinity says when).
     pub fn time(&self) -> Option<f64> {
         match self {
+            DynError::Model(MbdError::Expression(
+                _,
+                super::expr::ExprError::NotFinite { time, .. },
+            )) => Some(*time),
             DynError::Singular { time, .. }
             | DynError::NotFinite { time, .. }
             | DynError::Newton { time, .. }
             | DynError::StepTooSmall { time, .. }
-            | DynError::DroppedViolated { time, .. } => Some(*time),
+            | DynError::DroppedViolated { time, .. }
+            | DynError::Interrupted { time } => Some(*time),
             DynError::Model(_)
             | DynError::Massless { .. }
             | DynError::Structure
@@ -319,6 +331,7 @@ impl fmt::Display for DynError {
             ),
             DynError::Structure => f.write_str("the Newton matrix has no valid structure"),
             DynError::Output(why) => write!(f, "the output could not be written: {why}"),
+            DynError::Interrupted { time } => write!(f, "at time {time}: the run was interrupted"),
         }
     }
 }

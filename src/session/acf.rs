@@ -1,23 +1,35 @@
-//! `mbfx run ANALYSIS.acf`: reads the command file ([`crate::model::commands`]), prints
-//! its diagnostics, finds the dataset it names (beside the command file unless the path
-//! is absolute, `.adm` added when the name has no extension) and turns its SIMULATE
-//! commands into the run's segments, or the command line's `--end` and `--output-step`
-//! when given. The run itself is `mbfx run`'s, in [`super::run`].
+//! Adams command files (`.acf`) as a run's input: [`read`] reads one
+//! ([`crate::model::commands`]) and finds the dataset it names (beside the command file
+//! unless the path is absolute, `.adm` added when the name has no extension);
+//! [`segments`] turns its INTEGRATOR and SIMULATE commands into the run's
+//! [`Segment`]s, or one segment to an end time the caller gives. Every shell runs a
+//! command file through [`super::request::run`], which calls both; they print nothing.
 
-use super::output::{Output, Stop};
+use super::files::read_dataset;
+use super::plan;
+use super::run::Segment;
 use crate::diag::{Code, Diagnostic, SourceFile};
 use crate::model::commands::{read_commands, CommandFile, Step};
 use crate::model::integrator_settings::IntegratorStatement;
-use crate::session::files::read_dataset;
-use crate::session::plan;
-use crate::session::run::Segment;
 use std::path::{Path, PathBuf};
 
 /// A command file read, and where its dataset is.
 pub struct Commands {
+    /// The command file's name and text (spans of its diagnostics point into it).
     pub source: SourceFile,
+    /// Its commands; `file.diagnostics` holds its warnings (errors refuse it in [`read`]).
     pub file: CommandFile,
+    /// The dataset it names, resolved against the command file's folder.
     pub model: PathBuf,
+}
+
+/// A command file that cannot be run: its diagnostics (its warnings among them, in
+/// order) and the text they point into.
+pub struct Refused {
+    /// The command file (or the file that could not be read).
+    pub source: SourceFile,
+    /// What is wrong, errors and warnings.
+    pub diagnostics: Vec<Diagnostic>,
 }
 
 /// True when `path` names a command file (`.acf`, any case).
@@ -36,27 +48,37 @@ fn with_extension(name: &str) -> String {
     }
 }
 
-/// Reads the command file at `path` and prints its diagnostics; stops on errors.
-pub fn read(path: &Path, o: &mut Output) -> Result<Commands, Stop> {
+/// Reads the command file at `path` and finds its dataset. A file with errors, naming no
+/// model, or naming one that does not exist is [`Refused`] (E0604 for no model, E0501 at
+/// the name for a missing one), its warnings before the error.
+pub fn read(path: &Path) -> Result<Commands, Box<Refused>> {
     let (text, warnings) = match read_dataset(path) {
         Ok(t) => t,
         Err(u) => {
-            o.diagnostics(&[u.diagnostic], &u.source)?;
-            return Err(Stop::Failed);
+            return Err(Box::new(Refused {
+                source: u.source,
+                diagnostics: vec![u.diagnostic],
+            }))
         }
     };
     let source = SourceFile::new(path.display().to_string(), text);
     let mut file = read_commands(&source.text);
     file.diagnostics.splice(0..0, warnings);
-    o.diagnostics(&file.diagnostics, &source)?;
+    let refuse = |source, diagnostics| {
+        Err(Box::new(Refused {
+            source,
+            diagnostics,
+        }))
+    };
     if file.has_errors() {
-        return Err(Stop::Failed);
+        return refuse(source, file.diagnostics);
     }
     let Some(name) = &file.model else {
         let d = Diagnostic::error(Code::MissingArgument, 0..0, "the command file names no model")
             .with_help("put the dataset's file name on line 1 (and the output name on line 2), or write FILE/MODEL = NAME");
-        o.diagnostics(&[d], &source)?;
-        return Err(Stop::Failed);
+        let mut all = file.diagnostics;
+        all.push(d);
+        return refuse(source, all);
     };
     let written = PathBuf::from(with_extension(&name.value));
     let model = match path.parent() {
@@ -70,8 +92,9 @@ pub fn read(path: &Path, o: &mut Output) -> Result<Commands, Stop> {
             format!("the model {} does not exist", model.display()),
         )
         .with_help("the dataset's name is read relative to the command file's folder");
-        o.diagnostics(&[d], &source)?;
-        return Err(Stop::Failed);
+        let mut all = file.diagnostics;
+        all.push(d);
+        return refuse(source, all);
     }
     Ok(Commands {
         source,
@@ -80,11 +103,15 @@ pub fn read(path: &Path, o: &mut Output) -> Result<Commands, Stop> {
     })
 }
 
+/// The message when neither the command file nor the caller says when to end.
+pub const NO_SIMULATION: &str =
+    "the command file has no SIMULATE/DYNAMIC command: give --end (and --output-step)";
+
 /// The segments of the run: the command file's SIMULATE commands under the INTEGRATOR in
-/// force at each (the dataset's, then the file's commands), or one segment to `--end`
-/// when given (its output step `--output-step`, else the first SIMULATE's, else END/100);
-/// `--output-step` alone replaces every SIMULATE's. An error message when neither the
-/// file nor the command line says when to end.
+/// force at each (the dataset's, then the file's commands), or one segment to `end`
+/// when given (its output step `output_step`, else the first SIMULATE's, else END/100);
+/// `output_step` alone replaces every SIMULATE's. [`NO_SIMULATION`] when neither the
+/// file nor the caller says when to end.
 pub fn segments(
     file: &CommandFile,
     dataset: Option<&IntegratorStatement>,
@@ -114,12 +141,20 @@ pub fn segments(
         }
     }
     if segments.is_empty() {
-        return Err(
-            "the command file has no SIMULATE/DYNAMIC command: give --end (and --output-step)"
-                .into(),
-        );
+        return Err(NO_SIMULATION.into());
     }
     Ok(segments)
+}
+
+/// The summary note saying the command file's output files are not written, when it
+/// names them (line 2).
+pub fn output_note(file: &CommandFile) -> Option<String> {
+    file.output.as_ref().map(|out| {
+        format!(
+            "the command file's output files ({}.req, .res, …) are not written; the CSV goes to --csv (standard output by default)",
+            out.value
+        )
+    })
 }
 
 /// The dataset's INTEGRATOR with the INTEGRATOR commands of `steps` put over it.
@@ -181,5 +216,20 @@ mod tests {
             s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
             [(2.0, 0.02)]
         );
+    }
+
+    #[test]
+    fn a_command_file_naming_a_missing_model_is_refused_at_the_name() {
+        let dir = std::env::temp_dir().join(format!("mbfx-acf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("scratch folder");
+        let path = dir.join("a.acf");
+        std::fs::write(&path, "nowhere\nout\nsim/dyn, end=1, steps=10\n").expect("write");
+        let Err(refused) = read(&path) else {
+            panic!("the model is not there")
+        };
+        let d = refused.diagnostics.last().expect("a diagnostic");
+        assert_eq!(d.code, Code::Io);
+        assert_eq!(&refused.source.text[d.span.clone()], "nowhere");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

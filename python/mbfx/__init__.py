@@ -1,0 +1,166 @@
+"""mbfx from Python: the Adams FUNCTION expression language compiled to machine code,
+and a constrained-multibody core that runs `.adm` datasets.
+
+    >>> import mbfx, numpy as np
+    >>> f = mbfx.compile("k*STEP(x, 0, 0, 1, 1)", variables=("x", "k"))
+    >>> f(0.5, 2.0)
+    1.0
+    >>> f(np.linspace(0, 1, 3), k=2.0)
+    array([0., 1., 2.])
+
+`compile` gives an `Expression` (call it with floats or numpy arrays, take its
+`gradient`, hand its `address` to scipy or ctypes); `load` gives a `Model` (`check`,
+`evaluate`, `run`); a run gives a `Run` (its columns as arrays, `to_pandas`, `plot`).
+Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Dict, Iterator, List, Optional, Sequence
+
+import numpy as np
+
+from ._mbfx import (  # noqa: F401  (re-exported)
+    CheckError,
+    Diagnostic,
+    Expression,
+    InternalError,
+    MbfxError,
+    Model,
+    Report,
+    RunError,
+    __version__,
+    compile,
+    load,
+)
+
+__all__ = [
+    "CheckError",
+    "Diagnostic",
+    "Expression",
+    "InternalError",
+    "MbfxError",
+    "Model",
+    "Report",
+    "Run",
+    "RunError",
+    "compile",
+    "load",
+]
+
+
+class Run:
+    """The output of `Model.run`: one row per output time.
+
+    `run["x"]` is a column as an ndarray (`run.time` is `run["time"]`); `columns` lists
+    them: `time`, the probes in the order given, then each REQUEST's components
+    (`REQ<id>.F<k>`), as `mbfx run` writes them. `stats` holds the integrator's counters
+    (steps, rejected, Newton iterations, factorizations, CPU seconds, ...), `warnings`
+    what the run's monitors found, and `summary` the text `mbfx run` prints at the end.
+    A run that failed is still a `Run`: its rows stop where the failure was.
+    """
+
+    def __init__(
+        self,
+        columns: Sequence[str],
+        data: np.ndarray,
+        stats: Dict[str, Any],
+        warnings: Sequence[str] = (),
+        notes: Sequence[str] = (),
+        summary: str = "",
+        integrator: str = "",
+        dimension: str = "",
+    ) -> None:
+        self.columns: List[str] = list(columns)
+        self.data: np.ndarray = np.asarray(data, dtype=np.float64).reshape(-1, len(self.columns))
+        self.stats: Dict[str, Any] = dict(stats)
+        self.warnings: List[str] = list(warnings)
+        self.notes: List[str] = list(notes)
+        self.summary: str = summary
+        self.integrator: str = integrator
+        self.dimension: str = dimension
+
+    @property
+    def time(self) -> np.ndarray:
+        """The output times."""
+        return self.data[:, 0]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The column `name` (`time`, a probe's name, or `REQ<id>.F<k>`)."""
+        try:
+            k = self.columns.index(name)
+        except ValueError:
+            raise KeyError(f"no column {name!r}; the columns are {self.columns}") from None
+        return self.data[:, k]
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.columns
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.columns)
+
+    def __len__(self) -> int:
+        """The number of output rows."""
+        return self.data.shape[0]
+
+    def __repr__(self) -> str:
+        end = self.data[-1, 0] if len(self) else float("nan")
+        return f"mbfx.Run({len(self)} rows to t = {end:g}, columns={self.columns})"
+
+    def to_pandas(self) -> "Any":
+        """The rows as a pandas DataFrame indexed by time (needs `pip install mbfx[pandas]`)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("Run.to_pandas needs pandas: pip install mbfx[pandas]") from e
+        frame = pd.DataFrame(self.data[:, 1:], columns=self.columns[1:])
+        frame.index = pd.Index(self.data[:, 0], name="time")
+        return frame
+
+    def plot(self, columns: Optional[Sequence[str]] = None, ax: Any = None) -> "Any":
+        """Draws `columns` (all but time by default) against time on `ax` (a new figure
+        when None) and returns the axes (needs `pip install mbfx[plot]`)."""
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("Run.plot needs matplotlib: pip install mbfx[plot]") from e
+        names = list(columns) if columns is not None else self.columns[1:]
+        if ax is None:
+            _, ax = plt.subplots()
+        for name in names:
+            ax.plot(self.time, self[name], label=name)
+        ax.set_xlabel("time")
+        if names:
+            ax.legend()
+        return ax
+
+
+class _Progress:
+    """A progress bar over simulated time: tqdm where installed, else a line on stderr."""
+
+    def __init__(self, end: float) -> None:
+        self.end = end
+        self.shown = 0.0
+        try:
+            from tqdm import tqdm
+        except ImportError:
+            self.bar = None
+        else:
+            self.bar = tqdm(total=end, unit="s", unit_scale=False, desc="mbfx run", leave=True)
+
+    def update(self, t: float) -> None:
+        if self.bar is not None:
+            self.bar.update(max(0.0, t - self.shown))
+        else:
+            import sys
+
+            print(f"\rmbfx run: t = {t:g} of {self.end:g}", end="", file=sys.stderr)
+        self.shown = max(self.shown, t)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+        else:
+            import sys
+
+            print(file=sys.stderr)

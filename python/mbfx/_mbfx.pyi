@@ -1,0 +1,130 @@
+"""Type stubs of the native module mbfx._mbfx (PyO3)."""
+
+from os import PathLike
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+from . import Run
+
+__version__: str
+
+ArrayLike = Union[float, int, npt.ArrayLike]
+
+class MbfxError(Exception):
+    """Base class of every error mbfx raises."""
+
+class CheckError(MbfxError):
+    """An expression or dataset has errors; `str()` is the rendered text with carets."""
+
+    diagnostics: List[Diagnostic]
+
+class RunError(MbfxError):
+    """A run failed: where, why, and the rows computed before the failure."""
+
+    time: Optional[float]
+    element: Optional[str]
+    cause: str
+    code: str
+    diagnostics: List[Diagnostic]
+    run: Optional[Run]
+
+class InternalError(MbfxError):
+    """A bug in mbfx (a panic inside Rust), reported instead of crashing the interpreter."""
+
+class Diagnostic:
+    """One diagnostic: a stable code, a message and where it points."""
+
+    code: str
+    severity: str
+    message: str
+    span: Tuple[int, int]
+    line: int
+    column: int
+    source: str
+    help: Optional[str]
+    text: str
+
+class Expression:
+    """A compiled expression over named variables."""
+
+    @property
+    def text(self) -> str: ...
+    @property
+    def variables(self) -> Tuple[str, ...]: ...
+    @property
+    def engine(self) -> str: ...
+    @property
+    def outputs(self) -> int: ...
+    @property
+    def wrt(self) -> Tuple[str, ...]: ...
+    @property
+    def warnings(self) -> List[Diagnostic]: ...
+    @property
+    def address(self) -> int:
+        """The C entry of the machine code (JIT only); see `signature`."""
+    @property
+    def signature(self) -> str:
+        """`double (int, double *, void *)`: variables then TIME in x, outputs in out."""
+    @overload
+    def __call__(self, *args: float, time: float = ..., **kwargs: float) -> Union[float, np.ndarray]: ...
+    @overload
+    def __call__(self, *args: ArrayLike, time: ArrayLike = ..., **kwargs: ArrayLike) -> Union[float, np.ndarray]: ...
+    def gradient(self, wrt: Optional[Sequence[str]] = None) -> Expression:
+        """The value, then its partials with respect to `wrt` (default: every variable)."""
+
+class Report:
+    """What `Model.check()` reports; `str()` is `mbfx check`'s report."""
+
+    dimension: int
+    dimension_reason: str
+    dof: int
+    gruebler: int
+    equations: int
+    redundant: List[str]
+    advice: List[str]
+    warnings: List[Diagnostic]
+
+class Model:
+    """A dataset read, built, assembled and analysed."""
+
+    @property
+    def title(self) -> str: ...
+    @property
+    def text(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def parts(self) -> List[int]: ...
+    @property
+    def markers(self) -> Dict[int, int]: ...
+    def check(self) -> Report: ...
+    def evaluate(self, expr: str, engine: str = "jit") -> Union[float, np.ndarray]: ...
+    def run(
+        self,
+        end: Optional[float] = None,
+        output_step: Optional[float] = None,
+        integrator: Optional[str] = None,
+        error: Optional[float] = None,
+        probes: Optional[Mapping[str, str]] = None,
+        progress: bool = False,
+        *,
+        hmax: Optional[float] = None,
+        hinit: Optional[float] = None,
+        hmin: Optional[float] = None,
+        fixed_step: Optional[float] = None,
+        alpha: Optional[float] = None,
+        rho_inf: Optional[float] = None,
+        kmax: Optional[int] = None,
+        formulation: Optional[str] = None,
+        error_per: str = "step",
+        engine: str = "jit",
+        commands: Optional[Union[str, PathLike[str]]] = None,
+    ) -> Run: ...
+
+def compile(text: str, variables: Optional[Sequence[str]] = None, engine: str = "jit") -> Expression:
+    """Checks and compiles `text` over `variables` (values go in that order)."""
+
+def load(source: Union[str, PathLike[str]], dim: Optional[int] = None) -> Model:
+    """Loads a dataset from a path, or from its text (a str holding a newline)."""

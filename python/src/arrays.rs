@@ -1,0 +1,179 @@
+//! The values an expression is called with: a point of plain floats (the small call,
+//! no numpy involved), or numpy arrays broadcast to one shape, evaluated with the GIL
+//! released and returned as one ndarray (a last axis for several outputs).
+
+use crate::expression::expr_error;
+use mbfx::session::expression::{Column, Expression};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyFloat, PyInt, PyTuple};
+
+/// Variables a point holds inline (more go through the array path).
+const INLINE: usize = 8;
+
+/// The values of one point, all plain numbers.
+pub struct Point {
+    values: [f64; INLINE],
+    len: usize,
+    /// TIME.
+    pub time: f64,
+}
+
+impl Point {
+    /// The values in variable order.
+    pub fn values(&self) -> &[f64] {
+        &self.values[..self.len]
+    }
+
+    /// The point `args` (and `time`) give when each is a Python float or int and they
+    /// are `n` in all; None otherwise (arrays, keywords, a wrong count: the general
+    /// path handles and words those).
+    pub fn scalars(
+        args: &Bound<'_, PyTuple>,
+        time: Option<&Bound<'_, PyAny>>,
+        n: usize,
+    ) -> PyResult<Option<Point>> {
+        if args.len() != n || n > INLINE {
+            return Ok(None);
+        }
+        let mut p = Point {
+            values: [0.0; INLINE],
+            len: n,
+            time: 0.0,
+        };
+        for (slot, a) in p.values.iter_mut().zip(args.iter()) {
+            match plain(&a)? {
+                Some(x) => *slot = x,
+                None => return Ok(None),
+            }
+        }
+        if let Some(t) = time {
+            match plain(t)? {
+                Some(x) => p.time = x,
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(p))
+    }
+}
+
+/// The value of a Python float or int (numpy's float64 is a float), else None.
+fn plain(a: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
+    if a.is_instance_of::<PyFloat>() || a.is_instance_of::<PyInt>() {
+        a.extract::<f64>().map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
+/// One argument after conversion: a number for every point, or an array of the common
+/// shape, C-contiguous.
+enum Arg<'py> {
+    Number(f64),
+    Array(PyReadonlyArrayDyn<'py, f64>),
+}
+
+/// The column `a` gives for evaluation.
+fn column<'a>(a: &'a Arg<'_>) -> PyResult<Column<'a>> {
+    Ok(match a {
+        Arg::Number(x) => Column::Const(*x),
+        Arg::Array(a) => Column::Values(
+            a.as_slice()
+                .map_err(|err| PyValueError::new_err(err.to_string()))?,
+        ),
+    })
+}
+
+/// The arguments of an array call, broadcast to `shape`.
+pub struct Inputs<'py> {
+    args: Vec<Arg<'py>>,
+    time: Arg<'py>,
+    shape: Vec<usize>,
+    /// No argument was an array: the result is a float (or one 1-D array of outputs).
+    all_numbers: bool,
+}
+
+impl<'py> Inputs<'py> {
+    /// Converts each value (float, int, array-like) to float64 and broadcasts the
+    /// arrays together as numpy does.
+    pub fn gather(
+        py: Python<'py>,
+        values: &[Bound<'py, PyAny>],
+        time: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Inputs<'py>> {
+        let np = py.import("numpy")?;
+        let float64 = np.getattr("float64")?;
+        let mut raw = Vec::with_capacity(values.len() + 1);
+        for v in values.iter().map(Some).chain(std::iter::once(time)) {
+            let converted = match v {
+                None => Err(0.0),
+                Some(v) => match plain(v)? {
+                    Some(x) => Err(x),
+                    None => Ok(np.call_method1("asarray", (v, &float64))?),
+                },
+            };
+            raw.push(converted);
+        }
+        let shapes: Vec<Bound<'py, PyAny>> = raw
+            .iter()
+            .filter_map(|r| r.as_ref().ok())
+            .map(|a| a.getattr("shape"))
+            .collect::<PyResult<_>>()?;
+        let all_numbers = shapes.is_empty();
+        let shape: Vec<usize> = np
+            .call_method1("broadcast_shapes", PyTuple::new(py, shapes)?)
+            .map_err(|e| {
+                PyValueError::new_err(format!("the arguments do not broadcast together: {e}"))
+            })?
+            .extract()?;
+        let target = PyTuple::new(py, &shape)?;
+        let mut args = Vec::with_capacity(raw.len());
+        for r in raw {
+            args.push(match r {
+                Err(x) => Arg::Number(x),
+                Ok(a) => {
+                    let a = a.cast_into::<PyArrayDyn<f64>>()?;
+                    // Copied only when it must be: another shape, or not C-contiguous.
+                    let a = if a.shape() == shape.as_slice() && a.is_c_contiguous() {
+                        a
+                    } else {
+                        let a = np.call_method1("broadcast_to", (a, &target))?;
+                        np.call_method1("ascontiguousarray", (a,))?
+                            .cast_into::<PyArrayDyn<f64>>()?
+                    };
+                    Arg::Array(a.readonly())
+                }
+            });
+        }
+        let time = args.pop().unwrap_or(Arg::Number(0.0));
+        Ok(Inputs {
+            args,
+            time,
+            shape,
+            all_numbers,
+        })
+    }
+
+    /// Evaluates `e` at every point, the GIL released, and shapes the result.
+    pub fn evaluate(&self, py: Python<'py>, e: &Expression) -> PyResult<Bound<'py, PyAny>> {
+        let columns: Vec<Column> = self.args.iter().map(column).collect::<PyResult<_>>()?;
+        let time = column(&self.time)?;
+        let points: usize = self.shape.iter().product();
+        let k = e.outputs();
+        let mut out = vec![0.0; points * k];
+        if points > 0 {
+            py.detach(|| e.eval_columns(&columns, time, &mut out))
+                .map_err(|x| expr_error(py, e.text(), x))?;
+        }
+        if self.all_numbers && k == 1 {
+            return Ok(out[0].into_pyobject(py)?.into_any());
+        }
+        let mut shape = self.shape.clone();
+        if k > 1 {
+            shape.push(k);
+        }
+        let flat = PyArray1::from_vec(py, out);
+        Ok(flat.reshape(shape)?.into_any())
+    }
+}

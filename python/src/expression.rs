@@ -1,0 +1,279 @@
+//! `mbfx.compile` and `Expression`: an expression over named variables, called with
+//! scalars (a float back) or numpy arrays (an ndarray back, broadcast as numpy does),
+//! its gradient, and the raw entry of its machine code for scipy and ctypes.
+//!
+//! Values go positionally in the order of `variables` or by keyword; `time=` gives TIME
+//! (0 when absent). Evaluation over arrays releases the GIL.
+
+use crate::arrays::{Inputs, Point};
+use crate::errors::{check_error, guarded, plain_check_error};
+use mbfx::diag::SourceFile;
+use mbfx::session::expression::{ExprError, Expression};
+use mbfx::session::run::Engine;
+use numpy::PyArray1;
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+/// The engine named by `name`.
+pub fn engine_of(name: &str) -> PyResult<Engine> {
+    match name.to_ascii_lowercase().as_str() {
+        "jit" => Ok(Engine::Jit),
+        "interp" | "interpreter" => Ok(Engine::Interp),
+        _ => Err(PyValueError::new_err(format!(
+            "engine must be \"jit\" or \"interp\", not {name:?}"
+        ))),
+    }
+}
+
+/// The name of `engine`, as `compile` takes it.
+pub fn engine_name(engine: Engine) -> &'static str {
+    match engine {
+        Engine::Jit => "jit",
+        Engine::Interp => "interp",
+    }
+}
+
+/// `e` as a Python exception: text errors as `CheckError` with diagnostics about the
+/// expression, argument errors as `CheckError` without a place, or `ValueError`.
+pub fn expr_error(py: Python<'_>, text: &str, e: ExprError) -> PyErr {
+    match e {
+        ExprError::Diagnostics(d) => check_error(py, &d, &SourceFile::new("expression", text)),
+        ExprError::Arity { .. } | ExprError::Length { .. } => PyValueError::new_err(e.to_string()),
+        ExprError::Jit(_) => crate::errors::InternalError::new_err(e.to_string()),
+        other => plain_check_error(py, other.to_string()),
+    }
+}
+
+/// A compiled expression. Call it with values for its variables (positionally, in the
+/// order of `variables`, or by keyword) and optionally `time=`: scalars give a float,
+/// arrays an ndarray broadcast as numpy broadcasts. A vector expression or a gradient
+/// gives its values along a last axis.
+#[pyclass(frozen, module = "mbfx._mbfx", name = "Expression")]
+pub struct PyExpression {
+    pub inner: Expression,
+}
+
+#[pymethods]
+impl PyExpression {
+    #[pyo3(signature = (*args, time = None, **kwargs))]
+    fn __call__<'py>(
+        &self,
+        py: Python<'py>,
+        args: &Bound<'py, PyTuple>,
+        time: Option<&Bound<'py, PyAny>>,
+        kwargs: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        guarded(|| {
+            let e = &self.inner;
+            // The common small call: floats only, no keywords but time.
+            if kwargs.is_none() {
+                if let Some(point) = Point::scalars(args, time, e.variables().len())? {
+                    let value = if e.outputs() == 1 {
+                        let v = e
+                            .eval_scalar(point.values(), point.time)
+                            .map_err(|x| expr_error(py, e.text(), x))?;
+                        return Ok(v.into_pyobject(py)?.into_any());
+                    } else {
+                        e.eval(point.values(), point.time)
+                            .map_err(|x| expr_error(py, e.text(), x))?
+                    };
+                    return Ok(PyArray1::from_vec(py, value).into_any());
+                }
+            }
+            let slots = bind_arguments(e, args, kwargs)?;
+            let inputs = Inputs::gather(py, &slots, time)?;
+            inputs.evaluate(py, e)
+        })
+    }
+
+    /// The value and its partial derivatives with respect to `wrt` (names of
+    /// variables, or `"TIME"`; all variables when omitted), as a new expression whose
+    /// outputs are the value, then each partial.
+    #[pyo3(signature = (wrt = None))]
+    fn gradient(&self, py: Python<'_>, wrt: Option<Vec<String>>) -> PyResult<PyExpression> {
+        guarded(|| {
+            let e = &self.inner;
+            let wrt = wrt.unwrap_or_else(|| e.variables().to_vec());
+            let names: Vec<&str> = wrt.iter().map(String::as_str).collect();
+            let g = py
+                .detach(|| e.gradient(&names))
+                .map_err(|x| expr_error(py, e.text(), x))?;
+            Ok(PyExpression { inner: g })
+        })
+    }
+
+    /// The expression's text.
+    #[getter]
+    fn text(&self) -> &str {
+        self.inner.text()
+    }
+
+    /// The variables, in the order positional values take.
+    #[getter]
+    fn variables<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, self.inner.variables())
+    }
+
+    /// `"jit"` or `"interp"`.
+    #[getter]
+    fn engine(&self) -> &'static str {
+        engine_name(self.inner.engine())
+    }
+
+    /// Values per point: 1 for a scalar, 3 for a vector; a gradient adds each
+    /// output's partials.
+    #[getter]
+    fn outputs(&self) -> usize {
+        self.inner.outputs()
+    }
+
+    /// For a gradient, the names of its partials, in order (empty otherwise).
+    #[getter]
+    fn wrt<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, self.inner.wrt())
+    }
+
+    /// The checker's warnings about the text.
+    #[getter]
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+        let file = SourceFile::new("expression", self.inner.text());
+        crate::errors::diagnostic_list(py, self.inner.warnings(), &file)
+    }
+
+    /// The address of the machine code's C entry, an int (see `signature`). It stays
+    /// valid while this expression lives. The interpreter has none (ValueError).
+    #[getter]
+    fn address(&self) -> PyResult<usize> {
+        match self.inner.entry() {
+            Some(f) => Ok(f as usize),
+            None => Err(PyValueError::new_err(
+                "an expression compiled with engine=\"interp\" has no machine code",
+            )),
+        }
+    }
+
+    /// The C signature of `address`: `double (int n, double *x, void *out)`. `x` holds
+    /// the variables in order, then TIME when n exceeds their count; `out` receives
+    /// every output when there are several (NULL otherwise); the result is the first.
+    /// It is the signature `scipy.LowLevelCallable` takes for `quad`.
+    #[getter]
+    fn signature(&self) -> &'static str {
+        mbfx::jit::ENTRY_SIGNATURE
+    }
+
+    fn __repr__(&self) -> String {
+        let e = &self.inner;
+        let wrt = if e.wrt().is_empty() {
+            String::new()
+        } else {
+            format!(", wrt={:?}", e.wrt())
+        };
+        format!(
+            "mbfx.Expression({:?}, variables={:?}, engine={:?}{wrt})",
+            e.text(),
+            e.variables(),
+            engine_name(e.engine())
+        )
+    }
+
+    /// Pickled as its text, variables, engine and gradient names: rebuilt by compiling.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let e = &self.inner;
+        let rebuild = py.import("mbfx._mbfx")?.getattr("_rebuild_expression")?;
+        let args = (
+            e.text(),
+            PyTuple::new(py, e.variables())?,
+            engine_name(e.engine()),
+            PyTuple::new(py, e.wrt())?,
+        )
+            .into_pyobject(py)?;
+        Ok((rebuild, args))
+    }
+}
+
+/// The argument bound to each variable: positional ones first, then keywords by name
+/// (case-insensitive, as the language's names are).
+fn bind_arguments<'py>(
+    e: &Expression,
+    args: &Bound<'py, PyTuple>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let names = e.variables();
+    if args.len() > names.len() {
+        return Err(PyTypeError::new_err(format!(
+            "the expression takes {} values ({}), {} were given",
+            names.len(),
+            names.join(", "),
+            args.len()
+        )));
+    }
+    let mut slots: Vec<Option<Bound<'py, PyAny>>> = vec![None; names.len()];
+    for (slot, a) in slots.iter_mut().zip(args.iter()) {
+        *slot = Some(a);
+    }
+    if let Some(kw) = kwargs {
+        for (key, value) in kw.iter() {
+            let key: String = key.extract()?;
+            let k = names
+                .iter()
+                .position(|n| n.eq_ignore_ascii_case(&key))
+                .ok_or_else(|| {
+                    PyTypeError::new_err(format!(
+                        "`{key}` is not a variable of the expression (its variables: {})",
+                        names.join(", ")
+                    ))
+                })?;
+            if slots[k].replace(value).is_some() {
+                return Err(PyTypeError::new_err(format!(
+                    "`{}` is given twice",
+                    names[k]
+                )));
+            }
+        }
+    }
+    slots
+        .into_iter()
+        .zip(names)
+        .map(|(s, n)| s.ok_or_else(|| PyTypeError::new_err(format!("no value for `{n}`"))))
+        .collect()
+}
+
+/// `mbfx.compile(text, variables=(), engine="jit")`.
+#[pyfunction]
+#[pyo3(signature = (text, variables = None, engine = "jit"))]
+pub fn compile(
+    py: Python<'_>,
+    text: &str,
+    variables: Option<Vec<String>>,
+    engine: &str,
+) -> PyResult<PyExpression> {
+    guarded(|| {
+        let engine = engine_of(engine)?;
+        let variables = variables.unwrap_or_default();
+        let names: Vec<&str> = variables.iter().map(String::as_str).collect();
+        let inner = py
+            .detach(|| Expression::compile(text, &names, engine))
+            .map_err(|x| expr_error(py, text, x))?;
+        Ok(PyExpression { inner })
+    })
+}
+
+/// Unpickles an expression (see `Expression.__reduce__`).
+#[pyfunction]
+pub fn _rebuild_expression(
+    py: Python<'_>,
+    text: &str,
+    variables: Vec<String>,
+    engine: &str,
+    wrt: Vec<String>,
+) -> PyResult<PyExpression> {
+    let e = compile(py, text, Some(variables), engine)?;
+    if wrt.is_empty() {
+        return Ok(e);
+    }
+    e.gradient(py, Some(wrt))
+}

@@ -1,0 +1,35 @@
+//! The native part of the Python module `mbfx` (`mbfx._mbfx`): expressions compiled
+//! over named variables ([`expression`]) and evaluated over numpy arrays ([`arrays`]),
+//! datasets loaded, checked ([`model`]) and run ([`run`]), and the exceptions ([`errors`]). It is
+//! a thin layer over `mbfx::session`: every decision is the library's, so Python gives
+//! the command line's results bit for bit. The pure-Python part (`python/mbfx/`) adds
+//! the `Run` object, pandas and plotting.
+
+mod arrays;
+mod errors;
+mod expression;
+mod model;
+mod run;
+
+use pyo3::prelude::*;
+
+/// The module `mbfx._mbfx`.
+#[pymodule]
+fn _mbfx(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("MbfxError", py.get_type::<errors::MbfxError>())?;
+    m.add("CheckError", py.get_type::<errors::CheckError>())?;
+    m.add("RunError", py.get_type::<errors::RunError>())?;
+    m.add("InternalError", py.get_type::<errors::InternalError>())?;
+    m.add_class::<errors::PyDiagnostic>()?;
+    m.add_class::<expression::PyExpression>()?;
+    m.add_class::<model::PyModel>()?;
+    m.add_class::<model::PyReport>()?;
+    m.add_function(wrap_pyfunction!(expression::compile, m)?)?;
+    m.add_function(wrap_pyfunction!(expression::_rebuild_expression, m)?)?;
+    m.add_function(wrap_pyfunction!(model::load, m)?)?;
+    m.add_function(wrap_pyfunction!(model::_load_text, m)?)?;
+    m.add_function(wrap_pyfunction!(model::_panic_for_tests, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,386 @@
+//! `mbfx.load` and `Model`: a dataset read, built, assembled and analysed as `mbfx check`
+//! does, its `Report`, expressions evaluated at the assembled configuration, and runs
+//! ([`crate::run`]). A model keeps its dataset text: it pickles as that text and rebuilds
+//! itself in a worker process.
+
+use crate::errors::{check_error, diagnostic_list, guarded, plain_check_error};
+use crate::expression::engine_of;
+use mbfx::check::Expect;
+use mbfx::diag::{Diagnostic, SourceFile};
+use mbfx::mbd::system::Dimension;
+use mbfx::session::evaluate::{EvalError, Evaluator};
+use mbfx::session::files::read_dataset;
+use mbfx::session::loaded::LoadedModel;
+use mbfx::session::{self, DimRequest};
+use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use std::path::PathBuf;
+
+/// The dimension asked for: None (2D when the scene is planar), 2 or 3.
+pub fn dim_request(dim: Option<u8>) -> PyResult<DimRequest> {
+    match dim {
+        None => Ok(DimRequest::Auto),
+        Some(2) => Ok(DimRequest::Two),
+        Some(3) => Ok(DimRequest::Three),
+        Some(d) => Err(PyValueError::new_err(format!(
+            "dim must be 2, 3 or None, not {d}"
+        ))),
+    }
+}
+
+/// What `Model.check()` reports: the dimension and why, the degrees of freedom, and the
+/// redundant constraints in Adams' words. `str()` is the report `mbfx check` prints.
+#[pyclass(frozen, module = "mbfx._mbfx", name = "Report")]
+pub struct PyReport {
+    /// 2 or 3: the dimension the system was built in.
+    #[pyo3(get)]
+    dimension: u8,
+    /// Why that dimension, in words.
+    #[pyo3(get)]
+    dimension_reason: String,
+    /// Degrees of freedom (from the rank of the constraint Jacobian).
+    #[pyo3(get)]
+    dof: usize,
+    /// The Gruebler count (coordinates minus equations, redundant ones included).
+    #[pyo3(get)]
+    gruebler: i64,
+    /// Scalar constraint equations.
+    #[pyo3(get)]
+    equations: usize,
+    /// One line per redundant equation, in Adams Solver's words: `deactivating
+    /// constraint equation  Zi.Xj in JOINT_2`.
+    #[pyo3(get)]
+    redundant: Vec<String>,
+    /// A lighter element that would avoid each redundancy, one line per element.
+    #[pyo3(get)]
+    advice: Vec<String>,
+    /// The dataset's warnings.
+    #[pyo3(get)]
+    warnings: Py<PyList>,
+    text: String,
+}
+
+#[pymethods]
+impl PyReport {
+    fn __str__(&self) -> String {
+        self.text.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Report(dimension={}, dof={}, redundant={})",
+            self.dimension,
+            self.dof,
+            self.redundant.len()
+        )
+    }
+}
+
+/// The figures and words of an analysis, which (unlike the analysis) may cross threads.
+struct Analysed {
+    dimension: u8,
+    dimension_reason: String,
+    dof: usize,
+    gruebler: i64,
+    equations: usize,
+    redundant: Vec<String>,
+    advice: Vec<String>,
+    text: String,
+}
+
+/// A dataset (`.adm`), read and analysed. Build it with `mbfx.load`.
+#[pyclass(frozen, module = "mbfx._mbfx", name = "Model")]
+pub struct PyModel {
+    /// The dataset text.
+    pub text: String,
+    /// The name diagnostics show (the file, or `dataset`).
+    pub name: String,
+    /// The dimension asked for at load.
+    pub dim: Option<u8>,
+    title: String,
+    parts: Vec<u32>,
+    markers: Vec<(u32, u32)>,
+    report: Py<PyReport>,
+}
+
+/// Loads `source`: a path (str without a newline, or os.PathLike) or a dataset's text.
+#[pyfunction]
+#[pyo3(signature = (source, dim = None))]
+pub fn load(py: Python<'_>, source: &Bound<'_, PyAny>, dim: Option<u8>) -> PyResult<PyModel> {
+    guarded(|| {
+        let os = py.import("os")?;
+        let is_path = source.is_instance(&os.getattr("PathLike")?)?;
+        let text: Option<String> = if is_path {
+            None
+        } else {
+            Some(source.extract::<String>().map_err(|_| {
+                pyo3::exceptions::PyTypeError::new_err(
+                    "load takes a path (str or os.PathLike) or the dataset's text",
+                )
+            })?)
+        };
+        match text {
+            Some(t) if t.contains('\n') => build(py, t, "dataset".into(), Vec::new(), dim),
+            _ => {
+                let path: PathBuf = match text {
+                    Some(t) => PathBuf::from(t),
+                    None => os.call_method1("fspath", (source,))?.extract()?,
+                };
+                let (text, early) = read_dataset(&path)
+                    .map_err(|u| check_error(py, std::slice::from_ref(&u.diagnostic), &u.source))?;
+                build(py, text, path.display().to_string(), early, dim)
+            }
+        }
+    })
+}
+
+/// Rebuilds a pickled model from its text, name and dimension.
+#[pyfunction]
+#[pyo3(signature = (text, name, dim = None))]
+pub fn _load_text(
+    py: Python<'_>,
+    text: String,
+    name: String,
+    dim: Option<u8>,
+) -> PyResult<PyModel> {
+    guarded(|| build(py, text, name, Vec::new(), dim))
+}
+
+/// Panics inside Rust, so the tests can see it become `InternalError`.
+#[pyfunction]
+pub fn _panic_for_tests() -> PyResult<()> {
+    guarded(|| panic!("a deliberate panic"))
+}
+
+/// Reads and analyses `text` (as `mbfx check` does): its errors are a `CheckError`.
+fn build(
+    py: Python<'_>,
+    text: String,
+    name: String,
+    early: Vec<Diagnostic>,
+    dim: Option<u8>,
+) -> PyResult<PyModel> {
+    let asked = dim_request(dim)?;
+    let file = SourceFile::new(name.clone(), text.clone());
+    let read = mbfx::model::read_model(&text);
+    let mut diags = early;
+    diags.extend(read.diagnostics.iter().cloned());
+    if read.has_errors() {
+        return Err(check_error(py, &diags, &file));
+    }
+    // The analysis holds compiled code that stays on its thread: only its figures and
+    // words leave the GIL-free section.
+    let analysed = py.detach(|| {
+        let analysis = session::analyze_model(&read.model, asked).map_err(|f| {
+            let found = session::report::diagnostics(&f, &read.model);
+            (found, f.to_string())
+        })?;
+        let r = &analysis.redundancy;
+        let mut sections = vec![mbfx::model::report::summary(&read.model)];
+        sections.extend(session::report::sections(&analysis, asked));
+        Ok::<_, (Vec<Diagnostic>, String)>(Analysed {
+            dimension: match analysis.system.dim {
+                Dimension::Two => 2,
+                Dimension::Three => 3,
+            },
+            dimension_reason: analysis.system.dim_reason.clone(),
+            dof: r.dof(),
+            gruebler: r.grubler(),
+            equations: r.equations,
+            redundant: r
+                .adams_message(None)
+                .lines()
+                .filter_map(|l| l.strip_prefix(" -  "))
+                .map(|l| l.trim().to_string())
+                .collect(),
+            advice: r.advice_message().lines().map(str::to_string).collect(),
+            text: mbfx::model::report::format_report(&name, &sections),
+        })
+    });
+    let a = analysed.map_err(|(found, why)| {
+        let mut all = diags.clone();
+        all.extend(found);
+        if mbfx::diag::has_errors(&all) {
+            check_error(py, &all, &file)
+        } else {
+            plain_check_error(py, format!("{name}: {why}"))
+        }
+    })?;
+    let report = PyReport {
+        dimension: a.dimension,
+        dimension_reason: a.dimension_reason,
+        dof: a.dof,
+        gruebler: a.gruebler,
+        equations: a.equations,
+        redundant: a.redundant,
+        advice: a.advice,
+        warnings: diagnostic_list(py, &diags, &file)?.unbind(),
+        text: a.text,
+    };
+    let model = &read.model;
+    Ok(PyModel {
+        title: model.title.clone(),
+        parts: model.parts.iter().map(|p| p.el.id).collect(),
+        markers: model.markers.iter().map(|m| (m.el.id, m.part)).collect(),
+        report: Py::new(py, report)?,
+        text,
+        name,
+        dim,
+    })
+}
+
+#[pymethods]
+impl PyModel {
+    /// The dataset's title (its first line).
+    #[getter]
+    fn title(&self) -> &str {
+        &self.title
+    }
+
+    /// The dataset text.
+    #[getter]
+    fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The name diagnostics show: the file, or `dataset` for a text.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// PART ids, ground included, in file order.
+    #[getter]
+    fn parts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        PyList::new(py, &self.parts)
+    }
+
+    /// MARKER ids and the part each is on, as a dict.
+    #[getter]
+    fn markers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for &(m, p) in &self.markers {
+            d.set_item(m, p)?;
+        }
+        Ok(d)
+    }
+
+    /// The analysis `mbfx check` prints: dimension, degrees of freedom, redundancy.
+    fn check(&self, py: Python<'_>) -> Py<PyReport> {
+        self.report.clone_ref(py)
+    }
+
+    /// The value of `expr` at the assembled configuration (TIME 0): a float, or an
+    /// array of 3 for a vector.
+    #[pyo3(signature = (expr, engine = "jit"))]
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        expr: &str,
+        engine: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        guarded(|| {
+            let engine = engine_of(engine)?;
+            let asked = dim_request(self.dim)?;
+            let result = py.detach(|| {
+                let loaded =
+                    LoadedModel::load(&self.text, asked).map_err(|f| Err(f.1.to_string()))?;
+                let mut ev = Evaluator::new(engine);
+                ev.set_model(Some(loaded));
+                ev.evaluate(expr, Expect::Any).map_err(Ok)
+            });
+            let file = SourceFile::new("expression", expr);
+            match result {
+                Ok(v) if v.values.len() == 1 => Ok(v.values[0].into_pyobject(py)?.into_any()),
+                Ok(v) => Ok(PyArray1::from_vec(py, v.values).into_any()),
+                Err(Err(why)) => Err(plain_check_error(py, why)),
+                Err(Ok(EvalError::Diagnostics(d))) => Err(check_error(py, &d, &file)),
+                Err(Ok(e)) => Err(plain_check_error(
+                    py,
+                    e.failure()
+                        .unwrap_or_else(|| "the expression has no value".into()),
+                )),
+            }
+        })
+    }
+
+    /// Simulates the model to `end`, as `mbfx run` does with the same arguments and
+    /// defaults, and returns an `mbfx.Run`. `probes` maps output column names to
+    /// expressions. A failure raises `RunError` with the rows so far as `.run`; Ctrl-C
+    /// raises `KeyboardInterrupt` with them.
+    #[pyo3(signature = (
+        end = None, output_step = None, integrator = None, error = None, probes = None,
+        progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
+        alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
+        cartesian = false, engine = "jit"
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        py: Python<'_>,
+        end: Option<f64>,
+        output_step: Option<f64>,
+        integrator: Option<&str>,
+        error: Option<f64>,
+        probes: Option<&Bound<'_, PyDict>>,
+        progress: bool,
+        hmax: Option<f64>,
+        hinit: Option<f64>,
+        hmin: Option<f64>,
+        fixed_step: Option<f64>,
+        alpha: Option<f64>,
+        rho_inf: Option<f64>,
+        kmax: Option<u32>,
+        formulation: Option<String>,
+        error_per: &str,
+        cartesian: bool,
+        engine: &str,
+    ) -> PyResult<Py<PyAny>> {
+        guarded(|| {
+            let options = crate::run::Options {
+                hmax,
+                hinit,
+                hmin,
+                fixed_step,
+                alpha,
+                rho_inf,
+                kmax,
+                formulation,
+                error_per: error_per.to_string(),
+                cartesian,
+                engine: engine.to_string(),
+            };
+            let r =
+                crate::run::request(self, end, output_step, integrator, error, probes, &options)?;
+            crate::run::run_model(py, &r, progress)
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "mbfx.Model({:?}, {} parts, {} markers)",
+            self.name,
+            self.parts.len(),
+            self.markers.len()
+        )
+    }
+
+    /// Pickled as its text: a worker process rebuilds it.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let rebuild = py.import("mbfx._mbfx")?.getattr("_load_text")?;
+        let args = PyTuple::new(
+            py,
+            [
+                self.text.clone().into_pyobject(py)?.into_any(),
+                self.name.clone().into_pyobject(py)?.into_any(),
+                self.dim.into_pyobject(py)?.into_any(),
+            ],
+        )?;
+        Ok((rebuild, args))
+    }
+}

@@ -1,0 +1,258 @@
+//! `Model.run`: a [`RunRequest`] built from `mbfx run`'s arguments, run by
+//! `mbfx::session::request::run` on a worker thread while the calling thread, without the
+//! GIL, wakes every 50 ms to move the progress bar and to let Python see Ctrl-C. Ctrl-C
+//! sets the run's interrupt flag (read at every integration step), so the run stops
+//! within a step and the rows so far come back on the `KeyboardInterrupt` as `.run`.
+//! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`.
+
+use crate::errors::{diagnostic_list, RunError};
+use crate::expression::engine_of;
+use crate::model::{dim_request, PyModel};
+use mbfx::model::integrator_settings::Formulation;
+use mbfx::session::request::{run, RunDone, RunFailed, RunRequest};
+use mbfx::session::run::{Method, Summary};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Condvar, Mutex};
+use std::time::Duration;
+
+/// How often the waiting thread looks at Ctrl-C and the progress bar.
+const POLL: Duration = Duration::from_millis(50);
+
+/// The integrator named by `name`, as `mbfx run --integrator` spells it.
+fn method_of(name: &str) -> PyResult<Method> {
+    Ok(match name.to_ascii_lowercase().as_str() {
+        "gstiff" => Method::Gstiff,
+        "wstiff" => Method::Wstiff,
+        "hht" => Method::Hht,
+        "galpha" | "generalized-alpha" => Method::Galpha,
+        "newmark" => Method::Newmark,
+        "dopri853" => Method::Dopri853,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "integrator must be one of gstiff, wstiff, hht, galpha, newmark, dopri853; not {name:?}"
+            )))
+        }
+    })
+}
+
+/// The options of `Model.run` beyond the common ones, as keywords.
+pub struct Options {
+    pub hmax: Option<f64>,
+    pub hinit: Option<f64>,
+    pub hmin: Option<f64>,
+    pub fixed_step: Option<f64>,
+    pub alpha: Option<f64>,
+    pub rho_inf: Option<f64>,
+    pub kmax: Option<u32>,
+    pub formulation: Option<String>,
+    pub error_per: String,
+    pub cartesian: bool,
+    pub engine: String,
+}
+
+/// The request `Model.run`'s arguments make.
+#[allow(clippy::too_many_arguments)]
+pub fn request(
+    model: &PyModel,
+    end: Option<f64>,
+    output_step: Option<f64>,
+    integrator: Option<&str>,
+    error: Option<f64>,
+    probes: Option<&Bound<'_, PyDict>>,
+    o: &Options,
+) -> PyResult<RunRequest> {
+    let mut r = RunRequest::dataset(model.name.clone(), model.text.clone());
+    r.end = end;
+    r.output_step = output_step;
+    r.method = integrator.map(method_of).transpose()?;
+    r.error = error;
+    (r.hmax, r.hinit, r.hmin) = (o.hmax, o.hinit, o.hmin);
+    (r.fixed_step, r.alpha, r.rho_inf, r.kmax) = (o.fixed_step, o.alpha, o.rho_inf, o.kmax);
+    r.formulation = match o
+        .formulation
+        .as_deref()
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        None => None,
+        Some("i3") => Some(Formulation::I3),
+        Some("si2") => Some(Formulation::Si2),
+        Some(f) => {
+            return Err(PyValueError::new_err(format!(
+                "formulation must be \"i3\" or \"si2\", not {f:?}"
+            )))
+        }
+    };
+    r.error_per_run = match o.error_per.to_ascii_lowercase().as_str() {
+        "step" => false,
+        "run" => true,
+        e => {
+            return Err(PyValueError::new_err(format!(
+                "error_per must be \"step\" or \"run\", not {e:?}"
+            )))
+        }
+    };
+    r.cartesian = o.cartesian;
+    r.engine = engine_of(&o.engine)?;
+    r.dim = dim_request(model.dim)?;
+    if let Some(p) = probes {
+        for (name, expr) in p.iter() {
+            r.probes.push((name.extract()?, expr.extract()?));
+        }
+    }
+    Ok(r)
+}
+
+/// What the worker hands back: the rows (flat), and the outcome.
+type Outcome = (Vec<f64>, Result<RunDone, Box<RunFailed>>);
+
+/// Runs `request` on a worker thread (see the module docs) and returns an `mbfx.Run`,
+/// or raises `RunError` / `KeyboardInterrupt` carrying the rows so far.
+pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResult<Py<PyAny>> {
+    let interrupt = AtomicBool::new(false);
+    let reached = AtomicU64::new(0f64.to_bits());
+    let bar = match progress {
+        true => Some(
+            py.import("mbfx")?
+                .getattr("_Progress")?
+                .call1((request.end.unwrap_or(0.0),))?,
+        ),
+        false => None,
+    };
+    let mut stopped_by_user = false;
+    let done = (Mutex::new(false), Condvar::new());
+    let (rows, result) = std::thread::scope(|scope| -> PyResult<Outcome> {
+        let worker = scope.spawn(|| {
+            let mut rows = Vec::new();
+            let mut sink = |row: &[f64]| -> std::io::Result<()> {
+                rows.extend_from_slice(row);
+                reached.store(row[0].to_bits(), Ordering::Relaxed);
+                Ok(())
+            };
+            let result = run(request, &mut sink, Some(&interrupt));
+            let (flag, woken) = &done;
+            *flag.lock().unwrap_or_else(|p| p.into_inner()) = true;
+            woken.notify_all();
+            (rows, result)
+        });
+        loop {
+            let finished = py.detach(|| {
+                let (flag, woken) = &done;
+                let guard = flag.lock().unwrap_or_else(|p| p.into_inner());
+                let waited = woken.wait_timeout_while(guard, POLL, |finished| !*finished);
+                waited.map_or(true, |(finished, _)| *finished)
+            });
+            if let Some(bar) = &bar {
+                bar.call_method1("update", (f64::from_bits(reached.load(Ordering::Relaxed)),))?;
+            }
+            if finished {
+                break;
+            }
+            if !stopped_by_user {
+                if let Err(e) = py.check_signals() {
+                    if e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                        stopped_by_user = true;
+                        interrupt.store(true, Ordering::Relaxed);
+                    } else {
+                        interrupt.store(true, Ordering::Relaxed);
+                        let _ = py.detach(|| worker.join());
+                        return Err(e);
+                    }
+                }
+            }
+        }
+        py.detach(|| worker.join())
+            .map_err(|_| crate::errors::InternalError::new_err("the run's thread panicked"))
+    })?;
+    if let Some(bar) = &bar {
+        bar.call_method0("close")?;
+    }
+    match result {
+        Ok(done) => run_object(
+            py,
+            &done.header,
+            rows,
+            Some(&done.summary),
+            &done.dim_reason,
+        ),
+        Err(failed) => {
+            let header = failed.header.clone().unwrap_or_else(|| vec!["time".into()]);
+            let partial = match failed.header {
+                Some(_) => Some(run_object(py, &header, rows, failed.summary.as_ref(), "")?),
+                None => None,
+            };
+            if stopped_by_user && failed.code == mbfx::diag::Code::Interrupted {
+                let e = PyKeyboardInterrupt::new_err(format!(
+                    "the run was interrupted at t = {}",
+                    failed.time.unwrap_or(0.0)
+                ));
+                e.value(py).setattr("run", partial)?;
+                return Err(e);
+            }
+            Err(run_error(py, &failed, partial)?)
+        }
+    }
+}
+
+/// `RunError` for `failed`, carrying the partial run.
+fn run_error(py: Python<'_>, failed: &RunFailed, partial: Option<Py<PyAny>>) -> PyResult<PyErr> {
+    let e = RunError::new_err(failed.render(false).trim_end().to_string());
+    let v = e.value(py);
+    v.setattr("time", failed.time)?;
+    v.setattr("element", failed.element.clone())?;
+    v.setattr("cause", failed.cause.clone())?;
+    v.setattr("code", failed.code.as_str())?;
+    v.setattr("probe", failed.probe.clone())?;
+    v.setattr(
+        "diagnostics",
+        diagnostic_list(py, &failed.diagnostics, &failed.source)?,
+    )?;
+    v.setattr("run", partial)?;
+    Ok(e)
+}
+
+/// An `mbfx.Run` of `rows` (flat, `header.len()` a row).
+fn run_object(
+    py: Python<'_>,
+    header: &[String],
+    rows: Vec<f64>,
+    summary: Option<&Summary>,
+    dim_reason: &str,
+) -> PyResult<Py<PyAny>> {
+    let width = header.len().max(1);
+    let n = rows.len() / width;
+    let data = PyArray1::from_vec(py, rows).reshape([n, width])?;
+    let stats = PyDict::new(py);
+    let (mut warnings, mut notes, mut text, mut integrator) =
+        (Vec::new(), Vec::new(), String::new(), "");
+    if let Some(s) = summary {
+        let st = &s.stats;
+        stats.set_item("steps", st.steps)?;
+        stats.set_item("rejected", st.rejected)?;
+        stats.set_item("newton_iterations", st.newton_iterations)?;
+        stats.set_item("jacobian_evaluations", st.jacobian_evaluations)?;
+        stats.set_item("factorizations", st.factorizations)?;
+        stats.set_item("expression_evaluations", st.expression_evaluations)?;
+        stats.set_item("events", st.events)?;
+        stats.set_item("cpu_seconds", s.cpu_seconds)?;
+        stats.set_item("max_residual", s.max_residual)?;
+        (warnings, notes) = (s.warnings.clone(), s.notes.clone());
+        text = s.text();
+        integrator = s.integrator;
+    }
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("warnings", PyList::new(py, warnings)?)?;
+    kwargs.set_item("notes", PyList::new(py, notes)?)?;
+    kwargs.set_item("summary", text)?;
+    kwargs.set_item("integrator", integrator)?;
+    kwargs.set_item("dimension", dim_reason)?;
+    let run = py
+        .import("mbfx")?
+        .getattr("Run")?
+        .call((header.to_vec(), data, stats), Some(&kwargs))?;
+    Ok(run.unbind())
+}

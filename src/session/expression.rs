@@ -1,0 +1,590 @@
+//! One expression over named variables, compiled once and evaluated many times: what the
+//! Python module's `mbfx.compile` and the C API's `mbfx_compile` hand out. The variables
+//! are named in the order the caller gives them (values are passed in that order), TIME
+//! comes with each point, and MODE is 4 (dynamics). No model: an expression that reads a
+//! measure is a diagnostic here (a model's expressions go through [`super::loaded`]).
+//!
+//! ```
+//! use mbfx::session::expression::{Column, Expression};
+//! use mbfx::session::run::Engine;
+//!
+//! let e = Expression::compile("k*STEP(x, 0, 0, 1, 1) + TIME", &["x", "k"], Engine::Jit).unwrap();
+//! assert_eq!(e.eval(&[0.5, 2.0], 0.25).unwrap(), [2.0 * 0.5 * 0.5 * (3.0 - 2.0 * 0.5) + 0.25]);
+//! let g = e.gradient(&["k"]).unwrap(); // the value, then ∂/∂k
+//! assert_eq!(g.outputs(), 2);
+//! let mut out = vec![0.0; 3];
+//! e.eval_columns(&[Column::Values(&[0.0, 0.5, 1.0]), Column::Const(2.0)], Column::Const(0.0), &mut out)
+//!     .unwrap();
+//! assert_eq!(out, [0.0, 1.0, 2.0]);
+//! ```
+//!
+//! Both engines give the same bits (they run the same IR and runtime). The JIT also
+//! gives a stable C entry ([`crate::jit::entry`]) that foreign code calls directly.
+
+use super::run::Engine;
+use crate::check::scope::check_variable_name;
+use crate::check::{self, Expect, Variables};
+use crate::context::Context;
+use crate::diag::{Code, Diagnostic};
+use crate::interp::Program;
+use crate::ir::deriv::{gradient, DerivError, Input};
+use crate::ir::Function;
+use crate::jit::{CompiledExpr, EntryFn, Jit, JitError};
+use std::cell::RefCell;
+use std::fmt;
+
+/// Why an expression could not be compiled or evaluated.
+#[derive(Clone, Debug)]
+pub enum ExprError {
+    /// The text has errors (spans into it); warnings found with them come along.
+    Diagnostics(Vec<Diagnostic>),
+    /// A variable name is not a name, is a builtin, or is given twice.
+    BadVariable {
+        /// The name as given.
+        name: String,
+        /// Why it cannot be a variable.
+        why: String,
+    },
+    /// A gradient was asked with respect to something that is neither a variable of
+    /// the expression nor TIME.
+    UnknownVariable(String),
+    /// The expression cannot be differentiated (a library function without a second
+    /// derivative, a spline beyond its second).
+    Deriv(DerivError),
+    /// The JIT could not compile it (never a user error).
+    Jit(JitError),
+    /// A point was given with the wrong number of values.
+    Arity {
+        /// How many variables the expression takes.
+        expected: usize,
+        /// How many values came.
+        got: usize,
+    },
+    /// Columns of different lengths were given, or an output buffer of the wrong size.
+    Length {
+        /// What has the wrong length.
+        what: &'static str,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        got: usize,
+    },
+}
+
+impl ExprError {
+    /// The stable code of the error: the first error diagnostic's for text errors,
+    /// else the code this kind of failure is reported under.
+    pub fn code(&self) -> Code {
+        match self {
+            ExprError::Diagnostics(d) => d
+                .iter()
+                .find(|d| d.is_error())
+                .or(d.first())
+                .map_or(Code::CommandLine, |d| d.code),
+            ExprError::Deriv(_) | ExprError::Jit(_) => Code::Unsupported,
+            ExprError::BadVariable { .. }
+            | ExprError::UnknownVariable(_)
+            | ExprError::Arity { .. }
+            | ExprError::Length { .. } => Code::CommandLine,
+        }
+    }
+
+    /// The diagnostics about the text, if that is what failed.
+    pub fn diagnostics(&self) -> &[Diagnostic] {
+        match self {
+            ExprError::Diagnostics(d) => d,
+            _ => &[],
+        }
+    }
+}
+
+impl fmt::Display for ExprError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ExprError::Diagnostics(d) => {
+                let mut errors = d.iter().filter(|d| d.is_error()).map(|d| &d.message);
+                match errors.next() {
+                    Some(m) => write!(f, "{m}"),
+                    None => write!(f, "the expression has errors"),
+                }
+            }
+            ExprError::BadVariable { name, why } => write!(f, "variable `{name}`: {why}"),
+            ExprError::UnknownVariable(name) => {
+                write!(f, "`{name}` is not a variable of the expression (nor TIME)")
+            }
+            ExprError::Deriv(e) => write!(f, "{e}"),
+            ExprError::Jit(e) => write!(f, "{e}"),
+            ExprError::Arity { expected, got } => {
+                write!(
+                    f,
+                    "the expression takes {expected} values, {got} were given"
+                )
+            }
+            ExprError::Length {
+                what,
+                expected,
+                got,
+            } => write!(f, "{what} has length {got}, expected {expected}"),
+        }
+    }
+}
+
+impl std::error::Error for ExprError {}
+
+/// One input of [`Expression::eval_columns`]: a value for every point, or one for all.
+#[derive(Clone, Copy, Debug)]
+pub enum Column<'a> {
+    /// The same value at every point (a broadcast scalar).
+    Const(f64),
+    /// One value per point.
+    Values(&'a [f64]),
+}
+
+impl Column<'_> {
+    /// The number of points this column fixes (None for a constant).
+    fn len(&self) -> Option<usize> {
+        match self {
+            Column::Const(_) => None,
+            Column::Values(v) => Some(v.len()),
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, i: usize) -> f64 {
+        match self {
+            Column::Const(x) => *x,
+            Column::Values(v) => v[i],
+        }
+    }
+}
+
+/// The compiled code of one expression.
+#[derive(Clone)]
+enum Compiled {
+    Interp(Box<Program>),
+    Jit(CompiledExpr),
+}
+
+/// A compiled expression over named variables (see the module docs). Cloning shares the
+/// machine code; an expression may move to and be shared by other threads.
+#[derive(Clone)]
+pub struct Expression {
+    text: String,
+    variables: Vec<String>,
+    engine: Engine,
+    function: Function,
+    code: Compiled,
+    /// The variables (or TIME) the partials are taken in, for a gradient.
+    wrt: Vec<String>,
+    warnings: Vec<Diagnostic>,
+}
+
+impl fmt::Debug for Expression {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Expression")
+            .field("text", &self.text)
+            .field("variables", &self.variables)
+            .field("engine", &self.engine)
+            .field("wrt", &self.wrt)
+            .finish()
+    }
+}
+
+thread_local! {
+    /// One JIT a thread, made on first use (its contexts are reused between compilations).
+    static JIT: RefCell<Option<Jit>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with this thread's JIT.
+fn with_jit<R>(f: impl FnOnce(&mut Jit) -> Result<R, JitError>) -> Result<R, JitError> {
+    JIT.with(|cell| {
+        let mut slot = cell
+            .try_borrow_mut()
+            .map_err(|_| JitError::Module("the JIT is busy on this thread".into()))?;
+        if slot.is_none() {
+            *slot = Some(Jit::new()?);
+        }
+        match slot.as_mut() {
+            Some(jit) => f(jit),
+            None => Err(JitError::Malformed(0)),
+        }
+    })
+}
+
+impl Expression {
+    /// Checks `text` with `variables` in scope (in that order; names are
+    /// case-insensitive and must be distinct) and compiles it with `engine`.
+    pub fn compile(text: &str, variables: &[&str], engine: Engine) -> Result<Self, ExprError> {
+        let mut scope = Variables::new();
+        for (k, &name) in variables.iter().enumerate() {
+            if let Err(why) = check_variable_name(name) {
+                return Err(ExprError::BadVariable {
+                    name: name.to_string(),
+                    why: why.message(name),
+                });
+            }
+            if scope.define(name) as usize != k {
+                return Err(ExprError::BadVariable {
+                    name: name.to_string(),
+                    why: "given twice (names are case-insensitive)".into(),
+                });
+            }
+        }
+        let checked = check::compile(text, &scope, Expect::Any).map_err(ExprError::Diagnostics)?;
+        let variables = variables.iter().map(|v| v.to_string()).collect();
+        Self::build(
+            text.to_string(),
+            variables,
+            engine,
+            checked.function,
+            Vec::new(),
+            checked.warnings,
+        )
+    }
+
+    fn build(
+        text: String,
+        variables: Vec<String>,
+        engine: Engine,
+        function: Function,
+        wrt: Vec<String>,
+        warnings: Vec<Diagnostic>,
+    ) -> Result<Self, ExprError> {
+        let code = match engine {
+            Engine::Interp => Compiled::Interp(Box::new(Program::new(function.clone()))),
+            Engine::Jit => {
+                let n = variables.len();
+                let compiled = with_jit(|jit| match jit.compile_with_entry(&function, n)? {
+                    Some(code) => Ok(code),
+                    // No model here, so no measure: the checker let none through.
+                    None => jit.compile(&function),
+                })
+                .map_err(ExprError::Jit)?;
+                Compiled::Jit(compiled)
+            }
+        };
+        Ok(Expression {
+            text,
+            variables,
+            engine,
+            function,
+            code,
+            wrt,
+            warnings,
+        })
+    }
+
+    /// The expression's text.
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// The variables, in the order values are given.
+    pub fn variables(&self) -> &[String] {
+        &self.variables
+    }
+
+    /// The engine that runs it.
+    pub fn engine(&self) -> Engine {
+        self.engine
+    }
+
+    /// The checker's warnings (spans into the text).
+    pub fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+
+    /// For a gradient, the names its partials are taken in (empty otherwise).
+    pub fn wrt(&self) -> &[String] {
+        &self.wrt
+    }
+
+    /// Values per point: 1 for a scalar, 3 for a vector, and for a gradient those then
+    /// each output's partials in `wrt` order.
+    pub fn outputs(&self) -> usize {
+        self.function.outputs.len()
+    }
+
+    /// The typed IR it was compiled from.
+    pub fn function(&self) -> &Function {
+        &self.function
+    }
+
+    /// The value and partials of this expression with respect to `wrt` (variables of
+    /// the expression, or `TIME`): a new expression with the same variables and engine
+    /// whose outputs are this one's, then each output's partials in `wrt` order.
+    pub fn gradient(&self, wrt: &[&str]) -> Result<Expression, ExprError> {
+        let mut inputs = Vec::with_capacity(wrt.len());
+        for &name in wrt {
+            let upper = name.to_ascii_uppercase();
+            let input = match self
+                .variables
+                .iter()
+                .position(|v| v.to_ascii_uppercase() == upper)
+            {
+                Some(k) => Input::Var(k as u32),
+                None if upper == "TIME" => Input::Time,
+                None => return Err(ExprError::UnknownVariable(name.to_string())),
+            };
+            inputs.push(input);
+        }
+        let function = gradient(&self.function, &inputs).map_err(ExprError::Deriv)?;
+        Self::build(
+            self.text.clone(),
+            self.variables.clone(),
+            self.engine,
+            function,
+            wrt.iter().map(|w| w.to_string()).collect(),
+            self.warnings.clone(),
+        )
+    }
+
+    /// Every output at one point: `vars` in [`Expression::variables`] order.
+    pub fn eval(&self, vars: &[f64], time: f64) -> Result<Vec<f64>, ExprError> {
+        let mut out = vec![0.0; self.outputs()];
+        self.eval_into(vars, time, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`Expression::eval`] into `out`, which holds [`Expression::outputs`] values.
+    pub fn eval_into(&self, vars: &[f64], time: f64, out: &mut [f64]) -> Result<(), ExprError> {
+        if vars.len() != self.variables.len() {
+            return Err(ExprError::Arity {
+                expected: self.variables.len(),
+                got: vars.len(),
+            });
+        }
+        if out.len() != self.outputs() {
+            return Err(ExprError::Length {
+                what: "the output buffer",
+                expected: self.outputs(),
+                got: out.len(),
+            });
+        }
+        self.run(&Context::new(time, vars), out);
+        Ok(())
+    }
+
+    /// The first output at one point (the value of a scalar expression).
+    pub fn eval_scalar(&self, vars: &[f64], time: f64) -> Result<f64, ExprError> {
+        if vars.len() != self.variables.len() {
+            return Err(ExprError::Arity {
+                expected: self.variables.len(),
+                got: vars.len(),
+            });
+        }
+        let ctx = Context::new(time, vars);
+        Ok(match &self.code {
+            Compiled::Jit(c) if self.outputs() == 1 => c.eval(&ctx),
+            _ => {
+                let mut out = vec![0.0; self.outputs()];
+                self.run(&ctx, &mut out);
+                out[0]
+            }
+        })
+    }
+
+    #[inline(always)]
+    fn run(&self, ctx: &Context, out: &mut [f64]) {
+        match &self.code {
+            Compiled::Interp(p) => p.eval_into(ctx, out),
+            Compiled::Jit(c) => c.eval_into(ctx, out),
+        }
+    }
+
+    /// Evaluates at many points: `columns` holds one column per variable (in order) and
+    /// `time` one for TIME; every column of values has the same length n (with none, n
+    /// is 1). `out` holds n·[`Expression::outputs`] values, point after point.
+    pub fn eval_columns(
+        &self,
+        columns: &[Column],
+        time: Column,
+        out: &mut [f64],
+    ) -> Result<usize, ExprError> {
+        if columns.len() != self.variables.len() {
+            return Err(ExprError::Arity {
+                expected: self.variables.len(),
+                got: columns.len(),
+            });
+        }
+        let mut n = None;
+        for c in columns.iter().chain(std::iter::once(&time)) {
+            match (n, c.len()) {
+                (_, None) => {}
+                (None, Some(len)) => n = Some(len),
+                (Some(a), Some(b)) if a != b => {
+                    return Err(ExprError::Length {
+                        what: "a column",
+                        expected: a,
+                        got: b,
+                    })
+                }
+                _ => {}
+            }
+        }
+        let n = n.unwrap_or(1);
+        let k = self.outputs();
+        if out.len() != n * k {
+            return Err(ExprError::Length {
+                what: "the output buffer",
+                expected: n * k,
+                got: out.len(),
+            });
+        }
+        let mut vars = vec![0.0; columns.len()];
+        match &self.code {
+            Compiled::Jit(code) if k == 1 => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    for (v, c) in vars.iter_mut().zip(columns) {
+                        *v = c.at(i);
+                    }
+                    *o = code.eval(&Context::new(time.at(i), &vars));
+                }
+            }
+            _ => {
+                for (i, o) in out.chunks_exact_mut(k).enumerate() {
+                    for (v, c) in vars.iter_mut().zip(columns) {
+                        *v = c.at(i);
+                    }
+                    self.run(&Context::new(time.at(i), &vars), o);
+                }
+            }
+        }
+        Ok(n)
+    }
+
+    /// The stable C entry of the machine code ([`crate::jit::entry`]: its signature is
+    /// [`crate::jit::ENTRY_SIGNATURE`]); None with the interpreter. The pointer is valid
+    /// while this expression (or a clone of it) lives.
+    pub fn entry(&self) -> Option<EntryFn> {
+        match &self.code {
+            Compiled::Jit(c) => c.entry(),
+            Compiled::Interp(_) => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn both_engines_and_the_entry_give_the_same_bits() {
+        let text = "IF(x - 1: SIN(x)*y, 0, EXP(-x)) + TIME**2 + ATAN2(y, x)";
+        let points = [(0.5, 2.0, 0.0), (1.0, -3.0, 1.5), (2.5, 0.25, -2.0)];
+        let jit = Expression::compile(text, &["x", "y"], Engine::Jit).unwrap();
+        let interp = Expression::compile(text, &["x", "y"], Engine::Interp).unwrap();
+        assert!(interp.entry().is_none());
+        let entry = jit.entry().expect("the JIT gives an entry");
+        for (x, y, t) in points {
+            let a = jit.eval_scalar(&[x, y], t).unwrap();
+            let b = interp.eval_scalar(&[x, y], t).unwrap();
+            let args = [x, y, t];
+            // SAFETY: three values for two variables and TIME; a scalar writes no output.
+            let c = unsafe { entry(3, args.as_ptr(), std::ptr::null_mut()) };
+            assert_eq!((a.to_bits(), a.to_bits()), (b.to_bits(), c.to_bits()));
+            // The closed form, from the spec's IF and the libm functions.
+            let want = if x < 1.0 {
+                x.sin() * y
+            } else if x == 1.0 {
+                0.0
+            } else {
+                (-x).exp()
+            } + t * t
+                + y.atan2(x);
+            assert!(
+                (a - want).abs() <= 1e-15 * want.abs().max(1.0),
+                "{a} vs {want}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_entry_refuses_short_inputs_and_a_missing_output_buffer() {
+        let e = Expression::compile("x + y", &["x", "y"], Engine::Jit).unwrap();
+        let entry = e.entry().unwrap();
+        let args = [1.0, 2.0];
+        // SAFETY: the entry reads nothing when n is below the variable count.
+        let short = unsafe { entry(1, args.as_ptr(), std::ptr::null_mut()) };
+        assert!(short.is_nan());
+        // SAFETY: two variables, no TIME (0).
+        let sum = unsafe { entry(2, args.as_ptr(), std::ptr::null_mut()) };
+        assert_eq!(sum, 3.0);
+        let g = e.gradient(&["x", "y"]).unwrap();
+        let entry = g.entry().unwrap();
+        // SAFETY: a gradient writes outputs, so a NULL buffer is refused before any read.
+        let refused = unsafe { entry(2, args.as_ptr(), std::ptr::null_mut()) };
+        assert!(refused.is_nan());
+        let mut out = [0.0; 3];
+        // SAFETY: three outputs fit in `out`.
+        let v = unsafe { entry(2, args.as_ptr(), out.as_mut_ptr()) };
+        assert_eq!((v, out), (3.0, [3.0, 1.0, 1.0]));
+    }
+
+    #[test]
+    fn gradients_take_variables_and_time_by_name() {
+        for engine in [Engine::Interp, Engine::Jit] {
+            let e = Expression::compile("x**3*SIN(TIME)", &["X"], engine).unwrap();
+            let g = e.gradient(&["x", "time"]).unwrap();
+            let (x, t) = (2.0f64, 0.5f64);
+            let got = g.eval(&[x], t).unwrap();
+            let want = [
+                x.powi(3) * t.sin(),
+                3.0 * x * x * t.sin(),
+                x.powi(3) * t.cos(),
+            ];
+            for (a, b) in got.iter().zip(want) {
+                assert!((a - b).abs() < 1e-14, "{got:?} vs {want:?}");
+            }
+            assert!(matches!(
+                e.gradient(&["z"]),
+                Err(ExprError::UnknownVariable(_))
+            ));
+        }
+    }
+
+    #[test]
+    fn bad_variables_and_inputs_are_errors() {
+        let bad = |vars: &[&str]| Expression::compile("1", vars, Engine::Interp).unwrap_err();
+        assert!(matches!(bad(&["PI"]), ExprError::BadVariable { .. }));
+        assert!(matches!(bad(&["1x"]), ExprError::BadVariable { .. }));
+        assert!(matches!(bad(&["x", "X"]), ExprError::BadVariable { .. }));
+        let e = Expression::compile("x + ", &["x"], Engine::Jit).unwrap_err();
+        assert!(
+            !e.diagnostics().is_empty() && e.code() == Code::UnexpectedEnd,
+            "{e:?}"
+        );
+        let e = Expression::compile("x*y", &["x", "y"], Engine::Jit).unwrap();
+        assert!(matches!(e.eval(&[1.0], 0.0), Err(ExprError::Arity { .. })));
+        let mut out = [0.0; 2];
+        let cols = [
+            Column::Values(&[1.0, 2.0]),
+            Column::Values(&[1.0, 2.0, 3.0]),
+        ];
+        let r = e.eval_columns(&cols, Column::Const(0.0), &mut out);
+        assert!(matches!(r, Err(ExprError::Length { .. })));
+    }
+
+    #[test]
+    fn columns_broadcast_constants_and_match_single_points() {
+        for engine in [Engine::Interp, Engine::Jit] {
+            let e = Expression::compile("[x, y, TIME]*[1, 2, 3]", &["x", "y"], engine).unwrap();
+            let xs = [0.0, 1.0, -2.5];
+            let ts = [0.0, 0.5, 1.0];
+            let mut out = [0.0; 3];
+            let n = e
+                .eval_columns(
+                    &[Column::Values(&xs), Column::Const(4.0)],
+                    Column::Values(&ts),
+                    &mut out,
+                )
+                .unwrap();
+            assert_eq!(n, 3);
+            for i in 0..3 {
+                let one = e.eval_scalar(&[xs[i], 4.0], ts[i]).unwrap();
+                assert_eq!(out[i].to_bits(), one.to_bits());
+                assert_eq!(out[i], xs[i] + 8.0 + 3.0 * ts[i]);
+            }
+        }
+    }
+}

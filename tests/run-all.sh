@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Every test of mbfx, as README.md gives it: the Rust workspace (the C API's tests, which
+# compile C programs with the system's cc, included), then the Python module installed
+# with `pip install .` into a virtual environment (.venv, or $MBFX_VENV; made when
+# missing) and its pytest suite. Run it from anywhere; ../shared must be beside the
+# repository.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== Rust and C (cargo test --workspace --release)"
+cargo test --workspace --release --locked
+
+echo "== Python (pip install . into ${MBFX_VENV:-.venv}, then pytest)"
+venv=${MBFX_VENV:-.venv}
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check .
+# From outside the source tree, so the installed package is what is imported.
+(cd tests/python && "../../$venv/bin/python" -m pytest -q -p no:cacheprovider .)
