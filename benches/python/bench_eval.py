@@ -66,7 +66,7 @@ NUMEXPR = {
     "bistop": _BISTOP,
     "if3": "where(x - 1 < 0, -x*v, where(x - 1 == 0, 0.0, where(v < 0, x + t, where(v == 0, x,"
     " where(t - 0.5 < 0, x*t, where(t - 0.5 == 0, t, v*x - t))))))",
-    "poly": "x*(1 + x*(2 + x*(3 + x*4)))",
+    "poly": "1 + x*(2 + x*(3 + x*4))",
     "long": "(x*v - 2.5*t)/(1 + x*x + v*v) + 3*sin(x*t) - cos(v)*exp(-0.5*t) + sqrt(abs(x*v*t) + 1)"
     " - where(x < v, x, v)*where(t > 0.5, t, 0.5) + (x - v)*(x + v)*(t - 1)/(2 + t*t) + 0.25*x**2"
     " - 0.125*v**3 + abs(x - 1)*v - t/3 + 0.001*x*v*t",
@@ -99,7 +99,7 @@ def numpy_forms():
         "bistop": bistop,
         "if3": lambda x, v, t: w(x < 1, -x * v, w(x == 1, 0.0, w(v < 0, x + t, w(v == 0, x,
                               w(t < 0.5, x * t, w(t == 0.5, t, v * x - t)))))),
-        "poly": lambda x, v, t: x * (1 + x * (2 + x * (3 + x * 4))),
+        "poly": lambda x, v, t: 1 + x * (2 + x * (3 + x * 4)),
         "long": lambda x, v, t: (x * v - 2.5 * t) / (1 + x * x + v * v) + 3 * np.sin(x * t)
         - np.cos(v) * np.exp(-0.5 * t) + np.sqrt(np.abs(x * v * t) + 1)
         - np.minimum(x, v) * np.maximum(t, 0.5) + (x - v) * (x + v) * (t - 1) / (2 + t * t)

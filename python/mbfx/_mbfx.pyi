@@ -119,8 +119,8 @@ class Model:
         kmax: Optional[int] = None,
         formulation: Optional[str] = None,
         error_per: str = "step",
+        cartesian: bool = False,
         engine: str = "jit",
-        commands: Optional[Union[str, PathLike[str]]] = None,
     ) -> Run: ...
 
 def compile(text: str, variables: Optional[Sequence[str]] = None, engine: str = "jit") -> Expression:

@@ -5,12 +5,14 @@
 
 use crate::errors::{check_error, diagnostic_list, guarded, plain_check_error};
 use crate::expression::engine_of;
+use crate::run;
 use mbfx::check::Expect;
 use mbfx::diag::{Diagnostic, SourceFile};
 use mbfx::mbd::system::Dimension;
 use mbfx::session::evaluate::{EvalError, Evaluator};
 use mbfx::session::files::read_dataset;
 use mbfx::session::loaded::LoadedModel;
+use mbfx::session::request::RunRequest;
 use mbfx::session::{self, DimRequest};
 use numpy::PyArray1;
 use pyo3::exceptions::PyValueError;
@@ -50,7 +52,7 @@ pub struct PyReport {
     #[pyo3(get)]
     equations: usize,
     /// One line per redundant equation, in Adams Solver's words: `deactivating
-    /// constraint equation  Zi.Xj in JOINT_2`.
+    /// constraint equation  Zi.Xj in model.JOINT_2`.
     #[pyo3(get)]
     redundant: Vec<String>,
     /// A lighter element that would avoid each redundancy, one line per element.
@@ -190,7 +192,7 @@ fn build(
             gruebler: r.grubler(),
             equations: r.equations,
             redundant: r
-                .adams_message(None)
+                .adams_message(Some("model"))
                 .lines()
                 .filter_map(|l| l.strip_prefix(" -  "))
                 .map(|l| l.trim().to_string())
@@ -333,28 +335,24 @@ impl PyModel {
         alpha: Option<f64>,
         rho_inf: Option<f64>,
         kmax: Option<u32>,
-        formulation: Option<String>,
+        formulation: Option<&str>,
         error_per: &str,
         cartesian: bool,
         engine: &str,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
-            let options = crate::run::Options {
-                hmax,
-                hinit,
-                hmin,
-                fixed_step,
-                alpha,
-                rho_inf,
-                kmax,
-                formulation,
-                error_per: error_per.to_string(),
-                cartesian,
-                engine: engine.to_string(),
-            };
-            let r =
-                crate::run::request(self, end, output_step, integrator, error, probes, &options)?;
-            crate::run::run_model(py, &r, progress)
+            let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
+            (r.end, r.output_step, r.error) = (end, output_step, error);
+            r.method = integrator.map(run::method_of).transpose()?;
+            (r.hmax, r.hinit, r.hmin, r.fixed_step) = (hmax, hinit, hmin, fixed_step);
+            (r.alpha, r.rho_inf, r.kmax) = (alpha, rho_inf, kmax);
+            r.formulation = formulation.map(run::formulation_of).transpose()?;
+            r.error_per_run = run::error_per_run(error_per)?;
+            r.cartesian = cartesian;
+            r.engine = engine_of(engine)?;
+            r.dim = dim_request(self.dim)?;
+            r.probes = run::probes_of(probes)?;
+            run::run_model(py, &r, progress)
         })
     }
 

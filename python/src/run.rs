@@ -6,8 +6,6 @@
 //! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`.
 
 use crate::errors::{diagnostic_list, RunError};
-use crate::expression::engine_of;
-use crate::model::{dim_request, PyModel};
 use mbfx::model::integrator_settings::Formulation;
 use mbfx::session::request::{run, RunDone, RunFailed, RunRequest};
 use mbfx::session::run::{Method, Summary};
@@ -17,13 +15,13 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// How often the waiting thread looks at Ctrl-C and the progress bar.
 const POLL: Duration = Duration::from_millis(50);
 
 /// The integrator named by `name`, as `mbfx run --integrator` spells it.
-fn method_of(name: &str) -> PyResult<Method> {
+pub fn method_of(name: &str) -> PyResult<Method> {
     Ok(match name.to_ascii_lowercase().as_str() {
         "gstiff" => Method::Gstiff,
         "wstiff" => Method::Wstiff,
@@ -39,76 +37,42 @@ fn method_of(name: &str) -> PyResult<Method> {
     })
 }
 
-/// The options of `Model.run` beyond the common ones, as keywords.
-pub struct Options {
-    pub hmax: Option<f64>,
-    pub hinit: Option<f64>,
-    pub hmin: Option<f64>,
-    pub fixed_step: Option<f64>,
-    pub alpha: Option<f64>,
-    pub rho_inf: Option<f64>,
-    pub kmax: Option<u32>,
-    pub formulation: Option<String>,
-    pub error_per: String,
-    pub cartesian: bool,
-    pub engine: String,
+/// The BDF formulation named by `name` (`"i3"` or `"si2"`).
+pub fn formulation_of(name: &str) -> PyResult<Formulation> {
+    match name.to_ascii_lowercase().as_str() {
+        "i3" => Ok(Formulation::I3),
+        "si2" => Ok(Formulation::Si2),
+        f => Err(PyValueError::new_err(format!(
+            "formulation must be \"i3\" or \"si2\", not {f:?}"
+        ))),
+    }
 }
 
-/// The request `Model.run`'s arguments make.
-#[allow(clippy::too_many_arguments)]
-pub fn request(
-    model: &PyModel,
-    end: Option<f64>,
-    output_step: Option<f64>,
-    integrator: Option<&str>,
-    error: Option<f64>,
-    probes: Option<&Bound<'_, PyDict>>,
-    o: &Options,
-) -> PyResult<RunRequest> {
-    let mut r = RunRequest::dataset(model.name.clone(), model.text.clone());
-    r.end = end;
-    r.output_step = output_step;
-    r.method = integrator.map(method_of).transpose()?;
-    r.error = error;
-    (r.hmax, r.hinit, r.hmin) = (o.hmax, o.hinit, o.hmin);
-    (r.fixed_step, r.alpha, r.rho_inf, r.kmax) = (o.fixed_step, o.alpha, o.rho_inf, o.kmax);
-    r.formulation = match o
-        .formulation
-        .as_deref()
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        None => None,
-        Some("i3") => Some(Formulation::I3),
-        Some("si2") => Some(Formulation::Si2),
-        Some(f) => {
-            return Err(PyValueError::new_err(format!(
-                "formulation must be \"i3\" or \"si2\", not {f:?}"
-            )))
-        }
-    };
-    r.error_per_run = match o.error_per.to_ascii_lowercase().as_str() {
-        "step" => false,
-        "run" => true,
-        e => {
-            return Err(PyValueError::new_err(format!(
-                "error_per must be \"step\" or \"run\", not {e:?}"
-            )))
-        }
-    };
-    r.cartesian = o.cartesian;
-    r.engine = engine_of(&o.engine)?;
-    r.dim = dim_request(model.dim)?;
+/// Whether ERROR bounds each step (`"step"`, as Adams) or the whole run (`"run"`).
+pub fn error_per_run(name: &str) -> PyResult<bool> {
+    match name.to_ascii_lowercase().as_str() {
+        "step" => Ok(false),
+        "run" => Ok(true),
+        e => Err(PyValueError::new_err(format!(
+            "error_per must be \"step\" or \"run\", not {e:?}"
+        ))),
+    }
+}
+
+/// The probes of a dict, in its order.
+pub fn probes_of(probes: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, String)>> {
+    let mut out = Vec::new();
     if let Some(p) = probes {
         for (name, expr) in p.iter() {
-            r.probes.push((name.extract()?, expr.extract()?));
+            out.push((name.extract()?, expr.extract()?));
         }
     }
-    Ok(r)
+    Ok(out)
 }
 
-/// What the worker hands back: the rows (flat), and the outcome.
-type Outcome = (Vec<f64>, Result<RunDone, Box<RunFailed>>);
+/// What the worker hands back: the rows (flat), the seconds the session's call took,
+/// and the outcome.
+type Outcome = (Vec<f64>, f64, Result<RunDone, Box<RunFailed>>);
 
 /// Runs `request` on a worker thread (see the module docs) and returns an `mbfx.Run`,
 /// or raises `RunError` / `KeyboardInterrupt` carrying the rows so far.
@@ -125,7 +89,7 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
     };
     let mut stopped_by_user = false;
     let done = (Mutex::new(false), Condvar::new());
-    let (rows, result) = std::thread::scope(|scope| -> PyResult<Outcome> {
+    let (rows, seconds, result) = std::thread::scope(|scope| -> PyResult<Outcome> {
         let worker = scope.spawn(|| {
             let mut rows = Vec::new();
             let mut sink = |row: &[f64]| -> std::io::Result<()> {
@@ -133,11 +97,13 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
                 reached.store(row[0].to_bits(), Ordering::Relaxed);
                 Ok(())
             };
+            let clock = Instant::now();
             let result = run(request, &mut sink, Some(&interrupt));
+            let seconds = clock.elapsed().as_secs_f64();
             let (flag, woken) = &done;
             *flag.lock().unwrap_or_else(|p| p.into_inner()) = true;
             woken.notify_all();
-            (rows, result)
+            (rows, seconds, result)
         });
         loop {
             let finished = py.detach(|| {
@@ -177,12 +143,20 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
             &done.header,
             rows,
             Some(&done.summary),
+            seconds,
             &done.dim_reason,
         ),
         Err(failed) => {
             let header = failed.header.clone().unwrap_or_else(|| vec!["time".into()]);
             let partial = match failed.header {
-                Some(_) => Some(run_object(py, &header, rows, failed.summary.as_ref(), "")?),
+                Some(_) => Some(run_object(
+                    py,
+                    &header,
+                    rows,
+                    failed.summary.as_ref(),
+                    seconds,
+                    "",
+                )?),
                 None => None,
             };
             if stopped_by_user && failed.code == mbfx::diag::Code::Interrupted {
@@ -221,12 +195,16 @@ fn run_object(
     header: &[String],
     rows: Vec<f64>,
     summary: Option<&Summary>,
+    session_seconds: f64,
     dim_reason: &str,
 ) -> PyResult<Py<PyAny>> {
     let width = header.len().max(1);
     let n = rows.len() / width;
     let data = PyArray1::from_vec(py, rows).reshape([n, width])?;
     let stats = PyDict::new(py);
+    // The whole session call (reading, building, compiling, integrating, outputs):
+    // what Python adds is the wall time of `Model.run` less this.
+    stats.set_item("session_seconds", session_seconds)?;
     let (mut warnings, mut notes, mut text, mut integrator) =
         (Vec::new(), Vec::new(), String::new(), "");
     if let Some(s) = summary {

@@ -207,6 +207,62 @@ impl CompiledExpr {
         })
     }
 
+    /// Evaluates a scalar expression at `out.len()` points: point i reads its variables
+    /// from `rows[i·width..(i + 1)·width]` and its TIME from `time(i)`, MODE 4, no
+    /// measures or splines. The checks happen once, so each point costs the call alone
+    /// (the vectorised path of the Python module and the C API). Returns false, leaving
+    /// `out` alone, when the expression has several outputs or reads what the rows do
+    /// not hold (measures, splines, a variable at or past `width`), or when `rows` is
+    /// shorter than the points need.
+    pub fn eval_rows(
+        &self,
+        rows: &[f64],
+        width: usize,
+        time: impl Fn(usize) -> f64,
+        out: &mut [f64],
+    ) -> bool {
+        let [vars, measures, splines] = self.needs;
+        let fits = self.outputs <= 1
+            && vars <= width
+            && measures == 0
+            && splines == 0
+            && width
+                .checked_mul(out.len())
+                .is_some_and(|n| n <= rows.len());
+        if !fits {
+            return false;
+        }
+        let ctx = Context::new(0.0, &[]);
+        let (_, no_measures) = ctx.arrays();
+        let base = rows.as_ptr();
+        match self.code {
+            Entry::Minimal(code) => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    // SAFETY: the code reads variable slots below `vars` ≤ `width` (from
+                    // its instructions) and nothing else; row i lies within `rows`, as
+                    // checked above; `_owner` keeps the code alive.
+                    *o = unsafe { code(base.add(i * width), time(i)) };
+                }
+            }
+            Entry::General(code) => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    // SAFETY: as above; the context (read for MODE) lives on this frame,
+                    // no measure is read, and with one output `out` is never written.
+                    *o = unsafe {
+                        code(
+                            &ctx,
+                            base.add(i * width),
+                            no_measures,
+                            std::ptr::null_mut(),
+                            time(i),
+                        )
+                    };
+                }
+            }
+        }
+        true
+    }
+
     /// Evaluates every output into `out` (extra slots are left alone; a shorter `out`
     /// receives the first outputs). NaN everywhere when the context lacks slots.
     pub fn eval_into(&self, ctx: &Context, out: &mut [f64]) {

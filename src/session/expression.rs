@@ -431,24 +431,17 @@ impl Expression {
                 got: out.len(),
             });
         }
+        if let Compiled::Jit(code) = &self.code {
+            if k == 1 && rows_of_machine_code(code, columns, time, out) {
+                return Ok(n);
+            }
+        }
         let mut vars = vec![0.0; columns.len()];
-        match &self.code {
-            Compiled::Jit(code) if k == 1 => {
-                for (i, o) in out.iter_mut().enumerate() {
-                    for (v, c) in vars.iter_mut().zip(columns) {
-                        *v = c.at(i);
-                    }
-                    *o = code.eval(&Context::new(time.at(i), &vars));
-                }
+        for (i, o) in out.chunks_exact_mut(k).enumerate() {
+            for (v, c) in vars.iter_mut().zip(columns) {
+                *v = c.at(i);
             }
-            _ => {
-                for (i, o) in out.chunks_exact_mut(k).enumerate() {
-                    for (v, c) in vars.iter_mut().zip(columns) {
-                        *v = c.at(i);
-                    }
-                    self.run(&Context::new(time.at(i), &vars), o);
-                }
-            }
+            self.run(&Context::new(time.at(i), &vars), o);
         }
         Ok(n)
     }
@@ -462,6 +455,41 @@ impl Expression {
             Compiled::Interp(_) => None,
         }
     }
+}
+
+/// Points a batch of [`rows_of_machine_code`] gathers at once: its rows stay in L1.
+const CHUNK: usize = 256;
+
+/// A scalar expression's machine code over columns ([`CompiledExpr::eval_rows`]): one
+/// column of values is read where it lies; several are gathered into rows a chunk at a
+/// time. False when the code cannot be called so (the caller takes the general path).
+fn rows_of_machine_code(
+    code: &CompiledExpr,
+    columns: &[Column],
+    time: Column,
+    out: &mut [f64],
+) -> bool {
+    if let [Column::Values(x)] = columns {
+        return code.eval_rows(x, 1, |i| time.at(i), out);
+    }
+    let width = columns.len();
+    let mut rows = vec![0.0; CHUNK * width];
+    for (c, chunk) in out.chunks_mut(CHUNK).enumerate() {
+        let first = c * CHUNK;
+        for (i, row) in rows
+            .chunks_exact_mut(width.max(1))
+            .take(chunk.len())
+            .enumerate()
+        {
+            for (v, col) in row.iter_mut().zip(columns) {
+                *v = col.at(first + i);
+            }
+        }
+        if !code.eval_rows(&rows, width, |i| time.at(first + i), chunk) {
+            return false;
+        }
+    }
+    true
 }
 
 #[cfg(test)]
