@@ -177,6 +177,9 @@ pub struct Expression {
     /// The variables (or TIME) the partials are taken in, for a gradient.
     wrt: Vec<String>,
     warnings: Vec<Diagnostic>,
+    /// The variable slots the code reads (from its instructions): the columns worth
+    /// copying when it runs over many points.
+    reads: Vec<u32>,
 }
 
 impl fmt::Debug for Expression {
@@ -263,6 +266,7 @@ impl Expression {
                 Compiled::Jit(compiled)
             }
         };
+        let reads = crate::ir::builder::collect_uses(&function).vars;
         Ok(Expression {
             text,
             variables,
@@ -271,6 +275,7 @@ impl Expression {
             code,
             wrt,
             warnings,
+            reads,
         })
     }
 
@@ -432,7 +437,7 @@ impl Expression {
             });
         }
         if let Compiled::Jit(code) = &self.code {
-            if k == 1 && rows_of_machine_code(code, columns, time, out) {
+            if k == 1 && rows_of_machine_code(code, &self.reads, columns, time, out) {
                 return Ok(n);
             }
         }
@@ -461,31 +466,48 @@ impl Expression {
 const CHUNK: usize = 256;
 
 /// A scalar expression's machine code over columns ([`CompiledExpr::eval_rows`]): one
-/// column of values is read where it lies; several are gathered into rows a chunk at a
-/// time. False when the code cannot be called so (the caller takes the general path).
+/// column of values is read where it lies; otherwise the columns the code `reads` are
+/// gathered into rows a chunk at a time (the others are never touched: memory traffic
+/// is what bounds a cheap expression over a million points). False when the code cannot
+/// be called so (the caller takes the general path).
 fn rows_of_machine_code(
     code: &CompiledExpr,
+    reads: &[u32],
     columns: &[Column],
     time: Column,
     out: &mut [f64],
 ) -> bool {
     if let [Column::Values(x)] = columns {
-        return code.eval_rows(x, 1, |i| time.at(i), out);
+        return match time {
+            Column::Const(t) => code.eval_rows(x, 1, |_| t, out),
+            Column::Values(t) => code.eval_rows(x, 1, |i| t[i], out),
+        };
     }
     let width = columns.len();
     let mut rows = vec![0.0; CHUNK * width];
     for (c, chunk) in out.chunks_mut(CHUNK).enumerate() {
         let first = c * CHUNK;
-        for (i, row) in rows
-            .chunks_exact_mut(width.max(1))
-            .take(chunk.len())
-            .enumerate()
-        {
-            for (v, col) in row.iter_mut().zip(columns) {
-                *v = col.at(first + i);
+        // Column by column: one match a column, then a plain strided copy.
+        for &k in reads {
+            let (k, col) = (k as usize, &columns[k as usize]);
+            let slots = rows[k..].iter_mut().step_by(width).take(chunk.len());
+            match col {
+                Column::Const(x) => slots.for_each(|s| *s = *x),
+                Column::Values(v) => {
+                    for (s, x) in slots.zip(&v[first..first + chunk.len()]) {
+                        *s = *x;
+                    }
+                }
             }
         }
-        if !code.eval_rows(&rows, width, |i| time.at(first + i), chunk) {
+        let fits = match time {
+            Column::Const(t) => code.eval_rows(&rows, width, |_| t, chunk),
+            Column::Values(t) => {
+                let t = &t[first..first + chunk.len()];
+                code.eval_rows(&rows, width, |i| t[i], chunk)
+            }
+        };
+        if !fits {
             return false;
         }
     }
@@ -591,6 +613,30 @@ mod tests {
         ];
         let r = e.eval_columns(&cols, Column::Const(0.0), &mut out);
         assert!(matches!(r, Err(ExprError::Length { .. })));
+    }
+
+    #[test]
+    fn machine_code_over_columns_skips_unread_ones_across_chunks() {
+        // y is never read; 1000 points span four chunks of rows.
+        let e = Expression::compile("x*z - TIME", &["x", "y", "z"], Engine::Jit).unwrap();
+        let n = 1000;
+        let x: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let z: Vec<f64> = (0..n).map(|i| 0.5 * i as f64 - 3.0).collect();
+        let t: Vec<f64> = (0..n).map(|i| 0.25 * i as f64).collect();
+        let mut out = vec![0.0; n];
+        let cols = [Column::Values(&x), Column::Values(&[]), Column::Values(&z)];
+        // A column of the wrong length is refused even when unread.
+        assert!(e.eval_columns(&cols, Column::Values(&t), &mut out).is_err());
+        let cols = [Column::Values(&x), Column::Const(7.0), Column::Values(&z)];
+        e.eval_columns(&cols, Column::Values(&t), &mut out).unwrap();
+        for i in 0..n {
+            assert_eq!(out[i], x[i] * z[i] - t[i], "point {i}");
+        }
+        let one = Expression::compile("2*y + TIME", &["y"], Engine::Jit).unwrap();
+        let mut out = vec![0.0; n];
+        one.eval_columns(&[Column::Values(&z)], Column::Const(1.0), &mut out)
+            .unwrap();
+        assert!(out.iter().zip(&z).all(|(o, z)| *o == 2.0 * z + 1.0));
     }
 
     #[test]
