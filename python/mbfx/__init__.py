@@ -43,6 +43,7 @@ __all__ = [
     "Model",
     "Report",
     "Run",
+    "__version__",
     "RunError",
     "compile",
     "load",

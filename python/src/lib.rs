@@ -9,6 +9,7 @@ mod arrays;
 mod errors;
 mod expression;
 mod model;
+mod pool;
 mod run;
 
 use pyo3::prelude::*;

@@ -1,11 +1,12 @@
 //! `Model.run`: a [`RunRequest`] built from `mbfx run`'s arguments, run by
-//! `mbfx::session::request::run` on a worker thread while the calling thread, without the
-//! GIL, wakes every 50 ms to move the progress bar and to let Python see Ctrl-C. Ctrl-C
+//! `mbfx::session::request::run` on a pooled thread ([`crate::pool`]) while the calling
+//! thread, without the GIL, wakes every 50 ms to move the progress bar and to let Python see Ctrl-C. Ctrl-C
 //! sets the run's interrupt flag (read at every integration step), so the run stops
 //! within a step and the rows so far come back on the `KeyboardInterrupt` as `.run`.
 //! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`.
 
 use crate::errors::{diagnostic_list, RunError};
+use crate::pool;
 use mbfx::model::integrator_settings::Formulation;
 use mbfx::session::request::{run, RunDone, RunFailed, RunRequest};
 use mbfx::session::run::{Method, Summary};
@@ -14,7 +15,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Condvar, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// How often the waiting thread looks at Ctrl-C and the progress bar.
@@ -77,8 +78,9 @@ type Outcome = (Vec<f64>, f64, Result<RunDone, Box<RunFailed>>);
 /// Runs `request` on a worker thread (see the module docs) and returns an `mbfx.Run`,
 /// or raises `RunError` / `KeyboardInterrupt` carrying the rows so far.
 pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResult<Py<PyAny>> {
-    let interrupt = AtomicBool::new(false);
-    let reached = AtomicU64::new(0f64.to_bits());
+    // Shared with the worker: the interrupt flag it reads at every step, and the time of
+    // the last row it delivered (for the progress bar).
+    let shared = Arc::new((AtomicBool::new(false), AtomicU64::new(0f64.to_bits())));
     let bar = match progress {
         true => Some(
             py.import("mbfx")?
@@ -87,53 +89,47 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
         ),
         false => None,
     };
-    let mut stopped_by_user = false;
-    let done = (Mutex::new(false), Condvar::new());
-    let (rows, seconds, result) = std::thread::scope(|scope| -> PyResult<Outcome> {
-        let worker = scope.spawn(|| {
-            let mut rows = Vec::new();
-            let mut sink = |row: &[f64]| -> std::io::Result<()> {
-                rows.extend_from_slice(row);
-                reached.store(row[0].to_bits(), Ordering::Relaxed);
-                Ok(())
-            };
-            let clock = Instant::now();
-            let result = run(request, &mut sink, Some(&interrupt));
-            let seconds = clock.elapsed().as_secs_f64();
-            let (flag, woken) = &done;
-            *flag.lock().unwrap_or_else(|p| p.into_inner()) = true;
-            woken.notify_all();
-            (rows, seconds, result)
-        });
-        loop {
-            let finished = py.detach(|| {
-                let (flag, woken) = &done;
-                let guard = flag.lock().unwrap_or_else(|p| p.into_inner());
-                let waited = woken.wait_timeout_while(guard, POLL, |finished| !*finished);
-                waited.map_or(true, |(finished, _)| *finished)
-            });
-            if let Some(bar) = &bar {
-                bar.call_method1("update", (f64::from_bits(reached.load(Ordering::Relaxed)),))?;
-            }
-            if finished {
-                break;
-            }
-            if !stopped_by_user {
-                if let Err(e) = py.check_signals() {
-                    if e.is_instance_of::<PyKeyboardInterrupt>(py) {
-                        stopped_by_user = true;
-                        interrupt.store(true, Ordering::Relaxed);
-                    } else {
-                        interrupt.store(true, Ordering::Relaxed);
-                        let _ = py.detach(|| worker.join());
-                        return Err(e);
-                    }
-                }
+    let (owned, flags) = (request.clone(), shared.clone());
+    let task = pool::submit(move || -> Outcome {
+        let (interrupt, reached) = (&flags.0, &flags.1);
+        let mut rows = Vec::new();
+        let mut sink = |row: &[f64]| -> std::io::Result<()> {
+            rows.extend_from_slice(row);
+            reached.store(row[0].to_bits(), Ordering::Relaxed);
+            Ok(())
+        };
+        let clock = Instant::now();
+        let result = run(&owned, &mut sink, Some(interrupt));
+        (rows, clock.elapsed().as_secs_f64(), result)
+    });
+    let (mut stopped_by_user, mut signal_error) = (false, None);
+    let outcome = loop {
+        let got = py.detach(|| task.wait(POLL));
+        if let Some(bar) = &bar {
+            let t = f64::from_bits(shared.1.load(Ordering::Relaxed));
+            bar.call_method1("update", (t,))?;
+        }
+        if let Some(got) = got {
+            break got;
+        }
+        if stopped_by_user || signal_error.is_some() {
+            continue;
+        }
+        // A signal handler's exception stops the run; KeyboardInterrupt comes back with
+        // the rows, any other after the run has stopped.
+        if let Err(e) = py.check_signals() {
+            shared.0.store(true, Ordering::Relaxed);
+            match e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                true => stopped_by_user = true,
+                false => signal_error = Some(e),
             }
         }
-        py.detach(|| worker.join())
-            .map_err(|_| crate::errors::InternalError::new_err("the run's thread panicked"))
-    })?;
+    };
+    if let Some(e) = signal_error {
+        return Err(e);
+    }
+    let (rows, seconds, result) =
+        outcome.map_err(|_| crate::errors::InternalError::new_err("the run's thread panicked"))?;
     if let Some(bar) = &bar {
         bar.call_method0("close")?;
     }

@@ -225,3 +225,16 @@ def test_expressions_pickle_and_keep_working():
     grad = pickle.loads(pickle.dumps(mbfx.compile("x**2", ("x",)).gradient()))
     assert grad.wrt == ("x",) and list(grad(3.0)) == [9.0, 6.0]
     assert "Expression" in repr(f)
+
+
+def test_every_public_name_has_a_docstring():
+    missing = []
+    for name in mbfx.__all__:
+        obj = getattr(mbfx, name)
+        if not isinstance(obj, str) and not (obj.__doc__ or "").strip():
+            missing.append(name)
+        if isinstance(obj, type):
+            for attr, member in vars(obj).items():
+                if not attr.startswith("_") and not (getattr(member, "__doc__", None) or "").strip():
+                    missing.append(f"{name}.{attr}")
+    assert not missing, f"no docstring: {missing}"

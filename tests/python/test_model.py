@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import re
-import shutil
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
@@ -16,7 +15,7 @@ import numpy as np
 import pytest
 
 import mbfx
-from conftest import ROOT, run_cli
+from conftest import ROOT, run_cli, same_bits
 
 SLIDER = ROOT / "examples" / "slider.adm"
 FOUR_BAR = ROOT / "tests" / "data" / "models" / "four_bar.adm"
@@ -48,15 +47,6 @@ END
 
 
 # ----------------------------------------------------------------------------- helpers
-
-
-def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
-    """Equal shapes and every value equal bit for bit, NaN equal to NaN."""
-    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-    if a.shape != b.shape:
-        return False
-    nan = np.isnan(a)
-    return bool(np.array_equal(nan, np.isnan(b)) and np.array_equal(a[~nan].view(np.uint64), b[~nan].view(np.uint64)))
 
 
 def first_difference(a: np.ndarray, b: np.ndarray, columns: Sequence[str]) -> str:

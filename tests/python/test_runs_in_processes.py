@@ -18,21 +18,12 @@ import numpy as np
 import pytest
 
 import mbfx
-from conftest import ROOT
+from conftest import ROOT, same_bits
 
 SLIDER = ROOT / "examples" / "slider.adm"
 FOUR_BAR = ROOT / "tests" / "data" / "models" / "four_bar.adm"
 # The slider in fixed steps of 1e-5: about half a second of CPU per simulated second.
 SLOW = dict(output_step=0.01, fixed_step=1e-5)
-
-
-def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
-    """Equal shapes and every value equal bit for bit, NaN equal to NaN."""
-    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-    if a.shape != b.shape:
-        return False
-    nan = np.isnan(a)
-    return bool(np.array_equal(nan, np.isnan(b)) and np.array_equal(a[~nan].view(np.uint64), b[~nan].view(np.uint64)))
 
 
 def main_thread_progress(work) -> Tuple[float, int, float]:
