@@ -1,8 +1,9 @@
 //! `Model.run`: a [`RunRequest`] built from `mbfx run`'s arguments, run by
 //! `mbfx::session::request::run` on a pooled thread ([`crate::pool`]) while the calling
-//! thread, without the GIL, wakes every 50 ms to move the progress bar and to let Python see Ctrl-C. Ctrl-C
-//! sets the run's interrupt flag (read at every integration step), so the run stops
-//! within a step and the rows so far come back on the `KeyboardInterrupt` as `.run`.
+//! thread, without the GIL, wakes every 50 ms to move the progress bar and to let Python
+//! see Ctrl-C. Ctrl-C sets the run's interrupt flag (read at every integration step), so
+//! the run stops within a step and the rows so far come back on the `KeyboardInterrupt`
+//! as `.run`.
 //! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`.
 
 use crate::errors::{diagnostic_list, RunError};
@@ -77,6 +78,8 @@ type Outcome = (Vec<f64>, f64, Result<RunDone, Box<RunFailed>>);
 
 /// Runs `request` on a worker thread (see the module docs) and returns an `mbfx.Run`,
 /// or raises `RunError` / `KeyboardInterrupt` carrying the rows so far.
+/// Runs `request` (see the module docs): an `mbfx.Run`, or `RunError` /
+/// `KeyboardInterrupt` carrying the rows so far as `.run`.
 pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResult<Py<PyAny>> {
     // Shared with the worker: the interrupt flag it reads at every step, and the time of
     // the last row it delivered (for the progress bar).
@@ -105,19 +108,22 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
     let (mut stopped_by_user, mut signal_error) = (false, None);
     let outcome = loop {
         let got = py.detach(|| task.wait(POLL));
-        if let Some(bar) = &bar {
-            let t = f64::from_bits(shared.1.load(Ordering::Relaxed));
-            bar.call_method1("update", (t,))?;
-        }
         if let Some(got) = got {
             break got;
         }
         if stopped_by_user || signal_error.is_some() {
             continue;
         }
-        // A signal handler's exception stops the run; KeyboardInterrupt comes back with
-        // the rows, any other after the run has stopped.
-        if let Err(e) = py.check_signals() {
+        // A signal handler's exception (or the progress bar's) stops the run;
+        // KeyboardInterrupt comes back with the rows, any other once the run has stopped.
+        let bar_moved = match &bar {
+            Some(bar) => {
+                let t = f64::from_bits(shared.1.load(Ordering::Relaxed));
+                bar.call_method1("update", (t,)).map(drop)
+            }
+            None => Ok(()),
+        };
+        if let Err(e) = bar_moved.and_then(|()| py.check_signals()) {
             shared.0.store(true, Ordering::Relaxed);
             match e.is_instance_of::<PyKeyboardInterrupt>(py) {
                 true => stopped_by_user = true,
@@ -131,9 +137,18 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
     let (rows, seconds, result) =
         outcome.map_err(|_| crate::errors::InternalError::new_err("the run's thread panicked"))?;
     if let Some(bar) = &bar {
+        let t = f64::from_bits(shared.1.load(Ordering::Relaxed));
+        bar.call_method1("update", (t,))?;
         bar.call_method0("close")?;
     }
     match result {
+        // Ctrl-C as the run ended: Python still hears it, with the whole run.
+        Ok(done) if stopped_by_user => {
+            let run = run_object(py, &done.header, rows, Some(&done.summary), seconds, "")?;
+            let e = PyKeyboardInterrupt::new_err("the run was interrupted as it ended");
+            e.value(py).setattr("run", run)?;
+            Err(e)
+        }
         Ok(done) => run_object(
             py,
             &done.header,
@@ -155,7 +170,7 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
                 )?),
                 None => None,
             };
-            if stopped_by_user && failed.code == mbfx::diag::Code::Interrupted {
+            if stopped_by_user {
                 let e = PyKeyboardInterrupt::new_err(format!(
                     "the run was interrupted at t = {}",
                     failed.time.unwrap_or(0.0)
