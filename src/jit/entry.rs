@@ -2,7 +2,7 @@
 //! `LowLevelCallable`, ctypes, and C solvers through `include/mbfx.h`.
 //!
 //! The expression's own code takes the JIT's internal arguments (the context, array
-//! bases, an output pointer; [`super::translate::expr_signature`]), which change with what
+//! bases, an output pointer; `translate::expr_signature`), which change with what
 //! the expression reads. The entry fixes one signature for every expression:
 //!
 //! ```c
