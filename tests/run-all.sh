@@ -15,7 +15,8 @@ venv=${MBFX_VENV:-.venv}
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
-"$venv/bin/python" -m pip install --quiet --disable-pip-version-check .
-# From outside the source tree, so the installed package is what is imported.
-(cd tests/python && "../../$venv/bin/python" -m pytest -q -p no:cacheprovider .)
+python=$(cd "$venv/bin" && pwd)/python
+"$python" -m pip install --quiet --disable-pip-version-check -r python/requirements-test.txt
+"$python" -m pip install --quiet --disable-pip-version-check .
+# From the tests' folder, so the installed package (not python/mbfx) is what is imported.
+(cd tests/python && "$python" -m pytest -q -p no:cacheprovider .)
