@@ -22,6 +22,7 @@ mod font;
 pub mod interp;
 pub mod ir;
 pub mod jit;
+pub mod lanes;
 pub mod mbd;
 pub mod model;
 pub mod session;

@@ -124,7 +124,9 @@ class Model:
     ) -> Run: ...
 
 def compile(text: str, variables: Optional[Sequence[str]] = None, engine: str = "jit") -> Expression:
-    """Checks and compiles `text` over `variables` (values go in that order)."""
+    """Checks and compiles `text` over `variables` (values go in that order). With
+    engine="jit", a point runs machine code and arrays of 32 points or more the lane
+    evaluator; engine="interp" interprets point by point. Both give the same bits."""
 
 def load(source: Union[str, PathLike[str]], dim: Optional[int] = None) -> Model:
     """Loads a dataset from a path, or from its text (a str holding a newline)."""

@@ -73,7 +73,8 @@ pub enum Contacts {
     All,
 }
 
-fn lower_with(f: &Function, contacts: Contacts) -> Function {
+/// [`lower`] with IMPACT and BISTOP treated as `contacts` says.
+pub fn lower_with(f: &Function, contacts: Contacts) -> Function {
     let mut b = Builder::new();
     let mut m = constants(f, &mut b, None);
     let mut ifs = FxHashMap::default();

@@ -18,8 +18,11 @@
 //! assert_eq!(out, [0.0, 1.0, 2.0]);
 //! ```
 //!
-//! Both engines give the same bits (they run the same IR and runtime). The JIT also
-//! gives a stable C entry ([`crate::jit::entry`]) that foreign code calls directly.
+//! Both engines give the same bits (they run the same IR and runtime). The JIT engine
+//! runs a point through machine code and many points ([`Expression::eval_columns`], from
+//! 32 on) through the lane evaluator ([`crate::lanes`]: each instruction over a block of
+//! points); the interpreter takes every point alone. The JIT also gives a stable C entry
+//! ([`crate::jit::entry`]) that foreign code calls directly.
 
 use super::run::Engine;
 use crate::check::scope::check_variable_name;
@@ -30,8 +33,10 @@ use crate::interp::Program;
 use crate::ir::deriv::{gradient, DerivError, Input};
 use crate::ir::Function;
 use crate::jit::{CompiledExpr, EntryFn, Jit, JitError};
+use crate::lanes::Lanes;
 use std::cell::RefCell;
 use std::fmt;
+use std::sync::Arc;
 
 /// Why an expression could not be compiled or evaluated.
 #[derive(Clone, Debug)]
@@ -131,32 +136,7 @@ impl fmt::Display for ExprError {
 
 impl std::error::Error for ExprError {}
 
-/// One input of [`Expression::eval_columns`]: a value for every point, or one for all.
-#[derive(Clone, Copy, Debug)]
-pub enum Column<'a> {
-    /// The same value at every point (a broadcast scalar).
-    Const(f64),
-    /// One value per point.
-    Values(&'a [f64]),
-}
-
-impl Column<'_> {
-    /// The number of points this column fixes (None for a constant).
-    fn len(&self) -> Option<usize> {
-        match self {
-            Column::Const(_) => None,
-            Column::Values(v) => Some(v.len()),
-        }
-    }
-
-    #[inline(always)]
-    fn at(&self, i: usize) -> f64 {
-        match self {
-            Column::Const(x) => *x,
-            Column::Values(v) => v[i],
-        }
-    }
-}
+pub use crate::lanes::Column;
 
 /// The compiled code of one expression.
 #[derive(Clone)]
@@ -180,6 +160,9 @@ pub struct Expression {
     /// The variable slots the code reads (from its instructions): the columns worth
     /// copying when it runs over many points.
     reads: Vec<u32>,
+    /// The lane evaluator's form, which the JIT engine runs over many points at once
+    /// (None with the interpreter, or when the lane evaluator cannot run the function).
+    lanes: Option<Arc<Lanes>>,
 }
 
 impl fmt::Debug for Expression {
@@ -267,7 +250,12 @@ impl Expression {
             }
         };
         let reads = crate::ir::builder::collect_uses(&function).vars;
+        let lanes = match engine {
+            Engine::Jit => Lanes::new(&function).map(Arc::new),
+            Engine::Interp => None,
+        };
         Ok(Expression {
+            lanes,
             text,
             variables,
             engine,
@@ -399,7 +387,8 @@ impl Expression {
 
     /// Evaluates at many points: `columns` holds one column per variable (in order) and
     /// `time` one for TIME; every column of values has the same length n (with none, n
-    /// is 1). `out` holds n·[`Expression::outputs`] values, point after point.
+    /// is 1). `out` holds n·[`Expression::outputs`] values, point after point. The JIT
+    /// engine runs 32 points or more through the lane evaluator.
     pub fn eval_columns(
         &self,
         columns: &[Column],
@@ -414,7 +403,7 @@ impl Expression {
         }
         let mut n = None;
         for c in columns.iter().chain(std::iter::once(&time)) {
-            match (n, c.len()) {
+            match (n, c.points()) {
                 (_, None) => {}
                 (None, Some(len)) => n = Some(len),
                 (Some(a), Some(b)) if a != b => {
@@ -437,6 +426,11 @@ impl Expression {
             });
         }
         if let Compiled::Jit(code) = &self.code {
+            if let Some(lanes) = self.lanes.as_deref().filter(|_| n >= LANES_FROM) {
+                if lanes.eval(columns, time, n, out) {
+                    return Ok(n);
+                }
+            }
             if k == 1 && rows_of_machine_code(code, &self.reads, columns, time, out) {
                 return Ok(n);
             }
@@ -461,6 +455,10 @@ impl Expression {
         }
     }
 }
+
+/// Fewest points for which [`Expression::eval_columns`] takes the lane evaluator over
+/// machine code (below it, filling the block's slots costs more than it saves).
+const LANES_FROM: usize = 32;
 
 /// Points a batch of [`rows_of_machine_code`] gathers at once: its rows stay in L1.
 const CHUNK: usize = 256;

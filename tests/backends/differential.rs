@@ -1,7 +1,8 @@
-//! Interpreter ≡ JIT on generated expressions: every function of the language, IFs
+//! Interpreter ≡ JIT ≡ lane evaluator on generated expressions: every function of the language, IFs
 //! nested up to nine deep, vectors, depth up to 12, at edge inputs (±0, subnormals, huge
 //! values, ±∞, NaN). The interpreter calls the runtime for every library function; the
 //! JIT runs the branch-free lowering, so this also checks the lowering against the runtime.
+//! The lane evaluator runs each batch's inputs as columns in one block.
 //!
 //! Each proptest case draws a seed for a batch of [`PER_CASE`] expressions, compiled
 //! together into one JIT module (compilation would otherwise dominate), each evaluated on
@@ -11,6 +12,7 @@ use super::support::{ir, same, VARS};
 use mbfx::context::Context;
 use mbfx::interp::Program;
 use mbfx::jit::Jit;
+use mbfx::lanes::{Column, Lanes};
 use proptest::prelude::*;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -234,17 +236,37 @@ fn run_batch(jit: &mut Jit, seed: u64) -> Result<usize, String> {
     let inputs: Vec<[f64; 4]> = (0..INPUTS)
         .map(|_| [g.input(), g.input(), g.input(), g.input()])
         .collect();
+    // The inputs as columns, for the lane evaluator: all of them in one block, so an IF
+    // meets lanes that pick different arms.
+    let column = |k: usize| inputs.iter().map(|inp| inp[k]).collect::<Vec<f64>>();
+    let (xs, ys, zs, ts) = (column(0), column(1), column(2), column(3));
+    let columns = [
+        Column::Values(&xs),
+        Column::Values(&ys),
+        Column::Values(&zs),
+    ];
     for ((src, f), c) in srcs.iter().zip(fs).zip(&compiled) {
+        let lanes =
+            Lanes::new(&f).ok_or_else(|| format!("{src}: the lane evaluator refused it"))?;
         let p = Program::new(f);
         let n = p.function().outputs.len();
         let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
-        for inp in &inputs {
+        let mut by_lanes = vec![0.0; n * INPUTS];
+        if !lanes.eval(&columns, Column::Values(&ts), INPUTS, &mut by_lanes) {
+            return Err(format!("{src}: the lane evaluator refused the columns"));
+        }
+        for (inp, l) in inputs.iter().zip(by_lanes.chunks_exact(n)) {
             let ctx = Context::new(inp[3], &inp[..3]);
             p.eval_into(&ctx, &mut a);
             c.eval_into(&ctx, &mut b);
             if !a.iter().zip(&b).all(|(x, y)| same(*x, *y)) {
                 return Err(format!(
                     "{src} at x,y,z,t = {inp:?}: interp {a:?}, jit {b:?}"
+                ));
+            }
+            if !a.iter().zip(l).all(|(x, y)| same(*x, *y)) {
+                return Err(format!(
+                    "{src} at x,y,z,t = {inp:?}: interp {a:?}, lanes {l:?}"
                 ));
             }
         }

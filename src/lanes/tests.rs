@@ -1,0 +1,106 @@
+//! The lane evaluator against the interpreter, point by point, bit for bit.
+
+use super::{Column, Lanes, LANES};
+use crate::check::{compile, Expect, Variables};
+use crate::context::Context;
+use crate::interp::Program;
+
+fn function(text: &str) -> crate::ir::Function {
+    let mut scope = Variables::new();
+    for v in ["x", "v"] {
+        scope.define(v);
+    }
+    compile(text, &scope, Expect::Any).expect("valid").function
+}
+
+fn same(a: f64, b: f64) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+/// Points that cross every IF's three arms and NaN, over more than one block.
+fn inputs(n: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let pick = |i: usize, k: usize| match (i * 7 + k * 3) % 11 {
+        0 => 0.0,
+        1 => -0.0,
+        2 => f64::NAN,
+        3 => 1.0,
+        4 => f64::INFINITY,
+        j => (i as f64 * 0.37 + k as f64).sin() * 2.0 + j as f64 * 0.1 - 0.5,
+    };
+    let x = (0..n).map(|i| pick(i, 0)).collect();
+    let v = (0..n).map(|i| pick(i, 1)).collect();
+    let t = (0..n).map(|i| pick(i, 2)).collect();
+    (x, v, t)
+}
+
+fn agrees(text: &str) {
+    let f = function(text);
+    let lanes = Lanes::new(&f).expect("no measures");
+    let program = Program::new(f);
+    let k = lanes.outputs();
+    let n = 2 * LANES + 37;
+    let (x, v, t) = inputs(n);
+    let mut out = vec![0.0; n * k];
+    let columns = [Column::Values(&x), Column::Values(&v)];
+    assert!(lanes.eval(&columns, Column::Values(&t), n, &mut out));
+    let mut want = vec![0.0; k];
+    for i in 0..n {
+        program.eval_into(&Context::new(t[i], &[x[i], v[i]]), &mut want);
+        for j in 0..k {
+            let got = out[i * k + j];
+            assert!(
+                same(got, want[j]),
+                "{text} at x={} v={} t={}: lanes {got}, interp {}",
+                x[i],
+                v[i],
+                t[i],
+                want[j]
+            );
+        }
+    }
+}
+
+#[test]
+fn arithmetic_calls_and_contacts_match_the_interpreter() {
+    for text in [
+        "3*x**3 - 2*x*v + v**2/(1 + TIME*TIME) - 4.5*x + 7",
+        "SIN(2*PI*TIME)*COS(x) + ATAN2(v, x)",
+        "STEP(TIME, 0, 0, 1, 5) + STEP5(x, 0, 1, 2, -1) + HAVSIN(v, -1, 0, 1, 2)",
+        "IMPACT(x, v, 1, 1e5, 1.5, 50, 0.1) + BISTOP(x, v, 0.5, 1.5, 1e5, 1.5, 50, 0.1)",
+        "IMPACT(x, v, TIME, 1e5, 1.5, 50, 0.1)",
+        "POLY(x, 0, 1, 2, 3, 4) + CHEBY(v, 1, 2, 3) + FORCOS(x, 0, v, 1, 2) + SHF(TIME, 0, 1, 2, 3, 4)",
+        "MIN(x, v)*MAX(TIME, 0.5) + DIM(x, v) + SIGN(x, v) + MOD(x, 0.7) + AINT(v) + ANINT(x)",
+        "SQRT(ABS(x*v)) + x**0.5 + EXP(-v) + LOG(x) + 5",
+        "2.5",
+    ] {
+        agrees(text);
+    }
+}
+
+#[test]
+fn ifs_take_each_arm_and_nan_tests_give_nan() {
+    for text in [
+        "IF(x - 1: -x*v, 0, IF(v: x + TIME, x, IF(TIME - 0.5: x*TIME, TIME, v*x - TIME)))",
+        "IF(x: LOG(x), 0, SIN(v)/x)",
+        "IF(x: IF(v: LOG(-x), EXP(v), 1), 2, IF(TIME: COS(x), 3, LOG(v)))",
+    ] {
+        agrees(text);
+    }
+}
+
+#[test]
+fn vectors_take_three_outputs() {
+    agrees("[x, SIN(v), IF(x: 1, 2, TIME)]");
+}
+
+#[test]
+fn short_columns_and_outputs_are_refused() {
+    let lanes = Lanes::new(&function("x + v")).expect("no measures");
+    let x = [1.0, 2.0];
+    let mut out = [0.0; 3];
+    let cols = [Column::Values(&x), Column::Const(1.0)];
+    assert!(!lanes.eval(&cols, Column::Const(0.0), 3, &mut out));
+    assert!(!lanes.eval(&cols[..1], Column::Const(0.0), 2, &mut out[..2]));
+    assert!(lanes.eval(&cols, Column::Const(0.0), 2, &mut out[..2]));
+    assert_eq!(out[..2], [2.0, 3.0]);
+}
