@@ -109,6 +109,9 @@ pub enum Code {
     /// A command-file (`.acf`) command mbfx cannot carry out: it changes the model during
     /// the run or asks for an analysis mbfx does not have. The run does not start.
     UnsupportedCommand,
+    /// A value set from outside the dataset (`--set`, `Model.with_values`) that does not
+    /// apply: no such statement, a field it does not take, a value it refuses.
+    BadSetting,
     /// A model whose constraints cannot all be satisfied at assembly.
     Assembly,
     /// Constraints that contradict each other (conflicting, not redundant).
@@ -171,6 +174,7 @@ impl Code {
             MassProperties => "E0608",
             ImplausibleInertia => "W0609",
             UnsupportedCommand => "E0610",
+            BadSetting => "E0611",
             TooManyErrors => "E0207",
             Assembly => "E0701",
             Conflicting => "E0702",

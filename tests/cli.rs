@@ -10,6 +10,10 @@ mod common;
 #[path = "cli/acf.rs"]
 mod acf;
 
+/// `mbfx run --set`.
+#[path = "cli/set.rs"]
+mod set;
+
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

@@ -121,7 +121,10 @@ class Model:
         error_per: str = "step",
         cartesian: bool = False,
         engine: str = "jit",
+        set: Optional[Mapping[str, Union[float, int, str]]] = None,
     ) -> Run: ...
+    def with_values(self, values: Mapping[str, Union[float, int, str]]) -> Model:
+        """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
 
 def compile(text: str, variables: Optional[Sequence[str]] = None, engine: str = "jit") -> Expression:
     """Checks and compiles `text` over `variables` (values go in that order). With

@@ -9,6 +9,7 @@ use crate::run;
 use mbfx::check::Expect;
 use mbfx::diag::{Diagnostic, SourceFile};
 use mbfx::mbd::system::Dimension;
+use mbfx::model::overrides::Settings;
 use mbfx::session::evaluate::{EvalError, Evaluator};
 use mbfx::session::files::read_dataset;
 use mbfx::session::loaded::LoadedModel;
@@ -310,13 +311,14 @@ impl PyModel {
 
     /// Simulates the model to `end`, as `mbfx run` does with the same arguments and
     /// defaults, and returns an `mbfx.Run`. `probes` maps output column names to
-    /// expressions. A failure raises `RunError` with the rows so far as `.run`; Ctrl-C
+    /// expressions; `set` maps `"KIND/ID.FIELD"` to a value for this run only (as
+    /// `--set`). A failure raises `RunError` with the rows so far as `.run`; Ctrl-C
     /// raises `KeyboardInterrupt` with them.
     #[pyo3(signature = (
         end = None, output_step = None, integrator = None, error = None, probes = None,
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
-        cartesian = false, engine = "jit"
+        cartesian = false, engine = "jit", set = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -339,6 +341,7 @@ impl PyModel {
         error_per: &str,
         cartesian: bool,
         engine: &str,
+        set: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
@@ -352,7 +355,23 @@ impl PyModel {
             r.engine = engine_of(engine)?;
             r.dim = dim_request(self.dim)?;
             r.probes = run::probes_of(probes)?;
+            r.set = run::settings_of(set)?;
             run::run_model(py, &r, progress)
+        })
+    }
+
+    /// A new model with `values` set in the dataset: a dict of `"KIND/ID.FIELD"`
+    /// (`"PART/2.MASS"`, `"SFORCE/1.FUNCTION"`) to a number or a str. A statement the
+    /// dataset lacks, a field it does not take or a value it refuses raises `CheckError`.
+    fn with_values(&self, py: Python<'_>, values: &Bound<'_, PyDict>) -> PyResult<PyModel> {
+        guarded(|| {
+            let written = run::settings_of(Some(values))?;
+            let settings = Settings::parse(&written)
+                .map_err(|(text, d)| check_error(py, &d, &SourceFile::new("values", text)))?;
+            let text = settings
+                .apply(&self.text)
+                .map_err(|d| check_error(py, &d, &SourceFile::new("values", settings.text())))?;
+            build(py, text, self.name.clone(), Vec::new(), self.dim)
         })
     }
 

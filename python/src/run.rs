@@ -12,9 +12,9 @@ use mbfx::model::integrator_settings::Formulation;
 use mbfx::session::request::{run, RunDone, RunFailed, RunRequest};
 use mbfx::session::run::{Method, Summary};
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyInt, PyList};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -68,6 +68,38 @@ pub fn probes_of(probes: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, St
         for (name, expr) in p.iter() {
             out.push((name.extract()?, expr.extract()?));
         }
+    }
+    Ok(out)
+}
+
+/// The settings of a dict `{"KIND/ID.FIELD": value}` as `--set` takes them: a number
+/// written exactly (shortest round trip), a str (an expression, a word) as given.
+pub fn settings_of(values: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+    let mut out = Vec::new();
+    for (key, value) in values.into_iter().flat_map(|v| v.iter()) {
+        let key: String = key.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "a setting's key is a str such as \"PART/2.MASS\", not {key:?}"
+            ))
+        })?;
+        let written = if value.is_instance_of::<PyBool>() {
+            return Err(PyTypeError::new_err(format!(
+                "{key}: a value is a number or a str, not a bool"
+            )));
+        } else if value.is_instance_of::<PyInt>() {
+            value.str()?.to_string()
+        } else if let Ok(text) = value.extract::<String>() {
+            text
+        } else if let Ok(x) = value.extract::<f64>() {
+            // Floats and numpy's scalars; Rust's `{:?}` is the shortest exact form.
+            format!("{x:?}")
+        } else {
+            return Err(PyTypeError::new_err(format!(
+                "{key}: a value is a number or a str, not {}",
+                value.get_type().name()?
+            )));
+        };
+        out.push(format!("{key}={written}"));
     }
     Ok(out)
 }

@@ -117,6 +117,10 @@ pub struct RunArgs {
     /// An output column NAME=EXPR (any expression of the model's scope); repeatable.
     #[arg(long = "probe", value_name = "NAME=EXPR")]
     probes: Vec<String>,
+    /// Set one value of the dataset without editing it: KIND/ID.FIELD=VALUE, e.g.
+    /// SPRINGDAMPER/1.K=2E4 or SFORCE/1.FUNCTION=EXPR; repeatable.
+    #[arg(long = "set", value_name = "KIND/ID.FIELD=VALUE")]
+    set: Vec<String>,
     /// Where the CSV goes: a file, or - for standard output [default: -].
     #[arg(long, value_name = "FILE|-")]
     csv: Option<String>,
@@ -154,6 +158,7 @@ impl RunArgs {
         r.dim = Dim::request(self.dim);
         r.engine = self.engine.into();
         r.probes = self.probes.iter().map(|p| parse_probe(p)).collect();
+        r.set.clone_from(&self.set);
         r
     }
 }

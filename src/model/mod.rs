@@ -24,6 +24,7 @@ mod inertia;
 pub mod integrator_settings;
 pub mod keywords;
 mod lines;
+pub mod overrides;
 mod read_bodies;
 mod read_data;
 mod read_links;

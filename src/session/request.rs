@@ -44,6 +44,7 @@ use crate::diag::{render, Code, Diagnostic, Severity, SourceFile};
 use crate::mbd::dynamics::DynError;
 use crate::mbd::system::Dimension;
 use crate::model::integrator_settings::Formulation;
+use crate::model::overrides::Settings;
 use std::cell::RefCell;
 use std::fmt;
 use std::io;
@@ -112,6 +113,9 @@ pub struct RunRequest {
     /// Output columns after `time`, in order: (name, expression of the model's scope)
     /// (`--probe NAME=EXPR`, see [`parse_probe`]). A name must not be blank.
     pub probes: Vec<(String, String)>,
+    /// Values set in the dataset before it is read (`--set KIND/ID.FIELD=VALUE`, see
+    /// [`crate::model::overrides`]).
+    pub set: Vec<String>,
 }
 
 impl RunRequest {
@@ -137,6 +141,7 @@ impl RunRequest {
             dim: DimRequest::Auto,
             engine: Engine::Jit,
             probes: Vec::new(),
+            set: Vec::new(),
         }
     }
 
@@ -396,6 +401,21 @@ impl fmt::Debug for RunFailed {
 
 impl std::error::Error for RunFailed {}
 
+/// `text` with the `--set` values applied; a refusal points into the settings, shown as
+/// a source named `--set`, one a line.
+fn apply_settings(set: &[String], text: String) -> Result<String, Box<RunFailed>> {
+    if set.is_empty() {
+        return Ok(text);
+    }
+    let refused = |t: &str, diagnostics: Vec<Diagnostic>| {
+        RunFailed::new(SourceFile::new("--set", t), diagnostics)
+    };
+    let settings = Settings::parse(set).map_err(|(t, d)| refused(&t, d))?;
+    settings
+        .apply(&text)
+        .map_err(|d| refused(settings.text(), d))
+}
+
 /// A copy of `source` (its name and text) to keep in a failure.
 fn copy(source: &SourceFile) -> SourceFile {
     SourceFile::new(source.name.clone(), source.text.clone())
@@ -466,6 +486,7 @@ pub fn run(
         (Input::Path(path), None) => read_file(path)?,
         (Input::Dataset { name, text }, None) => (name.clone(), text.clone(), Vec::new()),
     };
+    let text = apply_settings(&request.set, text)?;
     let source = SourceFile::new(name, text);
     if !warnings.is_empty() {
         observer

@@ -1,0 +1,102 @@
+"""Values set from outside a dataset: `Model.run(set=)`, `Model.with_values` and
+`mbfx run --set` give the same run; bad settings are errors naming the statement; a
+changed stiffness and mass move an undamped oscillator's frequency as sqrt(k/m) says."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import mbfx
+from conftest import ROOT
+from test_model import CliRun, assert_same_run
+
+SLIDER = ROOT / "examples" / "slider.adm"
+
+# A block on a frictionless rail held by a linear spring of free length 1 to a ground
+# point 1 m away (so the line of action never degenerates), released 0.1 beyond it at
+# rest: u(t) = DX - 1 = 0.1 cos(sqrt(k/m) t) exactly (no gravity along the rail).
+OSCILLATOR = """Spring-mass oscillator
+UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+PART/1, GROUND
+MARKER/11, PART = 1, QP = -1, 0, 0, REULER = 90D, 90D, 0D
+PART/2, MASS = 1, CM = 21, IP = 1, 1, 1
+MARKER/21, PART = 2, QP = 0.1, 0, 0, REULER = 90D, 90D, 0D
+JOINT/1, TRANSLATIONAL, I = 21, J = 11
+SFORCE/1, TRANSLATION, I = 21, J = 11, FUNCTION = -100*(DM(21, 11) - 1)
+END
+"""
+
+
+def test_run_with_set_equals_the_cli_with_set(cli):
+    m = mbfx.load(SLIDER)
+    settings = {"PART/2.MASS": 5.0, "SFORCE/1.FUNCTION": "-3000*(DM(22, 11) - 0.25) - 20*VR(22, 11)"}
+    run = m.run(0.5, output_step=0.01, probes={"x": "DX(22, 11)"}, set=settings)
+    args = [f"--set={k}={v}" for k, v in settings.items()]
+    want = CliRun(SLIDER, "--end", "0.5", "--output-step", "0.01", "--probe", "x=DX(22, 11)", *args)
+    assert_same_run(run, want, "slider with --set")
+    plain = m.run(0.5, output_step=0.01, probes={"x": "DX(22, 11)"})
+    assert not np.array_equal(plain["x"], run["x"]), "the settings changed nothing"
+
+
+def test_with_values_is_a_model_whose_run_equals_run_with_set():
+    m = mbfx.load(SLIDER)
+    heavier = m.with_values({"PART/2.MASS": 5})
+    assert "MASS=5" in heavier.text and "MASS = 2.5" in m.text
+    a = heavier.run(0.5, probes={"x": "DX(22, 11)"})
+    b = m.run(0.5, probes={"x": "DX(22, 11)"}, set={"PART/2.MASS": 5})
+    assert np.array_equal(a.data, b.data)
+    assert heavier.check().dof == 1
+
+
+@pytest.mark.parametrize("k, mass", [(100.0, 1.0), (400.0, 1.0), (100.0, 4.0), (2500.0, 0.25)])
+def test_stiffness_and_mass_move_the_frequency_as_sqrt_k_over_m(k, mass):
+    m = mbfx.load(OSCILLATOR)
+    run = m.run(
+        1.0,
+        output_step=0.01,
+        integrator="dopri853",
+        error=1e-10,
+        probes={"u": "DX(21, 11) - 1"},
+        set={"SFORCE/1.FUNCTION": f"-{k!r}*(DM(21, 11) - 1)", "PART/2.MASS": mass},
+    )
+    exact = 0.1 * np.cos(math.sqrt(k / mass) * run.time)
+    assert np.max(np.abs(run["u"] - exact)) < 1e-7
+
+
+@pytest.mark.parametrize(
+    "key, value, message, at",
+    [
+        ("SPRINGDAMPER/1.K", 2e4, "the dataset has no SPRINGDAMPER/1", "SPRINGDAMPER/1"),
+        ("PART/2.COLOR", 3, "PART/2 takes no field COLOR", "COLOR"),
+        ("PART/2.MASS", "heavy", "PART/2.MASS: MASS: expected a number", "heavy"),
+        ("SFORCE/1.FUNCTION", "DX(22, 99)", "SFORCE/1.FUNCTION: MARKER/99 is not defined", "99"),
+        ("PART.MASS", 1, "PART needs an id", "PART"),
+    ],
+)
+def test_a_bad_setting_is_an_error_at_the_setting_naming_the_statement(cli, key, value, message, at):
+    m = mbfx.load(SLIDER)
+    with pytest.raises(mbfx.CheckError) as caught:
+        m.with_values({key: value})
+    d = caught.value.diagnostics[0]
+    assert d.code == "E0611" and message in d.message, d.message
+    line = f"{key}={value}"
+    assert line[d.column - 1 :].startswith(at), (line, d.column)
+    with pytest.raises(mbfx.RunError) as caught:
+        m.run(0.5, set={key: value})
+    assert caught.value.code == "E0611" and message in str(caught.value)
+    want = CliRun(SLIDER, "--end", "0.5", f"--set={line}")
+    assert want.code == 1 and want.first_error() == "E0611" and message in want.stderr
+
+
+def test_values_must_be_numbers_or_text():
+    m = mbfx.load(SLIDER)
+    for bad in [True, None, [1.0]]:
+        with pytest.raises(TypeError):
+            m.with_values({"PART/2.MASS": bad})
+    with pytest.raises(TypeError):
+        m.with_values({2: 1.0})
+    # numpy scalars are numbers, written exactly.
+    assert "MASS=2.75" in m.with_values({"PART/2.MASS": np.float64(2.75)}).text
