@@ -3,7 +3,7 @@
 
 use crate::error::{c_string, hand_over};
 use crate::{args, Engine, Error, Status};
-use mbfx::session::expression::Expression;
+use mbfx::session::expression::{Column, Expression};
 use std::ffi::{c_char, c_int, c_void, CString};
 
 /// A compiled expression (`mbfx_expr` in C): made by `mbfx_compile` or
@@ -315,6 +315,33 @@ pub unsafe extern "C" fn mbfx_expr_eval_n(
         }
         if want == 0 {
             return Ok(());
+        }
+        let varying = strides.contains(&1) || !times.is_null();
+        if varying && strides.iter().all(|&s| s <= 1) {
+            // Every column contiguous or constant, one at least of `n` values: the whole
+            // batch in one call (the lane evaluator from 32 points on), same bits as
+            // point by point.
+            let columns: Vec<Column> = cols
+                .iter()
+                .zip(strides)
+                .map(|(&col, &stride)| match stride {
+                    // SAFETY: checked above to hold at least 1 double.
+                    0 => Column::Const(unsafe { col.read() }),
+                    // SAFETY: stride 1, checked above to hold `n` doubles; not written.
+                    _ => Column::Values(unsafe { std::slice::from_raw_parts(col, n) }),
+                })
+                .collect();
+            let time = match times.is_null() {
+                true => Column::Const(time),
+                // SAFETY: checked above to hold `n` doubles.
+                false => Column::Values(unsafe { std::slice::from_raw_parts(times, n) }),
+            };
+            // SAFETY: `n_out` writable doubles that overlap no input (the caller's word).
+            let out = unsafe { args::slice_mut(out, n_out, "out") }?;
+            return expr
+                .eval_columns(&columns, time, out)
+                .map(|_| ())
+                .map_err(|err| Error::from_expr(&err, expr.text()));
         }
         // SAFETY: `n_out` writable doubles (the caller's word); checked, not kept.
         let _ = unsafe { args::slice_mut(out, n_out, "out") }?;

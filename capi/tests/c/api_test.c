@@ -178,6 +178,30 @@ static void test_arrays_match_single_points(void) {
         CHECK(mbfx_expr_eval_n(e, 0, both, NULL, 2, NULL, 0.0, NULL, 0) == MBFX_STATUS_OK);
         mbfx_expr_free(e);
     }
+    /* Many contiguous points (the JIT engine's block evaluator, 128 points at a time and a
+       partial last block), with IF arms picked differently point to point: the same bits
+       as one point at a time, in both engines. */
+    for (int i = 0; i < 2; i++) {
+        mbfx_expr *e = compile_ok("IF(x - 0.5: SIN(x)*k, k, IMPACT(x, k, 1, 1E5, 1.5, 50, 0.1)) + TIME",
+                                  names, 2, engines[i]);
+        enum { M = 300 };
+        static double xs[M], ks[M], ts[M], many[M];
+        for (int p = 0; p < M; p++) {
+            xs[p] = (p % 7 == 3) ? 0.5 : 1.5 * sin(0.37 * p) + 0.6;
+            ks[p] = cos(0.11 * p);
+            ts[p] = 0.01 * p;
+        }
+        const double *cols2[2] = {xs, ks};
+        CHECK(mbfx_expr_eval_n(e, M, cols2, NULL, 2, ts, 0.0, many, M) == MBFX_STATUS_OK);
+        int same = 1;
+        for (int p = 0; p < M; p++) {
+            double one, vars[2] = {xs[p], ks[p]};
+            CHECK(mbfx_expr_eval(e, vars, 2, ts[p], &one, 1) == MBFX_STATUS_OK);
+            same &= same_bits(many[p], one);
+        }
+        CHECK(same);
+        mbfx_expr_free(e);
+    }
     /* A vector: three outputs per point, point after point. */
     const char *x_only[] = {"x"};
     mbfx_expr *v = compile_ok("[x, x*x, TIME]", x_only, 1, MBFX_ENGINE_JIT);
