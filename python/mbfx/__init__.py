@@ -12,6 +12,7 @@ and a constrained-multibody core that runs `.adm` datasets.
 `gradient`, hand its `address` to scipy or ctypes); `load` gives a `Model` (`check`,
 `evaluate`, `run`); a run gives a `Run` (its columns as arrays, `to_pandas`, `plot`).
 Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
+`mbfx.study` runs design studies of a model's variants on Dask.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from ._mbfx import (  # noqa: F401  (re-exported)
     compile,
     load,
 )
+from . import study  # noqa: F401  (mbfx.study; it imports dask and pandas only when used)
 
 __all__ = [
     "CheckError",
@@ -47,6 +49,7 @@ __all__ = [
     "RunError",
     "compile",
     "load",
+    "study",
 ]
 
 

@@ -42,6 +42,36 @@ def shared() -> Path:
     return SHARED
 
 
+# A block on a frictionless rail held by a linear spring of free length 1 to a ground
+# point 1 m away (so the line of action never degenerates), released 0.1 beyond it at
+# rest: u(t) = DX(21, 11) - 1 = 0.1 cos(sqrt(k/m) t) exactly (no gravity along the rail).
+OSCILLATOR = """Spring-mass oscillator
+UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+PART/1, GROUND
+MARKER/11, PART = 1, QP = -1, 0, 0, REULER = 90D, 90D, 0D
+PART/2, MASS = 1, CM = 21, IP = 1, 1, 1
+MARKER/21, PART = 2, QP = 0.1, 0, 0, REULER = 90D, 90D, 0D
+JOINT/1, TRANSLATIONAL, I = 21, J = 11
+SFORCE/1, TRANSLATION, I = 21, J = 11, FUNCTION = -100*(DM(21, 11) - 1)
+END
+"""
+
+
+def missing_docstrings(module) -> list:
+    """The names of `module.__all__`, and the public attributes of its classes, that
+    have no docstring."""
+    missing = []
+    for name in module.__all__:
+        obj = getattr(module, name)
+        if not isinstance(obj, str) and not (obj.__doc__ or "").strip():
+            missing.append(name)
+        if isinstance(obj, type):
+            for attr, member in vars(obj).items():
+                if not attr.startswith("_") and not (getattr(member, "__doc__", None) or "").strip():
+                    missing.append(f"{name}.{attr}")
+    return missing
+
+
 def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
     """Equal shapes and every value equal bit for bit, NaN equal to NaN."""
     a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import mbfx
+from conftest import missing_docstrings
 
 ENGINES = ("jit", "interp")
 
@@ -228,13 +229,5 @@ def test_expressions_pickle_and_keep_working():
 
 
 def test_every_public_name_has_a_docstring():
-    missing = []
-    for name in mbfx.__all__:
-        obj = getattr(mbfx, name)
-        if not isinstance(obj, str) and not (obj.__doc__ or "").strip():
-            missing.append(name)
-        if isinstance(obj, type):
-            for attr, member in vars(obj).items():
-                if not attr.startswith("_") and not (getattr(member, "__doc__", None) or "").strip():
-                    missing.append(f"{name}.{attr}")
+    missing = missing_docstrings(mbfx)
     assert not missing, f"no docstring: {missing}"

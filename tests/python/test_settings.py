@@ -10,24 +10,11 @@ import numpy as np
 import pytest
 
 import mbfx
-from conftest import ROOT
+from conftest import OSCILLATOR, ROOT
 from test_model import CliRun, assert_same_run
 
 SLIDER = ROOT / "examples" / "slider.adm"
 
-# A block on a frictionless rail held by a linear spring of free length 1 to a ground
-# point 1 m away (so the line of action never degenerates), released 0.1 beyond it at
-# rest: u(t) = DX - 1 = 0.1 cos(sqrt(k/m) t) exactly (no gravity along the rail).
-OSCILLATOR = """Spring-mass oscillator
-UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
-PART/1, GROUND
-MARKER/11, PART = 1, QP = -1, 0, 0, REULER = 90D, 90D, 0D
-PART/2, MASS = 1, CM = 21, IP = 1, 1, 1
-MARKER/21, PART = 2, QP = 0.1, 0, 0, REULER = 90D, 90D, 0D
-JOINT/1, TRANSLATIONAL, I = 21, J = 11
-SFORCE/1, TRANSLATION, I = 21, J = 11, FUNCTION = -100*(DM(21, 11) - 1)
-END
-"""
 
 
 def test_run_with_set_equals_the_cli_with_set(cli):

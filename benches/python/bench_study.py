@@ -1,0 +1,121 @@
+"""A design study's cost on Dask: the IMPACT block's peak force and rebound height over
+stiffness × damping × drop height, N Latin-hypercube variants, on a LocalCluster of 1
+and of 2 worker processes (one thread each), side by side in one run.
+
+    python benches/python/bench_study.py [--n 1000] [--plot DIR]
+
+Prints, for each cluster size: the start-up (cluster start and first contact), the study's
+wall time, the sum of the variants' own wall times (each timed in its worker), the
+ideal (that sum / workers + start-up) and the ratio of wall to ideal, then the efficiency
+from 1 to 2 workers (wall(1) / (2 · wall(2)), start-ups left out), and Dask's own cost
+of a task on this machine (no-op tasks). With --plot, writes
+the sensitivity chart and the response-against-factor plots of the 2-worker study.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+import time
+from pathlib import Path
+
+import mbfx
+from mbfx import study
+
+ROOT = Path(__file__).resolve().parents[2]
+DATASET = ROOT / "examples" / "scenes" / "impact_block_k1e5.adm"
+STOP = "IMPACT(DY(201, 101), VY(201, 101), 0.05, {k}, 1.5, {c}, 0.1)"
+
+
+def run_study(model, n: int, workers: int, end: float):
+    """The study of `n` variants on a new cluster of `workers`: (Study, start-up, wall).
+    The start-up holds the cluster's start and a warm-up study of one variant a worker
+    (each worker imports mbfx and numpy and unpickles the model once)."""
+    from distributed import Client, LocalCluster
+
+    t0 = time.perf_counter()
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, silence_logs=logging.CRITICAL) as cluster, Client(cluster) as client:
+        variants(model, workers, end, client, batch=1)
+        startup = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        s = variants(model, n, end, client)
+        wall = time.perf_counter() - t1
+    return s, startup, wall
+
+
+def variants(model, n: int, end: float, client, batch=None):
+    """The study itself: stiffness (log scale), damping and drop height, Latin hypercube."""
+    return study.run(
+        model,
+        # h: the block's start height (its CM marker's y), 0.1 to 0.3 m above the stop.
+        factors={"k": study.log(1e4, 1e6), "c": (10.0, 100.0), "h": (0.15, 0.35)},
+        templates={"SFORCE/1.FUNCTION": STOP, "MARKER/201.QP": "0, {h}, 0"},
+        responses={
+            "peak_force": study.max("f"),
+            # The highest point above the stop in the second second.
+            "rebound": lambda run: float(run["y"][len(run["y"]) // 2 :].max()) - 0.05,
+        },
+        probes={"y": "DY(201, 101)", "f": "SFORCE(1, 0, 1, 0)"},
+        end=end,
+        run_args={"integrator": "dopri853", "error": 3e-6, "hmin": 1e-10, "output_step": 0.01},
+        design="lhs",
+        n=n,
+        seed=7,
+        client=client,
+        batch=batch,
+    )
+
+
+def dask_task_overhead(tasks: int) -> float:
+    """Seconds a no-op task costs the cluster (submit, schedule, run, gather), from
+    `tasks` of them on a warm 2-worker LocalCluster: the scheduler's share that batching
+    spreads over a batch's variants."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, silence_logs=logging.CRITICAL) as cluster, Client(cluster) as client:
+        client.gather(client.map(int, range(100)))
+        t0 = time.perf_counter()
+        client.gather(client.map(int, range(1, tasks + 1)))
+        return (time.perf_counter() - t0) / tasks
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--n", type=int, default=1000)
+    ap.add_argument("--plot", help="directory for the 2-worker study's charts")
+    args = ap.parse_args()
+    model = mbfx.load(DATASET)
+    rows = []
+    studies = {}
+    for workers in (1, 2):
+        s, startup, wall = run_study(model, args.n, workers, 2.0)
+        table = s.table
+        ok = int((table["status"] == "ok").sum())
+        cpu = float(table["seconds"].sum())
+        ideal = cpu / workers + startup
+        rows.append((workers, startup, wall, cpu, ideal, ok))
+        studies[workers] = s
+    per_task = dask_task_overhead(2000)
+    print(f"{args.n} variants of the IMPACT block (LHS over k, c and the drop height), dopri853, 2 s each")
+    print("| workers | start-up s | study wall s | variants' own s | ideal s | wall / ideal | ok |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    for w, startup, wall, cpu, ideal, ok in rows:
+        print(f"| {w} | {startup:.2f} | {wall:.2f} | {cpu:.2f} | {ideal - startup:.2f} | {wall / (ideal - startup):.2f} | {ok} |")
+    eff = rows[0][2] / (2 * rows[1][2])
+    print(f"efficiency 1 -> 2 workers: {eff:.1%}")
+    print(f"Dask's own cost of a task here (2 000 no-op tasks on 2 workers): {per_task * 1e3:.3f} ms")
+    if args.plot:
+        out = Path(args.plot)
+        out.mkdir(parents=True, exist_ok=True)
+        for response in ("peak_force", "rebound"):
+            studies[2].plot_sensitivity(response, out / f"study_{response}_sensitivity.png")
+            studies[2].plot(response, out / f"study_{response}.png")
+            fit = studies[2].surface(response)
+            effects = ", ".join(f"{k} {v:.4g}" for k, v in fit.main_effects.items())
+            print(f"{response}: quadratic surface R² = {fit.r2:.3f}; main effects {effects}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
