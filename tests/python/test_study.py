@@ -353,7 +353,9 @@ def test_a_study_survives_a_killed_worker(model, client, tmp_path):
     deadline = time.monotonic() + 60
     while not (out.exists() and len(pd.read_csv(out)) > 0) and time.monotonic() < deadline:
         time.sleep(0.005)
-    busy = [worker for worker, keys in client.processing().items() if keys]
+    busy: List[str] = []
+    while not busy and time.monotonic() < deadline:  # between two tasks none may be busy
+        busy = [worker for worker, keys in client.processing().items() if keys]
     assert busy, "no worker is running a task"
     os.kill(pids[busy[0]], signal.SIGKILL)
     rows_at_kill = len(pd.read_csv(out))
