@@ -2,7 +2,7 @@
 stiffness × damping × drop height, N Latin-hypercube variants, on a LocalCluster of 1
 and of 2 worker processes (one thread each), side by side in one run.
 
-    python benches/python/bench_study.py [--n 1000] [--plot DIR]
+    python benches/python/bench_study.py [--n 1000] [--engine jit|interp] [--plot DIR]
 
 Prints, for each cluster size: the start-up (cluster start and first contact), the study's
 wall time, the sum of the variants' own wall times (each timed in its worker), the
@@ -28,7 +28,7 @@ DATASET = ROOT / "examples" / "scenes" / "impact_block_k1e5.adm"
 STOP = "IMPACT(DY(201, 101), VY(201, 101), 0.05, {k}, 1.5, {c}, 0.1)"
 
 
-def run_study(model, n: int, workers: int, end: float):
+def run_study(model, n: int, workers: int, end: float, engine: str):
     """The study of `n` variants on a new cluster of `workers`: (Study, start-up, wall).
     The start-up holds the cluster's start and a warm-up study of one variant a worker
     (each worker imports mbfx and numpy and unpickles the model once)."""
@@ -36,15 +36,15 @@ def run_study(model, n: int, workers: int, end: float):
 
     t0 = time.perf_counter()
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, silence_logs=logging.CRITICAL) as cluster, Client(cluster) as client:
-        variants(model, workers, end, client, batch=1)
+        variants(model, workers, end, client, engine, batch=1)
         startup = time.perf_counter() - t0
         t1 = time.perf_counter()
-        s = variants(model, n, end, client)
+        s = variants(model, n, end, client, engine)
         wall = time.perf_counter() - t1
     return s, startup, wall
 
 
-def variants(model, n: int, end: float, client, batch=None):
+def variants(model, n: int, end: float, client, engine: str, batch=None):
     """The study itself: stiffness (log scale), damping and drop height, Latin hypercube."""
     return study.run(
         model,
@@ -58,7 +58,7 @@ def variants(model, n: int, end: float, client, batch=None):
         },
         probes={"y": "DY(201, 101)", "f": "SFORCE(1, 0, 1, 0)"},
         end=end,
-        run_args={"integrator": "dopri853", "error": 3e-6, "hmin": 1e-10, "output_step": 0.01},
+        run_args={"integrator": "dopri853", "error": 3e-6, "hmin": 1e-10, "output_step": 0.01, "engine": engine},
         design="lhs",
         n=n,
         seed=7,
@@ -83,13 +83,14 @@ def dask_task_overhead(tasks: int) -> float:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--n", type=int, default=1000)
+    ap.add_argument("--engine", default="jit", choices=("jit", "interp"))
     ap.add_argument("--plot", help="directory for the 2-worker study's charts")
     args = ap.parse_args()
     model = mbfx.load(DATASET)
     rows = []
     studies = {}
     for workers in (1, 2):
-        s, startup, wall = run_study(model, args.n, workers, 2.0)
+        s, startup, wall = run_study(model, args.n, workers, 2.0, args.engine)
         table = s.table
         ok = int((table["status"] == "ok").sum())
         cpu = float(table["seconds"].sum())
@@ -97,7 +98,7 @@ def main() -> int:
         rows.append((workers, startup, wall, cpu, ideal, ok))
         studies[workers] = s
     per_task = dask_task_overhead(2000)
-    print(f"{args.n} variants of the IMPACT block (LHS over k, c and the drop height), dopri853, 2 s each")
+    print(f"{args.n} variants of the IMPACT block (LHS over k, c and the drop height), dopri853, 2 s each, engine {args.engine}")
     print("| workers | start-up s | study wall s | variants' own s | ideal s | wall / ideal | ok |")
     print("|---:|---:|---:|---:|---:|---:|---:|")
     for w, startup, wall, cpu, ideal, ok in rows:
