@@ -2,7 +2,7 @@
 //! stay scalars), IF arms become nested code, and the runtime calls that take constant
 //! parameters (IMPACT, BISTOP) check them once.
 
-use super::{Lanes, Source, INPUT, MAX_IF_DEPTH};
+use super::{Lanes, Source, INPUT, MAX_IF_DEPTH, MAX_SLOTS};
 use crate::ir::lower::{lower_with, Contacts};
 use crate::ir::{Block, Cmp, Function, Inst, Value};
 use crate::vocab::func::{Callee, Func};
@@ -141,6 +141,9 @@ pub(super) fn build(f: &Function) -> Option<Lanes> {
         .iter()
         .map(|&o| b.slot_of(o))
         .collect::<Option<Vec<u32>>>()?;
+    if b.slots as usize > MAX_SLOTS {
+        return None;
+    }
     Some(Lanes {
         code,
         slots: b.slots as usize,

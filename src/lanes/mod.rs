@@ -26,6 +26,11 @@ use crate::ir::Function;
 /// in L1.
 pub const LANES: usize = 128;
 
+/// Most lane slots a function may need (4 MiB of blocks): a larger one, such as a
+/// generated expression of many thousand terms, runs point by point instead of
+/// allocating its slots on every call.
+pub const MAX_SLOTS: usize = 4096;
+
 /// Deepest nesting of arithmetic IFs the lane evaluator takes (it recurses per IF);
 /// deeper functions use a point-at-a-time engine.
 pub const MAX_IF_DEPTH: usize = 32;
@@ -87,7 +92,8 @@ pub struct Lanes {
 
 impl Lanes {
     /// Compiles `f` for the lane evaluator. None when it reads what a column cannot give
-    /// (measures, splines, MODE) or nests IFs deeper than [`MAX_IF_DEPTH`].
+    /// (measures, splines, MODE), nests IFs deeper than [`MAX_IF_DEPTH`] or needs more
+    /// than [`MAX_SLOTS`] slots.
     pub fn new(f: &Function) -> Option<Lanes> {
         build::build(f)
     }

@@ -104,3 +104,13 @@ fn short_columns_and_outputs_are_refused() {
     assert!(lanes.eval(&cols, Column::Const(0.0), 2, &mut out[..2]));
     assert_eq!(out[..2], [2.0, 3.0]);
 }
+
+#[test]
+fn a_function_needing_too_many_slots_is_left_to_point_by_point_engines() {
+    // Distinct coefficients, so no term is shared: two values a term.
+    let terms: Vec<String> = (0..super::MAX_SLOTS)
+        .map(|k| format!("{}*x", 1.0 + k as f64 / 8192.0))
+        .collect();
+    assert!(Lanes::new(&function(&terms.join(" + "))).is_none());
+    assert!(Lanes::new(&function(&terms[..100].join(" + "))).is_some());
+}
