@@ -53,6 +53,21 @@ struct Edit {
     old: Span,
     new: String,
     setting: usize,
+    /// Where the statement starts, and the field as the statement spells it (or as the
+    /// setting does when the statement lacks it): two edits with one key set one value.
+    statement: usize,
+    field: String,
+}
+
+impl Edit {
+    /// True when `self` and `other` set the same field of the same statement; an added
+    /// field matches any abbreviation of it.
+    fn same_value(&self, other: &Edit) -> bool {
+        self.statement == other.statement
+            && (self.field == other.field
+                || abbreviates(&self.field, &other.field, 2)
+                || abbreviates(&other.field, &self.field, 2))
+    }
 }
 
 /// Where an edit landed in the edited text: all of it, and its value.
@@ -112,7 +127,7 @@ impl Settings {
         for (k, s) in self.items.iter().enumerate() {
             match edit_for(dataset, &stmts, s, k) {
                 Ok(e) => {
-                    if let Some(prev) = edits.iter().find(|p| p.old == e.old && !e.old.is_empty()) {
+                    if let Some(prev) = edits.iter().find(|p| p.same_value(&e)) {
                         let first = &self.items[prev.setting];
                         errors.push(
                             Diagnostic::error(
@@ -238,11 +253,15 @@ fn edit_for(text: &str, stmts: &[Statement], s: &Setting, k: usize) -> Result<Ed
             old: a.span.clone(),
             new: format!("{}={}", &text[a.name_span.clone()], s.value),
             setting: k,
+            statement: stmt.span.start,
+            field: a.name.to_ascii_uppercase(),
         },
         None => Edit {
             old: stmt.span.end..stmt.span.end,
             new: format!(", {}={}", s.field, s.value),
             setting: k,
+            statement: stmt.span.start,
+            field: s.field.clone(),
         },
     })
 }

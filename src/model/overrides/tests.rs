@@ -125,6 +125,29 @@ fn a_field_set_twice_is_refused_at_the_second() {
 }
 
 #[test]
+fn a_missing_field_added_twice_is_refused_at_the_second() {
+    // Neither field is written on its marker; both settings would add it.
+    for pair in [
+        ["MARKER/11.QP=0,0,0", "MARKER/11.QP=1,0,0"],
+        ["MARKER/21.REULER=0,0,0", "MARKER/21.REU=1,0,0"],
+    ] {
+        let got = refused(&pair);
+        assert_eq!(got.len(), 1, "{pair:?}: {got:?}");
+        assert!(got[0].1.contains("set twice"), "{pair:?}: {got:?}");
+        assert_eq!(
+            got[0].2,
+            pair[1]
+                .split_once('.')
+                .unwrap()
+                .1
+                .split_once('=')
+                .unwrap()
+                .0
+        );
+    }
+}
+
+#[test]
 fn no_settings_leave_the_text_alone() {
     let s = Settings::parse::<&str>(&[]).expect("empty");
     assert!(s.is_empty());
