@@ -85,10 +85,27 @@ impl System {
                 .measures
                 .get(s as usize)
                 .ok_or(MbdError::UnknownMeasureSlot(s))?;
-            let m = Measure::resolve(slot, &|id| self.marker_or_ground(id))?;
-            map.push(self.measures.add(m));
+            map.push(self.resolve_measure(model, slot)?);
         }
         Ok(map)
+    }
+
+    /// Resolves the measure slot `slot` of `model` to a measure of the system and returns
+    /// its index; a design variable's VARVAL takes the VARIABLE's value from `model`.
+    pub fn resolve_measure(
+        &mut self,
+        model: &Model,
+        slot: &crate::model::elements::MeasureSlot,
+    ) -> Result<usize, MbdError> {
+        let m = Measure::resolve(slot, &|id| self.marker_or_ground(id))?;
+        if let Measure::Design { id } = m {
+            let value = Id::try_from(id)
+                .ok()
+                .and_then(|v| model.design_value(v))
+                .ok_or(MbdError::Variable(id))?;
+            self.measures.set_design(id, value);
+        }
+        Ok(self.measures.add(m))
     }
 
     /// Builds the system of `model` in the dimension `dim` allows.
@@ -226,7 +243,7 @@ impl System {
                 }
             };
             let e = model
-                .inline_variables(&m.function)
+                .inline_variables_keeping(&m.function, false)
                 .map_err(|s| MbdError::Expression(r.clone(), ExprError::Other(s)))?;
             let f = exprs.compile(&e);
             // VELOCITY and ACCELERATION: the displacement is f integrated from the

@@ -78,6 +78,10 @@ pub trait ExprFn {
             "the second derivative of its FUNCTION is not available".into(),
         ))
     }
+
+    /// Forgets what earlier evaluations left behind, as a run from t = 0 again needs
+    /// (nothing unless the implementation keeps a history).
+    fn rewind(&self) {}
 }
 
 /// Values through the interpreter; derivatives are not available until the IR
@@ -300,6 +304,12 @@ fn gauss_kronrod(
 impl ExprFn for Integrated {
     fn slots(&self) -> &[u32] {
         &[]
+    }
+
+    // The marks are where later integrals start: a rerun must start from t = 0 alone,
+    // or its values would round differently from the first run's.
+    fn rewind(&self) {
+        *self.marks.borrow_mut() = vec![(0.0, 0.0, 0.0)];
     }
 
     fn value(&self, t: f64, _: &[f64]) -> Result<f64, ExprError> {

@@ -153,6 +153,13 @@ pub enum Measure {
         /// The rack marker.
         j: M,
     },
+    /// VARVAL of a design variable (a VARIABLE whose FUNCTION is a constant): a value
+    /// the compiled expressions read as an input, set per run ([`MeasureSet::set_design`])
+    /// without compiling anything again. It does not depend on the state.
+    Design {
+        /// The VARIABLE's id.
+        id: i64,
+    },
 }
 
 impl Measure {
@@ -171,6 +178,7 @@ impl Measure {
             | AngVelMag { i, j }
             | PinionAngle { i, j } => [i, j, None, None],
             UnitVec { i, k, .. } => [i, k, None, None],
+            Design { .. } => [None; 4],
         }
     }
 
@@ -292,12 +300,11 @@ impl Measure {
             | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" => {
                 return Err(MbdError::NeedsDynamics(slot.name.clone(), "forces"))
             }
-            // VARIABLEs are inlined before measures resolve: one left is one mbfx holds no
-            // FUNCTION for.
-            "VARVAL" => {
-                let id = slot.ids.first().copied().unwrap_or(0);
-                return Err(MbdError::Variable(id));
-            }
+            // VARIABLEs are inlined before measures resolve, except design variables: the
+            // caller gives those their value ([`System::resolve_measure`]).
+            "VARVAL" => Design {
+                id: slot.ids.first().copied().unwrap_or(0),
+            },
             _ => return Err(MbdError::NotKinematic(slot.name.clone())),
         })
     }
@@ -470,6 +477,8 @@ pub struct MeasureSet {
     refs: Vec<f64>,
     /// INCANG rotation axis fixed at the first commit.
     axes: Vec<Option<Vec3>>,
+    /// The value of each design variable the measures read, by VARIABLE id.
+    design: Vec<(i64, f64)>,
 }
 
 fn e(c: usize) -> Vec3 {
@@ -488,6 +497,28 @@ impl MeasureSet {
         self.refs.push(f64::NAN);
         self.axes.push(None);
         self.list.len() - 1
+    }
+
+    /// Sets design variable `id` to `value`: every [`Measure::Design`] of it reads
+    /// `value` from now on.
+    pub fn set_design(&mut self, id: i64, value: f64) {
+        match self.design.iter_mut().find(|(i, _)| *i == id) {
+            Some(d) => d.1 = value,
+            None => self.design.push((id, value)),
+        }
+    }
+
+    /// The value of design variable `id` (NaN when it was never set).
+    pub fn design(&self, id: i64) -> f64 {
+        self.design
+            .iter()
+            .find(|(i, _)| *i == id)
+            .map_or(f64::NAN, |d| d.1)
+    }
+
+    /// The design variables the measures read, with their values.
+    pub fn designs(&self) -> &[(i64, f64)] {
+        &self.design
     }
 
     /// Gives an unwrapped measure without a reference yet the reference `value` (a
@@ -554,6 +585,7 @@ impl MeasureSet {
         // measures force laws read most, from the few vectors they need: the same
         // operations on the same numbers as through whole frames.
         match m {
+            Measure::Design { id } => return self.design(id),
             Measure::Disp { i, j, k, comp } if comp < 3 => {
                 let (a, b) = (sys.origin(i).0, sys.origin(j).0);
                 let d = V([a.x - b.x, a.y - b.y, a.z - b.z]);
@@ -581,6 +613,9 @@ impl MeasureSet {
     /// acceleration-level constraint right-hand side needs.
     pub fn jet(&self, sys: &System, n: usize) -> J2 {
         let m = self.list[n];
+        if let Measure::Design { id } = m {
+            return J2::c(self.design(id));
+        }
         let frames = m.markers().map(|mk| {
             let f = sys.frame(mk);
             let p = sys.part(f.part);
@@ -612,6 +647,9 @@ impl MeasureSet {
     /// parts do not fit in the slots.
     pub(crate) fn eval_in(&self, sys: &System, n: usize, slots: &mut PartSlots) -> Option<D> {
         let m = self.list[n];
+        if let Measure::Design { id } = m {
+            return Some(D::c(self.design(id)));
+        }
         let mk = m.markers();
         let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
         // Only the frames the formula reads, built in place: a dual frame is 7 KB, and
@@ -688,6 +726,7 @@ impl MeasureSet {
             }
             AngVel { comp, .. } => f[0].w.sub(&f[1].w).dot(&f[2].axes[comp as usize]),
             AngVelMag { .. } => f[0].w.sub(&f[1].w).norm(),
+            Design { id } => T::c(self.design(id)),
             PinionAngle { .. } => {
                 let (i, j) = (&f[0], &f[1]);
                 let s = i.axes[0].dot(&i.axes[2].cross(&j.axes[2]));

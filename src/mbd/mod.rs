@@ -48,6 +48,7 @@ pub mod measures;
 mod normal;
 pub mod planar;
 pub mod redundancy;
+pub mod rewind;
 pub mod sparse;
 pub mod system;
 

@@ -512,18 +512,43 @@ impl Model {
         self.variables.iter().find(|v| v.el.id == id)
     }
 
+    /// The value of VARIABLE/id when it is a design variable: its FUNCTION reads nothing
+    /// (no TIME, measure, spline or other VARIABLE) and has a finite value, such as
+    /// `VARIABLE/1, FUNCTION = 1E5`. Expressions read a design variable as an input of
+    /// their compiled code, so a run can change its value without compiling again.
+    pub fn design_value(&self, id: Id) -> Option<f64> {
+        let f = &self.variable(id)?.function.function;
+        let u = &f.uses;
+        if u.time || u.mode || !u.vars.is_empty() || !u.measures.is_empty() || !u.splines.is_empty() {
+            return None;
+        }
+        let value = crate::interp::Program::new(f.clone()).eval(&crate::context::Context::new(0.0, &[]));
+        value.is_finite().then_some(value)
+    }
+
     /// `e` with every `VARVAL(id)` replaced by the expression of VARIABLE/id, recursively
     /// ([`crate::ir::inline`]): VARIABLEs are algebraic, so their value at a state is their
     /// expression's there, and derivatives then come through them. A VARIABLE reading
     /// itself (Adams' implicit VARIABLE, solved iteratively there) is an error naming the
-    /// chain; a VARVAL whose VARIABLE mbfx does not hold (a USER subroutine) is left as is.
+    /// chain; a VARVAL whose VARIABLE mbfx does not hold (a USER subroutine) is left as is,
+    /// and so is a design variable's ([`Model::design_value`]), which the compiled code
+    /// reads as an input.
     pub fn inline_variables(&self, e: &Expr) -> Result<Expr, String> {
+        self.inline_variables_keeping(e, true)
+    }
+
+    /// [`Model::inline_variables`], with design variables inlined as constants too unless
+    /// `keep_design`: a MOTION's drive is a function of time alone.
+    pub fn inline_variables_keeping(&self, e: &Expr, keep_design: bool) -> Result<Expr, String> {
         let with = |slot: u32| {
             let m = self.measures.get(slot as usize)?;
             if m.name != "VARVAL" {
                 return None;
             }
             let id = Id::try_from(*m.ids.first()?).ok()?;
+            if keep_design && self.design_value(id).is_some() {
+                return None;
+            }
             Some(&self.variable(id)?.function.function)
         };
         let function = crate::ir::inline::inline_measures(&e.function, &with).map_err(|err| {
@@ -551,6 +576,29 @@ impl Model {
             span: e.span.clone(),
             function,
         })
+    }
+
+    /// The design variables the constraints read (GCONs, and MOTIONs, which take them
+    /// as constants): changing one moves the assembled configuration.
+    pub fn constraint_designs(&self) -> Vec<Id> {
+        let mut ids = Vec::new();
+        let functions = self.gcons.iter().map(|g| &g.function);
+        for f in functions.chain(self.motions.iter().map(|m| &m.function)) {
+            let Ok(e) = self.inline_variables(f) else {
+                continue;
+            };
+            for &s in &e.function.uses.measures {
+                let Some(m) = self.measures.get(s as usize).filter(|m| m.name == "VARVAL") else {
+                    continue;
+                };
+                if let Some(id) = m.ids.first().and_then(|&i| Id::try_from(i).ok()) {
+                    if self.design_value(id).is_some() && !ids.contains(&id) {
+                        ids.push(id);
+                    }
+                }
+            }
+        }
+        ids
     }
 
     /// The SPLINE with Adams id `id`.

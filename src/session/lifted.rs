@@ -12,6 +12,7 @@ use crate::mbd::build::ExprCompiler;
 use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::planar::{self, Dim};
+use crate::mbd::rewind::StartState;
 use crate::mbd::system::{PartHandle, System};
 use crate::model::elements::Model;
 
@@ -22,6 +23,9 @@ pub struct Lifted {
     slots: Vec<(u32, OutputSlot)>,
     /// For each 3D measure, the 2D measure it equals (whose unwrapping it adopts).
     same_measure: Vec<Option<usize>>,
+    /// The 3D system's state before the first run, and its redundant rows.
+    start: StartState,
+    dropped: Vec<usize>,
 }
 
 impl Lifted {
@@ -49,6 +53,7 @@ impl Lifted {
         copy_state(&two.sys, &mut sys);
         let report = super::redundancy_of(&sys).map_err(|e| e.to_string())?;
         let dropped: Vec<usize> = report.redundant.iter().map(|r| r.row).collect();
+        let start = sys.start_state();
         let three = Dynamics::new(sys, forces, &dropped).map_err(|e| e.to_string())?;
         let (list2, list3) = (&two.sys.measures.list, &three.sys.measures.list);
         let same_measure = list3
@@ -59,7 +64,20 @@ impl Lifted {
             three,
             slots,
             same_measure,
+            start,
+            dropped,
         })
+    }
+
+    /// Ready for a run from t = 0 with the design values `values` (see
+    /// [`super::run::Simulation::rewind`]).
+    pub fn rewind(&mut self, values: &[(i64, f64)]) -> Result<(), DynError> {
+        let sys = &mut self.three.sys;
+        sys.rewind_to(&self.start);
+        for &(id, v) in values {
+            sys.measures.set_design(id, v);
+        }
+        self.three.restart(&self.dropped)
     }
 
     /// Solves the 3D system at the state of `two` and writes the reaction slots into

@@ -17,6 +17,7 @@ use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::FusedFn;
+use crate::mbd::rewind::StartState;
 use crate::model::elements::{Expr, RequestKind};
 use crate::model::integrator_settings::{Formulation, IntegratorStatement};
 use crate::model::{read_model, ModelRead};
@@ -257,6 +258,15 @@ struct Outputs {
     lifted: Option<Lifted>,
 }
 
+/// Why [`Simulation::rewind`] refused.
+#[derive(Debug)]
+pub enum RewindError {
+    /// A constraint reads this design variable.
+    ConstraintReads(i64),
+    /// The dynamics could not be made again.
+    Dynamics(DynError),
+}
+
 /// A model ready to run.
 pub struct Simulation {
     /// The dataset as read.
@@ -272,6 +282,10 @@ pub struct Simulation {
     pub redundant: usize,
     /// The rows left out of the equations of motion as redundant.
     dropped: Vec<usize>,
+    /// The state the run starts from, to run again from it ([`Simulation::rewind`]).
+    start: StartState,
+    /// The design variables the constraints read: changing one needs a new build.
+    constraint_designs: Vec<i64>,
 }
 
 /// The expression text of component k (1..8) of a standard REQUEST, if it has one.
@@ -428,6 +442,7 @@ impl Simulation {
                 .map(|r| r.row)
                 .collect(),
         };
+        let start = system.start_state();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
         // A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads.
         let reactions: Vec<u32> = slots
@@ -461,6 +476,12 @@ impl Simulation {
             ));
         }
         let measures = vec![0.0; read.model.measures.len()];
+        let constraint_designs = read
+            .model
+            .constraint_designs()
+            .into_iter()
+            .map(i64::from)
+            .collect();
         let reconcile = slots.iter().any(|(_, s)| s.reads_reconciled(&dynamics.sys));
         Ok(Simulation {
             read,
@@ -479,7 +500,38 @@ impl Simulation {
             conservative,
             redundant,
             dropped: dropped.clone(),
+            start,
+            constraint_designs,
         })
+    }
+
+    /// The design variables the model's expressions read (constant VARIABLEs, read by
+    /// VARVAL), with the values this simulation was built with.
+    pub fn designs(&self) -> &[(i64, f64)] {
+        self.dynamics.sys.measures.designs()
+    }
+
+    /// Makes the simulation ready to run again from t = 0 with the design values
+    /// `values` (VARIABLE id, value; the others keep the values it was built with): the
+    /// next run gives the bits a simulation built from the dataset with those values
+    /// would. Refuses (with the VARIABLE's id) a value of a design variable a constraint
+    /// reads, which moves the assembled configuration: that needs a new build.
+    pub fn rewind(&mut self, values: &[(i64, f64)]) -> Result<(), RewindError> {
+        if let Some(&(id, _)) = values.iter().find(|(id, _)| self.constraint_designs.contains(id)) {
+            return Err(RewindError::ConstraintReads(id));
+        }
+        let sys = &mut self.dynamics.sys;
+        sys.rewind_to(&self.start);
+        for &(id, v) in values {
+            sys.measures.set_design(id, v);
+        }
+        self.dynamics
+            .restart(&self.dropped)
+            .map_err(RewindError::Dynamics)?;
+        if let Some(lifted) = &mut self.outputs.lifted {
+            lifted.rewind(values).map_err(RewindError::Dynamics)?;
+        }
+        Ok(())
     }
 
     /// How many JIT modules hold the model's compiled expressions: 1 with the JIT (every

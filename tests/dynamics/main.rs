@@ -19,6 +19,7 @@ mod failures;
 mod motions;
 mod planar_reactions;
 mod reference;
+mod rewind;
 mod run;
 mod solution_reads;
 mod springs;

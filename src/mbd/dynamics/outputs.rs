@@ -9,7 +9,7 @@
 use super::Dynamics;
 use crate::mbd::constraints::Row;
 use crate::mbd::error::MbdError;
-use crate::mbd::measures::{Measure, M};
+use crate::mbd::measures::M;
 use crate::mbd::system::{MarkerHandle, PartHandle, System};
 use crate::model::elements::{MeasureSlot, Model};
 use crate::vocab::elements::{ElementKind, ForceKind};
@@ -245,8 +245,7 @@ impl OutputSlot {
                 }
             }
             _ => {
-                let m = Measure::resolve(ms, &|id| sys.marker_or_ground(id))?;
-                OutputSlot::Kinematic(sys.measures.add(m))
+                OutputSlot::Kinematic(sys.resolve_measure(model, ms)?)
             }
         })
     }
