@@ -261,6 +261,8 @@ fn run_object(
         stats.set_item("events", st.events)?;
         stats.set_item("cpu_seconds", s.cpu_seconds)?;
         stats.set_item("max_residual", s.max_residual)?;
+        // The simulation of the last run on this thread ran again (design values only).
+        stats.set_item("reused", s.reused)?;
         (warnings, notes) = (s.warnings.clone(), s.notes.clone());
         text = s.text();
         integrator = s.integrator;

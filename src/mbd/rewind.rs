@@ -42,9 +42,7 @@ impl System {
         self.time = start.time;
         for eq in self.elements.iter().flat_map(|e| &e.eqs) {
             match &eq.row {
-                Row::Measured {
-                    drive: Some(g), ..
-                } => g.rewind(),
+                Row::Measured { drive: Some(g), .. } => g.rewind(),
                 Row::Gcon { f, .. } => f.rewind(),
                 _ => {}
             }

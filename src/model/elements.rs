@@ -519,10 +519,12 @@ impl Model {
     pub fn design_value(&self, id: Id) -> Option<f64> {
         let f = &self.variable(id)?.function.function;
         let u = &f.uses;
-        if u.time || u.mode || !u.vars.is_empty() || !u.measures.is_empty() || !u.splines.is_empty() {
+        if u.time || u.mode || !u.vars.is_empty() || !u.measures.is_empty() || !u.splines.is_empty()
+        {
             return None;
         }
-        let value = crate::interp::Program::new(f.clone()).eval(&crate::context::Context::new(0.0, &[]));
+        let value =
+            crate::interp::Program::new(f.clone()).eval(&crate::context::Context::new(0.0, &[]));
         value.is_finite().then_some(value)
     }
 

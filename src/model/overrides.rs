@@ -10,6 +10,7 @@
 //! statement does not take (the reader's W0602) and a value the reader refuses are each an
 //! E0611 error at the setting, naming the statement.
 
+use super::elements::{Id, Model};
 use super::keywords::{abbreviates, lookup_statement, Lookup};
 use super::reader::read_model;
 use super::statement::{read_statements, Statement};
@@ -115,6 +116,29 @@ impl Settings {
         self.items.is_empty()
     }
 
+    /// True when every setting gives a design variable a number,
+    /// `VARIABLE/ID.FUNCTION=NUMBER`: such settings can change a built simulation
+    /// without reading or compiling the dataset again ([`Settings::design_values`]).
+    pub fn only_design(&self) -> bool {
+        self.items.iter().all(|s| design_setting(s).is_some())
+    }
+
+    /// The settings as design values (VARIABLE id, value) of `model` (the dataset they
+    /// apply to), or None unless every setting gives a number to a VARIABLE of `model`
+    /// that is a design variable ([`Model::design_value`]). A number reads as the
+    /// dataset's expressions read it, so the value is the one [`Settings::apply`] would
+    /// give the read model.
+    pub fn design_values(&self, model: &Model) -> Option<Vec<(i64, f64)>> {
+        self.items
+            .iter()
+            .map(|s| {
+                let (id, value) = design_setting(s)?;
+                let id32 = Id::try_from(id).ok()?;
+                model.design_value(id32).map(|_| (id, value))
+            })
+            .collect()
+    }
+
     /// The dataset `dataset` with every setting applied, read again to check them; the
     /// diagnostics of a refusal index [`Settings::text`].
     pub fn apply(&self, dataset: &str) -> Result<String, Vec<Diagnostic>> {
@@ -180,6 +204,28 @@ impl Settings {
             false => Err(errors),
         }
     }
+}
+
+/// `VARIABLE/ID.FUNCTION=NUMBER` as (ID, NUMBER): a number as the expression lexer
+/// reads one (digits, a point, an exponent; no degree suffix), with a sign.
+fn design_setting(s: &Setting) -> Option<(i64, f64)> {
+    if s.kind != "VARIABLE" || !abbreviates(&s.field, "FUNCTION", 3) {
+        return None;
+    }
+    let (negative, digits) = match s.value.as_bytes().first()? {
+        b'-' => (true, s.value[1..].trim_start()),
+        b'+' => (false, s.value[1..].trim_start()),
+        _ => (false, s.value.as_str()),
+    };
+    let lexeme = digits
+        .bytes()
+        .all(|b| b.is_ascii_digit() || b".eE+-".contains(&b))
+        && digits
+            .bytes()
+            .next()
+            .is_some_and(|b| b.is_ascii_digit() || b == b'.');
+    let x: f64 = digits.parse().ok().filter(|_| lexeme)?;
+    Some((s.id?, if negative { -x } else { x }))
 }
 
 /// The part of `s`'s value that `span` marks in the edited text, where the value lies

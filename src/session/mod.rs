@@ -36,6 +36,7 @@ pub mod files;
 pub mod lifted;
 pub mod loaded;
 pub mod plan;
+pub mod prepared;
 pub mod report;
 pub mod request;
 pub mod run;

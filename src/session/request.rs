@@ -37,6 +37,7 @@
 
 use super::acf::{self, Commands};
 use super::files::read_dataset;
+use super::prepared;
 use super::report;
 use super::run::{Engine, Method, RunFailure, RunSpec, Segment, Simulation, Summary, TableRow};
 use super::DimRequest;
@@ -486,14 +487,16 @@ pub fn run(
         (Input::Path(path), None) => read_file(path)?,
         (Input::Dataset { name, text }, None) => (name.clone(), text.clone(), Vec::new()),
     };
-    let text = apply_settings(&request.set, text)?;
-    let source = SourceFile::new(name, text);
     if !warnings.is_empty() {
+        // The encoding's warnings point into the file as read, before any setting.
         observer
-            .warnings(&warnings, &source)
+            .warnings(&warnings, &SourceFile::new(name.clone(), text.clone()))
             .map_err(RunFailed::output)?;
     }
-    let mut sim = build(request, source.text.as_str(), &source)?;
+    let key = commands
+        .is_none()
+        .then(|| prepared::key(request, &name, &text));
+    let (mut sim, source, keepable, reused) = simulation_for(request, key.as_ref(), name, text)?;
     let header = sim.header();
     let dim_reason = sim.dynamics.sys.dim_reason.clone();
     observer
@@ -555,7 +558,8 @@ pub fn run(
     if let Some(note) = commands.as_ref().and_then(|c| acf::output_note(&c.file)) {
         summary.notes.push(note);
     }
-    match failed {
+    summary.reused = reused;
+    let result = match failed {
         None => Ok(RunDone {
             header,
             summary,
@@ -566,7 +570,47 @@ pub fn run(
             (f.header, f.summary) = (Some(header), Some(summary));
             Err(f)
         }
+    };
+    if let Some(key) = key.filter(|_| keepable) {
+        prepared::keep(key, sim);
     }
+    result
+}
+
+/// The simulation for `request` on the dataset `text`, its source, whether it may be
+/// kept for the next run of `key` ([`prepared`]) and whether it is a kept one. When the settings only give design
+/// variables numbers, the simulation kept for `key` runs again with those values, or one
+/// is built from `text` as written and given them; otherwise the settings are applied to
+/// the text (refusals as E0611) and the edited text is built.
+fn simulation_for(
+    request: &RunRequest,
+    key: Option<&RunRequest>,
+    name: String,
+    text: String,
+) -> Result<(Simulation, SourceFile, bool, bool), Box<RunFailed>> {
+    let settings = Settings::parse(&request.set).ok();
+    if let (Some(key), Some(settings)) = (key, settings.filter(Settings::only_design)) {
+        if let Some(mut sim) = prepared::take(key) {
+            match settings.design_values(&sim.read.model) {
+                Some(values) if sim.rewind(&values).is_ok() => {
+                    return Ok((sim, SourceFile::new(name, text), true, true));
+                }
+                // Not design values of this dataset: kept for other runs.
+                _ => prepared::keep(key.clone(), sim),
+            }
+        }
+        let source = SourceFile::new(name.clone(), text.clone());
+        let mut sim = build(request, &text, &source)?;
+        match settings.design_values(&sim.read.model) {
+            Some(values) if values.is_empty() => return Ok((sim, source, true, false)),
+            Some(values) if sim.rewind(&values).is_ok() => return Ok((sim, source, true, false)),
+            _ => {}
+        }
+    }
+    let text = apply_settings(&request.set, text)?;
+    let source = SourceFile::new(name, text);
+    let sim = build(request, source.text.as_str(), &source)?;
+    Ok((sim, source, false, false))
 }
 
 /// Reads the dataset at `path`: its name, its text and the warnings of its encoding.
@@ -790,6 +834,63 @@ mod tests {
         assert_eq!(parse_probe(" x = DX(2)=1"), ("x".into(), " DX(2)=1".into()));
         assert_eq!(parse_probe(" =DX(2)"), (String::new(), " =DX(2)".into()));
         assert_eq!(parse_probe("DX(2)"), (String::new(), "DX(2)".into()));
+    }
+
+    /// The oscillator with its stiffness as design variable 1 in an SFORCE.
+    fn design_oscillator() -> String {
+        OSCILLATOR.replace(
+            "SPRINGDAMPER/1, TRANSLATION, I = 20, J = 10, K = 100, C = 4, LENGTH = 1",
+            "VARIABLE/1, FUNCTION = 100\n\
+                 SFORCE/1, TRANSLATION, I = 20, J = 10, FUNCTION = -VARVAL(1)*(DM(20, 10) - 1)",
+        )
+    }
+
+    fn reused(result: &Result<RunDone, Box<RunFailed>>) -> bool {
+        result.as_ref().expect("the run").summary.reused
+    }
+
+    #[test]
+    fn a_run_again_reuses_the_simulation_and_gives_its_bits() {
+        prepared::forget();
+        let mut r = RunRequest::dataset("osc", design_oscillator());
+        r.end = Some(1.0);
+        r.probes = vec![("x".into(), "DX(20, 10)".into())];
+        let (first, done) = rows_of(&r);
+        assert!(!reused(&done));
+        let (again, done) = rows_of(&r);
+        assert!(reused(&done));
+        assert_eq!(first, again);
+        // A design variable's number: the kept simulation, with the bits of the edited
+        // dataset built afresh.
+        r.set = vec!["VARIABLE/1.FUN=400".into()];
+        let (stiff, done) = rows_of(&r);
+        assert!(reused(&done));
+        prepared::forget();
+        let mut edited = r.clone();
+        edited.set.clear();
+        edited.input = Input::Dataset {
+            name: "osc".into(),
+            text: design_oscillator().replace("FUNCTION = 100", "FUNCTION = 400"),
+        };
+        let (fresh, done) = rows_of(&edited);
+        assert!(!reused(&done));
+        assert_eq!(stiff, fresh);
+        assert_ne!(stiff, first);
+        // Any other setting or dataset builds again, and leaves the kept one alone.
+        prepared::forget();
+        r.set = vec!["VARIABLE/1.FUNCTION=-2.5E2".into()];
+        assert!(!reused(&rows_of(&r).1));
+        r.set = vec!["PART/2.MASS=2".into()];
+        assert!(!reused(&rows_of(&r).1));
+        r.set = vec!["VARIABLE/1.FUNCTION=250".into()];
+        let (softer, done) = rows_of(&r);
+        assert!(reused(&done));
+        assert_ne!(softer, first);
+        r.set = vec!["VARIABLE/1.FUNCTION=2*PI".into()];
+        assert!(!reused(&rows_of(&r).1));
+        r.set.clear();
+        r.end = Some(0.5);
+        assert!(!reused(&rows_of(&r).1));
     }
 
     #[test]

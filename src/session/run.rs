@@ -203,6 +203,9 @@ pub struct Summary {
     /// steps whose local error estimate left ERROR far behind, constraint drift): a
     /// run that reports success on a wrong answer must at least say so.
     pub warnings: Vec<String>,
+    /// The run reused the simulation of an earlier run on this thread (nothing was read,
+    /// built or compiled: [`super::prepared`]).
+    pub reused: bool,
 }
 
 impl Summary {
@@ -517,7 +520,10 @@ impl Simulation {
     /// would. Refuses (with the VARIABLE's id) a value of a design variable a constraint
     /// reads, which moves the assembled configuration: that needs a new build.
     pub fn rewind(&mut self, values: &[(i64, f64)]) -> Result<(), RewindError> {
-        if let Some(&(id, _)) = values.iter().find(|(id, _)| self.constraint_designs.contains(id)) {
+        if let Some(&(id, _)) = values
+            .iter()
+            .find(|(id, _)| self.constraint_designs.contains(id))
+        {
             return Err(RewindError::ConstraintReads(id));
         }
         let sys = &mut self.dynamics.sys;
@@ -702,6 +708,7 @@ impl Simulation {
             notes,
             dim: self.dynamics.sys.dim_reason.clone(),
             warnings: Vec::new(),
+            reused: false,
         };
         let summary = Summary {
             warnings: monitors(&summary, self.spec.fixed_step.is_some(), error, kinetic_max),

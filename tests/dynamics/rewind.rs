@@ -34,8 +34,11 @@ fn simulation(text: &str, spec: RunSpec, probes: &[(String, String)]) -> Simulat
     }
 }
 
-/// A scene's end (capped: the test is about bits, not about long runs) and probes.
-fn scene(toml_path: &Path) -> Option<(String, f64, Vec<(String, String)>)> {
+/// Output columns: (name, expression).
+type Probes = Vec<(String, String)>;
+
+/// A scene's dataset, end (capped: the test is about bits, not about long runs) and probes.
+fn scene(toml_path: &Path) -> Option<(String, f64, Probes)> {
     let t: toml::Table = std::fs::read_to_string(toml_path).ok()?.parse().ok()?;
     let model = t.get("model")?.as_str()?;
     let text = std::fs::read_to_string(toml_path.with_file_name(model)).ok()?;
@@ -64,8 +67,16 @@ fn assert_rerun_is_fresh(name: &str, text: &str, spec: RunSpec, probes: &[(Strin
     let second = rows(&mut sim);
     let fresh = rows(&mut simulation(text, spec, probes));
     assert!(first.0.len() > 2, "{name}: {} rows", first.0.len());
-    assert_eq!(bits(&first.0), bits(&fresh.0), "{name}: first run and a fresh one");
-    assert_eq!(bits(&second.0), bits(&fresh.0), "{name}: rewound run and a fresh one");
+    assert_eq!(
+        bits(&first.0),
+        bits(&fresh.0),
+        "{name}: first run and a fresh one"
+    );
+    assert_eq!(
+        bits(&second.0),
+        bits(&fresh.0),
+        "{name}: rewound run and a fresh one"
+    );
     assert_eq!(second.1, fresh.1, "{name}");
 }
 
@@ -111,6 +122,10 @@ fn integrated_motions_and_reactions_rerun_bit_for_bit() {
         let text = std::fs::read_to_string(root().join(file)).expect(file);
         assert_rerun_is_fresh(file, &text, RunSpec::new(1.0, 0.05), &probes);
     }
+    // A chain of 10 rods: its Newton matrix is factored sparse, not dense.
+    let chain = mbfx::bench::generate::chain(10);
+    let probes = [("tip".to_string(), "DY(1103)".to_string())];
+    assert_rerun_is_fresh("chain of 10", &chain, RunSpec::new(0.2, 0.02), &probes);
 }
 
 /// The IMPACT block of examples/scenes with its stiffness and damping as design variables.
@@ -144,7 +159,11 @@ fn a_design_variable_changed_on_a_built_simulation_gives_the_datasets_bits() {
     let literal = std::fs::read_to_string(root().join("examples/scenes/impact_block_k1e5.adm"))
         .expect("impact block");
     let written = rows(&mut simulation(&literal, impact_spec(), &probes)).0;
-    assert_eq!(bits(&base), bits(&written), "VARVAL(1) = 1E5 against 1E5 written");
+    assert_eq!(
+        bits(&base),
+        bits(&written),
+        "VARVAL(1) = 1E5 against 1E5 written"
+    );
     for (k, c) in [(3e5, 50.0), (2e4, 80.0), (1e5, 50.0)] {
         sim.rewind(&[(1, k), (2, c)]).expect("rewind");
         let changed = rows(&mut sim).0;
@@ -155,7 +174,11 @@ fn a_design_variable_changed_on_a_built_simulation_gives_the_datasets_bits() {
         ))
         .0;
         assert_eq!(bits(&changed), bits(&fresh), "k = {k}, c = {c}");
-        assert_eq!((k == 1e5), bits(&changed) == bits(&base), "k = {k}, c = {c}");
+        assert_eq!(
+            (k == 1e5),
+            bits(&changed) == bits(&base),
+            "k = {k}, c = {c}"
+        );
     }
 }
 

@@ -87,3 +87,30 @@ def test_values_must_be_numbers_or_text():
         m.with_values({2: 1.0})
     # numpy scalars are numbers, written exactly.
     assert "MASS=2.75" in m.with_values({"PART/2.MASS": np.float64(2.75)}).text
+
+
+DESIGN_OSCILLATOR = OSCILLATOR.replace(
+    "FUNCTION = -100*(DM(21, 11) - 1)", "FUNCTION = -VARVAL(1)*(DM(21, 11) - 1)\nVARIABLE/1, FUNCTION = 100"
+)
+
+
+def test_design_variables_rerun_the_built_simulation_with_the_sqrt_k_over_m_frequency():
+    # VARIABLE/1 is a design variable: after the first run, a run that only gives it a
+    # number reruns the same compiled simulation, and the frequency follows the value.
+    m = mbfx.load(DESIGN_OSCILLATOR)
+    args = dict(output_step=0.01, integrator="dopri853", error=1e-10, probes={"u": "DX(21, 11) - 1"})
+    first = m.run(1.0, **args)
+    for k in [400.0, 2500, 100.0]:
+        run = m.run(1.0, set={"VARIABLE/1.FUNCTION": k}, **args)
+        assert run.stats["reused"], k
+        exact = 0.1 * np.cos(math.sqrt(k) * run.time)
+        assert np.max(np.abs(run["u"] - exact)) < 1e-7, k
+        # The same bits as the dataset written with that value and built afresh.
+        written = mbfx.load(DESIGN_OSCILLATOR.replace("FUNCTION = 100", f"FUNCTION = {k!r}"))
+        fresh = written.run(1.0, **args)
+        assert not fresh.stats["reused"]
+        assert np.array_equal(run.data, fresh.data), k
+    assert np.array_equal(run.data, first.data)
+    # Another field, or a value that is not a number, builds again.
+    assert not m.run(1.0, set={"PART/2.MASS": 4}, **args).stats["reused"]
+    assert not m.run(1.0, set={"VARIABLE/1.FUNCTION": "20**2"}, **args).stats["reused"]

@@ -244,9 +244,7 @@ impl OutputSlot {
                     rm,
                 }
             }
-            _ => {
-                OutputSlot::Kinematic(sys.resolve_measure(model, ms)?)
-            }
+            _ => OutputSlot::Kinematic(sys.resolve_measure(model, ms)?),
         })
     }
 
