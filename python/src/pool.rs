@@ -9,8 +9,13 @@ use std::sync::mpsc::{channel, Sender};
 use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::time::Duration;
 
-/// Work for a pooled thread.
-type Job = Box<dyn FnOnce() + Send + 'static>;
+/// Work for a pooled thread: it runs, and returns what hands its result over, which the
+/// thread calls once it is idle again (so the caller's next run finds this thread, and
+/// the simulation it keeps: `mbfx::session::prepared`).
+type Job = Box<dyn FnOnce() -> Deliver + Send + 'static>;
+
+/// Hands a job's result to its task.
+type Deliver = Box<dyn FnOnce() + Send + 'static>;
 
 /// Threads waiting for work, by the sender that wakes each.
 static IDLE: Mutex<Vec<Sender<Job>>> = Mutex::new(Vec::new());
@@ -42,8 +47,10 @@ pub fn submit<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> A
     let done = task.clone();
     let job: Job = Box::new(move || {
         let result = catch_unwind(AssertUnwindSafe(work));
-        *done.slot.lock().unwrap_or_else(PoisonError::into_inner) = Some(result);
-        done.ready.notify_all();
+        Box::new(move || {
+            *done.slot.lock().unwrap_or_else(PoisonError::into_inner) = Some(result);
+            done.ready.notify_all();
+        })
     });
     let idle = IDLE.lock().unwrap_or_else(PoisonError::into_inner).pop();
     let job = match idle {
@@ -58,10 +65,11 @@ pub fn submit<T: Send + 'static>(work: impl FnOnce() -> T + Send + 'static) -> A
         let (wake, work) = channel::<Job>();
         let mut job = job;
         loop {
-            job();
+            let deliver = job();
             IDLE.lock()
                 .unwrap_or_else(PoisonError::into_inner)
                 .push(wake.clone());
+            deliver();
             match work.recv() {
                 Ok(next) => job = next,
                 Err(_) => return,

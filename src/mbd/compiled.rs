@@ -65,13 +65,14 @@ impl Batch {
         self.compile(&pending);
     }
 
-    /// Compiles the functions `indices` into one new module and points their code at it.
+    /// Compiles the functions `indices` into one new module and points their code at it;
+    /// the same functions compiled before on this thread reuse that module's code.
     fn compile(&self, indices: &[usize]) {
         let mut jit = self.jit.borrow_mut();
         let Some(jit) = jit.as_mut() else { return };
         let functions = self.functions.borrow();
         let fs: Vec<&crate::ir::Function> = indices.iter().map(|&i| &functions[i]).collect();
-        match jit.compile_batch(&fs) {
+        match code_cache::compiled(jit, &fs) {
             Ok(compiled) => {
                 let mut code = self.code.borrow_mut();
                 for (&i, c) in indices.iter().zip(compiled) {
@@ -84,6 +85,42 @@ impl Batch {
             }
             Err(e) => *self.error.borrow_mut() = Some(e),
         }
+    }
+}
+
+/// Machine code of the batches this thread compiled, by their functions: a model built
+/// again with other statement values (a study's variant that moves a marker) has the same
+/// expressions, and takes their code instead of compiling it again.
+mod code_cache {
+    use crate::ir::Function;
+    use crate::jit::{CompiledExpr, Jit, JitError};
+    use std::cell::RefCell;
+    use std::collections::HashMap;
+
+    /// Batches kept before the cache starts again (each holds its module's code).
+    const KEEP: usize = 16;
+
+    thread_local! {
+        static CODE: RefCell<HashMap<String, Vec<CompiledExpr>>> = RefCell::new(HashMap::new());
+    }
+
+    /// The code of `fs`, compiled by `jit` unless this thread holds it.
+    pub(super) fn compiled(jit: &mut Jit, fs: &[&Function]) -> Result<Vec<CompiledExpr>, JitError> {
+        // The functions' whole value, constants to the bit (`{:?}` of an f64 round-trips
+        // and tells -0.0 from 0.0): equal keys are the same code.
+        let key = format!("{fs:?}");
+        if let Some(code) = CODE.with(|c| c.borrow().get(&key).cloned()) {
+            return Ok(code);
+        }
+        let code = jit.compile_batch(fs)?;
+        CODE.with(|c| {
+            let mut c = c.borrow_mut();
+            if c.len() >= KEEP {
+                c.clear();
+            }
+            c.insert(key, code.clone());
+        });
+        Ok(code)
     }
 }
 
@@ -398,6 +435,33 @@ mod tests {
         let t = 0.25;
         let dt = f.gradient(t, &[], &mut []).unwrap();
         assert!((dt - 2.0 * (6.0 * t - 6.0 * t * t)).abs() < 1e-14);
+    }
+
+    /// The module of the code of function `k` of `e`, once compiled.
+    fn module_of(e: &CompiledExprs, k: usize) -> *const () {
+        e.batch.code.borrow()[k]
+            .as_ref()
+            .map(CompiledExpr::module_id)
+            .expect("compiled")
+    }
+
+    #[test]
+    fn the_same_functions_take_the_code_compiled_before_on_the_thread() {
+        let text = "DM(2,1)**2 - 4 + 3.25*TIME";
+        let (a, b, c) = (
+            CompiledExprs::new(),
+            CompiledExprs::new(),
+            CompiledExprs::new(),
+        );
+        let fa = a.compile(&expr(text));
+        let fb = b.compile(&expr(text));
+        // -3.25 differs from 3.25 in one bit of one constant: other code.
+        let fc = c.compile(&expr("DM(2,1)**2 - 4 + -3.25*TIME"));
+        assert_eq!(fa.value(1.0, &[1.5]).unwrap(), 1.5f64 * 1.5 - 4.0 + 3.25);
+        assert_eq!(fb.value(1.0, &[1.5]).unwrap(), 1.5f64 * 1.5 - 4.0 + 3.25);
+        assert_eq!(fc.value(1.0, &[1.5]).unwrap(), 1.5f64 * 1.5 - 4.0 - 3.25);
+        assert_eq!(module_of(&a, 0), module_of(&b, 0));
+        assert_ne!(module_of(&a, 0), module_of(&c, 0));
     }
 
     #[test]

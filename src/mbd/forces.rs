@@ -558,6 +558,14 @@ impl ForceSet {
         Ok(())
     }
 
+    /// Forgets the last evaluation's loads and solution values, as [`ForceSet::prepare`]
+    /// leaves them: a run from the start of a set prepared before reads nothing of the
+    /// last run.
+    pub fn forget_state(&mut self) {
+        self.loads = vec![Loads::default(); self.elements.len()];
+        self.solved = vec![0.0; self.solution.len()];
+    }
+
     /// Adds every element's generalized forces (and, with `jacobians`, their ∂/∂q and
     /// ∂/∂v) to `out`; gravity is added by the caller (it has no Jacobian). Solution
     /// values are those in [`ForceSet::solved`].

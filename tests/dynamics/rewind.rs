@@ -113,6 +113,11 @@ fn integrated_motions_and_reactions_rerun_bit_for_bit() {
         ("tests/models/motions/slider_velocity.adm", vec![]),
         ("tests/models/motions/slider_acceleration.adm", vec![]),
         ("tests/models/motions/pendulum_acceleration.adm", vec![]),
+        // Forces reading accelerations, reactions and forces: the last run's solution
+        // values must not leak into the next.
+        ("tests/models/solution/added_mass_oscillator.adm", vec![]),
+        ("tests/models/solution/friction_loop.adm", vec![]),
+        ("tests/models/solution/force_reads_force.adm", vec![]),
         // A planar run whose probe reads a reaction: the 3D shadow is rewound too.
         (
             "tests/models/pendulum_out_of_plane_loads.adm",

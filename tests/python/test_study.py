@@ -288,6 +288,31 @@ def test_resume_runs_only_what_the_results_file_lacks(model, client, tmp_path):
         oscillator_study(model, client, design=table[::-1], resume=True, **kwargs)
 
 
+def test_a_parquet_results_file_holds_the_table_and_resumes(model, client, tmp_path):
+    out = tmp_path / "results.parquet"
+    table = [{"PART/2.MASS": m, "k": k} for m in (0.5, 2.0) for k in (100, 400, 800)]
+    kwargs = dict(
+        factors={"PART/2.MASS": (0.5, 2.0), "k": (100, 800)},
+        responses={"u_end": study.final("u")},
+        out=out,
+        batch=2,
+    )
+    first = oscillator_study(model, client, design=table[:3], **kwargs)
+    assert pd.read_parquet(out).equals(first.table[list(pd.read_parquet(out).columns)])
+    assert not (tmp_path / "results.parquet.rows.csv").exists()
+    full = oscillator_study(model, client, design=table, resume=True, **kwargs)
+    written = pd.read_parquet(out)
+    assert list(written["variant"]) == list(range(6)) and (written["status"] == "ok").all()
+    # The first three were read back, not run again.
+    assert written.set_index("variant")["seconds"][[0, 1, 2]].equals(first.table.set_index("variant")["seconds"])
+    for _, row in written.iterrows():
+        assert row["u_end"] == pytest.approx(closed_form(0.5, row["k"], row["PART/2.MASS"]), abs=1e-7)
+    assert full.table["variant"].tolist() == list(range(6))
+    with pytest.raises(ValueError, match=".csv or .parquet"):
+        oscillator_study(model, client, design=table, out=tmp_path / "results.json",
+                         factors=kwargs["factors"], responses=kwargs["responses"])
+
+
 # -------------------------------------------------------------------------- surfaces
 
 # A quadratic in the scaled factors: x_m = (m - 1.25) / 0.75 (mass over 0.5..2) and

@@ -1,6 +1,7 @@
 """The results file of a study (`out=`): a CSV that grows by one block of rows per
 finished batch, so a crash loses no finished variant, and that a resumed study reads to
-skip the variants it holds."""
+skip the variants it holds; or a Parquet file, written whole when the study ends, whose
+rows stream meanwhile to a CSV beside it (`NAME.parquet.rows.csv`) for the same reason."""
 
 from __future__ import annotations
 
@@ -16,13 +17,21 @@ if TYPE_CHECKING:
 STATUSES = ("ok", "failed")
 
 
+def results_file(path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> "ResultsFile":
+    """The results file for `out=`: by its suffix, a CSV (.csv) or Parquet (.parquet) file."""
+    suffix = Path(path).suffix.lower()
+    if suffix == ".parquet":
+        return ParquetResults(path, columns)
+    if suffix != ".csv":
+        raise ValueError(f"out= is a .csv or .parquet file, not {path}")
+    return ResultsFile(path, columns)
+
+
 class ResultsFile:
     """A CSV file of a study's rows with the columns `columns` (the first is `variant`)."""
 
     def __init__(self, path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> None:
         self.path = Path(path)
-        if self.path.suffix.lower() != ".csv":
-            raise ValueError(f"out= is a .csv file (rows are appended as they finish), not {self.path}")
         self.columns = list(columns)
 
     def start(self, resume: bool) -> "pd.DataFrame":
@@ -43,6 +52,9 @@ class ResultsFile:
         with open(self.path, "a", newline="", encoding="utf-8") as f:
             rows[self.columns].to_csv(f, header=False, index=False, lineterminator="\n")
             f.flush()
+
+    def finish(self, table: "pd.DataFrame") -> None:
+        """The study has ended with `table`: the rows are all in the file already."""
 
     def _keep_complete_rows(self) -> None:
         """Rewrites the file without incomplete or repeated rows, if it has any; raises
@@ -65,6 +77,51 @@ class ResultsFile:
         partial = self.path.with_name(self.path.name + ".partial")
         partial.write_text(text, encoding="utf-8", newline="")
         os.replace(partial, self.path)
+
+
+class ParquetResults:
+    """A Parquet file of a study's rows: the finished rows stream to a CSV beside it
+    (`NAME.parquet.rows.csv`, a [`ResultsFile`]) and the whole table is written to the
+    Parquet file when the study ends, replacing it in one step, the CSV then removed. A
+    resumed study reads both: the Parquet file of an earlier study that ended, and the
+    CSV of one that did not."""
+
+    def __init__(self, path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> None:
+        try:
+            import pyarrow  # noqa: F401  (pandas writes Parquet through it)
+        except ImportError:
+            raise ImportError("out=*.parquet needs pyarrow: pip install mbfx[parquet]") from None
+        self.path = Path(path)
+        self.columns = list(columns)
+        self.rows = ResultsFile(self.path.with_name(self.path.name + ".rows.csv"), columns)
+
+    def start(self, resume: bool) -> "pd.DataFrame":
+        """The rows already finished: the Parquet file's and the streamed CSV's when
+        resuming (each variant once), else none."""
+        import pandas as pd
+
+        streamed = self.rows.start(resume)
+        if not resume or not self.path.exists():
+            return streamed
+        ended = pd.read_parquet(self.path)
+        if list(ended.columns) != self.columns:
+            raise ValueError(
+                f"{self.path} holds other columns ({list(ended.columns)}) than this study's ({self.columns}): "
+                "pass resume=False to overwrite it, or another out="
+            )
+        both = pd.concat([ended, streamed], ignore_index=True) if len(streamed) else ended
+        return both.drop_duplicates("variant").reset_index(drop=True)
+
+    def append(self, rows: "pd.DataFrame") -> None:
+        """Adds `rows` to the streamed CSV."""
+        self.rows.append(rows)
+
+    def finish(self, table: "pd.DataFrame") -> None:
+        """Writes `table` (every row of the study) to the Parquet file in one step."""
+        partial = self.path.with_name(self.path.name + ".partial")
+        table[self.columns].to_parquet(partial, index=False)
+        os.replace(partial, self.path)
+        self.rows.path.unlink(missing_ok=True)
 
 
 def _complete(records: List[List[str]], columns: Sequence[str]) -> List[List[str]]:

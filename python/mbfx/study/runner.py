@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, List, Mapping, 
 from . import designs
 from .execute import SECONDS, STATS, Job, Row, batches, connect, default_batch, stream
 from .factors import Factor, FactorSpec, check_templates, factors_from, settings
-from .outfile import ResultsFile
+from .outfile import ResultsFile, results_file
 from .responses import Response, check_columns
 from .results import Study
 
@@ -59,10 +59,11 @@ def run(
     dicts. `responses` maps names to functions of a Run (`mbfx.study.max("x")`, ...).
     Each variant runs `model.run(end, probes=probes, set=..., **run_args)`.
 
-    The variants run in batches of `batch` (default: about four tasks per worker thread)
+    The variants run in batches of `batch` (default: about eight tasks per worker thread)
     on `client`'s cluster, or on a LocalCluster of one process per core started and
-    closed here. `out` (.csv) receives each batch's rows as it finishes; with `resume`
-    the variants it already holds are not run again. `progress` shows a progress bar.
+    closed here. `out` (.csv, or .parquet written whole at the end) receives each
+    batch's rows as it finishes; with `resume` the variants it already holds are not
+    run again. `progress` shows a progress bar.
     """
     model = _as_model(model)
     factor_map = factors_from(factors) if factors is not None else _factors_of(design)
@@ -73,7 +74,7 @@ def run(
     plan = designs.design(factor_map, design, n, levels, seed)
     columns = table_columns(factor_map, responses)
 
-    results = ResultsFile(out, columns) if out is not None else None
+    results = results_file(out, columns) if out is not None else None
     done = results.start(resume) if results is not None else _empty(columns)
     _check_same_design(done, plan, out)
     seen: Set[int] = set(int(v) for v in done["variant"])
@@ -81,7 +82,10 @@ def run(
     pending = [(v, settings(values[v], templates)) for v in range(len(plan)) if v not in seen]
 
     fresh = _run_pending(pending, model, job, plan, columns, client, batch, results, seen, progress)
-    return Study(_table([done, *fresh], columns), factor_map, list(responses))
+    table = _table([done, *fresh], columns)
+    if results is not None:
+        results.finish(table)
+    return Study(table, factor_map, list(responses))
 
 
 def _run_pending(

@@ -481,6 +481,17 @@ impl Dynamics {
     /// analysis removed.
     pub fn new(sys: System, mut forces: ForceSet, dropped: &[usize]) -> Result<Dynamics, DynError> {
         forces.prepare(&sys)?;
+        Self::with_prepared(sys, forces, dropped)
+    }
+
+    /// [`Dynamics::new`] with `forces` prepared for `sys` already ([`ForceSet::prepare`]:
+    /// it checks every element's parts fit its duals, which a rerun of the same system
+    /// need not do again).
+    pub fn with_prepared(
+        sys: System,
+        forces: ForceSet,
+        dropped: &[usize],
+    ) -> Result<Dynamics, DynError> {
         let all: Vec<(usize, usize)> = sys.rows().collect();
         let (mut rows, mut drop) = (Vec::new(), Vec::new());
         for (k, r) in all.into_iter().enumerate() {
