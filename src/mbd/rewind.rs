@@ -53,13 +53,15 @@ impl System {
 impl Dynamics {
     /// The dynamics made anew around the same system and forces (after
     /// [`System::rewind_to`]): no factors, flags or counters of the last run carry over,
-    /// and the forces keep their preparation but not their last loads.
+    /// the forces keep their preparation but not their last loads, and the LU solvers their
+    /// symbolic analysis.
     /// `dropped` are the rows left out, as [`Dynamics::new`] takes them.
     pub fn restart(&mut self, dropped: &[usize]) -> Result<(), DynError> {
         let sys = std::mem::take(&mut self.sys);
         let mut forces = std::mem::take(&mut self.forces);
         forces.forget_state();
-        *self = Dynamics::with_prepared(sys, forces, dropped)?;
+        let factors = self.take_factors();
+        *self = Dynamics::with_factors(sys, forces, dropped, factors)?;
         Ok(())
     }
 }

@@ -38,7 +38,7 @@ impl Triplets {
 /// A fixed sparsity pattern in compressed-column form, built once from every position a
 /// matrix may ever hold (structural zeros included), with O(log) lookup of a position's
 /// slot in the value array. Integrators fill the Newton matrix on it at every refactor.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Pattern {
     /// Order of the square matrix.
     pub n: usize,
@@ -162,6 +162,16 @@ impl SparseLu {
     /// The sparsity pattern the symbolic analysis was done on.
     pub fn pattern(&self) -> &Pattern {
         &self.pattern
+    }
+
+    /// Back to the state [`SparseLu::new`] leaves, keeping its symbolic analysis and
+    /// scratch memory: no factors, a zeroed dense matrix.
+    pub fn forget(&mut self) {
+        self.factored = false;
+        self.numeric = faer::sparse::linalg::lu::NumericLu::new();
+        if let Some(d) = &mut self.dense {
+            *d = DenseLu::new(self.pattern.n);
+        }
     }
 
     /// Whether the matrix is factored dense (order up to [`DENSE_MAX`]).

@@ -10,7 +10,6 @@
 //! statement does not take (the reader's W0602) and a value the reader refuses are each an
 //! E0611 error at the setting, naming the statement.
 
-use super::elements::{Id, Model};
 use super::keywords::{abbreviates, lookup_statement, Lookup};
 use super::reader::read_model;
 use super::statement::{read_statements, Statement};
@@ -123,19 +122,15 @@ impl Settings {
         self.items.iter().all(|s| design_setting(s).is_some())
     }
 
-    /// The settings as design values (VARIABLE id, value) of `model` (the dataset they
-    /// apply to), or None unless every setting gives a number to a VARIABLE of `model`
-    /// that is a design variable ([`Model::design_value`]). A number reads as the
-    /// dataset's expressions read it, so the value is the one [`Settings::apply`] would
-    /// give the read model.
-    pub fn design_values(&self, model: &Model) -> Option<Vec<(i64, f64)>> {
+    /// The settings as design values (VARIABLE id, value), or None unless every setting
+    /// gives a number to a VARIABLE that `is_design` accepts (a design variable of the
+    /// dataset, [`super::elements::Model::design_value`], that the built simulation reads). A number reads
+    /// as the dataset's expressions read it, so the value is the one [`Settings::apply`]
+    /// would give the read model.
+    pub fn design_values(&self, is_design: impl Fn(i64) -> bool) -> Option<Vec<(i64, f64)>> {
         self.items
             .iter()
-            .map(|s| {
-                let (id, value) = design_setting(s)?;
-                let id32 = Id::try_from(id).ok()?;
-                model.design_value(id32).map(|_| (id, value))
-            })
+            .map(|s| design_setting(s).filter(|&(id, _)| is_design(id)))
             .collect()
     }
 

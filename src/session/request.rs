@@ -577,6 +577,13 @@ pub fn run(
     result
 }
 
+/// Whether `sim`'s expressions read design variable `id` as an input: setting it then
+/// needs no new build. (A design variable only a MOTION reads is compiled in, and one
+/// nothing reads changes nothing; either way the run builds the edited dataset.)
+fn reads_design(sim: &Simulation, id: i64) -> bool {
+    sim.designs().iter().any(|&(d, _)| d == id)
+}
+
 /// The simulation for `request` on the dataset `text`, its source, whether it may be
 /// kept for the next run of `key` ([`prepared`]) and whether it is a kept one. When the settings only give design
 /// variables numbers, the simulation kept for `key` runs again with those values, or one
@@ -591,7 +598,7 @@ fn simulation_for(
     let settings = Settings::parse(&request.set).ok();
     if let (Some(key), Some(settings)) = (key, settings.filter(Settings::only_design)) {
         if let Some(mut sim) = prepared::take(key) {
-            match settings.design_values(&sim.read.model) {
+            match settings.design_values(|id| reads_design(&sim, id)) {
                 Some(values) if sim.rewind(&values).is_ok() => {
                     return Ok((sim, SourceFile::new(name, text), true, true));
                 }
@@ -601,7 +608,7 @@ fn simulation_for(
         }
         let source = SourceFile::new(name.clone(), text.clone());
         let mut sim = build(request, &text, &source)?;
-        match settings.design_values(&sim.read.model) {
+        match settings.design_values(|id| reads_design(&sim, id)) {
             Some(values) if values.is_empty() => return Ok((sim, source, true, false)),
             Some(values) if sim.rewind(&values).is_ok() => return Ok((sim, source, true, false)),
             _ => {}

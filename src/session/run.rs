@@ -509,7 +509,7 @@ impl Simulation {
     }
 
     /// The design variables the model's expressions read (constant VARIABLEs, read by
-    /// VARVAL), with the values this simulation was built with.
+    /// VARVAL), with their values (the build's, or the last rewind's).
     pub fn designs(&self) -> &[(i64, f64)] {
         self.dynamics.sys.measures.designs()
     }

@@ -382,7 +382,7 @@ pub struct Dynamics {
     /// The Newton matrix's factors, and the saddle-point matrix's of the outputs'
     /// reconciliation: separate, so an output does not cost the integrator its
     /// factorization.
-    factors: [Factors; 2],
+    factors: Vec<Factors>,
     /// Counts factorizations, so an integrator can tell whether the factors it reuses
     /// are still its own.
     pub factor_generation: u64,
@@ -463,7 +463,7 @@ enum Which {
 /// One factorization of the Newton matrix: the full LU on the pattern and, when no
 /// force element couples two parts, the Schur-complement solver; `via_schur` says which
 /// one holds the last factors.
-struct Factors {
+pub(crate) struct Factors {
     lu: SparseLu,
     values: Vec<f64>,
     schur: Option<schur::Schur>,
@@ -491,6 +491,18 @@ impl Dynamics {
         sys: System,
         forces: ForceSet,
         dropped: &[usize],
+    ) -> Result<Dynamics, DynError> {
+        Self::with_factors(sys, forces, dropped, Vec::new())
+    }
+
+    /// [`Dynamics::with_prepared`] taking the LU solvers of `reuse` (another dynamics'
+    /// [`Dynamics::take_factors`]) when their pattern is this system's: their symbolic
+    /// analysis is kept, everything else made anew ([`SparseLu::forget`]).
+    pub(crate) fn with_factors(
+        sys: System,
+        forces: ForceSet,
+        dropped: &[usize],
+        reuse: Vec<Factors>,
     ) -> Result<Dynamics, DynError> {
         let all: Vec<(usize, usize)> = sys.rows().collect();
         let (mut rows, mut drop) = (Vec::new(), Vec::new());
@@ -535,7 +547,24 @@ impl Dynamics {
                 schur_declined: false,
             })
         };
-        let factors = [factors(pattern.clone())?, factors(pattern)?];
+        let factors = match reuse.len() == 2 && reuse.iter().all(|f| *f.lu.pattern() == pattern) {
+            true => reuse
+                .into_iter()
+                .map(|f| {
+                    let mut lu = f.lu;
+                    lu.forget();
+                    Factors {
+                        values: vec![0.0; pattern.nnz()],
+                        lu,
+                        schur: None,
+                        via_schur: false,
+                        regularised: true,
+                        schur_declined: false,
+                    }
+                })
+                .collect(),
+            false => vec![factors(pattern.clone())?, factors(pattern)?],
+        };
         let mut d = Dynamics {
             sys,
             forces,
@@ -584,6 +613,12 @@ impl Dynamics {
         }
         d.check_massless()?;
         Ok(d)
+    }
+
+    /// The LU solvers, for a new dynamics of the same system
+    /// ([`Dynamics::with_factors`]); this one is left without any and must not solve again.
+    pub(crate) fn take_factors(&mut self) -> Vec<Factors> {
+        std::mem::take(&mut self.factors)
     }
 
     /// The Newton matrix's pattern: each part's mass block, the blocks force elements
