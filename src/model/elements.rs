@@ -543,11 +543,7 @@ impl Model {
     /// `keep_design`: a MOTION's drive is a function of time alone.
     pub fn inline_variables_keeping(&self, e: &Expr, keep_design: bool) -> Result<Expr, String> {
         let with = |slot: u32| {
-            let m = self.measures.get(slot as usize)?;
-            if m.name != "VARVAL" {
-                return None;
-            }
-            let id = Id::try_from(*m.ids.first()?).ok()?;
+            let id = self.varval_id(slot)?;
             if keep_design && self.design_value(id).is_some() {
                 return None;
             }
@@ -580,6 +576,15 @@ impl Model {
         })
     }
 
+    /// The VARIABLE id of measure slot `slot` when it is a `VARVAL`.
+    fn varval_id(&self, slot: u32) -> Option<Id> {
+        let m = self.measures.get(slot as usize)?;
+        if m.name != "VARVAL" {
+            return None;
+        }
+        Id::try_from(*m.ids.first()?).ok()
+    }
+
     /// The design variables the constraints read (GCONs, and MOTIONs, which take them
     /// as constants): changing one moves the assembled configuration.
     pub fn constraint_designs(&self) -> Vec<Id> {
@@ -589,14 +594,15 @@ impl Model {
             let Ok(e) = self.inline_variables(f) else {
                 continue;
             };
-            for &s in &e.function.uses.measures {
-                let Some(m) = self.measures.get(s as usize).filter(|m| m.name == "VARVAL") else {
-                    continue;
-                };
-                if let Some(id) = m.ids.first().and_then(|&i| Id::try_from(i).ok()) {
-                    if self.design_value(id).is_some() && !ids.contains(&id) {
-                        ids.push(id);
-                    }
+            for id in e
+                .function
+                .uses
+                .measures
+                .iter()
+                .filter_map(|&s| self.varval_id(s))
+            {
+                if self.design_value(id).is_some() && !ids.contains(&id) {
+                    ids.push(id);
                 }
             }
         }

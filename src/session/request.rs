@@ -402,16 +402,19 @@ impl fmt::Debug for RunFailed {
 
 impl std::error::Error for RunFailed {}
 
-/// `text` with the `--set` values applied; a refusal points into the settings, shown as
-/// a source named `--set`, one a line.
-fn apply_settings(set: &[String], text: String) -> Result<String, Box<RunFailed>> {
-    if set.is_empty() {
-        return Ok(text);
-    }
+/// The `--set` values as [`Settings::parse`] read them, or its refusal.
+type Parsed = Result<Settings, (String, Vec<Diagnostic>)>;
+
+/// `text` with the `--set` values (`parsed`) applied; a refusal points into the settings,
+/// shown as a source named `--set`, one a line.
+fn apply_settings(parsed: Parsed, text: String) -> Result<String, Box<RunFailed>> {
     let refused = |t: &str, diagnostics: Vec<Diagnostic>| {
         RunFailed::new(SourceFile::new("--set", t), diagnostics)
     };
-    let settings = Settings::parse(set).map_err(|(t, d)| refused(&t, d))?;
+    let settings = parsed.map_err(|(t, d)| refused(&t, d))?;
+    if settings.is_empty() {
+        return Ok(text);
+    }
     settings
         .apply(&text)
         .map_err(|d| refused(settings.text(), d))
@@ -595,8 +598,9 @@ fn simulation_for(
     name: String,
     text: String,
 ) -> Result<(Simulation, SourceFile, bool, bool), Box<RunFailed>> {
-    let settings = Settings::parse(&request.set).ok();
-    if let (Some(key), Some(settings)) = (key, settings.filter(Settings::only_design)) {
+    let parsed = Settings::parse(&request.set);
+    let design = parsed.as_ref().ok().filter(|s| s.only_design());
+    if let (Some(key), Some(settings)) = (key, design) {
         if let Some(mut sim) = prepared::take(key) {
             match settings.design_values(|id| reads_design(&sim, id)) {
                 Some(values) if sim.rewind(&values).is_ok() => {
@@ -614,7 +618,7 @@ fn simulation_for(
             _ => {}
         }
     }
-    let text = apply_settings(&request.set, text)?;
+    let text = apply_settings(parsed, text)?;
     let source = SourceFile::new(name, text);
     let sim = build(request, source.text.as_str(), &source)?;
     Ok((sim, source, false, false))
