@@ -1,6 +1,6 @@
 //! The native part of the Python module `mbfx` (`mbfx._mbfx`): expressions compiled
 //! over named variables (`expression`) and evaluated over numpy arrays (`arrays`),
-//! datasets loaded and checked (`model`) and run (`run`, on threads of `pool`), and the
+//! datasets loaded and checked (`model`) and run (`run`), and the
 //! exceptions (`errors`). It is a thin layer over `mbfx::session`: every decision is
 //! the library's, so Python gives the command line's results bit for bit. The
 //! pure-Python part (`python/mbfx/`) adds the `Run` object, pandas and plotting.
@@ -9,7 +9,6 @@ mod arrays;
 mod errors;
 mod expression;
 mod model;
-mod pool;
 mod run;
 
 use pyo3::prelude::*;

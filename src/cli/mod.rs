@@ -1,4 +1,5 @@
-//! Command-line interface (clap): `mbfx eval`, `mbfx check`, `mbfx run`, `mbfx repl`.
+//! Command-line interface (clap): `mbfx eval`, `mbfx check`, `mbfx run`, `mbfx repl`,
+//! `mbfx bench`, `mbfx study`.
 //!
 //! Each command is a thin shell over library calls; all of them print diagnostics to
 //! stderr and return exit code 1 on any error, 0 otherwise (DESIGN.md, CLI contract).
@@ -14,6 +15,7 @@ mod plot;
 mod progress;
 pub mod repl;
 mod run;
+mod study;
 
 use output::{Output, Stop};
 
@@ -113,6 +115,9 @@ enum Command {
     /// Speed against accuracy: work-precision charts, the stability suite, scaling.
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Run a design study file (TOML) on Dask: `python3 -m mbfx.study` of the Python
+    /// module (MBFX_PYTHON names the interpreter).
+    Study(study::StudyArgs),
 }
 
 /// Runs the CLI with the process arguments; returns the exit code.
@@ -140,6 +145,7 @@ where
         Command::Run(a) => run::run(&a, &mut o),
         Command::Repl => repl::run_terminal(&mut o),
         Command::Bench(c) => bench::run(&c, &mut o),
+        Command::Study(a) => study::run(&a, &mut o),
     };
     output::finish(outcome, &mut o)
 }

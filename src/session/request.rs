@@ -42,6 +42,7 @@ use super::report;
 use super::run::{Engine, Method, RunFailure, RunSpec, Segment, Simulation, Summary, TableRow};
 use super::DimRequest;
 use crate::diag::{render, Code, Diagnostic, Severity, SourceFile};
+use crate::mbd::dynamics::integrator::Interrupt;
 use crate::mbd::dynamics::DynError;
 use crate::mbd::system::Dimension;
 use crate::model::integrator_settings::Formulation;
@@ -50,7 +51,6 @@ use std::cell::RefCell;
 use std::fmt;
 use std::io;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 
 /// The name of the source the request's own errors point into (a bad number, a probe
 /// without a name): they have no text, only a message.
@@ -428,8 +428,8 @@ fn copy(source: &SourceFile) -> SourceFile {
 /// Runs `request`: checks it, reads the command file and the dataset, builds the model,
 /// integrates its segments and hands each output row to `observer` (the first at t = 0),
 /// with warnings, the built model, the start and the step table as they come (see
-/// [`RunObserver`]). When `interrupt` is given, it is read before every integration step
-/// (one relaxed load): once set, the run stops within a step with E0804
+/// [`RunObserver`]). When `interrupt` is given, it is asked before every integration step
+/// (a relaxed load of a flag, say): once it answers true, the run stops within a step with E0804
 /// ([`DynError::Interrupted`]), however far apart the output times are.
 ///
 /// The order of the checks is `mbfx run`'s: the numbers ([`RunRequest::validate`]), the
@@ -438,7 +438,7 @@ fn copy(source: &SourceFile) -> SourceFile {
 pub fn run(
     request: &RunRequest,
     observer: &mut dyn RunObserver,
-    interrupt: Option<&AtomicBool>,
+    interrupt: Option<Interrupt<'_>>,
 ) -> Result<RunDone, Box<RunFailed>> {
     request.validate().map_err(RunFailed::command_line)?;
     // A command file names the dataset and says how long to run; a dataset needs an end.
@@ -682,7 +682,7 @@ mod tests {
     use crate::mbd::dynamics::integrator::{simulate, Attempt, Integrator, Settings};
     use crate::mbd::dynamics::Dynamics;
     use crate::session::plan::Plan;
-    use std::sync::atomic::Ordering;
+    use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::Mutex;
     use std::time::{Duration, Instant};
 
@@ -1025,7 +1025,7 @@ mod tests {
             &plan.settings,
             &[10.0],
             &mut |_| Ok(()),
-            Some(&flag),
+            Some(&|| flag.load(Ordering::Relaxed)),
         );
         assert_eq!(stopped, Err(DynError::Interrupted { time: d.sys.time }));
         assert_eq!(d.stats.steps, 7);
@@ -1055,7 +1055,7 @@ mod tests {
                 started.store(true, Ordering::Release);
                 Ok(())
             };
-            let result = run(&r, &mut sink, Some(&flag));
+            let result = run(&r, &mut sink, Some(&|| flag.load(Ordering::Relaxed)));
             (result, Instant::now())
         });
         let Err(f) = result else {

@@ -12,7 +12,7 @@ use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
 use crate::mbd::build::ExprCompiler as _;
-use crate::mbd::dynamics::integrator::simulate;
+use crate::mbd::dynamics::integrator::{simulate, Interrupt};
 use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
@@ -632,13 +632,13 @@ impl Simulation {
     }
 
     /// [`Simulation::run_segments`], stopped with [`DynError::Interrupted`] before the
-    /// first step attempt that finds `interrupt` set (read once per step, relaxed).
+    /// first step attempt at which `interrupt` answers true.
     pub fn run_interruptible(
         &mut self,
         segments: &[Segment],
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
         mut table: Option<&mut dyn FnMut(&TableRow)>,
-        interrupt: Option<&std::sync::atomic::AtomicBool>,
+        interrupt: Option<Interrupt<'_>>,
     ) -> (Summary, Option<DynError>) {
         let clock = Instant::now();
         let e0 = self.conservative.then(|| self.energy());

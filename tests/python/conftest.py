@@ -36,6 +36,16 @@ def cli() -> Path:
 
 
 @pytest.fixture(scope="session")
+def client():
+    """A LocalCluster of two worker processes for the study tests, shared by the session."""
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
+    with cluster, Client(cluster) as c:
+        yield c
+
+
+@pytest.fixture(scope="session")
 def shared() -> Path:
     if not (SHARED / "corpus").is_dir():
         pytest.fail(f"{SHARED} (spec and corpus) must be beside the repository")
@@ -58,8 +68,8 @@ END
 
 
 def missing_docstrings(module) -> list:
-    """The names of `module.__all__`, and the public attributes of its classes, that
-    have no docstring."""
+    """The names of `module.__all__`, and the public methods and properties of its
+    classes, that have no docstring (a data attribute's doc would be its type's)."""
     missing = []
     for name in module.__all__:
         obj = getattr(module, name)
@@ -67,7 +77,8 @@ def missing_docstrings(module) -> list:
             missing.append(name)
         if isinstance(obj, type):
             for attr, member in vars(obj).items():
-                if not attr.startswith("_") and not (getattr(member, "__doc__", None) or "").strip():
+                code = callable(member) or isinstance(member, (property, staticmethod, classmethod))
+                if code and not attr.startswith("_") and not (getattr(member, "__doc__", None) or "").strip():
                     missing.append(f"{name}.{attr}")
     return missing
 

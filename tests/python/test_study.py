@@ -18,7 +18,6 @@ import numpy as np
 import pandas as pd
 import psutil
 import pytest
-from distributed import Client, LocalCluster
 
 import mbfx
 from mbfx import study
@@ -38,13 +37,6 @@ def closed_form(t, k, m):
 
 def grid(end: float) -> np.ndarray:
     return np.arange(round(end / STEP) + 1) * STEP
-
-
-@pytest.fixture(scope="session")
-def client():
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
-    with cluster, Client(cluster) as c:
-        yield c
 
 
 @pytest.fixture(scope="session")
@@ -156,6 +148,9 @@ def test_reductions_of_a_known_signal():
     t = np.linspace(0.0, 2.0, 21)  # rows 0.1 apart
     run = synthetic_run(t, 3.0 - 4.0 * t + t**2)  # the parabola (t - 2)^2 - 1: min -1 at t = 2
     assert study.max("x")(run) == 3.0 and study.min("x")(run) == -1.0 and study.final("x")(run) == -1.0
+    # From t = 1 on: the parabola falls to -1 at t = 2, so its largest value is at t = 1.
+    assert study.max("x", after=1.0)(run) == 3.0 - 4.0 * t[10] + t[10] ** 2
+    assert study.min("x", after=2.0)(run) == -1.0 and math.isnan(study.max("x", after=2.5)(run))
     assert study.at(0.5, "x")(run) == pytest.approx(3.0 - 2.0 + 0.25, abs=1e-15)  # a row
     # Between rows 0.5 and 0.6 the line through 1.25 and 0.96, at a quarter of the way.
     assert study.at(0.525, "x")(run) == pytest.approx(1.25 + 0.25 * (0.96 - 1.25), abs=1e-14)

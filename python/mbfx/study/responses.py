@@ -1,14 +1,14 @@
 """Responses: the numbers a study keeps of each run.
 
 A response is any function of a `Run` returning a float. The reductions here are
-picklable ones over one column: `max`, `min`, `final`, `at` and `first_crossing`
-(both interpolate linearly between output rows).
+picklable ones over one column: `max` and `min` (over the whole run or from a time on),
+`final`, `at` and `first_crossing` (both interpolate linearly between output rows).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional
 
 import numpy as np
 
@@ -35,20 +35,26 @@ class Reduction:
 
 @dataclass(frozen=True)
 class Max(Reduction):
-    """The largest value of a column over the output rows."""
+    """The largest value of a column over the output rows at or after `after`."""
+
+    after: float = -np.inf
 
     def reduce(self, time: np.ndarray, values: np.ndarray) -> float:
-        """The largest of `values`."""
-        return np.max(values)
+        """The largest of `values` from `after` on (NaN when no row is that late)."""
+        late = values[time >= self.after]
+        return np.max(late) if late.size else np.nan
 
 
 @dataclass(frozen=True)
 class Min(Reduction):
-    """The smallest value of a column over the output rows."""
+    """The smallest value of a column over the output rows at or after `after`."""
+
+    after: float = -np.inf
 
     def reduce(self, time: np.ndarray, values: np.ndarray) -> float:
-        """The smallest of `values`."""
-        return np.min(values)
+        """The smallest of `values` from `after` on (NaN when no row is that late)."""
+        late = values[time >= self.after]
+        return np.min(late) if late.size else np.nan
 
 
 @dataclass(frozen=True)
@@ -99,14 +105,16 @@ class FirstCrossing(Reduction):
 # module uses the builtins.
 
 
-def max(column: str) -> Max:  # noqa: A001
-    """The largest value of probe `column` over the output rows."""
-    return Max(column)
+def max(column: str, after: Optional[float] = None) -> Max:  # noqa: A001
+    """The largest value of probe `column` over the output rows (those at or after time
+    `after` when given: the rebound after an impact, say)."""
+    return Max(column, -np.inf if after is None else float(after))
 
 
-def min(column: str) -> Min:  # noqa: A001
-    """The smallest value of probe `column` over the output rows."""
-    return Min(column)
+def min(column: str, after: Optional[float] = None) -> Min:  # noqa: A001
+    """The smallest value of probe `column` over the output rows (those at or after time
+    `after` when given)."""
+    return Min(column, -np.inf if after is None else float(after))
 
 
 def final(column: str) -> Final:

@@ -9,7 +9,6 @@
 
 use super::events::{Events, Verdict};
 use super::{DynError, Dynamics};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The smallest fraction of ERROR a step is held to when ERROR is per run.
 pub const PER_RUN_FLOOR: f64 = 1e-3;
@@ -144,18 +143,23 @@ pub trait Integrator {
     fn reject(&mut self, d: &mut Dynamics);
 }
 
+/// Whether the caller wants a run to stop, asked before every step attempt: a relaxed
+/// load of a flag another thread sets (`|| flag.load(Ordering::Relaxed)`), or a check
+/// of its own that looks at the clock every so many steps (Python's Ctrl-C).
+pub type Interrupt<'a> = &'a dyn Fn() -> bool;
+
 /// Runs `integrator` on `d` from its current time through every time of `outputs`
 /// (increasing, the first at or after the current time), calling `output` at each with
 /// `d` at exactly that time. Stops at the first failure, after the outputs before it.
-/// When `interrupt` is given, it is read (one relaxed load) before every step attempt:
-/// once set, the run stops with [`DynError::Interrupted`] at the last accepted state.
+/// When `interrupt` is given, it is asked before every step attempt: once it answers
+/// true, the run stops with [`DynError::Interrupted`] at the last accepted state.
 pub fn simulate(
     d: &mut Dynamics,
     integrator: &mut dyn Integrator,
     s: &Settings,
     outputs: &[f64],
     output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
-    interrupt: Option<&AtomicBool>,
+    interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), DynError> {
     integrator.start(d)?;
     // Fixed steps are the user's to choose: no switch moves them.
@@ -178,8 +182,7 @@ pub fn simulate(
     for &t_out in outputs {
         while d.sys.time < t_out {
             let t = d.sys.time;
-            // Relaxed: the flag orders nothing else, and the next step reads it again.
-            if interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
+            if interrupt.is_some_and(|stop| stop()) {
                 return Err(DynError::Interrupted { time: t });
             }
             let left = t_out - t;

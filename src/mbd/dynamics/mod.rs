@@ -168,7 +168,7 @@ pub enum DynError {
     /// An output row could not be written (the I/O error, worded).
     Output(String),
     /// The caller's interrupt flag was set: the run stopped before its next step
-    /// ([`integrator::simulate`] reads the flag before every step attempt).
+    /// ([`integrator::simulate`] asks before every step attempt).
     Interrupted {
         /// Simulation time of the last accepted step.
         time: f64,
