@@ -13,7 +13,9 @@ use mbfx::session::request::{run, RunFailed, RunRequest};
 use mbfx::session::run::{Method, Summary};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyTypeError, PyValueError};
+use pyo3::intern;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyBool, PyDict, PyInt, PyList};
 use std::cell::{Cell, RefCell};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -244,35 +246,41 @@ fn run_object(
     let stats = PyDict::new(py);
     // The whole session call (reading, building, compiling, integrating, outputs):
     // what Python adds is the wall time of `Model.run` less this.
-    stats.set_item("session_seconds", session_seconds)?;
+    stats.set_item(intern!(py, "session_seconds"), session_seconds)?;
     let (mut warnings, mut notes, mut text, mut integrator) =
         (Vec::new(), Vec::new(), String::new(), "");
     if let Some(s) = summary {
         let st = &s.stats;
-        stats.set_item("steps", st.steps)?;
-        stats.set_item("rejected", st.rejected)?;
-        stats.set_item("newton_iterations", st.newton_iterations)?;
-        stats.set_item("jacobian_evaluations", st.jacobian_evaluations)?;
-        stats.set_item("factorizations", st.factorizations)?;
-        stats.set_item("expression_evaluations", st.expression_evaluations)?;
-        stats.set_item("events", st.events)?;
-        stats.set_item("cpu_seconds", s.cpu_seconds)?;
-        stats.set_item("max_residual", s.max_residual)?;
+        stats.set_item(intern!(py, "steps"), st.steps)?;
+        stats.set_item(intern!(py, "rejected"), st.rejected)?;
+        stats.set_item(intern!(py, "newton_iterations"), st.newton_iterations)?;
+        stats.set_item(intern!(py, "jacobian_evaluations"), st.jacobian_evaluations)?;
+        stats.set_item(intern!(py, "factorizations"), st.factorizations)?;
+        stats.set_item(
+            intern!(py, "expression_evaluations"),
+            st.expression_evaluations,
+        )?;
+        stats.set_item(intern!(py, "events"), st.events)?;
+        stats.set_item(intern!(py, "cpu_seconds"), s.cpu_seconds)?;
+        stats.set_item(intern!(py, "max_residual"), s.max_residual)?;
         // The simulation of the last run on this thread ran again (design values only).
-        stats.set_item("reused", s.reused)?;
+        stats.set_item(intern!(py, "reused"), s.reused)?;
         (warnings, notes) = (s.warnings.clone(), s.notes.clone());
         text = s.text();
         integrator = s.integrator;
     }
     let kwargs = PyDict::new(py);
-    kwargs.set_item("warnings", PyList::new(py, warnings)?)?;
-    kwargs.set_item("notes", PyList::new(py, notes)?)?;
-    kwargs.set_item("summary", text)?;
-    kwargs.set_item("integrator", integrator)?;
-    kwargs.set_item("dimension", dim_reason)?;
-    let run = py
-        .import("mbfx")?
-        .getattr("Run")?
+    kwargs.set_item(intern!(py, "warnings"), PyList::new(py, warnings)?)?;
+    kwargs.set_item(intern!(py, "notes"), PyList::new(py, notes)?)?;
+    kwargs.set_item(intern!(py, "summary"), text)?;
+    kwargs.set_item(intern!(py, "integrator"), integrator)?;
+    kwargs.set_item(intern!(py, "dimension"), dim_reason)?;
+    // Looked up once: a run's Python share is a few microseconds, and a lookup by name
+    // is one of them.
+    static RUN: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    let class = RUN.get_or_try_init(py, || py.import("mbfx")?.getattr("Run").map(Bound::unbind))?;
+    let run = class
+        .bind(py)
         .call((header.to_vec(), data, stats), Some(&kwargs))?;
     Ok(run.unbind())
 }
