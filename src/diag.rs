@@ -279,6 +279,9 @@ pub struct SourceFile {
     /// building it per diagnostic made many diagnostics on a big file quadratic (40 000
     /// in a 320 KB file took 24 s).
     frames: std::cell::OnceCell<ariadne::Source<String>>,
+    /// No text stands behind it (a command-line option, an unreadable file): its
+    /// diagnostics show no frame.
+    textless: bool,
 }
 
 impl SourceFile {
@@ -293,6 +296,24 @@ impl SourceFile {
             text,
             line_starts,
             frames: std::cell::OnceCell::new(),
+            textless: false,
+        }
+    }
+
+    /// A copy of its name and text (and whether it has text), without the frame cache.
+    pub fn duplicate(&self) -> SourceFile {
+        SourceFile {
+            textless: self.textless,
+            ..SourceFile::new(self.name.clone(), self.text.clone())
+        }
+    }
+
+    /// A source with no text to show, named `name` (a command-line option, a file that
+    /// could not be read): diagnostics about it are one line, without a frame.
+    pub fn textless(name: impl Into<String>) -> Self {
+        SourceFile {
+            textless: true,
+            ..SourceFile::new(name, "")
         }
     }
 
@@ -348,7 +369,11 @@ pub fn render(diags: &[Diagnostic], file: &SourceFile, color: bool) -> String {
     for d in diags {
         let primary = file.snap(&d.span);
         let line = file.line_range(primary.start);
-        if line.len() > LONG_LINE {
+        if file.textless {
+            // Nothing to show (a command-line option's value, a missing file): a frame
+            // would be an empty line with a caret under nothing.
+            render_bare(d, &file.name, &mut out);
+        } else if line.len() > LONG_LINE {
             render_window(d, file, primary, line, &mut out);
         } else {
             render_frame(d, file, primary, color, &mut out);
@@ -389,6 +414,28 @@ fn render_frame(d: &Diagnostic, file: &SourceFile, primary: Span, color: bool, o
         .get_or_init(|| Source::from(visible(&file.text)));
     if report.finish().write((name, source), &mut buf).is_ok() {
         out.push_str(&String::from_utf8_lossy(&buf));
+    }
+}
+
+/// A diagnostic about a source with no text: its header naming the source, then its notes
+/// and help.
+fn render_bare(d: &Diagnostic, name: &str, out: &mut String) {
+    use std::fmt::Write as _;
+    let severity = match d.severity {
+        Severity::Error => "Error",
+        Severity::Warning => "Warning",
+    };
+    let _ = writeln!(
+        out,
+        "[{}] {severity}: {} ({name})",
+        d.code.as_str(),
+        d.message
+    );
+    for note in &d.notes {
+        let _ = writeln!(out, "   = Note: {note}");
+    }
+    if let Some(help) = &d.help {
+        let _ = writeln!(out, "   = Help: {help}");
     }
 }
 
@@ -550,6 +597,18 @@ mod tests {
         assert!(diags[MAX_DIAGNOSTICS - 1]
             .message
             .starts_with("31 more errors"));
+    }
+
+    #[test]
+    fn a_diagnostic_about_no_text_has_no_frame() {
+        let f = SourceFile::textless("command line");
+        let d = Diagnostic::error(Code::CommandLine, 0..0, "--end 0 must be a positive time")
+            .with_help("give --end a time in seconds");
+        let text = render(&[d], &f, false);
+        assert_eq!(
+            text,
+            "[E0503] Error: --end 0 must be a positive time (command line)\n   = Help: give --end a time in seconds\n"
+        );
     }
 
     #[test]

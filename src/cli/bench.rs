@@ -39,7 +39,7 @@ pub struct WpArgs {
     /// Scenes to run (names of truth files in --scenes) [default: all].
     scenes: Vec<String>,
     /// Where the scenes' truth files are.
-    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    #[arg(long = "scenes", value_name = "DIR", default_value = DEFAULT_SCENES)]
     dir: PathBuf,
     /// Methods, comma-separated [default: gstiff,gstiff-si2,wstiff,hht,galpha,dopri853,
     /// dopri853-cartesian,hht-fixed].
@@ -70,7 +70,7 @@ pub struct WpArgs {
 #[derive(clap::Args)]
 pub struct AllArgs {
     /// Where the scenes' truth files are.
-    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    #[arg(long = "scenes", value_name = "DIR", default_value = DEFAULT_SCENES)]
     dir: PathBuf,
     /// Where everything goes.
     #[arg(long, default_value = "target/bench-wp")]
@@ -83,7 +83,7 @@ pub struct AllArgs {
 #[derive(clap::Args)]
 pub struct StabilityArgs {
     /// Where the scenes' truth files are.
-    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    #[arg(long = "scenes", value_name = "DIR", default_value = DEFAULT_SCENES)]
     dir: PathBuf,
     /// Where stability.md and stability.svg go.
     #[arg(long, default_value = "target/bench-wp")]
@@ -101,7 +101,7 @@ pub struct StabilityArgs {
 #[derive(clap::Args)]
 pub struct OrdersArgs {
     /// Where the scenes' truth files are.
-    #[arg(long = "scenes", value_name = "DIR", default_value = "examples/scenes")]
+    #[arg(long = "scenes", value_name = "DIR", default_value = DEFAULT_SCENES)]
     dir: PathBuf,
     /// Where orders.md goes.
     #[arg(long, default_value = "target/bench-wp")]
@@ -126,7 +126,7 @@ pub struct ScalingArgs {
 
 fn fail(msg: String, o: &mut Output) -> Result<i32, Stop> {
     let d = Diagnostic::error(Code::CommandLine, 0..0, msg);
-    o.diagnostics(&[d], &SourceFile::new("command line", ""))?;
+    o.diagnostics(&[d], &SourceFile::textless("command line"))?;
     Err(Stop::Failed)
 }
 
@@ -150,9 +150,28 @@ pub fn run(c: &BenchCommand, o: &mut Output) -> Result<i32, Stop> {
     }
 }
 
+/// Where `--scenes` points: `dir` itself, except that the default `examples/scenes`,
+/// absent from the working folder, is the repository's (the one this binary was built
+/// in), so `mbfx bench` runs from any folder.
+fn scenes_dir(dir: &Path) -> std::borrow::Cow<'_, Path> {
+    let built_in = Path::new(env!("CARGO_MANIFEST_DIR")).join(DEFAULT_SCENES);
+    match dir == Path::new(DEFAULT_SCENES) && !dir.is_dir() && built_in.is_dir() {
+        true => built_in.into(),
+        false => dir.into(),
+    }
+}
+
+/// `--scenes`' default, relative to the working folder.
+const DEFAULT_SCENES: &str = "examples/scenes";
+
+/// Every scene of `--scenes` (see [`scenes_dir`]).
+fn load_scenes(dir: &Path) -> Result<Vec<Scene>, String> {
+    load_dir(&scenes_dir(dir))
+}
+
 /// The scenes named (all when none), or why not.
 pub fn select(dir: &Path, names: &[String]) -> Result<Vec<Scene>, String> {
-    let all = load_dir(dir)?;
+    let all = load_scenes(dir)?;
     if names.is_empty() {
         return Ok(all);
     }
@@ -357,7 +376,7 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
 fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
     use crate::bench::peer_cells;
     use crate::bench::stability::{details, heat_map, markdown, run_case, Cell, Verdict, CASES};
-    let scenes = match load_dir(&a.dir) {
+    let scenes = match load_scenes(&a.dir) {
         Ok(s) => s,
         Err(e) => return fail(e, o),
     };

@@ -136,7 +136,7 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
             format!("--dim applies to .adm datasets; {source_name} is read as an expression file"),
         )
         .with_help("a file is read as a dataset when its name ends in .adm");
-        o.diagnostics(&[d], &SourceFile::new("--dim", ""))?;
+        o.diagnostics(&[d], &SourceFile::textless("--dim"))?;
         return Err(Stop::Failed);
     }
     let source = SourceFile::new(source_name.clone(), text);

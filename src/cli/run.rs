@@ -165,7 +165,7 @@ impl RunArgs {
 
 fn command_line_error(msg: String, o: &mut Output) -> Result<i32, Stop> {
     let d = Diagnostic::error(Code::CommandLine, 0..0, msg);
-    o.diagnostics(&[d], &SourceFile::new(request::COMMAND_LINE, ""))?;
+    o.diagnostics(&[d], &SourceFile::textless(request::COMMAND_LINE))?;
     Err(Stop::Failed)
 }
 

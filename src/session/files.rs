@@ -20,7 +20,7 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, Box<Unreadable>> {
     std::fs::read(path).map_err(|e| {
         Box::new(Unreadable {
             diagnostic: Diagnostic::error(Code::Io, 0..0, format!("cannot read {name}: {e}")),
-            source: SourceFile::new(name.clone(), ""),
+            source: SourceFile::textless(name.clone()),
         })
     })
 }

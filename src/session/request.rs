@@ -198,6 +198,16 @@ impl RunRequest {
                 return error(format!("--kmax {k} must be an order from 1 to 6"));
             }
         }
+        if let (Some(end), Some(dt)) = (self.end, self.output_step) {
+            // Past 2^52 rows, neighbouring output times are no longer distinct doubles.
+            let rows = end / dt;
+            if rows > MAX_ROWS {
+                return error(format!(
+                    "--output-step {dt:e} over --end {end:e} makes {rows:.3e} rows: times that \
+                     close cannot be told apart (at most {MAX_ROWS:.3e} rows); take a longer step"
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -226,6 +236,10 @@ impl RunRequest {
         spec
     }
 }
+
+/// The most output rows a run may ask for: 2^52, beyond which neighbouring output times
+/// round to the same double.
+const MAX_ROWS: f64 = 4_503_599_627_370_496.0;
 
 /// `NAME=EXPR` (`--probe`) as (name, expression): split at the first `=`, the name
 /// trimmed. Text without `=`, or with a blank name, comes back whole as ("", text), which
@@ -352,7 +366,7 @@ impl RunFailed {
 
     /// A failure of the request itself (E0503 and friends, no text to point into).
     fn command_line(d: Diagnostic) -> Box<RunFailed> {
-        RunFailed::new(SourceFile::new(COMMAND_LINE, ""), vec![d])
+        RunFailed::new(SourceFile::textless(COMMAND_LINE), vec![d])
     }
 
     /// A dynamics failure, at the element it names in `model` (read from `source`).
@@ -368,7 +382,7 @@ impl RunFailed {
     fn output(e: io::Error) -> Box<RunFailed> {
         let e = DynError::Output(e.to_string());
         let d = Diagnostic::error(report::code_of(&e), 0..0, e.to_string());
-        let mut f = RunFailed::new(SourceFile::new(COMMAND_LINE, ""), vec![d]);
+        let mut f = RunFailed::new(SourceFile::textless(COMMAND_LINE), vec![d]);
         f.error = Some(e);
         f
     }
@@ -422,7 +436,7 @@ fn apply_settings(parsed: Parsed, text: String) -> Result<String, Box<RunFailed>
 
 /// A copy of `source` (its name and text) to keep in a failure.
 fn copy(source: &SourceFile) -> SourceFile {
-    SourceFile::new(source.name.clone(), source.text.clone())
+    source.duplicate()
 }
 
 /// Runs `request`: checks it, reads the command file and the dataset, builds the model,
@@ -472,7 +486,21 @@ pub fn run(
             return Err(RunFailed::new(copy(&c.source), vec![d]));
         }
     }
-    for (name, expr) in &request.probes {
+    for (k, (name, expr)) in request.probes.iter().enumerate() {
+        // Each probe is a column of its own: a second `x` (or one named `time`) would
+        // leave two columns no reader can tell apart.
+        let taken = name == "time" || request.probes[..k].iter().any(|(n, _)| n == name);
+        if taken && !name.trim().is_empty() {
+            let first = match name.as_str() {
+                "time" => "the time column is named time".to_string(),
+                _ => format!("another --probe is named {name}"),
+            };
+            return Err(RunFailed::command_line(Diagnostic::error(
+                Code::CommandLine,
+                0..0,
+                format!("--probe {name}={expr}: {first}; give each probe a name of its own"),
+            )));
+        }
         if name.trim().is_empty() {
             let written = match name.is_empty() {
                 true => expr.clone(),
@@ -679,7 +707,7 @@ fn build(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mbd::dynamics::integrator::{simulate, Attempt, Integrator, Settings};
+    use crate::mbd::dynamics::integrator::{simulate, Attempt, Integrator, OutputTimes, Settings};
     use crate::mbd::dynamics::Dynamics;
     use crate::session::plan::Plan;
     use std::sync::atomic::{AtomicBool, Ordering};
@@ -804,7 +832,7 @@ mod tests {
             r
         };
         type Change = fn(&mut RunRequest);
-        let cases: [(Change, &str); 8] = [
+        let cases: [(Change, &str); 11] = [
             (|r| r.end = Some(-1.0), "--end -1 must be a positive time"),
             (|r| r.end = Some(f64::NAN), "--end NaN must be a positive time"),
             (|r| r.hmax = Some(0.0), "--hmax 0 must be a positive number"),
@@ -812,12 +840,27 @@ mod tests {
             (|r| r.rho_inf = Some(2.0), "--rho-inf 2 must lie in [0, 1]"),
             (|r| r.kmax = Some(7), "--kmax 7 must be an order from 1 to 6"),
             (
+                |r| (r.end, r.output_step) = (Some(1e9), Some(1e-9)),
+                "--output-step 1e-9 over --end 1e9 makes 1.000e18 rows: times that close cannot be told apart (at most 4.504e15 rows); take a longer step",
+            ),
+            (
                 |r| r.end = None,
                 "--end is required to run a dataset (pendulum.adm); a command file (.acf) may give it instead",
             ),
             (
                 |r| r.probes.push(parse_probe("DX(20)")),
                 "--probe DX(20): expected NAME=EXPR, e.g. --probe x=DX(2,1)",
+            ),
+            (
+                |r| {
+                    r.probes.push(parse_probe("x=DX(20)"));
+                    r.probes.push(parse_probe("x=DY(20)"));
+                },
+                "--probe x=DY(20): another --probe is named x; give each probe a name of its own",
+            ),
+            (
+                |r| r.probes.push(parse_probe("time=TIME")),
+                "--probe time=TIME: the time column is named time; give each probe a name of its own",
             ),
         ];
         for (change, message) in cases {
@@ -1023,7 +1066,7 @@ mod tests {
             d,
             &mut tripwire,
             &plan.settings,
-            &[10.0],
+            &OutputTimes::new(0.0, 10.0, 10.0),
             &mut |_| Ok(()),
             Some(&|| flag.load(Ordering::Relaxed)),
         );

@@ -12,7 +12,7 @@ use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
 use crate::mbd::build::ExprCompiler as _;
-use crate::mbd::dynamics::integrator::{simulate, Interrupt};
+use crate::mbd::dynamics::integrator::{simulate, Interrupt, OutputTimes};
 use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
@@ -682,8 +682,7 @@ impl Simulation {
                 notes.push(n);
             }
             let (t0, dt, end) = (dynamics.sys.time, seg.output_step, seg.end);
-            let count = ((end - t0) / dt - 1e-9).ceil().max(0.0) as usize;
-            let times: Vec<f64> = (1..=count).map(|k| (t0 + k as f64 * dt).min(end)).collect();
+            let times = OutputTimes::new(t0, dt, end);
             // Each segment's last row reconciles: the next segment starts from it.
             let mut segment_emit = |d: &mut Dynamics| emit(d, d.sys.time >= end);
             result = simulate(
@@ -711,7 +710,15 @@ impl Simulation {
             reused: false,
         };
         let summary = Summary {
-            warnings: monitors(&summary, self.spec.fixed_step.is_some(), error, kinetic_max),
+            warnings: monitors(
+                &summary,
+                Monitored {
+                    fixed: self.spec.fixed_step.is_some(),
+                    driven: self.dynamics.m >= self.dynamics.n,
+                    error,
+                    kinetic_max,
+                },
+            ),
             ..summary
         };
         (summary, result.err())
@@ -805,7 +812,39 @@ const ACCUMULATED_WARNING: f64 = 10.0;
 /// more than ten ERRORs, a conservative model whose energy changed by more than ten
 /// ERRORs of its largest kinetic energy, and a constraint residual larger than the
 /// drift the run allows dropped rows (10·ERROR, at least 1e-6).
-fn monitors(s: &Summary, fixed: bool, error: f64, kinetic_max: f64) -> Vec<String> {
+/// What a run's monitors judge it by, besides its summary.
+struct Monitored {
+    /// Fixed steps (no error control).
+    fixed: bool,
+    /// Fully driven: the constraints fix every coordinate at every time, so no local
+    /// error of the integrator is the answer's (nothing is left to integrate).
+    driven: bool,
+    /// ERROR.
+    error: f64,
+    /// The largest kinetic energy at the output times.
+    kinetic_max: f64,
+}
+
+fn monitors(s: &Summary, m: Monitored) -> Vec<String> {
+    let Monitored {
+        fixed,
+        driven,
+        error,
+        kinetic_max,
+    } = m;
+    let mut w = Vec::new();
+    if !driven {
+        w.extend(integration_warnings(s, fixed, error, kinetic_max));
+    }
+    let drift = (10.0 * error).max(1e-6);
+    if s.max_residual > drift {
+        w.push(drift_warning(s.max_residual, drift));
+    }
+    w
+}
+
+/// The warnings about the integration's accuracy: energy, fixed steps, local errors.
+fn integration_warnings(s: &Summary, fixed: bool, error: f64, kinetic_max: f64) -> Vec<String> {
     let mut w = Vec::new();
     if let Some((e0, e1)) = s.energy {
         // Against the largest kinetic energy seen at the output times: what the motion
@@ -836,14 +875,11 @@ fn monitors(s: &Summary, fixed: bool, error: f64, kinetic_max: f64) -> Vec<Strin
             s.stats.error_sum
         ));
     }
-    let drift = (10.0 * error).max(1e-6);
-    if s.max_residual > drift {
-        w.push(format!(
-            "the constraints drifted: residual {:.1e} exceeds {drift:.0e}",
-            s.max_residual
-        ));
-    }
     w
+}
+
+fn drift_warning(residual: f64, drift: f64) -> String {
+    format!("the constraints drifted: residual {residual:.1e} exceeds {drift:.0e}")
 }
 
 /// Kinetic energy (model units, /UCF).

@@ -148,6 +148,51 @@ pub trait Integrator {
 /// of its own that looks at the clock every so many steps (Python's Ctrl-C).
 pub type Interrupt<'a> = &'a dyn Fn() -> bool;
 
+/// The output times of a stretch from `t0`: `t0 + k·dt` for k = 1, 2, ... while below
+/// `end`, then `end` itself. Made one at a time, so a stretch of 10⁹ rows holds none.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutputTimes {
+    t0: f64,
+    dt: f64,
+    end: f64,
+    count: usize,
+}
+
+impl OutputTimes {
+    /// The times after `t0` every `dt` up to `end` (`end` included: a last short interval
+    /// rather than a time past it; a hair short of `end` counts as reaching it).
+    pub fn new(t0: f64, dt: f64, end: f64) -> OutputTimes {
+        // (A float-to-int cast saturates: a count past usize::MAX cannot run anyway.)
+        let count = ((end - t0) / dt - 1e-9).ceil().max(0.0) as usize;
+        OutputTimes { t0, dt, end, count }
+    }
+
+    /// How many times there are.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Whether there are none (`end` at or before `t0`).
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The last time, if any.
+    pub fn last(&self) -> Option<f64> {
+        self.count.checked_sub(1).map(|k| self.at(k))
+    }
+
+    /// The `k`-th time (from 0).
+    pub fn at(&self, k: usize) -> f64 {
+        (self.t0 + (k + 1) as f64 * self.dt).min(self.end)
+    }
+
+    /// The times in order.
+    pub fn iter(&self) -> impl Iterator<Item = f64> + '_ {
+        (0..self.count).map(|k| self.at(k))
+    }
+}
+
 /// Runs `integrator` on `d` from its current time through every time of `outputs`
 /// (increasing, the first at or after the current time), calling `output` at each with
 /// `d` at exactly that time. Stops at the first failure, after the outputs before it.
@@ -157,7 +202,7 @@ pub fn simulate(
     d: &mut Dynamics,
     integrator: &mut dyn Integrator,
     s: &Settings,
-    outputs: &[f64],
+    outputs: &OutputTimes,
     output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), DynError> {
@@ -168,7 +213,7 @@ pub fn simulate(
         Some(_) => Events::default(),
     };
     let drift_tol = (s.error * 10.0).max(1e-6);
-    let span = outputs.last().map_or(0.0, |&t| t - d.sys.time);
+    let span = outputs.last().map_or(0.0, |t| t - d.sys.time);
     // The step error control wants; the step taken may be shorter to land on an output.
     let mut want = match s.fixed_step {
         Some(h) => h.min(s.hmax),
@@ -179,7 +224,7 @@ pub fn simulate(
     };
     // The last error rejection: time, step, estimate.
     let mut last_rejection: Option<(f64, f64, f64)> = None;
-    for &t_out in outputs {
+    for t_out in outputs.iter() {
         while d.sys.time < t_out {
             let t = d.sys.time;
             if interrupt.is_some_and(|stop| stop()) {
@@ -325,4 +370,28 @@ pub fn simulate(
         output(d)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OutputTimes;
+
+    #[test]
+    fn output_times_step_from_the_start_and_end_exactly_at_the_end() {
+        let t = OutputTimes::new(0.0, 0.3, 1.0);
+        let times: Vec<f64> = t.iter().collect();
+        // 0.3·k in doubles, then the end itself rather than 1.2.
+        assert_eq!(times, [0.3, 0.6, 0.8999999999999999, 1.0]);
+        assert_eq!((t.len(), t.last()), (4, Some(1.0)));
+        // A hair short of the end (rounding of k·dt) does not add a sliver of a row.
+        assert_eq!(OutputTimes::new(0.0, 0.1, 1.0).len(), 10);
+        assert!(OutputTimes::new(2.0, 0.5, 2.0).is_empty());
+    }
+
+    #[test]
+    fn a_billion_billion_output_times_hold_no_memory() {
+        let t = OutputTimes::new(0.0, 1e-9, 1e9);
+        assert_eq!(t.len(), 1_000_000_000_000_000_000);
+        assert_eq!((t.at(0), t.last()), (1e-9, Some(1e9)));
+    }
 }
