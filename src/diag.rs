@@ -3,7 +3,7 @@
 //! Every stage (lexer, parser, checker, `.adm` reader, run time) produces [`Diagnostic`]s
 //! holding byte-range spans into the text they read. Only [`render`] turns spans into
 //! `file:line:column` and a caret frame (via ariadne). Codes are stable: tests and users
-//! match on them, and README.md lists them.
+//! match on them, and docs/language.md lists them.
 
 use std::ops::Range;
 

@@ -30,7 +30,7 @@ mod stack;
 pub mod syntax;
 pub mod vocab;
 
-/// The README's Rust examples, compiled and run as doctests so they stay true.
+/// The Rust examples of docs/library.md, compiled and run as doctests so they stay true.
 #[cfg(doctest)]
-#[doc = include_str!("../README.md")]
-pub struct ReadmeDoctests;
+#[doc = include_str!("../docs/library.md")]
+pub struct LibraryDoctests;

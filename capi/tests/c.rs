@@ -1,6 +1,6 @@
 //! C programs against the library cargo built for this test run: `capi/tests/c/api_test.c`
 //! (every function and error path of `include/mbfx.h`), linked with the static library,
-//! and `examples/embed.c` (the README's example), built with the exact command its header
+//! and `examples/embed.c` (docs/c-api.md's example), built with the exact command its header
 //! comment gives (the shared library). Each is compiled with the system C compiler (`$CC`,
 //! else `cc`) as strict C99 with warnings as errors, run, and judged by its exit code.
 //!

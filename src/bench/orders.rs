@@ -107,7 +107,7 @@ pub fn measure_orders(scene: &Scene, each: &mut dyn FnMut(&Point)) -> Result<Vec
     // ERROR per run: the answer's error then follows ERROR (tolerance proportionality,
     // the usual setting of a convergence study), and the ladder spaces the runs evenly
     // in error. Per step (Adams' meaning) the same ladder fits 6.3–6.4 at KMAX 6 on
-    // A01 and scatters more (README, Orders of convergence).
+    // A01 and scatters more (docs/bench.md, Orders of convergence).
     let gstiff = variant_named("gstiff-run").ok_or("no gstiff-run")?;
     for k in 1..=6u32 {
         let errors = gstiff_errors(k);

@@ -35,7 +35,7 @@ pub fn run(a: &StudyArgs, o: &mut Output<'_>) -> Result<i32, Stop> {
     writeln!(
         o.err(),
         "error: mbfx study: {why}\n  = help: studies run in the Python module: install it with \
-         `pip install '.[study,plot]'` in the repository (README, Python), or set MBFX_PYTHON \
+         `pip install '.[study,plot]'` in the repository (docs/python.md), or set MBFX_PYTHON \
          to the python of an environment that has it"
     )?;
     Err(Stop::Failed)

@@ -178,7 +178,7 @@ proptest! {
     }
 }
 
-/// The README's library example: value and derivative compiled together.
+/// docs/library.md's example: value and derivative compiled together.
 #[test]
 fn readme_example_value_and_gradient() {
     use mbfx::check::{compile, Expect, Variables};
