@@ -1067,3 +1067,25 @@ fn dim_takes_2_or_3_on_every_command() {
         r.describe()
     );
 }
+
+/// `--strict` turns an accuracy warning into exit code 3 (for scripts and CI) and leaves
+/// a quiet run at 0: the slider at its default ERROR warns that its local errors add up
+/// past 10·ERROR; the fully driven slider-crank has nothing to integrate and no warning.
+#[test]
+fn run_strict_exits_3_on_an_accuracy_warning_only() {
+    let slider = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/slider.adm");
+    let crank = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/slider_crank_driven.adm"
+    );
+    let base = ["--end", "2", "--output-step", "0.1", "--csv", "-"];
+    let warned = mbfx(&[&["run", slider][..], &base].concat());
+    assert_eq!(warned.code, 0, "{}", warned.describe());
+    assert!(warned.stderr.contains("add up to"), "{}", warned.describe());
+    let strict = mbfx(&[&["run", slider, "--strict"][..], &base].concat());
+    assert_eq!(strict.code, 3, "{}", strict.describe());
+    assert_eq!(strict.stdout, warned.stdout, "the rows are the same");
+    let quiet = mbfx(&[&["run", crank, "--strict"][..], &base].concat());
+    assert_eq!(quiet.code, 0, "{}", quiet.describe());
+    assert!(!quiet.stderr.contains("warning:"), "{}", quiet.describe());
+}

@@ -117,6 +117,10 @@ pub const HEADER: [&str; 14] = [
     "status",
 ];
 
+/// The columns mbfx's points files add after [`HEADER`] (a peer's file has neither): the
+/// kinds of each run's accuracy warnings, and its local errors' sum in ERRORs.
+pub const WARNINGS: [&str; 2] = ["warnings", "error_sum"];
+
 /// A point as it is charted: mbfx's own or a peer's, read back from CSV.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -140,6 +144,12 @@ pub struct Row {
     pub counters: [Option<usize>; 5],
     /// `ok` or `failed: why`.
     pub status: String,
+    /// The kinds of the run's accuracy warnings (see [`super::alarms::kinds`]), `;`
+    /// between them; empty when it gave none (and for a peer's run).
+    pub warnings: String,
+    /// The accepted steps' local error estimates added up, in units of ERROR (None for
+    /// a peer's run).
+    pub error_sum: Option<f64>,
 }
 
 impl Row {
@@ -169,6 +179,8 @@ impl Row {
                 Status::Ok => "ok".into(),
                 Status::Failed(why) => format!("failed: {why}"),
             },
+            warnings: super::alarms::kinds(&p.warnings),
+            error_sum: Some(p.stats.error_sum),
         }
     }
 
@@ -190,7 +202,9 @@ impl Row {
 pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
     let fail = |e: csv::Error| format!("{}: {e}", path.display());
     let mut w = csv::Writer::from_path(path).map_err(fail)?;
-    w.write_record(HEADER).map_err(fail)?;
+    let mut header = HEADER.to_vec();
+    header.extend(WARNINGS);
+    w.write_record(&header).map_err(fail)?;
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
     for r in rows {
         let mut rec = vec![
@@ -209,6 +223,8 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
                 .map(|c| c.map_or(String::new(), |c| c.to_string())),
         );
         rec.push(r.status.clone());
+        rec.push(r.warnings.clone());
+        rec.push(opt(r.error_sum));
         w.write_record(&rec).map_err(fail)?;
     }
     w.flush().map_err(|e| format!("{}: {e}", path.display()))
@@ -246,7 +262,11 @@ pub fn read_columns<const N: usize>(
 /// Reads a points CSV (mbfx's or a peer's) by its header's names.
 pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
     let mut rows = Vec::new();
-    for (line, f) in read_columns(path, HEADER)? {
+    let extra: Vec<[String; 2]> = match read_columns(path, WARNINGS) {
+        Ok(w) => w.into_iter().map(|(_, w)| w).collect(),
+        Err(_) => Vec::new(), // a peer's file
+    };
+    for (k, (line, f)) in read_columns(path, HEADER)?.into_iter().enumerate() {
         let float = |k: usize| -> Result<Option<f64>, String> {
             let s = &f[k];
             if s.is_empty() {
@@ -268,6 +288,8 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
             cpu: float(7)?.unwrap_or(f64::NAN),
             counters: [count(8), count(9), count(10), count(11), count(12)],
             status: f[13].clone(),
+            warnings: extra.get(k).map(|e| e[0].clone()).unwrap_or_default(),
+            error_sum: extra.get(k).and_then(|e| e[1].parse().ok()),
         });
     }
     Ok(rows)
@@ -364,6 +386,12 @@ mod tests {
             cpu,
             counters: [Some(3), None, Some(1), Some(2), Some(0)],
             status: "ok".into(),
+            warnings: if m == "x" {
+                "error-sum".into()
+            } else {
+                String::new()
+            },
+            error_sum: Some(12.5),
         };
         let rows = vec![
             row("hht", 1e-7, 0.5),

@@ -302,6 +302,8 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
     let clock = std::time::Instant::now();
     let mut summary = String::from("# Work-precision summary\n\nEach table: the cheapest run whose error is at most the level (CPU of the run, best of up to 5 repeats).\n");
     let mut failed = false;
+    // mbfx's runs of every scene, for the accuracy warnings' report.
+    let mut all_rows: Vec<Row> = Vec::new();
     for scene in &scenes {
         let mut rows: Vec<Row> = Vec::new();
         let mut each = |p: &Point| ticker.point(p);
@@ -348,6 +350,7 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
             Ok(s) => summary += &s,
             Err(e) => return fail(e, o),
         }
+        all_rows.extend(rows.iter().cloned());
         let bad = points.iter().filter(|p| p.status != Status::Ok).count();
         ticker.line(
             o,
@@ -365,9 +368,12 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
         "\nWhole run: {:.1} s wall clock.\n",
         clock.elapsed().as_secs_f64()
     );
-    let path = a.out.join("summary.md");
-    if let Err(e) = std::fs::write(&path, summary) {
-        return fail(format!("{}: {e}", path.display()), o);
+    let alarms = crate::bench::alarms::report(&all_rows);
+    for (name, text) in [("summary.md", summary), ("warnings.md", alarms)] {
+        let path = a.out.join(name);
+        if let Err(e) = std::fs::write(&path, text) {
+            return fail(format!("{}: {e}", path.display()), o);
+        }
     }
     writeln!(o.err(), "wrote {}", a.out.display()).map_err(Stop::Io)?;
     Ok(if failed { 1 } else { 0 })

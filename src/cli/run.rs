@@ -131,6 +131,10 @@ pub struct RunArgs {
     /// steps, Newton iterations, integration order, CPU time), as Adams does.
     #[arg(long, short)]
     verbose: bool,
+    /// Exit with code 3 when the run finishes with an accuracy warning (for scripts and
+    /// CI: a warned answer fails the job without being an error).
+    #[arg(long)]
+    strict: bool,
 }
 
 impl RunArgs {
@@ -341,6 +345,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
             Some(f),
         ),
     };
+    let warned = summary.as_ref().is_some_and(|s| !s.warnings.is_empty());
     if let Some(s) = summary {
         write!(o.err(), "{}", s.text())?;
     }
@@ -356,8 +361,11 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         o.diagnostics(&f.diagnostics, &f.source)?;
         return Err(Stop::Failed);
     }
-    Ok(0)
+    Ok(if a.strict && warned { STRICT_WARNED } else { 0 })
 }
+
+/// `--strict`'s exit code for a run that finished with an accuracy warning.
+const STRICT_WARNED: i32 = 3;
 
 /// The step table's header (`mbfx run --verbose`), Adams' columns without the function
 /// evaluations.
