@@ -1089,3 +1089,29 @@ fn run_strict_exits_3_on_an_accuracy_warning_only() {
     assert_eq!(quiet.code, 0, "{}", quiet.describe());
     assert!(!quiet.stderr.contains("warning:"), "{}", quiet.describe());
 }
+
+/// A pendulum with `GCON/1, FUNCTION = TIME`: the GCON reads no coordinate, so its
+/// position Jacobian is zero and it holds at t = 0 (TIME = 0), but its velocity equation
+/// asks 0·v + d(TIME)/dt = 1 = 0. No run can honour it: `check` names it as a conflict
+/// at velocities (E0702, exit 1), not as a redundant constraint to remove.
+#[test]
+fn check_names_a_constraint_that_holds_now_but_not_over_time() {
+    let pendulum = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/scenes/a01_pendulum.adm"
+    ))
+    .expect("the A01 scene");
+    let text = pendulum.replace("ACCGRAV", "GCON/1, I = 201, FUNCTION = TIME\nACCGRAV");
+    assert_ne!(text, pendulum);
+    let r = check(&scratch_file("gcon_time.adm", text.as_bytes()));
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("[E0702] Error: conflicting, not redundant: Gcon of GCON/1")
+            && r.stderr
+                .contains("its velocity equation is violated by 1e0"),
+        "{}",
+        r.describe()
+    );
+    assert!(!r.stdout.contains("remove it"), "{}", r.describe());
+}

@@ -187,6 +187,22 @@ impl System {
         Ok(DVec::from_vec(v?))
     }
 
+    /// The velocity-level residual over the active rows (unscaled): Φ_q v + Φ_t for a
+    /// holonomic row, the function itself for a non-holonomic one (it reads velocities).
+    pub fn velocity_residual(&self) -> Result<DVec, MbdError> {
+        let v = self.v();
+        let rows: Vec<(usize, usize)> = self.rows().collect();
+        let mut out = DVec::zeros(rows.len());
+        for (r, &(e, q)) in rows.iter().enumerate() {
+            let ev = self.eval_row(e, q)?;
+            out[r] = match self.row_reads_velocity(e, q) {
+                true => ev.value,
+                false => ev.dq.iter().map(|&(c, x)| x * v[c]).sum::<f64>() + self.row_dt(e, q)?,
+            };
+        }
+        Ok(out)
+    }
+
     /// Φ_q over the active rows with velocity-level columns (6 per moving part in 3D,
     /// 3 in 2D). A non-holonomic GCON row holds ∂f/∂v instead. With `scaled`,
     /// translational rows are divided by [`System::length`] and δr columns multiplied by

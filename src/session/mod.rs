@@ -49,6 +49,7 @@ use crate::mbd::planar::{self, Dim};
 use crate::mbd::redundancy::{self, Problem, Report};
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
+use crate::vocab::math::DVec;
 use mbfx_runtime::Spline;
 use std::fmt;
 use std::sync::Arc;
@@ -207,7 +208,8 @@ pub fn analyze_model_with(
         Ok(a) => a,
         Err(error) => {
             let conflict = match &error {
-                AssemblyError::NotAssembled { .. } => redundancy_of(&system).err(),
+                // Velocities were not assembled: only positions can say which conflicts.
+                AssemblyError::NotAssembled { .. } => redundancy_at(&system, false).err(),
                 _ => None,
             };
             return Err(Failure::Assembly {
@@ -237,24 +239,36 @@ pub fn analyze_model_with(
 /// Jacobian, and the residuals scaled the same way so that violated redundant rows are
 /// reported as conflicts.
 pub fn redundancy_of(system: &System) -> Result<Report, redundancy::AnalysisError> {
+    redundancy_at(system, true)
+}
+
+/// [`redundancy_of`], checking conflicts at velocities too when `velocities` (the system's
+/// velocities are assembled).
+fn redundancy_at(system: &System, velocities: bool) -> Result<Report, redundancy::AnalysisError> {
     let shape = |e: MbdError| redundancy::AnalysisError::Shape(e.to_string());
     let jacobian = system.jacobian(true).map_err(shape)?;
-    let residual = system.residual().map_err(shape)?;
-    let scaled: Vec<f64> = system
-        .rows()
-        .zip(residual.iter())
-        .map(|((e, q), &x)| {
-            if system.elements[e].eqs[q].translational {
-                x / system.length
-            } else {
-                x
-            }
-        })
-        .collect();
+    let scale = |r: DVec| -> Vec<f64> {
+        system
+            .rows()
+            .zip(r.iter())
+            .map(
+                |((e, q), &x)| match system.elements[e].eqs[q].translational {
+                    true => x / system.length,
+                    false => x,
+                },
+            )
+            .collect()
+    };
+    let scaled = scale(system.residual().map_err(shape)?);
+    let at_velocities = match velocities {
+        true => Some(scale(system.velocity_residual().map_err(shape)?)),
+        false => None,
+    };
     let labels = system.labels();
     let elements = system.element_refs();
     let dim = system.dim.axes();
     let mut problem = Problem::new(&jacobian, &labels, &elements, system.moving_parts(), dim);
     problem.residuals = Some(&scaled);
+    problem.velocity_residuals = at_velocities.as_deref();
     redundancy::analyze(&problem, &redundancy::Options::default())
 }

@@ -58,6 +58,10 @@ pub struct Problem<'a> {
     /// (translational equations in model lengths); when given, redundant rows are checked
     /// for conflicts.
     pub residuals: Option<&'a [f64]>,
+    /// The velocity-level residuals Φ_q v + Φ_t, scaled the same way; when given,
+    /// redundant rows are checked for conflicts at velocities too (a GCON of time alone
+    /// has no position Jacobian, holds at t = 0, and asks 0 = 1 of the velocities).
+    pub velocity_residuals: Option<&'a [f64]>,
 }
 
 impl<'a> Problem<'a> {
@@ -76,6 +80,7 @@ impl<'a> Problem<'a> {
             moving_parts,
             dim,
             residuals: None,
+            velocity_residuals: None,
         }
     }
 }
@@ -132,10 +137,20 @@ pub fn analyze(problem: &Problem, options: &Options) -> Result<Report, AnalysisE
         factor.stored_entries(),
         outcomes,
     );
-    let conflicts = match problem.residuals {
+    let mut conflicts = match problem.residuals {
         Some(residuals) => report.conflicts(residuals, options.conflict_tolerance),
         None => Vec::new(),
     };
+    if let Some(velocities) = problem.velocity_residuals {
+        for c in report.conflicts(velocities, options.conflict_tolerance) {
+            if conflicts.iter().all(|k| k.row != c.row) {
+                conflicts.push(Conflict {
+                    velocity: true,
+                    ..c
+                });
+            }
+        }
+    }
     match conflicts {
         conflicts if conflicts.is_empty() => Ok(report),
         conflicts => Err(AnalysisError::Conflicting {
@@ -181,7 +196,7 @@ fn validate(p: &Problem) -> Result<(), AnalysisError> {
             "entry ({r}, {c}) = {v} is out of range or not finite"
         ));
     }
-    if let Some(res) = p.residuals {
+    for res in [p.residuals, p.velocity_residuals].into_iter().flatten() {
         if res.len() != j.nrows {
             return shape(format!("{} residuals for {} rows", res.len(), j.nrows));
         }

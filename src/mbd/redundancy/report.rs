@@ -61,6 +61,8 @@ pub struct Conflict {
     pub label: EquationLabel,
     /// Its scaled residual at the assembled configuration.
     pub residual: f64,
+    /// Whether the residual is of its velocity equation (Φ_q v + Φ_t) rather than Φ.
+    pub velocity: bool,
 }
 
 /// The outcome of [`super::analyze`].
@@ -169,6 +171,7 @@ impl Report {
                     row: r.row,
                     label: r.label,
                     residual,
+                    velocity: false,
                 })
             })
             .collect()
@@ -329,13 +332,20 @@ impl fmt::Display for AnalysisError {
                     if i > 0 {
                         writeln!(f)?;
                     }
+                    let violated = match c.velocity {
+                        false => format!("is violated by {:e} at the assembled configuration", c.residual),
+                        true => format!(
+                            "its velocity equation is violated by {:e} at the assembled configuration \
+                             (it holds now but cannot go on holding as time passes)",
+                            c.residual
+                        ),
+                    };
                     write!(
                         f,
                         "conflicting, not redundant: {} of {} follows from the other constraints \
-                         but is violated by {:e} at the assembled configuration",
+                         but {violated}",
                         c.label.equation.label(),
                         element_title(report.element(&c.label)),
-                        c.residual
                     )?;
                 }
                 Ok(())
