@@ -24,6 +24,7 @@ mod inertia;
 pub mod integrator_settings;
 pub mod keywords;
 mod lines;
+mod motion_time;
 pub mod overrides;
 mod read_bodies;
 mod read_data;

@@ -294,6 +294,7 @@ impl<'a> Reader<'a> {
             );
         }
         self.model.measures = self.scope.slots();
+        super::motion_time::check(&self.model, &mut self.diags);
         self.diags.sort_by_key(|d| d.span.start);
         ModelRead {
             model: self.model,

@@ -708,3 +708,50 @@ fn the_report_lists_counts_units_and_gravity_in_sections() {
                 degrees of freedom:\n    6\n";
     assert_eq!(text, want);
 }
+
+/// The errors of `text`, as (code, the text they point at, message).
+fn errors_of(text: &str) -> Vec<(Code, String, String)> {
+    read(text)
+        .diagnostics
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .map(|d| (d.code, text[d.span.clone()].to_string(), d.message.clone()))
+        .collect()
+}
+
+/// A MOTION's FUNCTION may depend on time only: one that reads a measure, directly or
+/// through a VARIABLE, is refused at the FUNCTION naming the measure; a VARIABLE of time
+/// alone is fine.
+#[test]
+fn a_motion_of_the_state_is_refused_at_its_function() {
+    let joint = "JOINT/1, TRANSLATIONAL, I = 21, J = 11\n";
+    let direct = with(&format!(
+        "{joint}MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = 0.1*AZ(21, 11)"
+    ));
+    assert_eq!(
+        errors_of(&direct),
+        [(
+            Code::BadArgument,
+            "0.1*AZ(21, 11)".to_string(),
+            "MOTION/1: its FUNCTION reads AZ(21, 11); a MOTION's FUNCTION may depend on time only"
+                .to_string()
+        )]
+    );
+    let through = with(&format!(
+        "{joint}VARIABLE/3, FUNCTION = DX(21, 11)\nVARIABLE/4, FUNCTION = 2*VARVAL(3)\n\
+         MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = VARVAL(4)*TIME"
+    ));
+    let found = errors_of(&through);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0]
+            .2
+            .contains("reads DX(21, 11) through VARVAL(3) through VARVAL(4)"),
+        "{found:?}"
+    );
+    let of_time = with(&format!(
+        "{joint}VARIABLE/3, FUNCTION = 0.5*SIN(TIME)\n\
+         MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = VARVAL(3)"
+    ));
+    assert_eq!(errors_of(&of_time), []);
+}
