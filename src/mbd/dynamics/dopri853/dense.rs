@@ -223,7 +223,7 @@ mod tests {
                 .fold(0.0, f64::max)
         };
         let (e1, e2) = (worst(0.4), worst(0.2));
-        assert!(e1 < 1e-8, "{e1}");
+        assert!(e1 < 1e-7, "{e1}");
         assert!(e1 / e2 > 128.0, "order: {e1} / {e2} = {}", e1 / e2);
     }
 
@@ -240,8 +240,11 @@ mod tests {
         );
         assert_eq!(e.at(0, 0.0), 0.0);
         assert!((e.at(0, 1.0) - 2.0).abs() < 1e-15);
-        let ds = 1e-6;
+        // Central differences a hair inside the ends (the curvature moves the slope by
+        // about 7·s there).
+        let ds = 1e-7;
         let slope = |s: f64| (e.at(0, s + ds) - e.at(0, s - ds)) / (2.0 * ds) / 0.5;
-        assert!((slope(1e-3) - 1.0).abs() < 1e-2 && (slope(1.0 - 1e-3) - 3.0).abs() < 1e-2);
+        let (a, b) = (slope(1e-5), slope(1.0 - 1e-5));
+        assert!((a - 1.0).abs() < 1e-3 && (b - 3.0).abs() < 1e-3, "{a}, {b}");
     }
 }
