@@ -93,6 +93,10 @@ pub struct RunArgs {
     /// joint coordinates.
     #[arg(long)]
     cartesian: bool,
+    /// Output rows from each method's continuous extension instead of steps landed on
+    /// every output time (INTEGRATOR/INTERPOLATE = ON): many rows cost about what few do.
+    #[arg(long)]
+    interpolate: bool,
     /// Fixed steps of at most H (no error control; each output interval is split evenly).
     #[arg(long = "fixed-step", value_name = "H")]
     fixed_step: Option<f64>,
@@ -153,6 +157,7 @@ impl RunArgs {
         (r.error, r.hmax, r.hinit, r.hmin) = (self.error, self.hmax, self.hinit, self.hmin);
         r.error_per_run = self.error_per == ErrorPer::Run;
         r.cartesian = self.cartesian;
+        r.interpolate = self.interpolate;
         (r.fixed_step, r.alpha, r.rho_inf) = (self.fixed_step, self.alpha, self.rho_inf);
         r.formulation = self.formulation.map(|f| match f {
             FormulationArg::I3 => Formulation::I3,
@@ -437,6 +442,7 @@ mod tests {
             "--hmin=1e-9",
             "--error-per=run",
             "--cartesian",
+            "--interpolate",
             "--fixed-step=0.001",
             "--alpha=-0.2",
             "--formulation=si2",
@@ -459,6 +465,7 @@ mod tests {
             hmin: Some(1e-9),
             error_per_run: true,
             cartesian: true,
+            interpolate: true,
             fixed_step: Some(0.001),
             alpha: Some(-0.2),
             formulation: Some(Formulation::Si2),

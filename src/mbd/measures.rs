@@ -608,6 +608,17 @@ impl MeasureSet {
         self.raw(n, &m, &frames)
     }
 
+    /// The value of measure `n` at the current state, unwrapped as [`MeasureSet::eval`]
+    /// unwraps it (the same operations on the same numbers, without the derivatives).
+    pub fn unwrapped_value(&self, sys: &System, n: usize) -> f64 {
+        let raw = self.value(sys, n);
+        let r = self.refs[n];
+        match self.list[n].unwrapped() && r.is_finite() {
+            true => raw + 2.0 * PI * ((r - raw) / (2.0 * PI)).round(),
+            false => raw,
+        }
+    }
+
     /// Measure `n` with its first and second time derivatives along the current motion
     /// with every part's acceleration zero (its value is not unwrapped): what the
     /// acceleration-level constraint right-hand side needs.

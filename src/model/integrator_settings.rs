@@ -405,7 +405,7 @@ fn warn(span: &Span, message: String) -> Diagnostic {
 /// Everything written that `mbfx run` does not honour, each named at its span. What is
 /// honoured: GSTIFF and WSTIFF (the default GSTIFF when none is named) with I3 or SI2 and
 /// KMAX, HHT and its ALPHA, NEWMARK and its BETA and GAMMA, ERROR, HMAX, HINIT, HMIN,
-/// MAXIT.
+/// MAXIT, INTERPOLATE.
 fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     let family = s.family.as_ref().map(|f| f.value);
@@ -477,13 +477,6 @@ fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
         out.push(warn(
             &p.span,
             "INTEGRATOR PATTERN is not honoured: mbfx re-evaluates the Jacobian when Newton contracts poorly or the step changes".into(),
-        ));
-    }
-    if let Some(i) = &s.interpolate {
-        out.push(warn(
-            &i.span,
-            "INTEGRATOR INTERPOLATE is not honoured: mbfx steps land exactly on the output times"
-                .into(),
         ));
     }
     if let Some(x) = &s.adaptivity {

@@ -67,7 +67,14 @@ impl Plan {
             |g: &Option<crate::model::integrator_settings::Given<f64>>| g.as_ref().map(|g| g.value);
         let mut s = Settings::for_output_step(dt);
         s.error = spec.error.or(value(&stmt.error)).unwrap_or(s.error);
-        s.hmax = spec.hmax.or(value(&stmt.hmax)).unwrap_or(s.hmax).min(dt);
+        s.interpolate = spec.interpolate || stmt.interpolate.as_ref().is_some_and(|i| i.value);
+        // Stepped output holds HMAX to the output step; interpolated output leaves the
+        // steps to error control (Adams: no limit unless HMAX is given).
+        let hmax = spec.hmax.or(value(&stmt.hmax));
+        s.hmax = match s.interpolate {
+            true => hmax.unwrap_or(f64::INFINITY),
+            false => hmax.unwrap_or(s.hmax).min(dt),
+        };
         s.hinit = spec
             .hinit
             .or(value(&stmt.hinit))
@@ -238,6 +245,26 @@ mod tests {
         let st = statement("HHT, HMAX = 1");
         let p = Plan::new(Some(&st), &RunSpec::new(1.0, 0.01), 0.01);
         assert_eq!(p.settings.hmax, 0.01);
+    }
+
+    #[test]
+    fn interpolate_comes_from_the_statement_or_the_command_line_and_frees_hmax() {
+        let p = Plan::new(
+            Some(&statement("HHT, INTERPOLATE = ON")),
+            &RunSpec::new(1.0, 0.01),
+            0.01,
+        );
+        assert!(p.settings.interpolate);
+        assert_eq!(p.settings.hmax, f64::INFINITY);
+        // HINIT and HMIN keep Adams' defaults for the output step.
+        assert_eq!((p.settings.hinit, p.settings.hmin), (0.01 / 20.0, 1e-8));
+        let st = statement("HHT, INTERPOLATE = OFF, HMAX = 1");
+        let mut spec = RunSpec::new(1.0, 0.01);
+        assert!(!Plan::new(Some(&st), &spec, 0.01).settings.interpolate);
+        spec.interpolate = true;
+        let p = Plan::new(Some(&st), &spec, 0.01);
+        assert!(p.settings.interpolate);
+        assert_eq!(p.settings.hmax, 1.0);
     }
 
     #[test]

@@ -97,6 +97,9 @@ pub struct RunRequest {
     pub error_per_run: bool,
     /// dopri853 keeps to the Cartesian index-1 form on a planar tree (`--cartesian`).
     pub cartesian: bool,
+    /// Output rows from each method's continuous extension (`--interpolate`, as
+    /// INTEGRATOR/INTERPOLATE = ON); false leaves it to the statement.
+    pub interpolate: bool,
     /// Fixed steps of at most this (`--fixed-step`): no error control.
     pub fixed_step: Option<f64>,
     /// HHT's ALPHA in [−1/3, 0] (`--alpha`): None takes the statement's, else −0.3.
@@ -134,6 +137,7 @@ impl RunRequest {
             hmin: None,
             error_per_run: false,
             cartesian: false,
+            interpolate: false,
             fixed_step: None,
             alpha: None,
             formulation: None,
@@ -227,6 +231,7 @@ impl RunRequest {
         spec.kmax = self.kmax;
         spec.error_per_run = self.error_per_run;
         spec.cartesian = self.cartesian;
+        spec.interpolate = self.interpolate;
         spec.formulation = self.formulation;
         (spec.error, spec.hmax, spec.hinit, spec.hmin) =
             (self.error, self.hmax, self.hinit, self.hmin);

@@ -116,6 +116,10 @@ pub struct RunSpec {
     /// dopri853 keeps to the Cartesian index-1 form even on a planar tree of joints,
     /// which it otherwise integrates in joint coordinates.
     pub cartesian: bool,
+    /// Output rows from each method's continuous extension, the steps left to error
+    /// control (INTERPOLATE = ON); false leaves it to the INTEGRATOR statement (off
+    /// unless it says ON).
+    pub interpolate: bool,
     /// 2D, 3D or whichever the scene allows.
     pub dim: DimRequest,
     /// Which back end evaluates the expressions.
@@ -141,6 +145,7 @@ impl RunSpec {
             error_per_run: false,
             keep_redundant: false,
             cartesian: false,
+            interpolate: false,
             dim: DimRequest::Auto,
             engine: Engine::Jit,
         }
@@ -230,6 +235,12 @@ impl Summary {
             },
             s.max_residual
         );
+        if st.interpolated > 0 {
+            out += &format!(
+                "{} rows interpolated inside steps (largest position-constraint residual there {:.3e}, {} projected)\n",
+                st.interpolated, st.interpolation_residual, st.projected
+            );
+        }
         if let Some((e0, e1)) = s.energy {
             out += &format!(
                 "energy (kinetic + gravity): {e0:.9e} at the start, {e1:.9e} at the end (change {:.3e})\n",

@@ -13,6 +13,7 @@ mod adams;
 mod andrews;
 mod bdf;
 mod contact;
+mod dense;
 mod exact;
 mod explicit;
 mod failures;

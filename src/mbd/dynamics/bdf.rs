@@ -38,11 +38,12 @@
 
 mod history;
 
+use super::dense::lagrange_weights;
 use super::dopri853::rotation_vector_rate;
 use super::integrator::{Attempt, Integrator, Settings};
 use super::newmark::largest_magnitude;
 use super::reuse::{self, Reuse};
-use super::{copy_into, DynError, Dynamics, Weights};
+use super::{copy_into, DynError, Dynamics, Snapshot, Weights};
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
 use history::{lagrange, History};
@@ -125,6 +126,25 @@ pub struct Bdf {
     lower: (Vec<f64>, DVec, DVec),
     /// When the factorization is reused (its weight: g).
     reuse: Reuse,
+    /// The order of the last attempt, and the interpolating polynomial of the last
+    /// accepted step with an output time inside it.
+    k_step: usize,
+    dense: Dense,
+}
+
+/// The polynomial an accepted step of order k interpolates: its k + 1 newest points
+/// (times, chart positions, velocities), the chart's origin being the newest.
+#[derive(Default)]
+struct Dense {
+    base: Option<Snapshot>,
+    /// The times, relative to the newest.
+    ts: Vec<f64>,
+    x: Vec<Vec<f64>>,
+    v: Vec<DVec>,
+    /// Scratch: weights, and the interpolated positions and velocities.
+    l: Vec<f64>,
+    xs: Vec<f64>,
+    vs: DVec,
 }
 
 impl Bdf {
@@ -154,6 +174,8 @@ impl Bdf {
             proj: Vec::new(),
             lower: (Vec::new(), DVec::zeros(0), DVec::zeros(0)),
             reuse: Reuse::refreshing(),
+            k_step: 1,
+            dense: Dense::default(),
         }
     }
 
@@ -573,6 +595,7 @@ impl Integrator for Bdf {
             self.tol = (st.error, tolerances(d, st.error));
         }
         self.err = f64::NAN;
+        self.k_step = self.k;
         self.iterate(d, h, st)
     }
 
@@ -659,6 +682,55 @@ impl Integrator for Bdf {
                 shrink.clamp(0.1, 0.25)
             }
         });
+    }
+
+    fn dense(&self) -> bool {
+        true
+    }
+
+    fn extend(&mut self, _d: &mut Dynamics) -> Result<(), DynError> {
+        // The polynomial of the order the step was taken at, through the step's end and
+        // the k points before it (the corrector's own interpolant, as DASSL's output).
+        let Some(hist) = self.hist.as_ref() else {
+            return Ok(());
+        };
+        let k = self.k_step.min(hist.len().saturating_sub(1)).max(1);
+        let dense = &mut self.dense;
+        dense.base = Some(hist.newest().snap.clone());
+        dense.ts.clear();
+        dense.x.clear();
+        dense.v.clear();
+        let t1 = hist.newest().t;
+        for j in 0..=k.min(hist.len() - 1) {
+            let p = hist.point(j);
+            dense.ts.push(p.t - t1);
+            dense.x.push(p.x.clone());
+            dense.v.push(p.v.clone());
+        }
+        Ok(())
+    }
+
+    fn dense_state(&mut self, d: &mut Dynamics, t: f64) {
+        let dense = &mut self.dense;
+        let Some(base) = dense.base.as_ref() else {
+            return;
+        };
+        let n = d.n;
+        dense.l.resize(dense.ts.len(), 0.0);
+        lagrange_weights(&dense.ts, t - base.time, &mut dense.l);
+        dense.xs.clear();
+        dense.xs.resize(n, 0.0);
+        if dense.vs.len() != n {
+            dense.vs = DVec::zeros(n);
+        }
+        dense.vs.fill(0.0);
+        for (j, &w) in dense.l.iter().enumerate() {
+            for (x, &p) in dense.xs.iter_mut().zip(&dense.x[j]) {
+                *x += w * p;
+            }
+            dense.vs.axpy(w, &dense.v[j], 1.0);
+        }
+        d.set_state(base, &dense.xs, &dense.vs, t);
     }
 
     fn restart(&mut self, d: &mut Dynamics) {

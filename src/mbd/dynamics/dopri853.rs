@@ -33,6 +33,7 @@
 //! or high damping limit its step by stability instead, where the implicit methods are
 //! the choice.
 
+mod dense;
 mod tableau;
 
 use super::integrator::{Attempt, Integrator, Settings};
@@ -40,6 +41,7 @@ use super::tree::JointTree;
 use super::{DynError, Dynamics, Snapshot};
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
+use dense::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
 use tableau::{A, B, BHH, C, ER, STAGES};
 
 /// The weight of the third-order estimate in the combined one (the published value):
@@ -79,6 +81,15 @@ pub struct Dopri853 {
     tol: (f64, Vec<f64>),
     /// Integrate the Cartesian index-1 form even where joint coordinates would do.
     cartesian: bool,
+    /// The last accepted step's start and its velocities, and the last attempt's size:
+    /// what its continuous extension starts from.
+    start: Option<Snapshot>,
+    start_v: DVec,
+    h: f64,
+    /// The continuous extension of the last accepted step with an output inside it
+    /// ([`dense`]): of the chart increment, and of the velocities.
+    dense_x: Extension,
+    dense_v: Extension,
     /// The joint-coordinate form, when the model is a planar tree ([`JointTree`]).
     joint: Option<Joints>,
 }
@@ -98,6 +109,8 @@ struct Joints {
     /// Per-coordinate error scales and the ERROR they are for.
     tol: Vec<f64>,
     tol_error: f64,
+    /// The continuous extension of the last step with an output inside it.
+    dense: Extension,
 }
 
 impl Default for Dopri853 {
@@ -121,6 +134,11 @@ impl Dopri853 {
             tol: (f64::NAN, Vec::new()),
             cartesian: false,
             joint: None,
+            start: None,
+            start_v: DVec::zeros(0),
+            h: 0.0,
+            dense_x: Extension::default(),
+            dense_v: Extension::default(),
         }
     }
 
@@ -139,9 +157,10 @@ impl Dopri853 {
 
     /// Sizes the buffers for `n` columns.
     fn size(&mut self, n: usize) {
-        if self.x.len() != n || self.kx.len() != STAGES {
-            self.kx = vec![vec![0.0; n]; STAGES];
-            self.kv = vec![vec![0.0; n]; STAGES];
+        // (The stages of the continuous extension too: a step keeps its slopes.)
+        if self.x.len() != n || self.kx.len() != EXTENDED {
+            self.kx = vec![vec![0.0; n]; EXTENDED];
+            self.kv = vec![vec![0.0; n]; EXTENDED];
             self.x = vec![0.0; n];
             self.v = DVec::zeros(n);
         }
@@ -237,6 +256,7 @@ impl Integrator for Dopri853 {
     }
 
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
+        self.h = h;
         if let Some(j) = &mut self.joint {
             return j.attempt(d, h, st);
         }
@@ -260,6 +280,40 @@ impl Integrator for Dopri853 {
         }
     }
 
+    fn dense(&self) -> bool {
+        true
+    }
+
+    fn extend(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        let Some(start) = self.start.take() else {
+            return Ok(());
+        };
+        let extended = match &mut self.joint {
+            Some(j) => j.extend(d, self.h, start.time),
+            None => self.extend_cartesian(d, &start),
+        };
+        self.start = Some(start);
+        extended
+    }
+
+    fn dense_state(&mut self, d: &mut Dynamics, t: f64) {
+        let Some(start) = self.start.take() else {
+            return;
+        };
+        let s = ((t - start.time) / self.h).clamp(0.0, 1.0);
+        match &mut self.joint {
+            Some(j) => j.dense_state(d, s, t),
+            None => {
+                for i in 0..self.x.len() {
+                    self.x[i] = self.dense_x.at(i, s);
+                    self.v[i] = self.start_v[i] + self.dense_v.at(i, s);
+                }
+                d.set_state(&start, &self.x, &self.v, t);
+            }
+        }
+        self.start = Some(start);
+    }
+
     fn formulation(&self) -> Option<String> {
         self.joint_coordinates()
             .map(|f| format!("a planar tree of joints: integrated in its {f} joint coordinates"))
@@ -270,7 +324,8 @@ impl Integrator for Dopri853 {
             std::mem::swap(&mut j.y0, &mut j.y1);
             std::mem::swap(&mut j.a0, &mut j.a1);
         }
-        self.base = Some(d.snapshot());
+        self.start = self.base.replace(d.snapshot());
+        std::mem::swap(&mut self.start_v, &mut self.v0);
         self.v0 = d.sys.v();
         self.a0.clone_from(&d.a);
         self.lambda0.clone_from(&d.lambda);
@@ -301,11 +356,51 @@ impl Joints {
             a1: a0.clone(),
             y0,
             a0,
-            k: vec![vec![0.0; 2 * f]; STAGES],
+            k: vec![vec![0.0; 2 * f]; EXTENDED],
             y: vec![0.0; 2 * f],
             tol: Vec::new(),
             tol_error: f64::NAN,
+            dense: Extension::default(),
         })
+    }
+
+    /// The continuous extension of the step of `h` from `t0` just accepted (its start in
+    /// `y1` now, its end in `y0`): the end's slope, the three extra stages, the rows.
+    fn extend(&mut self, d: &mut Dynamics, h: f64, t0: f64) -> Result<(), DynError> {
+        let f = self.tree.coordinates();
+        let (dy, dv) = self.k[END].split_at_mut(f);
+        dy.copy_from_slice(&self.y0[f..]);
+        dv.copy_from_slice(&self.a0);
+        // The stages start from the step's start: y0 and y1 trade places meanwhile.
+        std::mem::swap(&mut self.y0, &mut self.y1);
+        let mut full = true;
+        let mut outcome = Ok(());
+        for (e, s) in (END + 1..EXTENDED).enumerate() {
+            if !self.combine(A_EXTRA[e], h) {
+                full = false;
+                break;
+            }
+            outcome = self.slope(d, s, t0 + C_EXTRA[e] * h);
+            if outcome.is_err() {
+                break;
+            }
+        }
+        std::mem::swap(&mut self.y0, &mut self.y1);
+        outcome?;
+        let (y0, y1, k) = (&self.y0, &self.y1, &self.k);
+        self.dense
+            .fill(2 * f, h, full, |i| y0[i] - y1[i], |j, i| k[j][i]);
+        Ok(())
+    }
+
+    /// Places `d` at the continuous extension's state at `s` (of the step), time `t`.
+    fn dense_state(&mut self, d: &mut Dynamics, s: f64, t: f64) {
+        let f = self.tree.coordinates();
+        for i in 0..2 * f {
+            self.y[i] = self.y1[i] + self.dense.at(i, s);
+        }
+        let (theta, rate) = self.y.split_at(f);
+        self.tree.place(d, theta, rate, t);
     }
 
     /// Sets stage `s`'s slope from the state in `self.y` at time `t`.
@@ -440,6 +535,47 @@ impl Dopri853 {
         }
         d.reconcile()?;
         Ok(Attempt::Converged { err, worst })
+    }
+
+    /// The continuous extension of the step just accepted from `start` (the end is the
+    /// accepted state): the end's chart increment and slope, the three extra stages from
+    /// the start, then the rows of positions and of velocities.
+    fn extend_cartesian(&mut self, d: &mut Dynamics, start: &Snapshot) -> Result<(), DynError> {
+        let h = self.h;
+        let Some(end) = self.base.as_ref() else {
+            return Ok(());
+        };
+        d.increment(start, end, &mut self.x);
+        let dx = self.x.clone();
+        self.v.copy_from(&self.v0);
+        self.kv[END].copy_from_slice(self.a0.as_slice());
+        self.chart_rates(d, END);
+        // The stages combine from the start's velocities: v0 and start_v trade places.
+        std::mem::swap(&mut self.v0, &mut self.start_v);
+        let mut full = true;
+        let mut outcome = Ok(());
+        for (e, s) in (END + 1..EXTENDED).enumerate() {
+            self.combine(A_EXTRA[e], h);
+            if !self.place(d, start, start.time + C_EXTRA[e] * h) {
+                full = false;
+                break;
+            }
+            outcome = d.solve_accelerations();
+            if outcome.is_err() {
+                break;
+            }
+            self.kv[s].copy_from_slice(d.a.as_slice());
+            self.chart_rates(d, s);
+        }
+        std::mem::swap(&mut self.v0, &mut self.start_v);
+        outcome?;
+        let (kx, kv) = (&self.kx, &self.kv);
+        let (v0, v1) = (&self.start_v, &self.v0);
+        let n = dx.len();
+        self.dense_x.fill(n, h, full, |i| dx[i], |j, i| kx[j][i]);
+        self.dense_v
+            .fill(n, h, full, |i| v1[i] - v0[i], |j, i| kv[j][i]);
+        Ok(())
     }
 
     /// Moves `d` to `base` moved by the stage increment `self.x`, with velocities

@@ -3,10 +3,14 @@
 //! HMAX, HINIT, HMIN), rejection and retry, landing exactly on output times, locating the
 //! force laws' switches ([`super::events`]), the check that dropped redundant rows stay
 //! satisfied, and the output callback. Fixed-step runs divide each output interval into
-//! equal steps no longer than the step asked for (and do not locate switches). A caller's
-//! interrupt flag is read before every step attempt, so a run stops within one step of
-//! it being set however far apart its output times are.
+//! equal steps no longer than the step asked for (and do not locate switches). With
+//! [`Settings::interpolate`] (INTERPOLATE = ON) the steps land on the last output time
+//! only, and every other output time inside an accepted step takes the method's
+//! continuous extension ([`super::dense`]). A caller's interrupt flag is read before every
+//! step attempt, so a run stops within one step of it being set however far apart its
+//! output times are.
 
+use super::dense::{self, Kept};
 use super::events::{Events, Verdict};
 use super::{DynError, Dynamics};
 
@@ -39,6 +43,10 @@ pub struct Settings {
     /// positions alone to ERROR holds velocities too, since a contact reverses them in
     /// far less time than the positions take to show it.
     pub in_contact: bool,
+    /// INTERPOLATE = ON: output times do not cut steps; each one inside an accepted step
+    /// takes the method's continuous extension there, and only the last is landed on.
+    /// Off (Adams' default), every output time ends a step.
+    pub interpolate: bool,
 }
 
 impl Settings {
@@ -70,6 +78,7 @@ impl Settings {
             fixed_step: None,
             error_per_run: false,
             in_contact: false,
+            interpolate: false,
         }
     }
 }
@@ -130,6 +139,22 @@ pub trait Integrator {
     fn first_step(&self, _d: &Dynamics, hinit: f64, _s: &Settings) -> f64 {
         hinit
     }
+    /// Whether it has a continuous extension ([`Integrator::extend`]); without one, a run
+    /// asked to interpolate lands on every output time.
+    fn dense(&self) -> bool {
+        false
+    }
+    /// Readies the continuous extension of the step just accepted, called right after
+    /// [`Integrator::accept`] and only for a step with an output time inside it (an
+    /// extension that needs more evaluations costs nothing on the others). It may move
+    /// `d`: the driver puts the accepted state back.
+    fn extend(&mut self, _d: &mut Dynamics) -> Result<(), DynError> {
+        Ok(())
+    }
+    /// Moves `d`'s positions, velocities and time to the continuous extension at `t`,
+    /// inside the step [`Integrator::extend`] readied (accelerations and multipliers are
+    /// left to the outputs' consistent solve).
+    fn dense_state(&mut self, _d: &mut Dynamics, _t: f64) {}
     /// Forgets the past after a located force-law switch (a multistep method restarts
     /// at order one rather than interpolate across it).
     fn restart(&mut self, _d: &mut Dynamics) {}
@@ -224,7 +249,20 @@ pub fn simulate(
     };
     // The last error rejection: time, step, estimate.
     let mut last_rejection: Option<(f64, f64, f64)> = None;
-    for t_out in outputs.iter() {
+    // With INTERPOLATE the steps land on the last output time only; `pending` is the first
+    // output time not yet given from inside a step.
+    let interpolate = s.interpolate && integrator.dense();
+    let landings = match (interpolate, outputs.last()) {
+        (true, Some(_)) => 1,
+        (true, None) => 0,
+        (false, _) => outputs.len(),
+    };
+    let mut pending = 0;
+    for landing in 0..landings {
+        let t_out = match interpolate {
+            true => outputs.at(outputs.len() - 1),
+            false => outputs.at(landing),
+        };
         while d.sys.time < t_out {
             let t = d.sys.time;
             if interrupt.is_some_and(|stop| stop()) {
@@ -320,6 +358,15 @@ pub fn simulate(
                     let event = verdict == Verdict::Accept { event: true };
                     d.stats.events += event as usize;
                     integrator.accept(d);
+                    // The extension of a step with an output time inside it is readied
+                    // before a restart forgets the step (the outputs come at its end).
+                    let inside =
+                        interpolate && pending + 1 < outputs.len() && outputs.at(pending) < end;
+                    if inside {
+                        let kept = Kept::of(d);
+                        integrator.extend(d)?;
+                        kept.restore(d);
+                    }
                     if event {
                         integrator.restart(d);
                     }
@@ -362,6 +409,9 @@ pub fn simulate(
                         } else {
                             next
                         };
+                    }
+                    if interpolate {
+                        dense::emit(d, integrator, outputs, &mut pending, drift_tol, output)?;
                     }
                 }
             }

@@ -13,6 +13,7 @@
 //! accelerations and multipliers. Integrators ([`integrator`]) drive it.
 
 pub mod bdf;
+mod dense;
 pub mod dopri853;
 pub mod events;
 mod fill;
@@ -70,6 +71,14 @@ pub struct Stats {
     /// what the answer's error can reach when the dynamics neither damp nor amplify
     /// errors (at most 1 when ERROR is per run).
     pub error_sum: f64,
+    /// Output rows made from a continuous extension inside a step (INTERPOLATE = ON).
+    pub interpolated: usize,
+    /// The largest scaled residual of the position constraints at those rows, before
+    /// any projection: how far the extension strays from the constraints.
+    pub interpolation_residual: f64,
+    /// Those of them projected back onto the constraints (their residual exceeded the
+    /// run's drift tolerance).
+    pub projected: usize,
 }
 
 /// What a failure points at: an element, or a part (by Adams id).

@@ -29,6 +29,7 @@
 //! estimate is the Newmark position truncation error, (β − ⅙)·h²·(ã₁ − ã₀); while a
 //! contact is engaged the run's monitors also watch the velocity one, (γ − ½)·h·(ã₁ − ã₀).
 
+use super::dense::Hermite;
 use super::integrator::{Attempt, Integrator, Settings};
 use super::reuse::{self, Reuse};
 use super::{copy_into, DynError, Dynamics, Snapshot, Weights};
@@ -107,6 +108,11 @@ pub struct Newmark {
     /// The physical accelerations at the last accepted state (kept only when forces read
     /// accelerations: HHT's own are shifted in time).
     a_phys0: DVec,
+    /// The last accepted step's start and its velocities, and its continuous extension
+    /// when an output time falls inside it.
+    start: Option<Snapshot>,
+    start_v: DVec,
+    hermite: Hermite,
 }
 
 impl Newmark {
@@ -153,6 +159,9 @@ impl Newmark {
             tol: (f64::NAN, Vec::new()),
             reuse: Reuse::default(),
             a_phys0: DVec::zeros(0),
+            start: None,
+            start_v: DVec::zeros(0),
+            hermite: Hermite::default(),
         }
     }
 
@@ -454,7 +463,8 @@ impl Integrator for Newmark {
         if let std::borrow::Cow::Owned(m1) = m1 {
             self.m0 = m1;
         }
-        self.base = Some(d.snapshot());
+        self.start = self.base.replace(d.snapshot());
+        std::mem::swap(&mut self.start_v, &mut self.v0);
         self.v0 = d.sys.v();
         // The previous values move back a slot; their buffers are reused.
         std::mem::swap(&mut self.a_prev, &mut self.a0);
@@ -469,6 +479,22 @@ impl Integrator for Newmark {
             self.physical_accelerations(&d.a, &mut a);
             self.a_phys0 = a;
         }
+    }
+
+    fn dense(&self) -> bool {
+        true
+    }
+
+    fn extend(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        if let (Some(start), Some(end)) = (&self.start, &self.base) {
+            let v = (&self.start_v, &self.v0);
+            self.hermite.fill(d, start, end, v, self.h1);
+        }
+        Ok(())
+    }
+
+    fn dense_state(&mut self, d: &mut Dynamics, t: f64) {
+        self.hermite.place(d, t);
     }
 
     fn reject(&mut self, d: &mut Dynamics) {

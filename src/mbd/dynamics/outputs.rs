@@ -252,7 +252,9 @@ impl OutputSlot {
     pub fn value(&self, d: &Dynamics) -> f64 {
         let sys = &d.sys;
         match *self {
-            OutputSlot::Kinematic(m) => sys.measures.eval(sys, m).value(),
+            // The value alone: a row needs no derivatives (a dual frame is 7 KB, and
+            // building them was most of an output row's cost).
+            OutputSlot::Kinematic(m) => sys.measures.unwrapped_value(sys, m),
             OutputSlot::Acc { i, j, k, l, comp } => {
                 let (ri, vi, ai) = marker_motion(sys, i);
                 let (rj, vj, aj) = marker_motion(sys, j);
