@@ -6,7 +6,7 @@
 //! equal steps no longer than the step asked for (and do not locate switches). With
 //! [`Settings::interpolate`] (INTERPOLATE = ON) the steps land on the last output time
 //! only, and every other output time inside an accepted step takes the method's
-//! continuous extension ([`super::dense`]). A caller's interrupt flag is read before every
+//! continuous extension (`dynamics::dense`). A caller's interrupt flag is read before every
 //! step attempt, so a run stops within one step of it being set however far apart its
 //! output times are.
 
