@@ -417,14 +417,19 @@ fn render_frame(d: &Diagnostic, file: &SourceFile, primary: Span, color: bool, o
     }
 }
 
+/// How a frame's header names a severity.
+fn severity_word(s: Severity) -> &'static str {
+    match s {
+        Severity::Error => "Error",
+        Severity::Warning => "Warning",
+    }
+}
+
 /// A diagnostic about a source with no text: its header naming the source, then its notes
 /// and help.
 fn render_bare(d: &Diagnostic, name: &str, out: &mut String) {
     use std::fmt::Write as _;
-    let severity = match d.severity {
-        Severity::Error => "Error",
-        Severity::Warning => "Warning",
-    };
+    let severity = severity_word(d.severity);
     let _ = writeln!(
         out,
         "[{}] {severity}: {} ({name})",
@@ -443,10 +448,7 @@ fn render_bare(d: &Diagnostic, name: &str, out: &mut String) {
 /// around the span, and carets under the span (at most one window wide).
 fn render_window(d: &Diagnostic, file: &SourceFile, primary: Span, line: Span, out: &mut String) {
     use std::fmt::Write as _;
-    let severity = match d.severity {
-        Severity::Error => "Error",
-        Severity::Warning => "Warning",
-    };
+    let severity = severity_word(d.severity);
     let (row, col) = file.line_col(primary.start);
     let from = file
         .snap(&(primary.start.saturating_sub(WINDOW).max(line.start)..primary.start))

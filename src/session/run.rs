@@ -723,12 +723,10 @@ impl Simulation {
         let summary = Summary {
             warnings: monitors(
                 &summary,
-                Monitored {
-                    fixed: self.spec.fixed_step.is_some(),
-                    driven: self.dynamics.m >= self.dynamics.n,
-                    error,
-                    kinetic_max,
-                },
+                self.spec.fixed_step.is_some(),
+                self.dynamics.m >= self.dynamics.n,
+                error,
+                kinetic_max,
             ),
             ..summary
         };
@@ -823,33 +821,19 @@ const ACCUMULATED_WARNING: f64 = 10.0;
 /// more than ten ERRORs, a conservative model whose energy changed by more than ten
 /// ERRORs of its largest kinetic energy, and a constraint residual larger than the
 /// drift the run allows dropped rows (10·ERROR, at least 1e-6).
-/// What a run's monitors judge it by, besides its summary.
-struct Monitored {
-    /// Fixed steps (no error control).
-    fixed: bool,
-    /// Fully driven: the constraints fix every coordinate at every time, so no local
-    /// error of the integrator is the answer's (nothing is left to integrate).
-    driven: bool,
-    /// ERROR.
-    error: f64,
-    /// The largest kinetic energy at the output times.
-    kinetic_max: f64,
-}
-
-fn monitors(s: &Summary, m: Monitored) -> Vec<String> {
-    let Monitored {
-        fixed,
-        driven,
-        error,
-        kinetic_max,
-    } = m;
-    let mut w = Vec::new();
-    if !driven {
-        w.extend(integration_warnings(s, fixed, error, kinetic_max));
-    }
+fn monitors(s: &Summary, fixed: bool, driven: bool, error: f64, kinetic_max: f64) -> Vec<String> {
+    // Fully driven: the constraints fix every coordinate at every time, so no local
+    // error of the integrator is the answer's (nothing is left to integrate).
+    let mut w = match driven {
+        true => Vec::new(),
+        false => integration_warnings(s, fixed, error, kinetic_max),
+    };
     let drift = (10.0 * error).max(1e-6);
     if s.max_residual > drift {
-        w.push(drift_warning(s.max_residual, drift));
+        w.push(format!(
+            "the constraints drifted: residual {:.1e} exceeds {drift:.0e}",
+            s.max_residual
+        ));
     }
     w
 }
@@ -887,10 +871,6 @@ fn integration_warnings(s: &Summary, fixed: bool, error: f64, kinetic_max: f64) 
         ));
     }
     w
-}
-
-fn drift_warning(residual: f64, drift: f64) -> String {
-    format!("the constraints drifted: residual {residual:.1e} exceeds {drift:.0e}")
 }
 
 /// Kinetic energy (model units, /UCF).
