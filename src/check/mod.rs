@@ -9,6 +9,7 @@
 
 pub mod scope;
 mod suggest;
+pub mod units;
 mod validate;
 
 use crate::diag::{has_errors, Code, Diagnostic, Span};
@@ -41,6 +42,9 @@ pub struct Checked {
     pub function: Function,
     /// Warnings the checker found.
     pub warnings: Vec<Diagnostic>,
+    /// The expression's physical dimension, when the scope asked for units to be
+    /// checked ([`Scope::unit_names`]); `None` when it is free (or was not checked).
+    pub dim: Option<units::Dim>,
 }
 
 /// Parses, checks and lowers `src`. On error, returns every diagnostic found (errors
@@ -142,9 +146,17 @@ impl Session {
             crate::diag::cap(&mut diags);
             return Err(diags);
         }
+        // Units only read the tree, and only a tree without errors.
+        let mut dim = None;
+        if let Some(names) = scope.unit_names() {
+            let (d, warnings) = units::infer(src, ast, root, scope, Some(names));
+            dim = d;
+            diags.extend(warnings);
+        }
         Ok(Checked {
             function: self.ir.finish(outputs),
             warnings: diags,
+            dim,
         })
     }
 }
