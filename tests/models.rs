@@ -891,7 +891,7 @@ fn unit_warnings(name: &str, text: &str, probes: &[&str]) -> Vec<String> {
 
 /// The units census: the corpus (the chrono datasets among it), the project's examples,
 /// its test models and the bench scenes (generated ones too, and their probes). Every
-/// warning is in `tests/data/units/census.txt`, each inspected by hand and explained in
+/// warning is in `tests/data/units_census.txt`, each inspected by hand and explained in
 /// docs/units.md as a true inconsistency; a new one (a rule that fires falsely, or a new
 /// file) fails here until it is inspected too.
 #[test]
@@ -926,7 +926,7 @@ fn units_census_lists_every_warning() {
     }
     assert!(files > 120, "only {files} datasets");
     let listed =
-        std::fs::read_to_string(root.join("tests/data/units/census.txt")).unwrap_or_default();
+        std::fs::read_to_string(root.join("tests/data/units_census.txt")).unwrap_or_default();
     let listed: Vec<&str> = listed
         .lines()
         .filter(|l| !l.is_empty() && !l.starts_with('#'))

@@ -67,10 +67,12 @@ impl Infer<'_> {
                 let x = self.agree(name, &[arg(0, "x"), arg(1, "x0")]);
                 let wx = d[3].zip(x).and_then(|(w, x)| w.times(x));
                 let phase = self.agree(name, &[(wx, args[3], "ω·(x − x0)"), arg(4, "φ")]);
+                // The caret on φ when φ fixes the phase, else on ω.
+                let at = if d[4].is_some() { args[4] } else { args[3] };
                 self.needs_number(
                     &format!("{name}: the phase ω·(x − x0) − φ"),
                     phase,
-                    args[3],
+                    at,
                     None,
                 );
                 self.agree(name, &[arg(2, "a"), arg(5, "b")])
@@ -83,7 +85,7 @@ impl Infer<'_> {
                 let f = self.agree(name, &[arg(3, "f0"), arg(5, "f1")]);
                 let cycles = f.zip(x).and_then(|(f, x)| f.times(x));
                 self.needs_number(
-                    &format!("{name}: f0·x, a number of cycles,"),
+                    &format!("{name}: f0·x (a number of cycles)"),
                     cycles,
                     args[3],
                     None,
