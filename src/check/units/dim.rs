@@ -10,11 +10,25 @@
 //! an angle alike.
 //!
 //! Exponents are rational: `SQRT` halves them and `**0.5` or `**(1/3)` scale them. They
-//! are stored as integer multiples of 1/[`DEN`]; a power that leaves that grid or the
-//! range of `i32` has no dimension here, and the caller treats it as unknown.
+//! are stored as integer multiples of 1/[`DEN`] (every fraction whose denominator divides
+//! 60: halves, thirds, quarters, fifths, sixths, ...), 15 bits each, packed in one
+//! non-zero `u64`: a `Dim` and an `Option<Dim>` are 8 bytes, which the units check's
+//! table of node dimensions reads and writes once per node. A power that leaves that grid
+//! or range has no dimension here, and the caller treats it as unknown.
 
-/// Exponents are multiples of `1/DEN`: every fraction with a denominator up to 10.
-pub const DEN: i32 = 2520;
+use std::num::NonZeroU64;
+
+/// Exponents are multiples of `1/DEN`.
+pub const DEN: i32 = 60;
+
+/// Bits per exponent, and the largest magnitude one may take (in units of 1/[`DEN`]).
+const BITS: u32 = 15;
+const LIMIT: i32 = (1 << (BITS - 1)) - 1;
+const MASK: u64 = (1 << BITS) - 1;
+/// Always set, so that a dimension is never zero (the niche `Option<Dim>` uses).
+const TAG: u64 = 1 << 63;
+/// The bits of mass, length and time (angle left out: see [`Dim::agrees`]).
+const MLT: u64 = (1 << (3 * BITS)) - 1;
 
 /// A base quantity.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,15 +50,14 @@ impl Base {
 
 /// A dimension: the exponents of mass, length, time and angle, in units of 1/[`DEN`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Dim {
-    e: [i32; 4],
-}
+pub struct Dim(NonZeroU64);
 
 impl Dim {
     /// A dimension with integer exponents of mass, length, time and angle.
     pub const fn of(mass: i32, length: i32, time: i32, angle: i32) -> Dim {
-        Dim {
-            e: [mass * DEN, length * DEN, time * DEN, angle * DEN],
+        match Dim::pack([mass * DEN, length * DEN, time * DEN, angle * DEN]) {
+            Some(d) => d,
+            None => panic!("exponent out of range"),
         }
     }
 
@@ -71,58 +84,79 @@ impl Dim {
     /// Torque, M·L²·T⁻².
     pub const TORQUE: Dim = Dim::of(1, 2, -2, 0);
 
+    /// Packs exponents (units of 1/DEN); `None` when one is out of range.
+    const fn pack(e: [i32; 4]) -> Option<Dim> {
+        let mut bits = TAG;
+        let mut i = 0;
+        while i < 4 {
+            if e[i] > LIMIT || e[i] < -LIMIT {
+                return None;
+            }
+            bits |= ((e[i] as u64) & MASK) << (BITS * i as u32);
+            i += 1;
+        }
+        match NonZeroU64::new(bits) {
+            Some(n) => Some(Dim(n)),
+            None => None,
+        }
+    }
+
+    /// The exponents, in units of 1/DEN.
+    fn unpack(self) -> [i32; 4] {
+        let bits = self.0.get();
+        [0, 1, 2, 3].map(|i| {
+            let field = ((bits >> (BITS * i)) & MASK) as i32;
+            // Sign-extend the 15-bit field.
+            (field << (32 - BITS)) >> (32 - BITS)
+        })
+    }
+
     /// The exponent of `base` as a reduced fraction (numerator, positive denominator).
     pub fn exponent(self, base: Base) -> (i32, i32) {
-        reduce(self.e[base as usize])
+        reduce(self.raw(base))
     }
 
     /// The exponent of `base` in units of 1/[`DEN`].
     pub(super) fn raw(self, base: Base) -> i32 {
-        self.e[base as usize]
+        self.unpack()[base as usize]
     }
 
     /// `self · other`; `None` past the range of the exponents.
     pub fn times(self, other: Dim) -> Option<Dim> {
-        self.zip(other, i32::checked_add)
+        let (a, b) = (self.unpack(), other.unpack());
+        Dim::pack([0, 1, 2, 3].map(|i| a[i] + b[i]))
     }
 
     /// `self / other`; `None` past the range of the exponents.
     pub fn per(self, other: Dim) -> Option<Dim> {
-        self.zip(other, i32::checked_sub)
+        let (a, b) = (self.unpack(), other.unpack());
+        Dim::pack([0, 1, 2, 3].map(|i| a[i] - b[i]))
     }
 
     /// `self ** p` for a constant `p`; `None` when an exponent leaves the grid of
-    /// 1/[`DEN`] or the range of `i32` (or `p` is not finite).
+    /// 1/[`DEN`] or the range (or `p` is not finite).
     pub fn pow(self, p: f64) -> Option<Dim> {
         let mut e = [0; 4];
-        for (out, &n) in e.iter_mut().zip(&self.e) {
+        for (out, n) in e.iter_mut().zip(self.unpack()) {
             let x = f64::from(n) * p;
             let r = x.round();
             // A power written as a decimal (0.3, 1/3) is exact only to rounding.
-            if !r.is_finite() || (x - r).abs() > 1e-6 || r.abs() > f64::from(i32::MAX) {
+            if !r.is_finite() || (x - r).abs() > 1e-6 || r.abs() > f64::from(LIMIT) {
                 return None;
             }
             *out = r as i32;
         }
-        Some(Dim { e })
+        Dim::pack(e)
     }
 
     /// True when the two are the same dimension, counting an angle as dimensionless.
     pub fn agrees(self, other: Dim) -> bool {
-        self.e[..3] == other.e[..3]
+        (self.0.get() ^ other.0.get()) & MLT == 0
     }
 
     /// True when dimensionless or a power of angle: what SIN, EXP, ... accept.
     pub fn is_dimensionless(self) -> bool {
         self.agrees(Dim::NONE)
-    }
-
-    fn zip(self, other: Dim, f: fn(i32, i32) -> Option<i32>) -> Option<Dim> {
-        let mut e = [0; 4];
-        for ((out, &a), &b) in e.iter_mut().zip(&self.e).zip(&other.e) {
-            *out = f(a, b)?;
-        }
-        Some(Dim { e })
     }
 }
 
@@ -168,12 +202,21 @@ mod tests {
 
     #[test]
     fn powers_off_the_grid_or_out_of_range_have_no_dimension() {
-        assert_eq!(Dim::LENGTH.pow(1.0 / 11.0), None);
+        assert_eq!(Dim::LENGTH.pow(1.0 / 7.0), None);
+        assert_eq!(Dim::LENGTH.pow(0.125), None);
         assert_eq!(Dim::LENGTH.pow(f64::NAN), None);
         assert_eq!(Dim::LENGTH.pow(1e12), None);
         assert_eq!(Dim::NONE.pow(1e12), Some(Dim::NONE));
-        let big = Dim::LENGTH.pow(800_000.0).expect("in range");
+        let big = Dim::LENGTH.pow(200.0).expect("in range");
         assert_eq!(big.times(big), None);
+        assert_eq!(Dim::LENGTH.pow(-200.0).and_then(|d| d.times(d)), None);
+    }
+
+    #[test]
+    fn a_dimension_and_an_optional_one_take_eight_bytes() {
+        assert_eq!(std::mem::size_of::<Option<Dim>>(), 8);
+        assert_eq!(Dim::of(-3, 2, -1, 1).exponent(Base::Mass), (-3, 1));
+        assert_eq!(Dim::of(-3, 2, -1, 1).exponent(Base::Time), (-1, 1));
     }
 
     #[test]

@@ -20,7 +20,7 @@ mod rules;
 mod tests;
 
 pub use dim::{Base, Dim};
-pub use infer::infer;
+pub use infer::{infer, Tree};
 pub use names::{describe, UnitNames};
 
 use crate::diag::{Code, Diagnostic, Span};
@@ -80,7 +80,13 @@ pub fn infer_text(
     let parsed = crate::syntax::parser::parse(src);
     match parsed.root {
         Some(root) if !crate::diag::has_errors(&parsed.diagnostics) => {
-            Ok(infer(src, &parsed.ast, root, scope, names))
+            let tree = Tree {
+                src,
+                ast: &parsed.ast,
+                root,
+                resolved: &Tree::resolve(&parsed.ast),
+            };
+            Ok(infer(&tree, scope, names, &mut Vec::new()))
         }
         _ => Err(parsed.diagnostics),
     }

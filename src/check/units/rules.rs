@@ -20,7 +20,8 @@ use crate::syntax::ast::{Kind, NodeId};
 use crate::vocab::func::Func;
 
 impl Infer<'_> {
-    /// The dimension of a call of `f` (builtin `name`) with `args`, at node `call`.
+    /// The dimension of a call of `f` (builtin `name`) with `args`.
+    #[inline(never)]
     pub(super) fn function(&mut self, f: Func, name: &str, args: &[NodeId]) -> D {
         use Func as F;
         let fixed = f.fixed_args();
@@ -30,7 +31,7 @@ impl Infer<'_> {
         }
         let mut d: [D; 8] = [None; 8];
         for (slot, &a) in d.iter_mut().zip(&args[..fixed]) {
-            *slot = self.expr(a);
+            *slot = self.dim(a);
         }
         let arg = |i: usize, role: &'static str| (d[i], args[i], role);
         match f {
@@ -69,12 +70,8 @@ impl Infer<'_> {
                 let phase = self.agree(name, &[(wx, args[3], "ω·(x − x0)"), arg(4, "φ")]);
                 // The caret on φ when φ fixes the phase, else on ω.
                 let at = if d[4].is_some() { args[4] } else { args[3] };
-                self.needs_number(
-                    &format!("{name}: the phase ω·(x − x0) − φ"),
-                    phase,
-                    at,
-                    None,
-                );
+                let what = || format!("{name}: the phase ω·(x − x0) − φ");
+                self.needs_number(phase, at, what, |_, _| None);
                 self.agree(name, &[arg(2, "a"), arg(5, "b")])
             }
             F::Sweep => {
@@ -84,12 +81,8 @@ impl Infer<'_> {
                 );
                 let f = self.agree(name, &[arg(3, "f0"), arg(5, "f1")]);
                 let cycles = f.zip(x).and_then(|(f, x)| f.times(x));
-                self.needs_number(
-                    &format!("{name}: f0·x (a number of cycles)"),
-                    cycles,
-                    args[3],
-                    None,
-                );
+                let what = || format!("{name}: f0·x (a number of cycles)");
+                self.needs_number(cycles, args[3], what, |_, _| None);
                 d[1]
             }
             F::Poly | F::Cheby | F::Forcos | F::Forsin => self.series(f, name, &d, args),
@@ -98,9 +91,9 @@ impl Infer<'_> {
 
     /// The argument of SIN, EXP, ASIN, ...: dimensionless or an angle.
     fn transcendental(&mut self, name: &str, d: D, at: NodeId) {
-        let help = d.and_then(|d| {
-            let time = self.names.map_or("time".into(), |n| n.time.to_string());
+        let help = |inf: &Self, d: Dim| {
             if d.agrees(Dim::TIME) {
+                let time = inf.names.map_or("time".into(), |n| n.time.to_string());
                 Some(format!(
                     "give the time a coefficient in radian/{time}: {name}(w*TIME), w a number"
                 ))
@@ -109,8 +102,8 @@ impl Infer<'_> {
             } else {
                 None
             }
-        });
-        self.needs_number(&format!("the argument of {name}"), d, at, help);
+        };
+        self.needs_number(d, at, || format!("the argument of {name}"), help);
     }
 
     /// IMPACT and BISTOP: the gap and its bounds alike, the rate the gap per time; the
@@ -201,17 +194,20 @@ impl Infer<'_> {
         let x = self.agree(name, &[(d[0], args[0], "x"), (d[1], args[1], "x0")]);
         let first = f.fixed_args();
         match f {
-            Func::Cheby => self.needs_number(&format!("{name}: x − x0"), x, args[0], None),
+            Func::Cheby => {
+                self.needs_number(x, args[0], || format!("{name}: x − x0"), |_, _| None);
+            }
             Func::Forcos | Func::Forsin => {
                 let phase = d[2].zip(x).and_then(|(w, x)| w.times(x));
-                self.needs_number(&format!("{name}: ω·(x − x0)"), phase, args[2], None);
+                let what = || format!("{name}: ω·(x − x0)");
+                self.needs_number(phase, args[2], what, |_, _| None);
             }
             _ => {}
         }
         let mut agreed: Option<(Dim, NodeId, usize)> = None;
         for (j, &a) in args.iter().enumerate().skip(first) {
             let k = j - first;
-            let coefficient = self.expr(a);
+            let coefficient = self.dim(a);
             let term = match f {
                 // a_j·(x − x0)^j: the power of a free x is free, except for a0.
                 Func::Poly if k > 0 => {
