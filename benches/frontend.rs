@@ -7,12 +7,16 @@
 //! its buffers but does all the work for every expression (nothing is cached between
 //! expressions or passes); each result, a `Function` or diagnostics, is built and dropped
 //! inside the timed loop. Criterion reports bytes/s; a median timing loop of its own then
-//! prints MB/s and µs per expression.
+//! prints MB/s and µs per expression. The stage "parse+check, no units" runs the same
+//! check in a scope that asks for no units check, so the two "parse+check" rows give the
+//! units check's cost (issue 24).
 //!
 //! Run: `cargo bench --bench frontend`.
 
 use criterion::{Criterion, Throughput};
-use mbfx::check::{compile, EveryIdExists, Expect};
+use mbfx::check::units::UnitNames;
+use mbfx::check::{compile, EveryIdExists, Expect, MeasureCall, MeasureValue, Scope, SplineInfo};
+use mbfx::diag::Diagnostic;
 use mbfx::syntax::parser::Session;
 use std::hint::black_box;
 use std::path::Path;
@@ -52,6 +56,33 @@ fn check_all(exprs: &[String]) {
     }
 }
 
+/// [`EveryIdExists`] without the units check.
+struct NoUnits;
+
+impl Scope for NoUnits {
+    fn variable(&self, name: &str) -> Option<u32> {
+        EveryIdExists.variable(name)
+    }
+
+    fn spline(&self, id: i64) -> Option<SplineInfo> {
+        EveryIdExists.spline(id)
+    }
+
+    fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
+        EveryIdExists.measure(call)
+    }
+
+    fn unit_names(&self) -> Option<&UnitNames> {
+        None
+    }
+}
+
+fn check_all_without_units(exprs: &[String]) {
+    for e in exprs {
+        let _ = black_box(compile(black_box(e), &NoUnits, Expect::Any));
+    }
+}
+
 /// Median seconds per pass of `f` over [`REPS`] passes, after one warm-up pass.
 fn median_secs(f: impl Fn()) -> f64 {
     f();
@@ -75,7 +106,11 @@ fn main() {
         ("expressions-cmd.txt", &cmd),
         ("both", &all),
     ];
-    let stages: [Stage; 2] = [("parse only", parse_all), ("parse+check", check_all)];
+    let stages: [Stage; 3] = [
+        ("parse only", parse_all),
+        ("parse+check, no units", check_all_without_units),
+        ("parse+check", check_all),
+    ];
 
     let mut criterion = Criterion::default()
         .warm_up_time(Duration::from_millis(500))
@@ -107,4 +142,31 @@ fn main() {
             );
         }
     }
+    println!("\nunits check: added time of parse+check, median of {PAIRS} paired passes");
+    for (set, exprs) in &sets {
+        println!("| {set} | {:+.1} % |", 100.0 * (units_ratio(exprs) - 1.0));
+    }
+}
+
+/// Passes of the paired comparison.
+const PAIRS: usize = 41;
+
+/// The median, over [`PAIRS`] rounds, of the ratio of a pass with the units check to the
+/// pass without it just before: pairing cancels the drift of a loaded machine that
+/// separate medians of the two stages would take for a difference.
+fn units_ratio(exprs: &[String]) -> f64 {
+    let secs = |f: fn(&[String])| {
+        let t0 = Instant::now();
+        f(exprs);
+        t0.elapsed().as_secs_f64()
+    };
+    secs(check_all);
+    let mut ratios: Vec<f64> = (0..PAIRS)
+        .map(|_| {
+            let without = secs(check_all_without_units);
+            secs(check_all) / without
+        })
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    ratios[PAIRS / 2]
 }

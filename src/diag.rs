@@ -20,7 +20,7 @@ pub enum Severity {
 }
 
 /// Stable diagnostic codes. The numeric families: `E01xx` lexical, `E02xx` syntax,
-/// `E03xx` semantic checks, `W04xx`/`E04xx` evaluation, `E05xx` input and command line,
+/// `E03xx`/`W03xx` semantic checks, `W04xx`/`E04xx` evaluation, `E05xx` input and command line,
 /// `E06xx`/`W06xx` dataset (`.adm`) statements and command files, `E07xx`/`W07xx` the
 /// multibody analysis, `E08xx` a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -69,6 +69,9 @@ pub enum Code {
     Misuse,
     /// A data element (SPLINE, VARIABLE, ...) that the model does not define.
     UndefinedElement,
+    /// Units of measure that do not go together: a length added to a velocity, the sine
+    /// of a length, a length where a force is expected (a warning only).
+    UnitMismatch,
     /// An expression evaluated to NaN or an infinity.
     NonFinite,
     /// An arithmetic IF whose test is NaN: no branch can be chosen.
@@ -158,6 +161,7 @@ impl Code {
             Unsupported => "E0309",
             Misuse => "E0310",
             UndefinedElement => "E0311",
+            UnitMismatch => "W0312",
             NonFinite => "W0401",
             NanIfTest => "E0402",
             Io => "E0501",

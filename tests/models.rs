@@ -856,3 +856,80 @@ fn check_warns_when_the_core_cannot_analyse_a_valid_dataset() {
         "{err}"
     );
 }
+
+// ---------------------------------------------------------------------------------
+// Units of measure (issue 24): the census of every unit warning.
+
+/// Every W0312 warning of a dataset text and of probe expressions checked against it:
+/// `name:line: message [`quoted text`]`.
+fn unit_warnings(name: &str, text: &str, probes: &[&str]) -> Vec<String> {
+    use mbfx::check::units::infer_text;
+    use mbfx::check::Scope;
+    use mbfx::diag::{Code, SourceFile};
+    let read = mbfx::model::read_model(text);
+    let file = SourceFile::new(name, text);
+    let mut out: Vec<String> = read
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::UnitMismatch)
+        .map(|d| {
+            let (line, _) = file.line_col(d.span.start);
+            let quoted = text.get(d.span.clone()).unwrap_or("?").replace('\n', " ");
+            format!("{name}:{line}: {} [`{quoted}`]", d.message)
+        })
+        .collect();
+    let scope = read.scope();
+    for p in probes {
+        if let Ok((_, warnings)) = infer_text(p, scope, scope.unit_names()) {
+            for d in warnings {
+                out.push(format!("{name}: probe `{p}`: {}", d.message));
+            }
+        }
+    }
+    out
+}
+
+/// The units census: the corpus (the chrono datasets among it), the project's examples,
+/// its test models and the bench scenes (generated ones too, and their probes). Every
+/// warning is in `tests/data/units_census.txt`, each inspected by hand and explained in
+/// docs/units.md as a true inconsistency; a new one (a rule that fires falsely, or a new
+/// file) fails here until it is inspected too.
+#[test]
+fn units_census_lists_every_warning() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    let dirs = [
+        (corpus(), "corpus"),
+        (root.join("examples"), "examples"),
+        (root.join("tests/models"), "tests/models"),
+        (root.join("tests/data/models"), "tests/data/models"),
+    ];
+    let mut files = 0;
+    for (dir, label) in &dirs {
+        for path in adm_files(dir) {
+            let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let (text, _) = mbfx::model::decode(&bytes);
+            let rel = path
+                .strip_prefix(dir)
+                .unwrap_or(&path)
+                .to_string_lossy()
+                .replace('\\', "/");
+            found.extend(unit_warnings(&format!("{label}/{rel}"), &text, &[]));
+            files += 1;
+        }
+    }
+    let scenes = mbfx::bench::scene::load_dir(&root.join("examples/scenes")).expect("scenes");
+    for s in &scenes {
+        let text = s.dataset_text().expect("scene dataset");
+        let probes: Vec<&str> = s.probes.iter().map(|p| p.expr.as_str()).collect();
+        found.extend(unit_warnings(&format!("scene {}", s.name), &text, &probes));
+    }
+    assert!(files > 120, "only {files} datasets");
+    let listed =
+        std::fs::read_to_string(root.join("tests/data/units_census.txt")).unwrap_or_default();
+    let listed: Vec<&str> = listed
+        .lines()
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .collect();
+    assert_eq!(found, listed, "\n{}", found.join("\n"));
+}

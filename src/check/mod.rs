@@ -9,6 +9,7 @@
 
 pub mod scope;
 mod suggest;
+pub mod units;
 mod validate;
 
 use crate::diag::{has_errors, Code, Diagnostic, Span};
@@ -41,6 +42,9 @@ pub struct Checked {
     pub function: Function,
     /// Warnings the checker found.
     pub warnings: Vec<Diagnostic>,
+    /// The expression's physical dimension, when the scope asked for units to be
+    /// checked ([`Scope::unit_names`]); `None` when it is free (or was not checked).
+    pub dim: Option<units::Dim>,
 }
 
 /// Parses, checks and lowers `src`. On error, returns every diagnostic found (errors
@@ -79,6 +83,10 @@ pub struct Session {
     ids: Vec<i64>,
     spans: Vec<Span>,
     values: Vec<Value>,
+    /// The units check's table of node dimensions.
+    dims: Vec<Option<units::Dim>>,
+    /// The builtin each node resolved to.
+    resolved: Vec<Option<&'static Builtin>>,
 }
 
 impl Session {
@@ -103,6 +111,8 @@ impl Session {
         let ast: &Ast = parsed.ast;
         self.ir.clear();
         self.ifs.clear();
+        self.resolved.clear();
+        self.resolved.resize(ast.nodes.len(), None);
         let mut c = Checker {
             ast,
             scope,
@@ -113,6 +123,7 @@ impl Session {
             level: 0,
             ids: &mut self.ids,
             spans: &mut self.spans,
+            resolved: &mut self.resolved,
         };
         let lowered = c.expr(root);
         diags = c.diags;
@@ -142,9 +153,23 @@ impl Session {
             crate::diag::cap(&mut diags);
             return Err(diags);
         }
+        // Units only read the tree, and only a tree without errors.
+        let mut dim = None;
+        if let Some(names) = scope.unit_names() {
+            let tree = units::Tree {
+                src,
+                ast,
+                root,
+                resolved: &self.resolved,
+            };
+            let (d, warnings) = units::infer(&tree, scope, Some(names), &mut self.dims);
+            dim = d;
+            diags.extend(warnings);
+        }
         Ok(Checked {
             function: self.ir.finish(outputs),
             warnings: diags,
+            dim,
         })
     }
 }
@@ -169,6 +194,8 @@ struct Checker<'a> {
     /// Scratch for the ID arguments of a measure and their spans.
     ids: &'a mut Vec<i64>,
     spans: &'a mut Vec<Span>,
+    /// The builtin each name and call node resolved to, by node id.
+    resolved: &'a mut Vec<Option<&'static Builtin>>,
 }
 
 impl Checker<'_> {
@@ -215,19 +242,20 @@ impl Checker<'_> {
         match &node.kind {
             Kind::Num(v) => Some(Lowered::S(self.b.constant(*v, span))),
             Kind::Error => None,
-            Kind::Name(n) => self.name(self.ast.name(*n), span).map(Lowered::S),
+            Kind::Name(n) => {
+                let name = self.ast.name(*n);
+                let b = self.resolve(id, name);
+                self.name(name, b, span).map(Lowered::S)
+            }
             Kind::Call {
                 name,
                 name_end,
                 args,
             } => {
                 let name_span = node.start as usize..*name_end as usize;
-                self.call(
-                    self.ast.name(*name),
-                    name_span,
-                    self.ast.call_args(*args),
-                    span,
-                )
+                let name = self.ast.name(*name);
+                let b = self.resolve(id, name);
+                self.call(name, b, name_span, self.ast.call_args(*args), span)
             }
             Kind::If(parts) => self.if_(*parts, span).map(Lowered::S),
             Kind::Vector(parts) => {
@@ -255,8 +283,18 @@ impl Checker<'_> {
         }
     }
 
-    fn name(&mut self, name: &str, span: Span) -> Option<Value> {
-        if let Some(b) = builtins::lookup(name) {
+    /// Looks `name` (of node `id`) up in the builtins table, and records what it found
+    /// for the units check, which reads the tree again.
+    fn resolve(&mut self, id: NodeId, name: &str) -> Option<&'static Builtin> {
+        let b = builtins::lookup(name);
+        if let Some(slot) = self.resolved.get_mut(id as usize) {
+            *slot = b;
+        }
+        b
+    }
+
+    fn name(&mut self, name: &str, b: Option<&'static Builtin>, span: Span) -> Option<Value> {
+        if let Some(b) = b {
             match b.role {
                 Role::Constant(c) => return Some(self.b.constant(c, span)),
                 Role::Time => return Some(self.b.time(span)),
@@ -457,11 +495,12 @@ impl Checker<'_> {
     fn call(
         &mut self,
         name: &str,
+        b: Option<&'static Builtin>,
         name_span: Span,
         args: &[NodeId],
         span: Span,
     ) -> Option<Lowered> {
-        let Some(b) = builtins::lookup(name) else {
+        let Some(b) = b else {
             let mut d = Diagnostic::error(
                 Code::UnknownFunction,
                 name_span,

@@ -4,6 +4,7 @@
 //! ([`Variables`]), measures are errors that say a model is needed; the multibody core
 //! supplies a scope that resolves marker IDs to measure slots.
 
+use super::units::{Dim, UnitNames};
 use crate::diag::{Code, Diagnostic, Span};
 use crate::vocab::builtins::{self, Builtin, Needs, Role, Ty};
 
@@ -55,6 +56,23 @@ pub trait Scope {
     /// Resolves a measure call. Without a model every measure is an error.
     fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
         Err(needs_model(call))
+    }
+
+    /// The names of the units, when expressions are to be checked for units of measure
+    /// (see [`super::units`]); `None`, the default, skips that check.
+    fn unit_names(&self) -> Option<&UnitNames> {
+        None
+    }
+
+    /// The dimension of the user variable `name` (upper case); `None`, the default, makes
+    /// it free like a number.
+    fn variable_dim(&self, _name: &str) -> Option<Dim> {
+        None
+    }
+
+    /// The dimension of the value of VARIABLE/`id`; `None`, the default, makes it free.
+    fn varval_dim(&self, _id: i64) -> Option<Dim> {
+        None
     }
 }
 
@@ -182,7 +200,8 @@ impl Scope for Variables {
 /// A scope standing in for a model that defines every marker, element and SPLINE an
 /// expression names: for checking expressions apart from their model (the corpus tests,
 /// benchmarks and fuzzing use it). Measures resolve to slot 0 (vectors to 0, 1, 2), so the
-/// IR it yields is for checking, not for evaluating against real data.
+/// IR it yields is for checking, not for evaluating against real data. Units are checked,
+/// in SI, as a dataset without UNITS would be.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct EveryIdExists;
 
@@ -196,6 +215,11 @@ impl Scope for EveryIdExists {
             index: 0,
             surface: false,
         })
+    }
+
+    fn unit_names(&self) -> Option<&UnitNames> {
+        static SI: UnitNames = UnitNames::SI;
+        Some(&SI)
     }
 
     fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {

@@ -2,7 +2,7 @@
 //! terminal); [`run_terminal`] wraps it in rustyline with history, multi-line input
 //! (continuation commas, open brackets) and tab completion of names and commands.
 
-use crate::check::Expect;
+use crate::check::{units, Expect};
 use crate::diag::{render, Diagnostic, SourceFile};
 use crate::interp::Program;
 use crate::session::evaluate::{EvalError, Evaluation, Evaluator};
@@ -24,6 +24,7 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 :asm EXPR          show the machine instructions the JIT emits for EXPR
 :time EXPR         ns per evaluation, interpreter vs JIT (at most 0.5 s each), and the JIT's compile time
 :deriv EXPR NAME   the partial derivative of EXPR with respect to variable NAME (or TIME)
+:units EXPR        the physical dimension of EXPR (in the loaded model's UNITS) and its unit warnings
 :load FILE.adm     load a model: expressions may then read its measures (DX, VZ, UVZ, ...)
                    at the assembled configuration; :load alone unloads it
 :parts, :markers   the loaded model's parts and markers at that configuration
@@ -32,8 +33,8 @@ expressions are evaluated as you type them, e.g. STEP(0.25, 0, 0, 1, 1)
 continue a line with a comma in column one of the next line";
 
 const COMMANDS: &[&str] = &[
-    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":asm", ":time", ":deriv", ":load", ":parts",
-    ":markers", ":help", ":quit",
+    ":let", ":set", ":vars", ":ast", ":ir", ":clif", ":asm", ":time", ":deriv", ":units", ":load",
+    ":parts", ":markers", ":help", ":quit",
 ];
 
 /// A listing the JIT makes of a compiled expression (`Jit::clif`, `Jit::asm`).
@@ -153,6 +154,7 @@ impl Repl {
                 Err(e) => e,
             },
             "deriv" => self.deriv(rest),
+            "units" => self.units(rest),
             "load" => self.load(rest),
             "parts" => self.listing(parts_table),
             "markers" => self.listing(markers_table),
@@ -168,6 +170,27 @@ impl Repl {
                 Err(e) => format!("error: {e}"),
             },
             Err(e) => e,
+        }
+    }
+
+    /// `:units EXPR`: the dimension of EXPR in the loaded model's units (user variables
+    /// and numbers are free), after its unit warnings; its errors when it does not check.
+    fn units(&mut self, rest: &str) -> String {
+        if let Err(e) = self.compile(rest) {
+            return e;
+        }
+        let source = SourceFile::new("<repl>", rest);
+        let (scope, names): (&dyn crate::check::Scope, _) = match self.e.model() {
+            Some(m) => (m.read.scope(), Some(&m.read.scope().unit_names)),
+            None => (self.e.variables(), None),
+        };
+        match units::infer_text(rest, scope, names) {
+            Ok((d, warnings)) => format!(
+                "{}{}",
+                rendered(&warnings, &source),
+                units::summary(d, names)
+            ),
+            Err(d) => render(&d, &source, false),
         }
     }
 
@@ -747,6 +770,36 @@ mod tests {
             .eval_line(":deriv DX(21, 11)*TIME TIME")
             .ends_with("= 0.3 here"));
         assert!(r.eval_line(":time DX(21, 11)").contains("ns/eval"));
+    }
+
+    #[test]
+    fn units_prints_the_dimension_and_the_unit_warnings() {
+        let mut r = Repl::new();
+        // No model: a length over a time is a velocity; numbers and variables are free.
+        assert_eq!(r.eval_line(":units TIME*TIME"), "a quantity in time^2");
+        r.eval_line(":let k = 2");
+        assert!(r.eval_line(":units k*TIME").starts_with("free"));
+        assert!(r.eval_line(":units SIN(").contains("E0202"));
+        // examples/slider.adm is in meter and second; its markers 21, 22 and 11 exist.
+        r.eval_line(":load examples/slider.adm");
+        assert_eq!(
+            r.eval_line(":units DX(21, 11)/TIME"),
+            "a velocity (meter/second)"
+        );
+        assert_eq!(
+            r.eval_line(":units FX(21)*DY(22, 11)"),
+            "a torque (newton-meter)"
+        );
+        let mixed = r.eval_line(":units DX(21, 11) + VX(21, 11)");
+        assert!(mixed.contains("[W0312]"), "{mixed}");
+        assert!(
+            mixed.contains("adds a length (meter) to a velocity (meter/second)"),
+            "{mixed}"
+        );
+        assert!(
+            mixed.ends_with("free: a number in it can give it any dimension"),
+            "{mixed}"
+        );
     }
 
     #[test]

@@ -18,6 +18,7 @@ mod command_lines;
 pub mod commands;
 mod cursor;
 pub mod elements;
+mod expected;
 pub mod expressions;
 pub mod frames;
 mod inertia;
@@ -36,6 +37,7 @@ pub mod scope;
 pub mod statement;
 mod stmt_args;
 pub mod units;
+mod variable_dims;
 
 #[cfg(test)]
 mod tests;

@@ -6,6 +6,7 @@ use super::reader::Reader;
 use super::resolve::MarkerUse;
 use super::stmt_args::Args;
 use super::units::{si_value, system, ucf, Quantity};
+use crate::check::units::UnitNames;
 use crate::diag::{Code, Diagnostic};
 use crate::vocab::math::{Mat3, Vec3};
 
@@ -57,6 +58,12 @@ pub fn units(r: &mut Reader, a: &mut Args) {
     if let Some(u) = a.number("UCF", 2) {
         factor = u;
     }
+    r.scope.unit_names = UnitNames::from_dataset(
+        force.as_deref(),
+        mass.as_deref(),
+        length.as_deref(),
+        time.as_deref(),
+    );
     r.model.units = super::elements::Units {
         force,
         mass,

@@ -6,6 +6,7 @@ use super::elements::{
     Bushing, Expr, Gcon, Joint, Jprim, Motion, MotionAxis, MotionLevel, MotionTarget, Sforce,
     SpringDamper, VectorForce, VectorForceKind,
 };
+use super::expected;
 use super::reader::Reader;
 use super::resolve::{ExprArg, MarkerUse};
 use super::stmt_args::Args;
@@ -165,7 +166,16 @@ pub fn motion(r: &mut Reader, a: &mut Args) {
     };
     let icdisp = a.number("ICDISP", 3);
     let icvel = a.number("ICVEL", 3);
-    let function = r.required_expr(a, "FUNCTION", 2);
+    let want = target.as_ref().map(|t| {
+        let rotation = match t {
+            MotionTarget::Joint { rotation, .. } => *rotation,
+            MotionTarget::Markers { axis, .. } => {
+                matches!(axis, MotionAxis::B1 | MotionAxis::B2 | MotionAxis::B3)
+            }
+        };
+        expected::motion(rotation, level)
+    });
+    let function = r.required_expr_as(a, "FUNCTION", 2, want);
     if let (Some(target), Some(function)) = (target, function) {
         r.model.motions.push(Motion {
             el,
@@ -241,7 +251,8 @@ pub fn sforce(r: &mut Reader, a: &mut Args) {
     let rotation = rotation_flag(a).unwrap_or(false);
     let action_only = a.flag("ACTIONONLY", 3);
     let markers = force_pair(r, a);
-    let function = r.required_expr(a, "FUNCTION", 2);
+    let want = Some(expected::sforce(rotation));
+    let function = r.required_expr_as(a, "FUNCTION", 2, want);
     if let (Some((i, j)), Some(function)) = (markers, function) {
         r.model.sforces.push(Sforce {
             el,
@@ -254,9 +265,10 @@ pub fn sforce(r: &mut Reader, a: &mut Args) {
     }
 }
 
-/// Three component expressions, all required when any is wanted.
-fn components(r: &mut Reader, a: &mut Args, keys: [&str; 3]) -> Option<[Expr; 3]> {
-    let found = keys.map(|k| match r.expr(a, k, 2, Expect::Scalar) {
+/// Three component expressions, all required when any is wanted: forces, or torques.
+fn components(r: &mut Reader, a: &mut Args, keys: [&str; 3], torque: bool) -> Option<[Expr; 3]> {
+    let want = Some(expected::component(torque));
+    let found = keys.map(|k| match r.expr_as(a, k, 2, Expect::Scalar, want) {
         ExprArg::Ok(e) => Some(e),
         ExprArg::Absent => {
             a.missing(&format!("{k} = expression"));
@@ -307,8 +319,10 @@ pub fn vector_force(r: &mut Reader, a: &mut Args) {
             return;
         }
     }
-    let force = (kind != VectorForceKind::Vtorque).then(|| components(r, a, ["FX", "FY", "FZ"]));
-    let torque = (kind != VectorForceKind::Vforce).then(|| components(r, a, ["TX", "TY", "TZ"]));
+    let force =
+        (kind != VectorForceKind::Vtorque).then(|| components(r, a, ["FX", "FY", "FZ"], false));
+    let torque =
+        (kind != VectorForceKind::Vforce).then(|| components(r, a, ["TX", "TY", "TZ"], true));
     let (Some(i), Some(jfloat), Some(rm)) = (i, jfloat, rm) else {
         return;
     };

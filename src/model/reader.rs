@@ -1,8 +1,9 @@
 //! The model reader: from the statements of an `.adm` dataset to a [`Model`] (spec §1–§2,
 //! §4, §7, §8). A first pass collects the ids every statement kind defines (duplicates are
 //! `E0603`), so references may point forward and expressions can be checked against the
-//! whole dataset; then MARKER, PART and JOINT statements are read (later statements look
-//! their parts and kinds up), then everything else in file order. Each statement kind has
+//! whole dataset; then UNITS (the units check of expressions names its units), MARKER,
+//! PART and JOINT statements are read (later statements look their parts and kinds up),
+//! then everything else in file order. Each statement kind has
 //! its reader in `read_*`, with the shared checks of marker references and expressions in
 //! `resolve`; this module holds the passes and the whole-model checks (one GROUND).
 //!
@@ -12,7 +13,7 @@
 
 use super::elements::{Id, Model};
 use super::scope::ModelScope;
-use super::statement::{read_statements, title_span, Statement};
+use super::statement::{read_statements, title_span, ItemKind, Statement};
 use super::stmt_args::{statement_label, Args};
 use super::{read_bodies, read_data, read_links};
 use crate::check::Expect;
@@ -59,6 +60,14 @@ impl ModelRead {
     }
 }
 
+impl ModelRead {
+    /// The scope the dataset's expressions were checked in: its units, measures and
+    /// VARIABLEs (for the units of an expression typed against the model, `:units`).
+    pub fn scope(&self) -> &ModelScope {
+        &self.scope
+    }
+}
+
 /// Reads a dataset text (already decoded, see [`super::decode`]) into a [`Model`].
 pub fn read_model(text: &str) -> ModelRead {
     let (stmts, diags) = read_statements(text);
@@ -78,9 +87,16 @@ pub fn read_model(text: &str) -> ModelRead {
         .zip(&keep)
         .filter_map(|(s, k)| k.then_some(s))
         .collect();
-    for phase in [Some("MARKER"), Some("PART"), Some("JOINT"), None] {
+    // UNITS first: the units check of every expression names the dataset's units.
+    for phase in [
+        Some("UNITS"),
+        Some("MARKER"),
+        Some("PART"),
+        Some("JOINT"),
+        None,
+    ] {
         for stmt in &kept {
-            let first = matches!(stmt.canonical, Some("MARKER" | "PART" | "JOINT"));
+            let first = matches!(stmt.canonical, Some("UNITS" | "MARKER" | "PART" | "JOINT"));
             if phase.map_or(!first, |p| stmt.canonical == Some(p)) {
                 r.statement(stmt);
             }
@@ -149,6 +165,11 @@ impl<'a> Reader<'a> {
                 continue;
             }
             first.insert((kind, id), s);
+            match kind {
+                "VARIABLE" => self.variable_source(id, s),
+                "PINPUT" => self.controller_inputs(s),
+                _ => {}
+            }
             let foreign = kind == "MARKER"
                 && s.args.iter().any(|a| {
                     FOREIGN_MARKER_ARGUMENTS
@@ -226,6 +247,30 @@ impl<'a> Reader<'a> {
         }
         let found = a.finish();
         self.diags.extend(found);
+    }
+
+    /// Keeps the FUNCTION text of VARIABLE/`id` for the units check of VARVAL, which may
+    /// come before the VARIABLE in the file.
+    fn variable_source(&mut self, id: i64, s: &Statement) {
+        let Some(arg) = s.arg("FUNCTION", 2).filter(|a| !a.is_user_call) else {
+            return;
+        };
+        if let Some(text) = arg.expr_span().and_then(|span| self.text.get(span)) {
+            self.scope.variable_dims.add(id, text);
+        }
+    }
+
+    /// The VARIABLEs a PINPUT lists carry what a controller sends (Adams Controls): their
+    /// FUNCTION is a stand-in for runs without it, so their dimension is free.
+    fn controller_inputs(&mut self, s: &Statement) {
+        let Some(arg) = s.arg("VARIABLES", 1) else {
+            return;
+        };
+        for item in arg.items() {
+            if let ItemKind::Number { value, .. } = item.kind {
+                self.scope.variable_dims.free(value as i64);
+            }
+        }
     }
 
     /// Checks the expressions of a statement outside the subset against the model, so

@@ -5,6 +5,7 @@
 use super::elements::{Expr, Id, Marker, Named};
 use super::reader::Reader;
 use super::stmt_args::Args;
+use crate::check::units::{check_use, Expected};
 use crate::check::{self, Expect};
 use crate::diag::{Code, Diagnostic, Span};
 
@@ -110,6 +111,19 @@ impl Reader<'_> {
 
     /// Reads, checks and lowers an expression argument with the model as its scope.
     pub fn expr(&mut self, a: &mut Args, full: &str, min: usize, expect: Expect) -> ExprArg {
+        self.expr_as(a, full, min, expect, None)
+    }
+
+    /// [`Reader::expr`] for an argument whose value the statement expects in a dimension
+    /// (an SFORCE's FUNCTION is a force): a warning (W0312) when it is another.
+    pub fn expr_as(
+        &mut self,
+        a: &mut Args,
+        full: &str,
+        min: usize,
+        expect: Expect,
+        want: Option<Expected>,
+    ) -> ExprArg {
         let Some(arg) = a.find(full, min) else {
             return ExprArg::Absent;
         };
@@ -137,6 +151,14 @@ impl Reader<'_> {
         match compiled {
             Ok(c) => {
                 a.diags.extend(c.warnings.into_iter().map(shift));
+                let statement = a.stmt.canonical.unwrap_or("statement");
+                let what = || format!("this {statement}'s {full}");
+                let names = Some(&self.scope.unit_names);
+                if let Some(d) =
+                    want.and_then(|w| check_use(c.dim, &w, &what(), span.clone(), names))
+                {
+                    a.diags.push(d.with_note(place));
+                }
                 ExprArg::Ok(Expr {
                     span,
                     function: c.function,
@@ -151,7 +173,18 @@ impl Reader<'_> {
 
     /// An expression the statement needs: `E0604` when absent.
     pub fn required_expr(&mut self, a: &mut Args, full: &str, min: usize) -> Option<Expr> {
-        match self.expr(a, full, min, Expect::Scalar) {
+        self.required_expr_as(a, full, min, None)
+    }
+
+    /// [`Reader::required_expr`] with the dimension the statement expects.
+    pub fn required_expr_as(
+        &mut self,
+        a: &mut Args,
+        full: &str,
+        min: usize,
+        want: Option<Expected>,
+    ) -> Option<Expr> {
+        match self.expr_as(a, full, min, Expect::Scalar, want) {
             ExprArg::Ok(e) => Some(e),
             ExprArg::Absent => {
                 a.missing(&format!("{full} = expression"));

@@ -4,6 +4,7 @@
 //! element ids (`VARVAL(3)`, `JOINT(1,0,2,0)`, `SFORCE(5,…)`) against the elements.
 
 use super::elements::MeasureSlot;
+use crate::check::units::{Dim, UnitNames};
 use crate::check::{MeasureCall, MeasureValue, Scope, SplineInfo};
 use crate::diag::{Code, Diagnostic};
 use crate::vocab::builtins::{Param, Ty};
@@ -40,7 +41,6 @@ pub fn element_statement(function: &str) -> Option<(&'static str, bool)> {
 }
 
 /// Ids the dataset defines and the measure slots its expressions have asked for.
-#[derive(Default)]
 pub struct ModelScope {
     /// Ids per canonical statement keyword; MARKER holds only the markers mbfx models.
     pub ids: HashMap<&'static str, HashSet<i64>>,
@@ -55,6 +55,25 @@ pub struct ModelScope {
     /// Check only: measures are resolved to slot 0 and no slot is added (for the
     /// expressions of statements outside the subset, which nothing evaluates).
     pub check_only: Cell<bool>,
+    /// The dataset's units, for the units check of its expressions.
+    pub unit_names: UnitNames,
+    /// The dimensions of the VARIABLEs, for VARVAL in the units check.
+    pub variable_dims: super::variable_dims::VariableDims,
+}
+
+impl Default for ModelScope {
+    fn default() -> Self {
+        ModelScope {
+            ids: HashMap::new(),
+            user: HashSet::new(),
+            splines: Vec::new(),
+            slots: RefCell::default(),
+            warnings: RefCell::default(),
+            check_only: Cell::default(),
+            unit_names: UnitNames::SI,
+            variable_dims: Default::default(),
+        }
+    }
 }
 
 #[derive(Default)]
@@ -128,11 +147,26 @@ impl Scope for WithVariables<'_> {
     fn measure(&self, call: &MeasureCall) -> Result<MeasureValue, Diagnostic> {
         self.model.measure(call)
     }
+
+    // No `unit_names`: expressions typed against a model (`mbfx eval --model`, the REPL,
+    // `--probe`) are not checked for units unless asked (`:units`, `ModelRead::scope`).
+
+    fn varval_dim(&self, id: i64) -> Option<Dim> {
+        self.model.varval_dim(id)
+    }
 }
 
 impl Scope for ModelScope {
     fn variable(&self, _: &str) -> Option<u32> {
         None
+    }
+
+    fn unit_names(&self) -> Option<&UnitNames> {
+        Some(&self.unit_names)
+    }
+
+    fn varval_dim(&self, id: i64) -> Option<Dim> {
+        self.variable_dims.dim(id, self)
     }
 
     fn spline(&self, id: i64) -> Option<SplineInfo> {

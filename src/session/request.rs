@@ -551,6 +551,17 @@ pub fn run(
             .warnings(&i.warnings, &source)
             .map_err(RunFailed::output)?;
     }
+    // Units of measure that do not fit (W0312) are warnings: the run goes on. A kept
+    // simulation run again has shown them already.
+    let units: Vec<Diagnostic> = (sim.read.diagnostics.iter())
+        .filter(|d| d.code == Code::UnitMismatch && !reused)
+        .cloned()
+        .collect();
+    if !units.is_empty() {
+        observer
+            .warnings(&units, &source)
+            .map_err(RunFailed::output)?;
+    }
     let segments = match &commands {
         None => {
             let end = request.end.unwrap_or_default();

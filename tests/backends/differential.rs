@@ -4,11 +4,15 @@
 //! JIT runs the branch-free lowering, so this also checks the lowering against the runtime.
 //! The lane evaluator runs each batch's inputs as columns in one block.
 //!
+//! The units check (issue 24) is held to the same standard: with it and without, the IR
+//! and both engines' bits are the same.
+//!
 //! Each proptest case draws a seed for a batch of [`PER_CASE`] expressions, compiled
 //! together into one JIT module (compilation would otherwise dominate), each evaluated on
 //! [`INPUTS`] input sets: [`SHARDS`] × [`CASES`] × [`PER_CASE`] = 200 000 expressions.
 
 use super::support::{ir, same, VARS};
+use mbfx::check::units::{Dim, UnitNames};
 use mbfx::context::Context;
 use mbfx::interp::Program;
 use mbfx::jit::Jit;
@@ -387,4 +391,119 @@ fn lowering_equals_runtime_on_edge_grids() {
 #[test]
 fn nested_if_anchor_regression_seed() {
     agree(6216517326490059351).unwrap();
+}
+
+/// The user variables of [`support::scope`] with dimensions (x a length, y a velocity, z
+/// a time) and units checked, as a dataset's measures would be.
+struct Dimensioned(mbfx::check::Variables);
+
+impl mbfx::check::Scope for Dimensioned {
+    fn variable(&self, name: &str) -> Option<u32> {
+        self.0.variable(name)
+    }
+
+    fn unit_names(&self) -> Option<&UnitNames> {
+        static SI: UnitNames = UnitNames::SI;
+        Some(&SI)
+    }
+
+    fn variable_dim(&self, name: &str) -> Option<Dim> {
+        match name {
+            "X" => Some(Dim::LENGTH),
+            "Y" => Some(Dim::VELOCITY),
+            "Z" => Some(Dim::TIME),
+            _ => None,
+        }
+    }
+}
+
+/// Compiles a batch from `seed` with and without the units check: the same IR, and the
+/// same bits from both engines with either. Returns how many unit warnings it met.
+fn units_change_nothing(jit: &mut Jit, seed: u64) -> Result<usize, String> {
+    use mbfx::check::{compile, Expect};
+    let mut g = Gen {
+        rng: StdRng::seed_from_u64(seed),
+        ifs: 0,
+        nodes: 0,
+    };
+    let (plain, dims) = (
+        super::support::scope(),
+        Dimensioned(super::support::scope()),
+    );
+    let mut fs = Vec::new();
+    let mut warned = 0;
+    while fs.len() < 2 * UNITS_PER_CASE {
+        let src = g.expr();
+        let (Ok(a), Ok(b)) = (
+            compile(&src, &plain, Expect::Any),
+            compile(&src, &dims, Expect::Any),
+        ) else {
+            continue;
+        };
+        let print = |f| mbfx::ir::print::print(f);
+        if print(&a.function) != print(&b.function) {
+            return Err(format!("{src}: the IR differs with units checked"));
+        }
+        warned += b.warnings.len() - a.warnings.len();
+        fs.push((src.clone(), a.function));
+        fs.push((src, b.function));
+    }
+    let refs: Vec<_> = fs.iter().map(|(_, f)| f).collect();
+    let compiled = jit.compile_batch(&refs).map_err(|e| e.to_string())?;
+    let inputs = [
+        [g.input(), g.input(), g.input(), g.input()],
+        [0.5, -2.0, 3.0, 1.25],
+    ];
+    for inp in inputs {
+        let ctx = Context::new(inp[3], &inp[..3]);
+        let mut values = Vec::new();
+        for ((src, f), c) in fs.iter().zip(&compiled) {
+            let n = f.outputs.len();
+            let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+            Program::new(f.clone()).eval_into(&ctx, &mut a);
+            c.eval_into(&ctx, &mut b);
+            values.push((src, a, b));
+        }
+        for pair in values.chunks_exact(2) {
+            let (src, a0, b0) = &pair[0];
+            let (_, a1, b1) = &pair[1];
+            let all = a0.iter().zip(b0).zip(a1.iter().zip(b1));
+            if !all
+                .into_iter()
+                .all(|((w, x), (y, z))| same(*w, *x) && same(*w, *y) && same(*w, *z))
+            {
+                return Err(format!("{src} at {inp:?}: {a0:?} {b0:?} {a1:?} {b1:?}"));
+            }
+        }
+    }
+    Ok(warned)
+}
+
+/// Expressions per case of the units property.
+const UNITS_PER_CASE: usize = 25;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Checking units reads the tree only: the IR and every value are the same, bit for
+    /// bit and in both engines, with the check and without.
+    #[test]
+    fn checking_units_never_changes_a_value(seed in any::<u64>()) {
+        let r = JIT.with(|j| units_change_nothing(&mut j.borrow_mut(), seed));
+        prop_assert!(r.is_ok(), "{}", r.err().unwrap_or_default());
+    }
+}
+
+/// The property above meets unit warnings (it is not vacuous): generated expressions
+/// add a length to a velocity often enough.
+#[test]
+fn the_units_property_meets_unit_warnings() {
+    let warned: usize = (0..8)
+        .map(|seed| JIT.with(|j| units_change_nothing(&mut j.borrow_mut(), seed)))
+        .map(|r| r.expect("no difference"))
+        .sum();
+    assert!(
+        warned > 10,
+        "only {warned} unit warnings in 200 expressions"
+    );
 }

@@ -1,6 +1,6 @@
 //! Unit tests of the model layer, one file per topic: the statement layer
 //! (`statement`), the model reader on small datasets (`model`), and both against the
-//! whole `.adm` corpus (`corpus`, `model_corpus`).
+//! whole `.adm` corpus (`corpus`, `model_corpus`); the units check of datasets (`units`).
 
 mod corpus;
 /// The corpus lister the integration tests use too (one walk of `../shared/corpus`).
@@ -9,3 +9,4 @@ mod corpus_files;
 mod model;
 mod model_corpus;
 mod statement;
+mod units;
