@@ -331,6 +331,81 @@ fn var_values_read_earlier_variables_and_time() {
     }
 }
 
+/// Issue 24: `--unit` gives a `--var` a dimension, and the expression is checked for
+/// units of measure: a warning on stderr, the value unchanged on stdout.
+#[test]
+fn eval_with_units_warns_where_quantities_do_not_fit() {
+    let r = eval(&[
+        "--var", "x=1", "--var", "v=2", "--unit", "x=length", "--unit", "v=m/s", "x + v",
+    ]);
+    assert_eq!(
+        (r.code, r.stdout.as_str()),
+        (0, "3.0\n"),
+        "{}",
+        r.describe()
+    );
+    assert!(
+        r.stderr
+            .contains("[W0312] Warning: `x + v` adds a length to a velocity (length/time)")
+            && r.stderr.contains("<expr>:1:1"),
+        "{}",
+        r.describe()
+    );
+    // A length plus a velocity times a time is a length: no warning.
+    let r = eval(&[
+        "--var",
+        "x=1",
+        "--var",
+        "v=2",
+        "--unit",
+        "x=m",
+        "--unit",
+        "v=m/s",
+        "x + v*TIME",
+    ]);
+    assert_eq!(
+        (r.code, r.stdout.as_str(), r.stderr.as_str()),
+        (0, "1.0\n", "")
+    );
+    // Without --unit nothing is checked.
+    let r = eval(&["--var", "x=1", "SIN(x) + TIME"]);
+    assert_eq!((r.code, r.stderr.as_str()), (0, ""), "{}", r.describe());
+    // With a model, in the dataset's units (examples/slider.adm: meter and second).
+    let r = eval(&["--model", "examples/slider.adm", "DX(21,11) + VX(21,11)"]);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("adds a length (meter) to a velocity (meter/second)"),
+        "{}",
+        r.describe()
+    );
+    for (args, place) in [
+        (
+            &["--var", "x=1", "--unit", "x=furlong", "x"][..],
+            "--unit:1:3",
+        ),
+        (&["--var", "x=1", "--unit", "y=m", "x"], "--unit:1:1"),
+        (&["--var", "x=1", "--unit", "x", "x"], "--unit:1:1"),
+        (
+            &["--var", "x=1", "--unit", "x=m", "--unit", "X=s", "x"],
+            "--unit:1:1",
+        ),
+    ] {
+        let r = eval(args);
+        assert_eq!(
+            (r.code, r.stdout.as_str()),
+            (1, ""),
+            "{args:?}\n{}",
+            r.describe()
+        );
+        assert!(
+            r.stderr.contains("[E0503] Error") && r.stderr.contains(place),
+            "{args:?}: expected E0503 at {place}\n{}",
+            r.describe()
+        );
+    }
+}
+
 #[test]
 fn eval_of_a_bad_expression_exits_1_with_the_code_and_place() {
     let cases = [

@@ -56,6 +56,12 @@ class Expression:
     @property
     def engine(self) -> str: ...
     @property
+    def units(self) -> Dict[str, str]:
+        """The dimension of each variable given one (`units=` of `compile`)."""
+    @property
+    def dimension(self) -> Optional[str]:
+        """The expression's dimension when variables have dimensions and it has one."""
+    @property
     def outputs(self) -> int: ...
     @property
     def wrt(self) -> Tuple[str, ...]: ...
@@ -126,10 +132,17 @@ class Model:
     def with_values(self, values: Mapping[str, Union[float, int, str]]) -> Model:
         """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
 
-def compile(text: str, variables: Optional[Sequence[str]] = None, engine: str = "jit") -> Expression:
+def compile(
+    text: str,
+    variables: Optional[Sequence[str]] = None,
+    engine: str = "jit",
+    units: Optional[Mapping[str, str]] = None,
+) -> Expression:
     """Checks and compiles `text` over `variables` (values go in that order). With
     engine="jit", a point runs machine code and arrays of 32 points or more the lane
-    evaluator; engine="interp" interprets point by point. Both give the same bits."""
+    evaluator; engine="interp" interprets point by point. Both give the same bits.
+    `units` gives variables dimensions ({"x": "length", "v": "m/s"}): the text is then
+    checked for units of measure, and what does not fit is a W0312 warning."""
 
 def load(source: Union[str, PathLike[str]], dim: Optional[int] = None) -> Model:
     """Loads a dataset from a path, or from its text (a str holding a newline)."""

@@ -7,6 +7,7 @@
 
 use crate::arrays::{Inputs, Point};
 use crate::errors::{check_error, guarded, plain_check_error};
+use mbfx::check::units::{names, parse, Dim};
 use mbfx::diag::SourceFile;
 use mbfx::session::expression::{ExprError, Expression};
 use mbfx::session::run::Engine;
@@ -14,6 +15,7 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use std::collections::BTreeMap;
 
 /// The engine named by `name`.
 pub fn engine_of(name: &str) -> PyResult<Engine> {
@@ -134,6 +136,24 @@ impl PyExpression {
         PyTuple::new(py, self.inner.wrt())
     }
 
+    /// The dimension of each variable given one (`units=` of `compile`), as
+    /// {name: dimension}; empty when none was given.
+    #[getter]
+    fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (name, unit) in self.unit_texts() {
+            d.set_item(name, unit)?;
+        }
+        Ok(d)
+    }
+
+    /// The expression's dimension ("a velocity (length/time)") when variables were given
+    /// dimensions and the units check fixed one; None when it is free or was not checked.
+    #[getter]
+    fn dimension(&self) -> Option<String> {
+        self.inner.dim().map(|d| names::describe(d, None))
+    }
+
     /// The checker's warnings about the text.
     #[getter]
     fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyList>> {
@@ -189,9 +209,26 @@ impl PyExpression {
             PyTuple::new(py, e.variables())?,
             engine_name(e.engine()),
             PyTuple::new(py, e.wrt())?,
+            self.unit_texts(),
         )
             .into_pyobject(py)?;
         Ok((rebuild, args))
+    }
+}
+
+impl PyExpression {
+    /// (name, dimension as text) of each variable given a dimension; the text reads back
+    /// to the same dimension.
+    fn unit_texts(&self) -> Vec<(String, String)> {
+        let e = &self.inner;
+        let given = e.variables().iter().zip(e.dims());
+        given
+            .filter_map(|(n, d)| {
+                let unit = names::unit((*d)?, None);
+                let unit = if unit.is_empty() { "1".into() } else { unit };
+                Some((n.clone(), unit))
+            })
+            .collect()
     }
 }
 
@@ -242,21 +279,36 @@ fn bind_arguments<'py>(
         .collect()
 }
 
-/// `mbfx.compile(text, variables=(), engine="jit")`.
+/// The dimensions of `units` ({name: "velocity", ...}), read; ValueError for one that
+/// does not read.
+fn dims_of(units: &[(String, String)]) -> PyResult<Vec<(&str, Dim)>> {
+    units
+        .iter()
+        .map(|(name, text)| match parse::parse(text) {
+            Ok(d) => Ok((name.as_str(), d)),
+            Err(why) => Err(PyValueError::new_err(format!("units[{name:?}]: {why}"))),
+        })
+        .collect()
+}
+
+/// `mbfx.compile(text, variables=(), engine="jit", units=None)`.
 #[pyfunction]
-#[pyo3(signature = (text, variables = None, engine = "jit"))]
+#[pyo3(signature = (text, variables = None, engine = "jit", units = None))]
 pub fn compile(
     py: Python<'_>,
     text: &str,
     variables: Option<Vec<String>>,
     engine: &str,
+    units: Option<BTreeMap<String, String>>,
 ) -> PyResult<PyExpression> {
     guarded(|| {
         let engine = engine_of(engine)?;
         let variables = variables.unwrap_or_default();
         let names: Vec<&str> = variables.iter().map(String::as_str).collect();
+        let units: Vec<(String, String)> = units.unwrap_or_default().into_iter().collect();
+        let dims = dims_of(&units)?;
         let inner = py
-            .detach(|| Expression::compile(text, &names, engine))
+            .detach(|| Expression::compile_with_dims(text, &names, &dims, engine))
             .map_err(|x| expr_error(py, text, x))?;
         Ok(PyExpression { inner })
     })
@@ -270,8 +322,15 @@ pub fn _rebuild_expression(
     variables: Vec<String>,
     engine: &str,
     wrt: Vec<String>,
+    units: Vec<(String, String)>,
 ) -> PyResult<PyExpression> {
-    let e = compile(py, text, Some(variables), engine)?;
+    let e = compile(
+        py,
+        text,
+        Some(variables),
+        engine,
+        Some(units.into_iter().collect()),
+    )?;
     if wrt.is_empty() {
         return Ok(e);
     }

@@ -43,7 +43,7 @@ pub struct Checked {
     /// Warnings the checker found.
     pub warnings: Vec<Diagnostic>,
     /// The expression's physical dimension, when the scope asked for units to be
-    /// checked ([`Scope::unit_names`]); `None` when it is free (or was not checked).
+    /// checked ([`Scope::checks_units`]); `None` when it is free (or was not checked).
     pub dim: Option<units::Dim>,
 }
 
@@ -155,14 +155,15 @@ impl Session {
         }
         // Units only read the tree, and only a tree without errors.
         let mut dim = None;
-        if let Some(names) = scope.unit_names() {
+        if scope.checks_units() {
             let tree = units::Tree {
                 src,
                 ast,
                 root,
                 resolved: &self.resolved,
             };
-            let (d, warnings) = units::infer(&tree, scope, Some(names), &mut self.dims);
+            let names = scope.unit_names();
+            let (d, warnings) = units::infer(&tree, scope, names, &mut self.dims);
             dim = d;
             diags.extend(warnings);
         }

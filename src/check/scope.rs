@@ -64,6 +64,13 @@ pub trait Scope {
         None
     }
 
+    /// True when expressions are to be checked for units of measure: when there are unit
+    /// names, or (a scope of plain variables) when a variable was given a dimension, in
+    /// which case messages name the bases ("a velocity (length/time)").
+    fn checks_units(&self) -> bool {
+        self.unit_names().is_some()
+    }
+
     /// The dimension of the user variable `name` (upper case); `None`, the default, makes
     /// it free like a number.
     fn variable_dim(&self, _name: &str) -> Option<Dim> {
@@ -144,6 +151,9 @@ pub fn check_variable_name(name: &str) -> Result<(), BadVariableName> {
 #[derive(Clone, Debug, Default)]
 pub struct Variables {
     names: Vec<String>,
+    /// The dimension a user gave each variable (`--unit`), in slot order; a variable
+    /// without one is free like a number.
+    dims: Vec<Option<Dim>>,
     /// (SPLINE id, is a surface), indexed like the context's spline table.
     splines: Vec<(i64, bool)>,
 }
@@ -165,6 +175,31 @@ impl Variables {
         (self.names.len() - 1) as u32
     }
 
+    /// Gives the variable `name` (defined before) the dimension `dim`, which turns the
+    /// units check on for this scope; false when there is no such variable.
+    pub fn set_dim(&mut self, name: &str, dim: Dim) -> bool {
+        let upper = name.to_ascii_uppercase();
+        let Some(slot) = self.names.iter().position(|n| *n == upper) else {
+            return false;
+        };
+        if self.dims.len() < self.names.len() {
+            self.dims.resize(self.names.len(), None);
+        }
+        self.dims[slot] = Some(dim);
+        true
+    }
+
+    /// The dimension given to variable `name` (upper case), if any.
+    pub fn dim(&self, name: &str) -> Option<Dim> {
+        let slot = self.names.iter().position(|n| n == name)?;
+        self.dims.get(slot).copied().flatten()
+    }
+
+    /// True when some variable has a dimension.
+    pub fn has_dims(&self) -> bool {
+        self.dims.iter().any(Option::is_some)
+    }
+
     /// Registers SPLINE `id` at the next index of the context's spline table.
     pub fn define_spline(&mut self, id: i64, surface: bool) -> u32 {
         self.splines.push((id, surface));
@@ -180,6 +215,14 @@ impl Variables {
 impl Scope for Variables {
     fn variable(&self, name: &str) -> Option<u32> {
         self.names.iter().position(|n| n == name).map(|i| i as u32)
+    }
+
+    fn checks_units(&self) -> bool {
+        self.has_dims()
+    }
+
+    fn variable_dim(&self, name: &str) -> Option<Dim> {
+        self.dim(name)
     }
 
     fn variable_names(&self) -> Vec<String> {

@@ -3,7 +3,7 @@
 
 use super::output::{Output, Stop};
 use super::{Dim, Engine};
-use crate::check::Expect;
+use crate::check::{units, Expect};
 use crate::diag::{render, Code, Diagnostic, SourceFile};
 use crate::session::evaluate::{EvalError, Evaluator};
 use crate::session::loaded::LoadedModel;
@@ -21,6 +21,10 @@ pub struct EvalArgs {
     /// A user variable, NAME=VALUE (VALUE is any constant expression); repeatable.
     #[arg(long = "var", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     vars: Vec<String>,
+    /// The dimension of a `--var`, NAME=DIMENSION (`v=velocity`, `k=N/m`, `w=rad/s`):
+    /// the expression is then checked for units of measure (warning W0312); repeatable.
+    #[arg(long = "unit", value_name = "NAME=DIMENSION")]
+    units: Vec<String>,
     /// An .adm dataset: the expression may read its measures (DX, VZ, UVZ, ...), taken
     /// at the assembled configuration at t = 0.
     #[arg(long, value_name = "FILE")]
@@ -107,6 +111,53 @@ pub fn define_variables(specs: &[String], e: &mut Evaluator, o: &mut Output) -> 
     Ok(())
 }
 
+/// Gives the variables of `--unit` specs (NAME=DIMENSION) their dimensions in `e`; each
+/// must name a `--var`, once.
+fn define_units(specs: &[String], e: &mut Evaluator, o: &mut Output) -> Result<(), Stop> {
+    for (k, spec) in specs.iter().enumerate() {
+        let source = SourceFile::new("--unit", spec.as_str());
+        let fail = |d: Diagnostic, o: &mut Output| {
+            o.diagnostics(&[d], &source)?;
+            Err(Stop::Failed)
+        };
+        let Some((name, dim)) = spec.split_once('=') else {
+            let d = Diagnostic::error(Code::CommandLine, 0..spec.len(), "expected NAME=DIMENSION")
+                .with_help("e.g. --unit v=velocity or --unit k=N/m");
+            return fail(d, o);
+        };
+        let name_span = 0..name.len();
+        let name = name.trim();
+        let given_before = specs[..k].iter().any(|s| {
+            s.split_once('=')
+                .is_some_and(|(n, _)| n.trim().eq_ignore_ascii_case(name))
+        });
+        if given_before {
+            let d = Diagnostic::error(
+                Code::CommandLine,
+                name_span,
+                format!("`{name}` is given a dimension twice"),
+            );
+            return fail(d, o);
+        }
+        let dim = match units::parse::parse(dim) {
+            Ok(d) => d,
+            Err(why) => {
+                let at = spec.len() - dim.len()..spec.len();
+                return fail(Diagnostic::error(Code::CommandLine, at, why), o);
+            }
+        };
+        if !e.set_dim(name, dim) {
+            let d = Diagnostic::error(
+                Code::CommandLine,
+                name_span,
+                format!("`{name}` is not a variable: give it a value with --var {name}=VALUE"),
+            );
+            return fail(d, o);
+        }
+    }
+    Ok(())
+}
+
 /// Formats a value the way the CLI contract says: `{:?}` of an f64, vectors as `[x, y, z]`.
 pub fn format_value(out: &[f64]) -> String {
     match out {
@@ -123,6 +174,7 @@ pub fn run(a: &EvalArgs, o: &mut Output) -> Result<i32, Stop> {
     let mut e = Evaluator::new(Engine::Interp.into());
     e.time = command_line_value(&a.time, "--time", &mut e, o)?;
     define_variables(&a.vars, &mut e, o)?;
+    define_units(&a.units, &mut e, o)?;
     e.engine = a.engine.into();
     if let Some(path) = &a.model {
         match load_model(path, Dim::request(a.dim), o.color) {

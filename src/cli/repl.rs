@@ -5,6 +5,7 @@
 use crate::check::{units, Expect};
 use crate::diag::{render, Diagnostic, SourceFile};
 use crate::interp::Program;
+use crate::model::scope::WithVariables;
 use crate::session::evaluate::{EvalError, Evaluation, Evaluator};
 use crate::session::loaded::LoadedModel;
 use crate::session::run::Engine;
@@ -173,6 +174,12 @@ impl Repl {
         }
     }
 
+    /// The loaded model's unit names; none without a model (messages then name the
+    /// bases: "a velocity (length/time)").
+    fn unit_names(&self) -> Option<&units::UnitNames> {
+        self.e.model().map(|m| &m.read.scope().unit_names)
+    }
+
     /// `:units EXPR`: the dimension of EXPR in the loaded model's units (user variables
     /// and numbers are free), after its unit warnings; its errors when it does not check.
     fn units(&mut self, rest: &str) -> String {
@@ -180,9 +187,17 @@ impl Repl {
             return e;
         }
         let source = SourceFile::new("<repl>", rest);
-        let (scope, names): (&dyn crate::check::Scope, _) = match self.e.model() {
-            Some(m) => (m.read.scope(), Some(&m.read.scope().unit_names)),
-            None => (self.e.variables(), None),
+        let names = self.unit_names();
+        let with_model;
+        let scope: &dyn crate::check::Scope = match self.e.model() {
+            Some(m) => {
+                with_model = WithVariables {
+                    model: m.read.scope(),
+                    variables: self.e.variables(),
+                };
+                &with_model
+            }
+            None => self.e.variables(),
         };
         match units::infer_text(rest, scope, names) {
             Ok((d, warnings)) => format!(
@@ -194,9 +209,18 @@ impl Repl {
         }
     }
 
+    /// `:let NAME = EXPR`, or `:let NAME: DIMENSION = EXPR` (`:let v: m/s = 2`), which
+    /// also gives the variable a dimension for the units check.
     fn let_(&mut self, rest: &str) -> String {
         let Some((name, expr)) = rest.split_once('=') else {
-            return "usage: :let NAME = EXPR".to_string();
+            return "usage: :let NAME = EXPR  or  :let NAME: DIMENSION = EXPR".to_string();
+        };
+        let (name, dim) = match name.split_once(':') {
+            Some((name, dim)) => match units::parse::parse(dim) {
+                Ok(d) => (name, Some(d)),
+                Err(why) => return why,
+            },
+            None => (name, None),
         };
         let name = name.trim().to_ascii_uppercase();
         if let Err(bad) = crate::check::scope::check_variable_name(&name) {
@@ -205,7 +229,14 @@ impl Repl {
         match self.evaluate(expr) {
             Ok((v, notes)) if v.len() == 1 => {
                 self.e.set_variable(&name, v[0]);
-                format!("{notes}{name} = {:?}", v[0])
+                let unit = match dim {
+                    Some(d) => {
+                        self.e.set_dim(&name, d);
+                        format!(", {}", units::describe(d, self.unit_names()))
+                    }
+                    None => String::new(),
+                };
+                format!("{notes}{name} = {:?}{unit}", v[0])
             }
             Ok(_) => "variables hold scalars; this is a vector".to_string(),
             Err(e) => e,
@@ -799,6 +830,38 @@ mod tests {
         assert!(
             mixed.ends_with("free: a number in it can give it any dimension"),
             "{mixed}"
+        );
+    }
+
+    #[test]
+    fn variables_given_a_dimension_are_checked_for_units() {
+        let mut r = Repl::new();
+        assert_eq!(r.eval_line(":let x: m = 1"), "X = 1.0, a length");
+        assert_eq!(
+            r.eval_line(":let v: velocity = 2"),
+            "V = 2.0, a velocity (length/time)"
+        );
+        assert_eq!(r.eval_line(":units x/TIME"), "a velocity (length/time)");
+        // A length plus a velocity warns, and still has its value.
+        let sum = r.eval_line("x + v");
+        assert!(sum.contains("[W0312]"), "{sum}");
+        assert!(
+            sum.contains("adds a length to a velocity (length/time)"),
+            "{sum}"
+        );
+        assert!(sum.ends_with("3.0"), "{sum}");
+        assert_eq!(r.eval_line("x + v*TIME"), "1.0");
+        assert!(r
+            .eval_line(":let w: furlong = 1")
+            .contains("`furlong` is not a unit"));
+        // Typed against a model, lines are checked in its units.
+        r.eval_line(":load examples/slider.adm");
+        let line = r.eval_line("DX(21, 11) + x + v*TIME");
+        assert!(!line.contains("W0312"), "{line}");
+        let line = r.eval_line("DX(21, 11) + v");
+        assert!(
+            line.contains("adds a length (meter) to a velocity (meter/second)"),
+            "{line}"
         );
     }
 

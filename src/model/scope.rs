@@ -148,8 +148,15 @@ impl Scope for WithVariables<'_> {
         self.model.measure(call)
     }
 
-    // No `unit_names`: expressions typed against a model (`mbfx eval --model`, the REPL,
-    // `--probe`) are not checked for units unless asked (`:units`, `ModelRead::scope`).
+    // Expressions typed against a model (`mbfx eval --model`, the REPL, `--probe`) are
+    // checked for units in the dataset's units, as its own are.
+    fn unit_names(&self) -> Option<&UnitNames> {
+        Some(&self.model.unit_names)
+    }
+
+    fn variable_dim(&self, name: &str) -> Option<Dim> {
+        self.variables.dim(name)
+    }
 
     fn varval_dim(&self, id: i64) -> Option<Dim> {
         self.model.varval_dim(id)

@@ -135,6 +135,12 @@ impl Evaluator {
         }
     }
 
+    /// Gives the variable `name` (defined before) the dimension `dim`: expressions are then
+    /// checked for units of measure. False when there is no such variable.
+    pub fn set_dim(&mut self, name: &str, dim: crate::check::units::Dim) -> bool {
+        self.variables.set_dim(name, dim)
+    }
+
     /// The model expressions may read, if one is loaded.
     pub fn model(&self) -> Option<&LoadedModel> {
         self.model.as_ref()
@@ -271,7 +277,9 @@ mod tests {
 
     #[test]
     fn both_engines_give_the_same_bits_with_measures_variables_and_time() {
-        let text = "k*DX(20, 10) + SIN(TIME)/DY(20, 10) + [1, 2, 3]*UVX(20)";
+        // SIN(4*TIME): a number gives TIME its coefficient (SIN of a bare time would be a
+        // units warning).
+        let text = "k*DX(20, 10) + SIN(4*TIME)/DY(20, 10) + [1, 2, 3]*UVX(20)";
         let mut got = Vec::new();
         for engine in [Engine::Interp, Engine::Jit] {
             let mut e = with_pendulum(engine);
@@ -283,8 +291,8 @@ mod tests {
             got.push(v.values[0].to_bits());
         }
         assert_eq!(got[0], got[1]);
-        // k was redefined (names are case-insensitive): 2·0.6 + sin(0.25)/0.8 + 1.
-        let want = 2.0 * 0.6 + 0.25f64.sin() / 0.8 + 1.0;
+        // k was redefined (names are case-insensitive): 2·0.6 + sin(1)/0.8 + 1.
+        let want = 2.0 * 0.6 + 1.0f64.sin() / 0.8 + 1.0;
         assert!((f64::from_bits(got[0]) - want).abs() < 1e-12);
     }
 

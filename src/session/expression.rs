@@ -26,6 +26,7 @@
 
 use super::run::Engine;
 use crate::check::scope::check_variable_name;
+use crate::check::units::Dim;
 use crate::check::{self, Expect, Variables};
 use crate::context::Context;
 use crate::diag::{Code, Diagnostic};
@@ -157,6 +158,11 @@ pub struct Expression {
     /// The variables (or TIME) the partials are taken in, for a gradient.
     wrt: Vec<String>,
     warnings: Vec<Diagnostic>,
+    /// The dimension the caller gave each variable, in slot order (empty when none was
+    /// given: the units check then did not run).
+    dims: Vec<Option<Dim>>,
+    /// The expression's dimension when the units check ran and fixed one.
+    dim: Option<Dim>,
     /// The variable slots the code reads (from its instructions): the columns worth
     /// copying when it runs over many points.
     reads: Vec<u32>,
@@ -201,6 +207,18 @@ impl Expression {
     /// Checks `text` with `variables` in scope (in that order; names are
     /// case-insensitive and must be distinct) and compiles it with `engine`.
     pub fn compile(text: &str, variables: &[&str], engine: Engine) -> Result<Self, ExprError> {
+        Self::compile_with_dims(text, variables, &[], engine)
+    }
+
+    /// [`Expression::compile`], with the dimensions of some variables given as (name,
+    /// dimension): the text is then checked for units of measure, and a quantity that
+    /// does not fit is a warning (W0312) among [`Expression::warnings`].
+    pub fn compile_with_dims(
+        text: &str,
+        variables: &[&str],
+        dims: &[(&str, Dim)],
+        engine: Engine,
+    ) -> Result<Self, ExprError> {
         let mut scope = Variables::new();
         for (k, &name) in variables.iter().enumerate() {
             if let Err(why) = check_variable_name(name) {
@@ -216,16 +234,32 @@ impl Expression {
                 });
             }
         }
+        for &(name, dim) in dims {
+            if !scope.set_dim(name, dim) {
+                return Err(ExprError::BadVariable {
+                    name: name.to_string(),
+                    why: "has a dimension but is not one of the variables".into(),
+                });
+            }
+        }
         let checked = check::compile(text, &scope, Expect::Any).map_err(ExprError::Diagnostics)?;
-        let variables = variables.iter().map(|v| v.to_string()).collect();
-        Self::build(
+        let names: Vec<String> = variables.iter().map(|v| v.to_string()).collect();
+        let mut e = Self::build(
             text.to_string(),
-            variables,
+            names,
             engine,
             checked.function,
             Vec::new(),
             checked.warnings,
-        )
+        )?;
+        if !dims.is_empty() {
+            e.dims = variables
+                .iter()
+                .map(|v| scope.dim(&v.to_ascii_uppercase()))
+                .collect();
+            e.dim = checked.dim;
+        }
+        Ok(e)
     }
 
     fn build(
@@ -263,8 +297,21 @@ impl Expression {
             code,
             wrt,
             warnings,
+            dims: Vec::new(),
+            dim: None,
             reads,
         })
+    }
+
+    /// The dimension given to each variable, in slot order; empty when none was given.
+    pub fn dims(&self) -> &[Option<Dim>] {
+        &self.dims
+    }
+
+    /// The expression's dimension, when variables were given dimensions and the units
+    /// check fixed one (`None` when it is free or was not checked).
+    pub fn dim(&self) -> Option<Dim> {
+        self.dim
     }
 
     /// The expression's text.
@@ -330,6 +377,11 @@ impl Expression {
             wrt.iter().map(|w| w.to_string()).collect(),
             self.warnings.clone(),
         )
+        .map(|mut g| {
+            // Each partial has a dimension of its own: the gradient as a whole has none.
+            g.dims = self.dims.clone();
+            g
+        })
     }
 
     /// Every output at one point: `vars` in [`Expression::variables`] order.

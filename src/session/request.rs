@@ -562,6 +562,13 @@ pub fn run(
             .warnings(&units, &source)
             .map_err(RunFailed::output)?;
     }
+    // A probe's warnings point into its own text.
+    for (name, text, warnings) in sim.probe_warnings.iter().filter(|_| !reused) {
+        let probe = SourceFile::new(format!("--probe {name}"), text.clone());
+        observer
+            .warnings(warnings, &probe)
+            .map_err(RunFailed::output)?;
+    }
     let segments = match &commands {
         None => {
             let end = request.end.unwrap_or_default();

@@ -300,6 +300,9 @@ pub struct Simulation {
     start: StartState,
     /// The design variables the constraints read: changing one needs a new build.
     constraint_designs: Vec<i64>,
+    /// The checker's warnings about each probe that has some (units of measure, ...):
+    /// (name, expression, warnings with spans into the expression).
+    pub probe_warnings: Vec<(String, String, Vec<Diagnostic>)>,
 }
 
 /// The expression text of component k (1..8) of a standard REQUEST, if it has one.
@@ -342,6 +345,7 @@ impl Simulation {
         let analysis =
             analyze_model_with(&read.model, spec.dim, interpret).map_err(RunFailure::Analysis)?;
         let mut columns = Vec::new();
+        let mut probe_warnings = Vec::new();
         for (name, text) in probes {
             let fail = |diagnostics| RunFailure::Diagnostics {
                 probe: Some(name.clone()),
@@ -350,6 +354,9 @@ impl Simulation {
             let checked = read
                 .compile(text, &Variables::new(), Expect::Scalar)
                 .map_err(fail)?;
+            if !checked.warnings.is_empty() {
+                probe_warnings.push((name.clone(), text.clone(), checked.warnings));
+            }
             let e = Expr {
                 span: 0..text.len(),
                 function: checked.function,
@@ -516,6 +523,7 @@ impl Simulation {
             dropped: dropped.clone(),
             start,
             constraint_designs,
+            probe_warnings,
         })
     }
 

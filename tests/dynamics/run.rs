@@ -552,3 +552,32 @@ fn plot_and_csv_files_are_written() {
     assert_eq!(&png_bytes[1..4], b"PNG");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 24: a probe is checked for units in the dataset's units; a warning that points
+/// into the probe's own text, and the run and its column go on unchanged.
+#[test]
+fn a_probe_whose_units_do_not_fit_warns_and_still_runs() {
+    let model = crate::adams::models_dir().join("../../examples/slider.adm");
+    let out = run_raw(
+        &model,
+        &[
+            "--end",
+            "0.1",
+            "--probe",
+            "bad=DX(21,11) + VX(21,11)",
+            "--probe",
+            "good=DX(21,11)",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("[W0312] Warning: `DX(21,11) + VX(21,11)` adds a length (meter) to a velocity (meter/second)")
+            && stderr.contains("--probe bad:1:1"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("--probe good"), "{stderr}");
+    let csv = Csv::parse(&String::from_utf8(out.stdout).expect("UTF-8 CSV"));
+    // At t = 0 the slider is at rest: the sum is the displacement.
+    assert_eq!(csv.col("bad")[0], csv.col("good")[0]);
+}

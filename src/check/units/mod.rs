@@ -15,6 +15,7 @@ pub mod dim;
 mod infer;
 pub mod measures;
 pub mod names;
+pub mod parse;
 mod rules;
 #[cfg(test)]
 mod tests;

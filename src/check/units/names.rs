@@ -53,7 +53,7 @@ impl UnitNames {
 }
 
 /// Dimensions with a name, with the article they take.
-const NAMED: &[(Dim, &str)] = &[
+pub(super) const NAMED: &[(Dim, &str)] = &[
     (Dim::NONE, "a dimensionless quantity"),
     (Dim::LENGTH, "a length"),
     (Dim::of(0, 2, 0, 0), "an area"),
@@ -83,7 +83,8 @@ const NAMED: &[(Dim, &str)] = &[
 pub fn describe(d: Dim, names: Option<&UnitNames>) -> String {
     let unit = unit(d, names);
     match NAMED.iter().find(|(n, _)| *n == d) {
-        Some((_, name)) if unit.is_empty() => (*name).to_string(),
+        // Without unit names a base is its own unit: "a length", not "a length (length)".
+        Some((_, name)) if unit.is_empty() || name.ends_with(unit.as_str()) => (*name).to_string(),
         Some((_, name)) => format!("{name} ({unit})"),
         None => format!("a quantity in {unit}"),
     }
@@ -186,6 +187,8 @@ mod tests {
     fn without_unit_names_the_bases_are_named() {
         assert_eq!(describe(Dim::VELOCITY, None), "a velocity (length/time)");
         assert_eq!(describe(Dim::of(0, 0, -1, 0), None), "a frequency (1/time)");
+        assert_eq!(describe(Dim::LENGTH, None), "a length");
+        assert_eq!(describe(Dim::ANGLE, None), "an angle");
     }
 
     #[test]
