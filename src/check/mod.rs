@@ -124,9 +124,11 @@ impl Session {
             ids: &mut self.ids,
             spans: &mut self.spans,
             resolved: &mut self.resolved,
+            fixes_a_dimension: false,
         };
         let lowered = c.expr(root);
         diags = c.diags;
+        let fixes_a_dimension = c.fixes_a_dimension;
         let outputs = &mut self.values;
         outputs.clear();
         match (lowered, expect) {
@@ -155,7 +157,7 @@ impl Session {
         }
         // Units only read the tree, and only a tree without errors.
         let mut dim = None;
-        if scope.checks_units() {
+        if fixes_a_dimension && scope.checks_units() {
             let tree = units::Tree {
                 src,
                 ast,
@@ -197,6 +199,9 @@ struct Checker<'a> {
     spans: &'a mut Vec<Span>,
     /// The builtin each name and call node resolved to, by node id.
     resolved: &'a mut Vec<Option<&'static Builtin>>,
+    /// True once a node that can fix a dimension was resolved
+    /// ([`units::fixes_a_dimension`]): without one, the units check has nothing to do.
+    fixes_a_dimension: bool,
 }
 
 impl Checker<'_> {
@@ -291,6 +296,7 @@ impl Checker<'_> {
         if let Some(slot) = self.resolved.get_mut(id as usize) {
             *slot = b;
         }
+        self.fixes_a_dimension = self.fixes_a_dimension || units::fixes_a_dimension(b);
         b
     }
 

@@ -29,8 +29,8 @@ use crate::syntax::ast::{Ast, BinOp, Kind, NodeId};
 use crate::vocab::builtins::{self, Builtin, Role};
 
 /// DTOR and RTOD, as the builtins table gives them.
-const DTOR: f64 = std::f64::consts::PI / 180.0;
-const RTOD: f64 = 180.0 / std::f64::consts::PI;
+pub(super) const DTOR: f64 = std::f64::consts::PI / 180.0;
+pub(super) const RTOD: f64 = 180.0 / std::f64::consts::PI;
 
 /// A dimension, or `None` for free (a number, or anything with a number as a factor).
 pub type D = Option<Dim>;

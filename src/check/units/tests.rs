@@ -232,3 +232,46 @@ fn splines_and_conversions() {
     is("RTOD*AZ(1,2)", Some(Dim::ANGLE));
     is("AZ(1,2) - 30*DTOR", Some(Dim::ANGLE));
 }
+
+/// The check skips a tree with nothing that fixes a dimension
+/// ([`super::fixes_a_dimension`]); on every corpus expression that checks, the skipping
+/// check and the full inference (`infer_text`, which never skips) give the same dimension
+/// and the same messages.
+#[test]
+fn skipping_free_trees_changes_no_result_on_the_corpus() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/corpus/expressions.txt"
+    );
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let names = crate::check::units::UnitNames::SI;
+    let (mut compared, mut free) = (0, 0);
+    for src in text
+        .lines()
+        .filter_map(|l| l.split_once('\t').map(|(_, e)| e))
+    {
+        let Ok(c) = compile(src, &EveryIdExists, Expect::Any) else {
+            continue;
+        };
+        let Ok((dim, warnings)) = super::infer_text(src, &EveryIdExists, Some(&names)) else {
+            panic!("{src}: checks but does not parse");
+        };
+        let messages = |ds: &[crate::diag::Diagnostic]| -> Vec<String> {
+            (ds.iter())
+                .filter(|d| d.code == Code::UnitMismatch)
+                .map(|d| d.message.clone())
+                .collect()
+        };
+        assert_eq!(
+            (c.dim, messages(&c.warnings)),
+            (dim, messages(&warnings)),
+            "{src}"
+        );
+        compared += 1;
+        free += usize::from(dim.is_none());
+    }
+    assert!(
+        compared > 900 && free > 0,
+        "{compared} compared, {free} free"
+    );
+}
