@@ -56,6 +56,9 @@ pub fn column_scale(d: &Dynamics, c: usize) -> f64 {
 /// free direction.
 pub fn null_space(d: &Dynamics) -> DMat {
     let n = d.n;
+    if n == 0 {
+        return DMat::zeros(0, 0);
+    }
     // Square (padded with zero rows) so the SVD gives every right singular vector.
     let size = n.max(d.m);
     let mut j = DMat::zeros(size, n);

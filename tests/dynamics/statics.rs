@@ -488,3 +488,18 @@ fn refused<T>(r: Result<T, Box<RunFailed>>) -> Box<RunFailed> {
         Err(f) => f,
     }
 }
+
+#[test]
+fn ground_alone_and_a_free_body_do_not_panic() {
+    // Nothing moves: ground is its own equilibrium, one row.
+    let (rows, done) =
+        statics("g\nPART/1, GROUND\nEND\n", None, &[], DimRequest::Auto).expect("ground alone");
+    assert_eq!(rows.len(), 1);
+    assert!(done.summary.text().contains("no part moves"));
+    // A body under gravity held by nothing: neutral, named as held by no constraint.
+    let text = "free\nPART/1, GROUND\nPART/2, MASS = 1, CM = 20, IP = 1, 1, 1\n\
+                MARKER/20, PART = 2\nACCGRAV/JGRAV = -9.81\nEND\n";
+    let f = refused(statics(text, None, &[], DimRequest::Auto));
+    assert_eq!(f.code.as_str(), "E0806", "{}", f.cause);
+    assert!(f.cause.contains("held by no constraint"), "{}", f.cause);
+}

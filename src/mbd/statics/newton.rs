@@ -53,6 +53,10 @@ pub fn equilibrium(d: &mut Dynamics, s: &Settings) -> Result<Report, DynError> {
     }
     d.a = zero.clone();
     d.store_accelerations();
+    if n == 0 {
+        // Nothing moves: ground alone is in equilibrium.
+        return finish(d, 0, 0);
+    }
     let scale: Vec<f64> = (0..n).map(|c| column_scale(d, c)).collect();
     let holonomic: Vec<bool> = d
         .rows
@@ -330,6 +334,7 @@ fn coordinate(d: &Dynamics, col: usize) -> String {
     let bs = d.sys.dim.cols();
     match part_of(d, col) {
         Some(h) => format!("{} {}", part_name(d, h), component_name(d, col % bs)),
+        None if d.n == 0 => "no part moves".to_string(),
         None => format!("column {col}"),
     }
 }
