@@ -132,6 +132,15 @@ pub enum Code {
     /// The caller interrupted a run (a Python Ctrl-C, a C caller's flag): the rows before
     /// the interruption were delivered.
     Interrupted,
+    /// No static equilibrium within MAXIT iterations.
+    NoEquilibrium,
+    /// A static equilibrium (or the search for one) along a neutral or unstable
+    /// direction: a mechanism no spring holds, or an equilibrium that is not stable.
+    Unstable,
+    /// The static iteration stayed cut to TLIMIT or ALIMIT to the end.
+    StepLimit,
+    /// A kinematic analysis of a model with degrees of freedom left.
+    FreeDegrees,
 }
 
 impl Code {
@@ -187,6 +196,10 @@ impl Code {
             Integration => "E0802",
             NonFiniteForce => "E0803",
             Interrupted => "E0804",
+            NoEquilibrium => "E0805",
+            Unstable => "E0806",
+            StepLimit => "E0807",
+            FreeDegrees => "E0808",
         }
     }
 }

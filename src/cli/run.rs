@@ -139,6 +139,14 @@ pub struct RunArgs {
     /// CI: a warned answer fails the job without being an error).
     #[arg(long)]
     strict: bool,
+    /// Find the static equilibrium first (SIMULATE/STATICS, under the dataset's
+    /// EQUILIBRIUM settings): the dynamics start from it; without --end it is the run.
+    #[arg(long, conflicts_with = "kinematics")]
+    statics: bool,
+    /// Solve a model without degrees of freedom from its constraints at each output
+    /// time instead of integrating (SIMULATE/KINEMATICS).
+    #[arg(long)]
+    kinematics: bool,
 }
 
 impl RunArgs {
@@ -168,6 +176,7 @@ impl RunArgs {
         r.engine = self.engine.into();
         r.probes = self.probes.iter().map(|p| parse_probe(p)).collect();
         r.set.clone_from(&self.set);
+        (r.statics, r.kinematics) = (self.statics, self.kinematics);
         r
     }
 }

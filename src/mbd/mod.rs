@@ -42,14 +42,17 @@ pub mod error;
 pub mod expr;
 mod force_order;
 pub mod forces;
+pub mod freedom;
 pub mod fused_rows;
 pub mod inertia;
+pub mod kinematics;
 pub mod measures;
 mod normal;
 pub mod planar;
 pub mod redundancy;
 pub mod rewind;
 pub mod sparse;
+pub mod statics;
 pub mod system;
 
 pub use assembly::{AssemblyError, AssemblyOptions, AssemblyReport};

@@ -5,19 +5,24 @@
 //! - line 1 names the dataset (`test_Revolute_Case01.adm`, or `Test02_ADAMS`, to which
 //!   `.adm` is added) and line 2 the base name of Adams' output files; or line 1 is blank
 //!   (or already a command) and a `FILE/MODEL = NAME` command names the dataset;
-//! - `INTEGRATOR/…` is read as the dataset statement is
-//!   ([`super::integrator_settings`]);
+//! - `INTEGRATOR/…` and `EQUILIBRIUM/…` are read as the dataset statements are
+//!   ([`super::integrator_settings`], [`super::equilibrium_settings`]) and apply to the
+//!   SIMULATE commands after them;
 //! - `SIMULATE/DYNAMIC` (or TRANSIENT), `END = t` or `DURATION = d`, and `DTOUT = dt` or
 //!   `STEPS = n`: a stretch of dynamics from where the last one stopped;
-//! - commands that only set what mbfx does not have (OUTPUT, EQUILIBRIUM, IC, …) are
+//!   `SIMULATE/KINEMATICS` with the same arguments: a fully driven model solved from its
+//!   constraints at each output time; `SIMULATE/STATICS`: one static equilibrium where
+//!   the run stands, or with END and STEPS (DTOUT) a quasi-static sequence of them;
+//! - commands that only set what mbfx does not have (OUTPUT, IC, KINEMATICS, …) are
 //!   warnings; commands that change the model during the run (DEACTIVATE, VARIABLE, …) or
-//!   run an analysis mbfx does not have (SIMULATE/STATICS, LINEAR) are `E0610` errors at
-//!   the command, so such a file does not run at all.
+//!   run an analysis mbfx does not have (SIMULATE/INITIAL_CONDITIONS, LINEAR) are `E0610`
+//!   errors at the command, so such a file does not run at all.
 //!
 //! Every malformed line is a diagnostic at its place; the reader never stops at the first.
 
 use super::command_lines::{command_groups, lines, readable};
 use super::cursor::Cursor;
+use super::equilibrium_settings::{read_equilibrium, EquilibriumStatement};
 use super::integrator_settings::{read_integrator, Given, IntegratorStatement};
 use super::keywords::Keyword;
 use super::lines::Piece;
@@ -30,17 +35,34 @@ use crate::diag::{has_errors, Code, Diagnostic, Span};
 pub enum Step {
     /// An INTEGRATOR command: it changes what it names for the SIMULATE commands after it.
     Integrator(Box<IntegratorStatement>),
-    /// A stretch of dynamics.
+    /// An EQUILIBRIUM command: it changes what it names for the static analyses after it.
+    Equilibrium(Box<EquilibriumStatement>),
+    /// A SIMULATE command.
     Simulate(Simulate),
 }
 
-/// `SIMULATE/DYNAMIC`: from where the last one stopped to `end`, a row every
-/// `output_step`.
+/// What a SIMULATE command runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Analysis {
+    /// DYNAMICS or TRANSIENT: integration.
+    #[default]
+    Dynamic,
+    /// STATICS: a static equilibrium, or with END a sequence of them (quasi-static).
+    Statics,
+    /// KINEMATICS: a fully driven model solved from its constraints at each output time.
+    Kinematics,
+}
+
+/// `SIMULATE/kind`: from where the last one stopped to `end`, a row every
+/// `output_step`. A SIMULATE/STATICS without END is one equilibrium where the run
+/// stands: `end` is that time and `output_step` 0.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Simulate {
+    /// What it runs.
+    pub kind: Analysis,
     /// END: the simulation time the stretch stops at.
     pub end: f64,
-    /// The time between output rows (from STEPS or DTOUT).
+    /// The time between output rows (from STEPS or DTOUT); 0 for one equilibrium.
     pub output_step: f64,
     /// The command.
     pub span: Span,
@@ -69,7 +91,7 @@ impl CommandFile {
     pub fn simulations(&self) -> impl Iterator<Item = &Simulate> {
         self.steps.iter().filter_map(|s| match s {
             Step::Simulate(s) => Some(s),
-            Step::Integrator(_) => None,
+            Step::Integrator(_) | Step::Equilibrium(_) => None,
         })
     }
 }
@@ -79,6 +101,7 @@ impl CommandFile {
 enum Kind {
     File,
     Integrator,
+    Equilibrium,
     Simulate,
     Stop,
     /// Sets something the run does not use: a warning saying why.
@@ -109,10 +132,7 @@ const COMMANDS: &[(&str, Kind)] = &[
         "ENVIRONMENT",
         Kind::Ignored("it sets Adams Solver environment variables"),
     ),
-    (
-        "EQUILIBRIUM",
-        Kind::Ignored("it sets static equilibrium analyses, which mbfx does not run"),
-    ),
+    ("EQUILIBRIUM", Kind::Equilibrium),
     ("FIELD", Kind::Refused(CHANGES_MODEL)),
     ("FILE", Kind::File),
     ("FLEX_BODY", Kind::Refused(CHANGES_MODEL)),
@@ -130,7 +150,7 @@ const COMMANDS: &[(&str, Kind)] = &[
     ("JPRIM", Kind::Refused(CHANGES_MODEL)),
     (
         "KINEMATICS",
-        Kind::Ignored("it sets kinematic analyses, which mbfx does not run"),
+        Kind::Ignored("it sets Adams' kinematic tolerances; mbfx solves positions to rounding"),
     ),
     (
         "LINEAR",
@@ -363,6 +383,10 @@ impl Reader {
                 let s = read_integrator(&mut a);
                 self.file.steps.push(Step::Integrator(Box::new(s)));
             }
+            Kind::Equilibrium => {
+                let s = read_equilibrium(&mut a);
+                self.file.steps.push(Step::Equilibrium(Box::new(s)));
+            }
             Kind::Simulate => self.simulate(&mut a),
             Kind::Ignored(why) => {
                 for arg in &stmt.args {
@@ -429,28 +453,25 @@ impl Reader {
         }
     }
 
-    /// `SIMULATE/kind, END | DURATION, DTOUT | STEPS`.
+    /// `SIMULATE/kind, END | DURATION, DTOUT | STEPS`: DYNAMIC (TRANSIENT) and
+    /// KINEMATICS need an end and an output step; STATICS without END is one
+    /// equilibrium, with END a quasi-static sequence. INITIAL_CONDITIONS is refused.
     fn simulate(&mut self, a: &mut Args) {
         let kind = a.choice(&SIMULATIONS);
         let at = a.stmt.keyword_span.clone();
-        let refuse = |a: &mut Args, what: &str| {
-            let span = a.stmt.span.clone();
-            a.error(Code::UnsupportedCommand, span, what.to_string());
-        };
-        match kind.map(|k| SIMULATIONS[k].0) {
-            Some("DYNAMICS" | "TRANSIENT") => {}
-            Some("STATICS") => refuse(
-                a,
-                "SIMULATE/STATICS: static equilibrium analysis is not supported by mbfx (its dynamics start from the assembled configuration)",
-            ),
-            Some("KINEMATICS") => refuse(
-                a,
-                "SIMULATE/KINEMATICS: kinematic analysis is not supported by mbfx (SIMULATE/DYNAMIC runs a model without degrees of freedom too)",
-            ),
-            Some(_) => refuse(
-                a,
-                "SIMULATE/INITIAL_CONDITIONS: an initial-conditions analysis alone is not supported by mbfx (SIMULATE/DYNAMIC solves them first)",
-            ),
+        let analysis = match kind.map(|k| SIMULATIONS[k].0) {
+            Some("DYNAMICS" | "TRANSIENT") => Some(Analysis::Dynamic),
+            Some("STATICS") => Some(Analysis::Statics),
+            Some("KINEMATICS") => Some(Analysis::Kinematics),
+            Some(_) => {
+                let span = a.stmt.span.clone();
+                a.error(
+                    Code::UnsupportedCommand,
+                    span,
+                    "SIMULATE/INITIAL_CONDITIONS: an initial-conditions analysis alone is not supported by mbfx (SIMULATE/DYNAMIC solves them first)".into(),
+                );
+                None
+            }
             None => {
                 let d = Diagnostic::error(
                     Code::MissingArgument,
@@ -458,20 +479,35 @@ impl Reader {
                     "SIMULATE needs DYNAMIC, TRANSIENT, STATICS, KINEMATICS or INITIAL_CONDITIONS",
                 );
                 a.diags.push(d);
+                None
             }
-        }
+        };
         let end = number(a, "END", 3);
         let duration = number(a, "DURATION", 3);
         let dtout = number(a, "DTOUT", 3);
         let steps = number(a, "STEPS", 3);
-        let dynamic = matches!(
-            kind.map(|k| SIMULATIONS[k].0),
-            Some("DYNAMICS" | "TRANSIENT")
-        );
-        if has_errors(&a.diags) || !dynamic {
+        let Some(analysis) = analysis else { return };
+        if has_errors(&a.diags) {
             return;
         }
         let t0 = self.time;
+        if analysis == Analysis::Statics && end.is_none() && duration.is_none() {
+            // One equilibrium where the run stands; an output step has nothing to divide.
+            if let Some((_, span)) = dtout.or(steps) {
+                return a.error(
+                    Code::BadArgument,
+                    span,
+                    "DTOUT and STEPS need END or DURATION (a quasi-static sequence); without them SIMULATE/STATICS is one equilibrium".into(),
+                );
+            }
+            self.file.steps.push(Step::Simulate(Simulate {
+                kind: analysis,
+                end: t0,
+                output_step: 0.0,
+                span: a.stmt.span.clone(),
+            }));
+            return;
+        }
         let end = match (end, duration) {
             (Some((_, s1)), Some((_, s2))) => return exclusive(a, s1, s2, "END", "DURATION"),
             (Some((t, span)), None) if t <= t0 || !t.is_finite() => {
@@ -508,6 +544,7 @@ impl Reader {
         };
         self.time = end;
         self.file.steps.push(Step::Simulate(Simulate {
+            kind: analysis,
             end,
             output_step,
             span: a.stmt.span.clone(),
@@ -613,8 +650,7 @@ mod tests {
     #[test]
     fn unsupported_commands_are_errors_at_the_command() {
         for (text, what, bad) in [
-            ("m.adm\nout\nSIMULATE/STATIC\nSTOP\n", "static equilibrium", "SIMULATE/STATIC"),
-            ("m.adm\nout\nsim/kin, end=1, dtout=0.1\n", "kinematic", "sim/kin, end=1, dtout=0.1"),
+            ("m.adm\nout\nSIMULATE/INITIAL_CONDITIONS\nSTOP\n", "initial-conditions", "SIMULATE/INITIAL_CONDITIONS"),
             ("m.adm\nout\nDEACTIVATE/JOINT, ID=12\n", "DEACTIVATE changes the model", "DEACTIVATE/JOINT, ID=12"),
             ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 1, 25\n", "linear", "LINEAR/EIGENSOL, COORDS = 1, 25"),
             ("m.adm\nout\nVARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)\n", "VARIABLE changes", "VARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)"),
@@ -655,6 +691,41 @@ mod tests {
             assert_eq!(e.code, code, "{text}: {}", e.message);
             assert_eq!(&text[e.span.clone()], bad, "{text}: {}", e.message);
         }
+    }
+
+    #[test]
+    fn statics_and_kinematics_are_read_with_equilibrium_settings() {
+        // adams_rescale: SIMULATE/STATIC alone, then the dynamics from there.
+        let f = read_commands("\nfile/model=m\nequil/maxit=500, stab=0.1, error=0.1, imbal=0.1, tlim=1.0, alim=2.0D\nSIMULATE/STATIC\nSIMULATE/DYNAMIC, END=5.0, DTOUT=1.0E-02\nsim/stat, end=6, steps=4\nsim/kin, dur=1, dtout=0.5\nstop\n");
+        assert!(errors(&f).is_empty(), "{:?}", f.diagnostics);
+        let sims: Vec<(Analysis, f64, f64)> = f
+            .simulations()
+            .map(|s| (s.kind, s.end, s.output_step))
+            .collect();
+        assert_eq!(
+            sims,
+            [
+                (Analysis::Statics, 0.0, 0.0),
+                (Analysis::Dynamic, 5.0, 0.01),
+                (Analysis::Statics, 6.0, 0.25),
+                (Analysis::Kinematics, 7.0, 0.5)
+            ]
+        );
+        let Step::Equilibrium(e) = &f.steps[0] else {
+            panic!("{:?}", f.steps[0]);
+        };
+        let s = e.settings();
+        assert_eq!((s.maxit, s.tlimit), (500, 1.0));
+        assert!((s.alimit - 2f64.to_radians()).abs() < 1e-15);
+        // An output step without an end is an error at it.
+        let text = "m.adm\nout\nSIMULATE/STATICS, STEPS = 4\n";
+        let f = read_commands(text);
+        let e = f
+            .diagnostics
+            .iter()
+            .find(|d| d.is_error())
+            .expect("an error");
+        assert_eq!(&text[e.span.clone()], "4");
     }
 
     #[test]

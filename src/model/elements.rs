@@ -70,6 +70,8 @@ pub struct Model {
     pub settings: Vec<Setting>,
     /// The INTEGRATOR statement, typed (several merge in file order).
     pub integrator: Option<super::integrator_settings::IntegratorStatement>,
+    /// The EQUILIBRIUM statement, typed (several merge in file order).
+    pub equilibrium: Option<super::equilibrium_settings::EquilibriumStatement>,
     /// The measure every expression slot reads (index = slot of [`crate::ir::Inst::Measure`]).
     pub measures: Vec<MeasureSlot>,
 }

@@ -228,7 +228,7 @@ fn flag_choice<T: Copy>(a: &mut Args, options: &[(&str, usize, T)]) -> Option<Gi
 }
 
 /// The one item of an argument, or an error at the argument.
-fn single<'s>(a: &mut Args, arg: &'s Argument, what: &str) -> Option<&'s Item> {
+pub(super) fn single<'s>(a: &mut Args, arg: &'s Argument, what: &str) -> Option<&'s Item> {
     match arg.items() {
         [one] => Some(one),
         _ => {
@@ -240,7 +240,7 @@ fn single<'s>(a: &mut Args, arg: &'s Argument, what: &str) -> Option<&'s Item> {
 }
 
 /// A number that must satisfy `ok` (described by `range` in the message).
-fn real(
+pub(super) fn real(
     a: &mut Args,
     full: &str,
     min: usize,
@@ -273,7 +273,7 @@ fn real(
 }
 
 /// An integer within `range`.
-fn integer(
+pub(super) fn integer(
     a: &mut Args,
     full: &str,
     min: usize,

@@ -11,13 +11,15 @@
 //! `mbfx check` prints about a model.
 //!
 //! Beside them: [`commands`] reads an Adams command file (`.acf`) with the same statement
-//! parser, and [`integrator_settings`] types the INTEGRATOR statement for both.
+//! parser, and [`integrator_settings`] and [`equilibrium_settings`] type the INTEGRATOR
+//! and EQUILIBRIUM statements for both.
 
 mod args;
 mod command_lines;
 pub mod commands;
 mod cursor;
 pub mod elements;
+pub mod equilibrium_settings;
 mod expected;
 pub mod expressions;
 pub mod frames;

@@ -171,12 +171,24 @@ pub fn setting(r: &mut Reader, a: &mut Args) {
 /// report. A second statement overrides what it writes, as a command would.
 pub fn integrator(r: &mut Reader, a: &mut Args) {
     let typed = super::integrator_settings::read_integrator(a);
-    r.model.integrator = Some(match r.model.integrator.take() {
+    let first = r.model.integrator.take();
+    r.model.integrator = Some(match first {
         Some(first) => {
             let mut m = first.merged(&typed);
-            m.warnings = first.warnings.into_iter().chain(typed.warnings).collect();
+            m.warnings = [first.warnings, typed.warnings].concat();
             m
         }
+        None => typed,
+    });
+    keep_setting(r, a);
+}
+
+/// EQUILIBRIUM: typed ([`super::equilibrium_settings`]), and kept as written for the
+/// report. A second statement overrides what it writes.
+pub fn equilibrium(r: &mut Reader, a: &mut Args) {
+    let typed = super::equilibrium_settings::read_equilibrium(a);
+    r.model.equilibrium = Some(match r.model.equilibrium.take() {
+        Some(first) => first.then(typed),
         None => typed,
     });
     keep_setting(r, a);

@@ -234,9 +234,8 @@ impl<'a> Reader<'a> {
             "ARRAY" => read_data::array(self, &mut a),
             "REQUEST" => read_data::request(self, &mut a),
             "INTEGRATOR" => read_data::integrator(self, &mut a),
-            "OUTPUT" | "RESULTS" | "EQUILIBRIUM" | "KINEMATICS" | "IC" => {
-                read_data::setting(self, &mut a)
-            }
+            "EQUILIBRIUM" => read_data::equilibrium(self, &mut a),
+            "OUTPUT" | "RESULTS" | "KINEMATICS" | "IC" => read_data::setting(self, &mut a),
             "END" => {}
             _ => {
                 if let Some(kind) = stmt.canonical {

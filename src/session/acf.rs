@@ -9,7 +9,8 @@ use super::files::read_dataset;
 use super::plan;
 use super::run::Segment;
 use crate::diag::{Code, Diagnostic, SourceFile};
-use crate::model::commands::{read_commands, CommandFile, Step};
+use crate::model::commands::{read_commands, Analysis, CommandFile, Step};
+use crate::model::equilibrium_settings::EquilibriumStatement;
 use crate::model::integrator_settings::IntegratorStatement;
 use std::path::{Path, PathBuf};
 
@@ -105,38 +106,48 @@ pub fn read(path: &Path) -> Result<Commands, Box<Refused>> {
 
 /// The message when neither the command file nor the caller says when to end.
 pub const NO_SIMULATION: &str =
-    "the command file has no SIMULATE/DYNAMIC command: give --end (and --output-step)";
+    "the command file has no SIMULATE command: give --end (and --output-step)";
 
-/// The segments of the run: the command file's SIMULATE commands under the INTEGRATOR in
-/// force at each (the dataset's, then the file's commands), or one segment to `end`
-/// when given (its output step `output_step`, else the first SIMULATE's, else END/100);
-/// `output_step` alone replaces every SIMULATE's. [`NO_SIMULATION`] when neither the
-/// file nor the caller says when to end.
+/// The segments of the run: the command file's SIMULATE commands under the INTEGRATOR
+/// and EQUILIBRIUM in force at each (the dataset's, then the file's commands), or, when
+/// `end` is given, the static equilibria the file asks for first and then one stretch
+/// to `end` of the analysis its first other SIMULATE runs (dynamics by default; its
+/// output step `output_step`, else that SIMULATE's, else END/100). `output_step` alone
+/// replaces every stretch's. [`NO_SIMULATION`] when neither the file nor the caller
+/// says when to end.
 pub fn segments(
     file: &CommandFile,
     dataset: Option<&IntegratorStatement>,
+    equilibrium: Option<&EquilibriumStatement>,
     end: Option<f64>,
     output_step: Option<f64>,
 ) -> Result<Vec<Segment>, String> {
-    let mut segments = plan::segments(dataset, &file.steps);
+    let mut segments = plan::segments(dataset, equilibrium, &file.steps);
     if let Some(end) = end {
-        // The INTEGRATOR in force at the first SIMULATE (or after every command).
-        let first = file
-            .steps
+        // The static equilibria before the first stretch stay; the stretch runs to `end`
+        // under the settings in force at the first SIMULATE that is not one of them.
+        let points = segments
             .iter()
-            .position(|s| matches!(s, Step::Simulate(_)))
-            .unwrap_or(file.steps.len());
-        let integrator = merged(dataset, &file.steps[..first]);
+            .take_while(|s| s.kind == Analysis::Statics && s.output_step == 0.0)
+            .count();
+        let first = segments.get(points).cloned();
+        let integrator = match &first {
+            Some(s) => s.integrator.clone(),
+            None => merged(dataset, &file.steps),
+        };
         let dt = output_step
-            .or(segments.first().map(|s| s.output_step))
+            .or(first.as_ref().map(|s| s.output_step))
             .unwrap_or(end / 100.0);
-        segments = vec![Segment {
+        segments.truncate(points);
+        segments.push(Segment {
             end,
             output_step: dt,
             integrator,
-        }];
+            kind: first.as_ref().map_or(Analysis::Dynamic, |s| s.kind),
+            equilibrium: first.and_then(|s| s.equilibrium),
+        });
     } else if let Some(dt) = output_step {
-        for s in &mut segments {
+        for s in segments.iter_mut().filter(|s| s.output_step > 0.0) {
             s.output_step = dt;
         }
     }
@@ -164,7 +175,7 @@ fn merged(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Option<Integ
         .fold(dataset.cloned(), |acc, s| match (acc, s) {
             (Some(a), Step::Integrator(s)) => Some(a.merged(s)),
             (None, Step::Integrator(s)) => Some((**s).clone()),
-            (acc, Step::Simulate(_)) => acc,
+            (acc, Step::Simulate(_) | Step::Equilibrium(_)) => acc,
         })
 }
 
@@ -191,12 +202,12 @@ mod tests {
         let f = read_commands(
             "m.adm\nout\nint/hht, err=1e-6\nsim/dyn, end=1, dtout=0.1\nsim/dyn, end=2, dtout=0.5\n",
         );
-        let s = segments(&f, None, None, None).expect("segments");
+        let s = segments(&f, None, None, None, None).expect("segments");
         assert_eq!(
             s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
             [(1.0, 0.1), (2.0, 0.5)]
         );
-        let s = segments(&f, None, Some(3.0), None).expect("segments");
+        let s = segments(&f, None, None, Some(3.0), None).expect("segments");
         assert_eq!(
             s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
             [(3.0, 0.1)]
@@ -207,11 +218,11 @@ mod tests {
             .and_then(|i| i.error.as_ref())
             .map(|e| e.value);
         assert_eq!(e, Some(1e-6));
-        let s = segments(&f, None, None, Some(0.05)).expect("segments");
+        let s = segments(&f, None, None, None, Some(0.05)).expect("segments");
         assert!(s.iter().all(|s| s.output_step == 0.05));
         let none = read_commands("m.adm\nout\nSTOP\n");
-        assert!(segments(&none, None, None, None).is_err());
-        let s = segments(&none, None, Some(2.0), None).expect("segments");
+        assert!(segments(&none, None, None, None, None).is_err());
+        let s = segments(&none, None, None, Some(2.0), None).expect("segments");
         assert_eq!(
             s.iter().map(|s| (s.end, s.output_step)).collect::<Vec<_>>(),
             [(2.0, 0.02)]

@@ -25,11 +25,13 @@
 //! questions, [`evaluate`] takes one expression from text to value (`mbfx eval` and the
 //! REPL), [`expression`] compiles one over named variables for evaluation at many points
 //! (the Python module and the C API), [`run`] simulates a dataset (`mbfx run`) and [`plan`] decides which integrator and
-//! settings each stretch of a run gets. [`request`] is the one call every shell runs a
+//! settings each stretch of a run gets; [`analyses`] runs the stretches that integrate
+//! nothing (static equilibria, kinematic analysis). [`request`] is the one call every shell runs a
 //! dataset with (a request in; the rows out as they come, then a result or a failure that
 //! keeps what it computed), reading command files with [`acf`].
 
 pub mod acf;
+pub mod analyses;
 pub mod evaluate;
 pub mod expression;
 pub mod files;

@@ -14,6 +14,7 @@ use crate::mbd::dynamics::dopri853::Dopri853;
 use crate::mbd::dynamics::integrator::{Integrator, Settings};
 use crate::mbd::dynamics::newmark::{self, Newmark};
 use crate::model::commands::Step;
+use crate::model::equilibrium_settings::EquilibriumStatement;
 use crate::model::integrator_settings::{
     Family, Formulation, IntegratorStatement, NEWMARK_BETA, NEWMARK_GAMMA,
 };
@@ -161,9 +162,15 @@ impl Plan {
 }
 
 /// The segments of a command file's `steps`: each SIMULATE runs under the dataset's
-/// INTEGRATOR statement with every INTEGRATOR command before it put over it.
-pub fn segments(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Vec<Segment> {
+/// INTEGRATOR and EQUILIBRIUM statements with every such command before it put over
+/// them.
+pub fn segments(
+    dataset: Option<&IntegratorStatement>,
+    equilibrium: Option<&EquilibriumStatement>,
+    steps: &[Step],
+) -> Vec<Segment> {
     let mut current = dataset.cloned();
+    let mut statics = equilibrium.cloned();
     let mut out = Vec::new();
     for step in steps {
         match step {
@@ -173,10 +180,18 @@ pub fn segments(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Vec<Se
                     None => (**s).clone(),
                 });
             }
+            Step::Equilibrium(s) => {
+                statics = Some(match statics {
+                    Some(c) => c.merged(s),
+                    None => (**s).clone(),
+                });
+            }
             Step::Simulate(sim) => out.push(Segment {
                 end: sim.end,
                 output_step: sim.output_step,
                 integrator: current.clone(),
+                kind: sim.kind,
+                equilibrium: statics.clone(),
             }),
         }
     }
@@ -322,7 +337,7 @@ mod tests {
             "m.adm\nout\nsim/dyn, end=1, dtout=0.1\nint/hht, err=1e-6\nsim/dyn, end=2, steps=5\n",
         );
         let dataset = statement("GSTIFF, HMAX = 1e-3");
-        let segs = segments(Some(&dataset), &f.steps);
+        let segs = segments(Some(&dataset), None, &f.steps);
         assert_eq!(segs.len(), 2);
         assert_eq!((segs[1].end, segs[1].output_step), (2.0, 0.2));
         let first = segs[0].integrator.as_ref().expect("the dataset's");

@@ -9,6 +9,7 @@ use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;
 use crate::mbd::redundancy::AnalysisError;
+use crate::mbd::statics::Failure as StaticFailure;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
 use crate::model::report::ReportSection;
@@ -248,6 +249,12 @@ pub fn code_of(e: &DynError) -> Code {
             Code::Integration
         }
         DynError::Interrupted { .. } => Code::Interrupted,
+        DynError::Statics(f) => match f.as_ref() {
+            StaticFailure::NoEquilibrium { .. } => Code::NoEquilibrium,
+            StaticFailure::Unstable { .. } => Code::Unstable,
+            StaticFailure::Limited { .. } => Code::StepLimit,
+        },
+        DynError::FreeDegrees { .. } => Code::FreeDegrees,
         DynError::Model(_)
         | DynError::Massless { .. }
         | DynError::Structure

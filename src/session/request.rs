@@ -120,6 +120,12 @@ pub struct RunRequest {
     /// Values set in the dataset before it is read (`--set KIND/ID.FIELD=VALUE`, see
     /// [`crate::model::overrides`]).
     pub set: Vec<String>,
+    /// Find the static equilibrium first (`--statics`, as SIMULATE/STATICS): the run
+    /// starts from it; without an end time it is the whole run.
+    pub statics: bool,
+    /// Solve a fully driven model from its constraints at each output time instead of
+    /// integrating (`--kinematics`, as SIMULATE/KINEMATICS).
+    pub kinematics: bool,
 }
 
 impl RunRequest {
@@ -147,6 +153,8 @@ impl RunRequest {
             engine: Engine::Jit,
             probes: Vec::new(),
             set: Vec::new(),
+            statics: false,
+            kinematics: false,
         }
     }
 
@@ -168,6 +176,11 @@ impl RunRequest {
     /// ρ∞ in [0, 1], KMAX from 1 to 6. The first one wrong is an E0503 error.
     pub fn validate(&self) -> Result<(), Diagnostic> {
         let error = |msg: String| Err(Diagnostic::error(Code::CommandLine, 0..0, msg));
+        if self.statics && self.kinematics {
+            return error(
+                "--statics and --kinematics exclude each other: a fully driven model has no equilibrium to find".into(),
+            );
+        }
         if let Some(end) = self.end {
             if !(end.is_finite() && end > 0.0) {
                 return error(format!("--end {end} must be a positive time"));
@@ -239,6 +252,31 @@ impl RunRequest {
         spec.dim = self.dim;
         spec.engine = self.engine;
         spec
+    }
+}
+
+/// The segments changed as `--statics` and `--kinematics` ask: an equilibrium first
+/// (unless the first segment is one), every stretch of dynamics made kinematic. Every
+/// segment without EQUILIBRIUM settings takes the dataset's `equilibrium`.
+fn asked_analyses(
+    request: &RunRequest,
+    segments: &mut Vec<Segment>,
+    equilibrium: Option<&crate::model::equilibrium_settings::EquilibriumStatement>,
+) {
+    use crate::model::commands::Analysis;
+    let point = |s: &Segment| s.kind == Analysis::Statics && s.output_step == 0.0;
+    if request.statics && !segments.first().is_some_and(point) {
+        let mut start = Segment::dynamic(0.0, 0.0, None);
+        start.kind = Analysis::Statics;
+        segments.insert(0, start);
+    }
+    for s in segments.iter_mut() {
+        if request.kinematics && s.kind == Analysis::Dynamic {
+            s.kind = Analysis::Kinematics;
+        }
+        if s.equilibrium.is_none() {
+            s.equilibrium = equilibrium.cloned();
+        }
     }
 }
 
@@ -473,12 +511,12 @@ pub fn run(
             }
             Err(refused) => return Err(RunFailed::new(refused.source, refused.diagnostics)),
         },
-        _ if request.end.is_none() => {
+        _ if request.end.is_none() && !request.statics => {
             return Err(RunFailed::command_line(Diagnostic::error(
                 Code::CommandLine,
                 0..0,
                 format!(
-                    "--end is required to run a dataset ({}); a command file (.acf) may give it instead",
+                    "--end is required to run a dataset ({}); a command file (.acf) may give it instead, and --statics alone needs none",
                     request.input_name()
                 ),
             )))
@@ -569,18 +607,24 @@ pub fn run(
             .warnings(warnings, &probe)
             .map_err(RunFailed::output)?;
     }
-    let segments = match &commands {
-        None => {
-            let end = request.end.unwrap_or_default();
-            vec![Segment {
+    let equilibrium = sim.read.model.equilibrium.clone();
+    if let Some(e) = equilibrium.as_ref().filter(|e| !e.warnings.is_empty()) {
+        observer
+            .warnings(&e.warnings, &source)
+            .map_err(RunFailed::output)?;
+    }
+    let mut segments = match &commands {
+        None => request.end.map_or_else(Vec::new, |end| {
+            vec![Segment::dynamic(
                 end,
-                output_step: request.output_step.unwrap_or(end / 100.0),
-                integrator: dataset_integrator,
-            }]
-        }
+                request.output_step.unwrap_or(end / 100.0),
+                dataset_integrator.clone(),
+            )]
+        }),
         Some(c) => acf::segments(
             &c.file,
             dataset_integrator.as_ref(),
+            equilibrium.as_ref(),
             request.end,
             request.output_step,
         )
@@ -589,6 +633,7 @@ pub fn run(
             RunFailed::new(copy(&c.source), vec![d])
         })?,
     };
+    asked_analyses(request, &mut segments, equilibrium.as_ref());
     let end = segments.last().map_or(0.0, |s| s.end);
     let started = Started {
         header: &header,
@@ -868,7 +913,7 @@ mod tests {
             ),
             (
                 |r| r.end = None,
-                "--end is required to run a dataset (pendulum.adm); a command file (.acf) may give it instead",
+                "--end is required to run a dataset (pendulum.adm); a command file (.acf) may give it instead, and --statics alone needs none",
             ),
             (
                 |r| r.probes.push(parse_probe("DX(20)")),

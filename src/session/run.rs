@@ -18,7 +18,9 @@ use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::FusedFn;
 use crate::mbd::rewind::StartState;
+use crate::model::commands::Analysis;
 use crate::model::elements::{Expr, RequestKind};
+use crate::model::equilibrium_settings::EquilibriumStatement;
 use crate::model::integrator_settings::{Formulation, IntegratorStatement};
 use crate::model::{read_model, ModelRead};
 use std::time::Instant;
@@ -50,9 +52,10 @@ pub enum Method {
     Dopri853,
 }
 
-/// One stretch of a run (a `SIMULATE/DYNAMIC` command of a command file): from where the
-/// last one stopped to `end`, a row every `output_step` from its start and one at `end`,
-/// under the INTEGRATOR statement `integrator` (None: Adams' defaults).
+/// One stretch of a run (a `SIMULATE` command of a command file): from where the last
+/// one stopped to `end`, a row every `output_step` from its start and one at `end`,
+/// under the INTEGRATOR statement `integrator` (None: Adams' defaults). A static
+/// stretch ending where it starts is one equilibrium.
 #[derive(Clone, Debug)]
 pub struct Segment {
     /// Where the stretch stops.
@@ -61,6 +64,23 @@ pub struct Segment {
     pub output_step: f64,
     /// The INTEGRATOR statement in force (None: Adams' defaults).
     pub integrator: Option<IntegratorStatement>,
+    /// Dynamics, statics or kinematics.
+    pub kind: Analysis,
+    /// The EQUILIBRIUM statement in force for a static stretch (None: Adams' defaults).
+    pub equilibrium: Option<EquilibriumStatement>,
+}
+
+impl Segment {
+    /// A stretch of dynamics to `end`, a row every `output_step`.
+    pub fn dynamic(end: f64, output_step: f64, integrator: Option<IntegratorStatement>) -> Segment {
+        Segment {
+            end,
+            output_step,
+            integrator,
+            kind: Analysis::Dynamic,
+            equilibrium: None,
+        }
+    }
 }
 
 /// One line of the step table `mbfx run --verbose` prints at each output time.
@@ -211,6 +231,8 @@ pub struct Summary {
     /// The run reused the simulation of an earlier run on this thread (nothing was read,
     /// built or compiled: [`super::prepared`]).
     pub reused: bool,
+    /// The static equilibria it found, in order.
+    pub equilibria: Vec<crate::mbd::statics::Report>,
 }
 
 impl Summary {
@@ -247,6 +269,7 @@ impl Summary {
                 e1 - e0
             );
         }
+        out += &equilibria_text(&s.equilibria);
         for n in &s.notes {
             out += &format!("note: {n}\n");
         }
@@ -254,6 +277,24 @@ impl Summary {
             out += &format!("warning: {w}\n");
         }
         out
+    }
+}
+
+/// The summary's lines about the equilibria: each in full when there are at most
+/// three; else their count, iterations and largest imbalance, and the last in full.
+fn equilibria_text(reports: &[crate::mbd::statics::Report]) -> String {
+    match reports {
+        [] => String::new(),
+        few if few.len() <= 3 => few.iter().map(|r| r.text()).collect(),
+        [.., last] => {
+            let iterations: usize = reports.iter().map(|r| r.iterations).sum();
+            let worst = reports.iter().map(|r| r.imbalance).fold(0.0, f64::max);
+            format!(
+                "{} static equilibria (quasi-static): {iterations} Newton iterations, largest imbalance {worst:.3e}; the last:\n{}",
+                reports.len(),
+                last.text()
+            )
+        }
     }
 }
 
@@ -574,6 +615,13 @@ impl Simulation {
 }
 
 impl Outputs {
+    /// The output row of a state solved already (an equilibrium, a kinematic solution):
+    /// its velocities, accelerations and multipliers are the solution's, not reconciled.
+    fn solved_row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
+        d.refresh_outputs()?;
+        self.fill_row(d)
+    }
+
     /// The output row at the state of `d`; `last` says it is the run's final row, which
     /// the summary's energy and residual read.
     fn row(&mut self, d: &mut Dynamics, last: bool) -> Result<Vec<f64>, DynError> {
@@ -590,6 +638,11 @@ impl Outputs {
             // Φ at this state, for the summary's largest constraint residual.
             d.eval_constraints(false)?;
         }
+        self.fill_row(d)
+    }
+
+    /// The columns at the state of `d` as it stands (evaluated for outputs).
+    fn fill_row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
         for &(s, slot) in &self.slots {
             self.measures[s as usize] = slot.value(d);
         }
@@ -628,11 +681,11 @@ impl Simulation {
         &mut self,
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
     ) -> (Summary, Option<DynError>) {
-        let segment = Segment {
-            end: self.spec.end,
-            output_step: self.spec.output_step,
-            integrator: self.read.model.integrator.clone(),
-        };
+        let segment = Segment::dynamic(
+            self.spec.end,
+            self.spec.output_step,
+            self.read.model.integrator.clone(),
+        );
         self.run_segments(&[segment], out, None)
     }
 
@@ -660,19 +713,31 @@ impl Simulation {
         interrupt: Option<Interrupt<'_>>,
     ) -> (Summary, Option<DynError>) {
         let clock = Instant::now();
-        let e0 = self.conservative.then(|| self.energy());
+        // Energy is watched over runs of dynamics alone (an equilibrium changes it).
+        let integrates_only = segments.iter().all(|s| s.kind == Analysis::Dynamic);
+        let e0 = (self.conservative && integrates_only).then(|| self.energy());
         let mut max_residual: f64 = 0.0;
-        let mut name = "hht";
+        let mut name = match segments.iter().find(|s| s.kind != Analysis::Dynamic) {
+            Some(s) if s.kind == Analysis::Kinematics => "kinematics",
+            Some(_) => "statics",
+            None => "hht",
+        };
         let mut error: f64 = 0.0;
         let mut notes = self.notes.clone();
+        let mut equilibria = Vec::new();
         let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
         let conservative = self.conservative;
         let mut kinetic_max: f64 = 0.0;
-        let mut emit = |d: &mut Dynamics, last: bool| -> Result<(), DynError> {
+        // A row of the integrated state (`Some(last)`: reconciled when the columns need
+        // it or it is a segment's last) or of a state solved already (None).
+        let mut emit = |d: &mut Dynamics, row: Option<bool>| -> Result<(), DynError> {
             if conservative {
                 kinetic_max = kinetic_max.max(kinetic(&d.sys));
             }
-            let row = outputs.row(d, last)?;
+            let row = match row {
+                Some(last) => outputs.row(d, last)?,
+                None => outputs.solved_row(d)?,
+            };
             max_residual = max_residual.max(residual(d));
             if let Some(table) = table.as_mut() {
                 table(&TableRow {
@@ -686,13 +751,44 @@ impl Simulation {
             }
             out(&row).map_err(|e| DynError::Output(e.to_string()))
         };
-        let mut result = dynamics
-            .solve_accelerations()
-            .and_then(|()| emit(dynamics, segments.is_empty()));
-        for seg in segments {
+        // The row at the start belongs to the first segment: the dynamics' consistent
+        // state, or the first equilibrium or kinematic solution.
+        let mut first_row = true;
+        let mut result = Ok(());
+        if segments.first().is_none_or(|s| s.kind == Analysis::Dynamic) {
+            result = dynamics
+                .solve_accelerations()
+                .and_then(|()| emit(dynamics, Some(segments.is_empty())));
+            first_row = false;
+        }
+        let mut after_solved = false;
+        for (k, seg) in segments.iter().enumerate() {
             if result.is_err() {
                 break;
             }
+            let last = k + 1 == segments.len();
+            if seg.kind != Analysis::Dynamic {
+                let mut solved_emit = |d: &mut Dynamics| emit(d, None);
+                result = super::analyses::run(
+                    dynamics,
+                    seg,
+                    (first_row, last),
+                    &mut solved_emit,
+                    &mut equilibria,
+                    interrupt,
+                );
+                (first_row, after_solved) = (false, true);
+                continue;
+            }
+            // From an equilibrium (velocities zero) or a kinematic state: velocities
+            // consistent with the constraints, then the accelerations.
+            if after_solved {
+                result = dynamics.reconcile();
+                if result.is_err() {
+                    break;
+                }
+            }
+            after_solved = false;
             let plan = Plan::new(seg.integrator.as_ref(), &self.spec, seg.output_step);
             let (mut integrator, note) = plan.integrator();
             name = integrator.name();
@@ -703,7 +799,7 @@ impl Simulation {
             let (t0, dt, end) = (dynamics.sys.time, seg.output_step, seg.end);
             let times = OutputTimes::new(t0, dt, end);
             // Each segment's last row reconciles: the next segment starts from it.
-            let mut segment_emit = |d: &mut Dynamics| emit(d, d.sys.time >= end);
+            let mut segment_emit = |d: &mut Dynamics| emit(d, Some(d.sys.time >= end));
             result = simulate(
                 dynamics,
                 integrator.as_mut(),
@@ -719,6 +815,7 @@ impl Simulation {
         let result = result.map_err(|e| self.diagnose_lock_up(e));
         let summary = Summary {
             integrator: name,
+            equilibria,
             stats: self.dynamics.stats,
             cpu_seconds: clock.elapsed().as_secs_f64(),
             max_residual,

@@ -381,9 +381,7 @@ pub fn simulate(
                         (d.stats.worst_error, d.stats.worst_error_time) = (watched, end);
                     }
                     d.check_dropped(drift_tol)?;
-                    let mut measures = std::mem::take(&mut d.sys.measures);
-                    measures.commit(&d.sys);
-                    d.sys.measures = measures;
+                    d.commit_measures();
                     if s.fixed_step.is_none() {
                         let most = integrator.max_growth();
                         let grow = if let Some(f) = integrator.step_factor() {

@@ -182,6 +182,16 @@ pub enum DynError {
         /// Simulation time of the last accepted step.
         time: f64,
     },
+    /// No static equilibrium came out ([`super::statics`]).
+    Statics(Box<super::statics::Failure>),
+    /// A kinematic analysis asked of a model with degrees of freedom left
+    /// ([`super::kinematics`]): how many, and each named.
+    FreeDegrees {
+        /// The degrees of freedom.
+        count: usize,
+        /// Each one, named.
+        free: Vec<super::freedom::Freedom>,
+    },
 }
 
 /// Why the Newton matrix is singular.
@@ -226,7 +236,9 @@ impl DynError {
             | DynError::StepTooSmall { time, .. }
             | DynError::DroppedViolated { time, .. }
             | DynError::Interrupted { time } => Some(*time),
+            DynError::Statics(f) => Some(f.time()),
             DynError::Model(_)
+            | DynError::FreeDegrees { .. }
             | DynError::Massless { .. }
             | DynError::Structure
             | DynError::Output(_) => None,
@@ -239,6 +251,8 @@ impl DynError {
             DynError::Singular { culprit, .. }
             | DynError::Newton { culprit, .. }
             | DynError::StepTooSmall { culprit, .. } => culprit.clone(),
+            DynError::Statics(f) => f.culprit(),
+            DynError::FreeDegrees { free, .. } => free.iter().find_map(|f| f.culprit.clone()),
             _ => self.element().cloned().map(Culprit::Element),
         }
     }
@@ -266,6 +280,17 @@ impl DynError {
             | DynError::Model(MbdError::Floating(e, _))
             | DynError::Model(MbdError::SolutionLoop { element: e, .. }) => Some(e),
             DynError::Model(MbdError::ForceCycle(circle)) => circle.first(),
+            DynError::Statics(f) => match f.as_ref() {
+                super::statics::Failure::Unstable { freedom, .. } => match &freedom.culprit {
+                    Some(Culprit::Element(e)) => Some(e),
+                    _ => None,
+                },
+                _ => None,
+            },
+            DynError::FreeDegrees { free, .. } => free.iter().find_map(|f| match &f.culprit {
+                Some(Culprit::Element(e)) => Some(e),
+                _ => None,
+            }),
             _ => None,
         }
     }
@@ -341,6 +366,15 @@ impl fmt::Display for DynError {
             DynError::Structure => f.write_str("the Newton matrix has no valid structure"),
             DynError::Output(why) => write!(f, "the output could not be written: {why}"),
             DynError::Interrupted { time } => write!(f, "at time {time}: the run was interrupted"),
+            DynError::Statics(failure) => write!(f, "{failure}"),
+            DynError::FreeDegrees { count, free } => {
+                write!(
+                    f,
+                    "a kinematic analysis needs a model without degrees of freedom, and this one has {count}: "
+                )?;
+                let named: Vec<String> = free.iter().map(|x| x.to_string()).collect();
+                write!(f, "{} (drive each with a MOTION, or run SIMULATE/DYNAMIC)", named.join("; "))
+            }
         }
     }
 }
@@ -622,6 +656,20 @@ impl Dynamics {
         }
         d.check_massless()?;
         Ok(d)
+    }
+
+    /// Moves the measures' unwrapping references (angles past ±π) to the current state,
+    /// an accepted one: a step, an equilibrium, a kinematic solution.
+    pub fn commit_measures(&mut self) {
+        let mut measures = std::mem::take(&mut self.sys.measures);
+        measures.commit(&self.sys);
+        self.sys.measures = measures;
+    }
+
+    /// Kept row `r`'s primitive joint equation, resolved to its parts (None for a
+    /// MOTION, GCON or other measured row).
+    pub(crate) fn primitive(&self, r: usize) -> Option<Primitive> {
+        self.prims[r].map(|(p, _)| p)
     }
 
     /// The LU solvers, for a new dynamics of the same system

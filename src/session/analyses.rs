@@ -1,0 +1,101 @@
+//! The stretches of a run that integrate nothing (SIMULATE/STATICS and
+//! SIMULATE/KINEMATICS): each solves the state at its output times and hands it to the
+//! run's row writer. A static stretch without an end is one equilibrium where the run
+//! stands (`mbd::statics`); with one, a quasi-static sequence, the equilibrium at each
+//! output time under the forces and motions of that time, each from the last. A
+//! kinematic stretch refuses a model with degrees of freedom left, then solves
+//! positions, velocities, accelerations and reactions from the constraints at each
+//! output time (`mbd::kinematics`). The stretch's first row, at its start, is written
+//! only when the run has written none yet (`first_row`): rows never repeat a time.
+
+use super::run::Segment;
+use crate::mbd::dynamics::integrator::Interrupt;
+use crate::mbd::dynamics::integrator::OutputTimes;
+use crate::mbd::dynamics::{DynError, Dynamics};
+use crate::mbd::kinematics;
+use crate::mbd::statics::{self, Report};
+use crate::model::commands::Analysis;
+
+/// Writes the row of a solved state.
+pub type Emit<'a> = dyn FnMut(&mut Dynamics) -> Result<(), DynError> + 'a;
+
+/// Runs segment `seg` (static or kinematic) on `d`; `first_row` says the run has
+/// written no row yet, `last` that it is the run's last segment.
+pub fn run(
+    d: &mut Dynamics,
+    seg: &Segment,
+    (first_row, last): (bool, bool),
+    emit: &mut Emit<'_>,
+    reports: &mut Vec<Report>,
+    interrupt: Option<Interrupt<'_>>,
+) -> Result<(), DynError> {
+    match seg.kind {
+        Analysis::Kinematics => kinematics(d, seg, first_row, emit, interrupt),
+        _ => statics(d, seg, first_row, last, emit, reports, interrupt),
+    }
+}
+
+/// Runs static segment `seg` on `d`, its equilibria's reports into `reports`; `last`
+/// says it is the run's last segment (a lone equilibrium then writes its row even
+/// after other rows).
+pub fn statics(
+    d: &mut Dynamics,
+    seg: &Segment,
+    first_row: bool,
+    last: bool,
+    emit: &mut Emit<'_>,
+    reports: &mut Vec<Report>,
+    interrupt: Option<Interrupt<'_>>,
+) -> Result<(), DynError> {
+    let settings = seg
+        .equilibrium
+        .as_ref()
+        .map_or_else(statics::Settings::default, |e| e.settings());
+    if seg.output_step == 0.0 {
+        reports.push(statics::equilibrium(d, &settings)?);
+        return match first_row || last {
+            true => emit(d),
+            false => Ok(()),
+        };
+    }
+    if first_row {
+        reports.push(statics::equilibrium(d, &settings)?);
+        emit(d)?;
+    }
+    for t in OutputTimes::new(d.sys.time, seg.output_step, seg.end).iter() {
+        stop_if_asked(d, interrupt)?;
+        d.sys.time = t;
+        reports.push(statics::equilibrium(d, &settings)?);
+        emit(d)?;
+    }
+    Ok(())
+}
+
+/// Runs kinematic segment `seg` on `d`: refused when `d` has degrees of freedom left.
+pub fn kinematics(
+    d: &mut Dynamics,
+    seg: &Segment,
+    first_row: bool,
+    emit: &mut Emit<'_>,
+    interrupt: Option<Interrupt<'_>>,
+) -> Result<(), DynError> {
+    kinematics::check_driven(d)?;
+    let t0 = d.sys.time;
+    if first_row {
+        kinematics::solve_at(d, t0)?;
+        emit(d)?;
+    }
+    for t in OutputTimes::new(t0, seg.output_step, seg.end).iter() {
+        stop_if_asked(d, interrupt)?;
+        kinematics::solve_at(d, t)?;
+        emit(d)?;
+    }
+    Ok(())
+}
+
+fn stop_if_asked(d: &Dynamics, interrupt: Option<Interrupt<'_>>) -> Result<(), DynError> {
+    match interrupt.is_some_and(|stop| stop()) {
+        true => Err(DynError::Interrupted { time: d.sys.time }),
+        false => Ok(()),
+    }
+}

@@ -1,0 +1,118 @@
+//! Kinematic analysis (issue 26 §2): the driven slider-crank scene
+//! (`examples/scenes/slider_crank_driven.adm`, no degree of freedom) solved from its
+//! constraints alone at each output time, against its closed form (the slider's
+//! position, velocity and acceleration written out here; the drive torque from the
+//! scene's truth file, made by mpmath from the energy balance), and a model with a
+//! degree of freedom refused, naming it.
+
+use mbfx::session::request::{run, RunDone, RunFailed, RunRequest};
+use std::f64::consts::PI;
+use std::path::PathBuf;
+
+fn scene() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/slider_crank_driven.adm")
+}
+
+fn rows_of(r: &RunRequest) -> Result<(Vec<Vec<f64>>, RunDone), Box<RunFailed>> {
+    let mut rows = Vec::new();
+    let mut sink = |row: &[f64]| -> std::io::Result<()> {
+        rows.push(row.to_vec());
+        Ok(())
+    };
+    let done = run(r, &mut sink, None)?;
+    Ok((rows, done))
+}
+
+/// The scene's truth: (time, torque, slider x) at its [[at]] rows.
+fn truth() -> Vec<(f64, f64, f64)> {
+    let text = std::fs::read_to_string(scene().with_extension("toml")).expect("truth file");
+    let t: toml::Table = text.parse().expect("toml");
+    let rows = t["at"].as_array().expect("[[at]]");
+    rows.iter()
+        .map(|r| {
+            let f = |k: &str| r[k].as_float().expect("a number");
+            (f("time"), f("torque"), f("slider_x"))
+        })
+        .collect()
+}
+
+#[test]
+fn the_driven_slider_crank_is_exact_to_rounding() {
+    // θ = ω t, ω = 2π; x = r cos θ + √(l² − r² sin² θ) = r cos θ + s, and its time
+    // derivatives: ẋ = −r ω sin θ − r² ω sin θ cos θ / s,
+    // ẍ = −r ω² cos θ − r² ω² (cos 2θ / s + r² sin² 2θ / (4 s³)).
+    let (r, l, w) = (0.1f64, 0.4f64, 2.0 * PI);
+    let exact = |t: f64| {
+        let th = w * t;
+        let s = (l * l - (r * th.sin()).powi(2)).sqrt();
+        let x = r * th.cos() + s;
+        let v = -r * w * th.sin() - r * r * w * th.sin() * th.cos() / s;
+        let a = -r * w * w * th.cos()
+            - r * r
+                * w
+                * w
+                * ((2.0 * th).cos() / s + r * r * (2.0 * th).sin().powi(2) / (4.0 * s.powi(3)));
+        (x, v, a)
+    };
+    let mut req = RunRequest::file(scene());
+    (req.end, req.output_step, req.kinematics) = (Some(2.0), Some(0.01), true);
+    req.probes = [
+        "x=DX(401)",
+        "v=VX(401)",
+        "a=ACCX(401)",
+        "torque=MOTION(1, 0, 8, 0)",
+    ]
+    .iter()
+    .map(|p| mbfx::session::request::parse_probe(p))
+    .collect();
+    let (rows, done) = rows_of(&req).expect("kinematics");
+    assert_eq!(rows.len(), 201);
+    assert_eq!(done.summary.integrator, "kinematics");
+    let (mut ex, mut ev, mut ea) = (0.0f64, 0.0f64, 0.0f64);
+    for row in &rows {
+        let (x, v, a) = exact(row[0]);
+        ex = ex.max((row[1] - x).abs());
+        ev = ev.max((row[2] - v).abs());
+        ea = ea.max((row[3] - a).abs());
+    }
+    eprintln!("kinematics: |x| error {ex:e} m, |v| {ev:e} m/s, |a| {ea:e} m/s²");
+    // Rounding: positions to a few ulps of 0.5 m, velocities and accelerations to a few
+    // ulps of their scale (|v| ≤ 0.8 m/s, |a| ≤ 5 m/s²).
+    assert!(ex < 2e-15, "x off by {ex:e}");
+    assert!(ev < 1e-14, "v off by {ev:e}");
+    assert!(ea < 1e-13, "a off by {ea:e}");
+    let mut et = 0.0f64;
+    for (t, torque, x) in truth() {
+        let row = rows
+            .iter()
+            .find(|r| (r[0] - t).abs() < 1e-12)
+            .expect("a row at the truth's time");
+        assert!((row[1] - x).abs() < 2e-15, "t = {t}: x {} vs {x}", row[1]);
+        et = et.max((row[4] - torque).abs());
+    }
+    eprintln!("kinematics: drive torque within {et:e} N·m of the truth");
+    assert!(et < 1e-12, "torque off by {et:e}");
+}
+
+#[test]
+fn a_model_with_a_degree_of_freedom_is_refused_naming_it() {
+    // The scene without its drive: the crank turns freely.
+    let text = std::fs::read_to_string(scene())
+        .expect("scene")
+        .replace("MOTION/1, JOINT = 1, ROTATION, FUNCTION = 2*PI*TIME", "");
+    let mut req = RunRequest::dataset("free.adm", text);
+    (req.end, req.kinematics) = (Some(1.0), true);
+    let f = refused(rows_of(&req));
+    assert_eq!(f.code.as_str(), "E0808", "{}", f.cause);
+    assert!(f.cause.contains("this one has 1"), "{}", f.cause);
+    assert!(f.cause.contains("leaves free"), "{}", f.cause);
+    assert!(f.cause.contains("JOINT/"), "{}", f.cause);
+}
+
+/// The failure of a run expected to fail.
+fn refused<T>(r: Result<T, Box<RunFailed>>) -> Box<RunFailed> {
+    match r {
+        Ok(_) => panic!("the run was expected to fail"),
+        Err(f) => f,
+    }
+}
