@@ -128,6 +128,10 @@ def test_ctrl_c_stops_a_run_within_a_tenth_of_a_second_with_the_rows_so_far():
         os.kill(os.getpid(), signal.SIGINT)
 
     timer = threading.Timer(0.5, interrupt)
+    # Python turns SIGINT into KeyboardInterrupt only when it did not inherit the signal
+    # ignored, which a test runner started in the background by a shell without job
+    # control does inherit: install the standard handler for this test.
+    inherited = signal.signal(signal.SIGINT, signal.default_int_handler)
     started = time.perf_counter()
     timer.start()
     try:
@@ -137,6 +141,7 @@ def test_ctrl_c_stops_a_run_within_a_tenth_of_a_second_with_the_rows_so_far():
         stopped = time.perf_counter()
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, inherited)
     assert sent, "the timer did not fire"
     latency = stopped - sent[0]
     assert latency < 0.1, f"KeyboardInterrupt {latency:.3f} s after SIGINT"
