@@ -10,6 +10,10 @@ mod common;
 #[path = "cli/acf.rs"]
 mod acf;
 
+/// `mbfx run --linear` and LINEAR commands.
+#[path = "cli/linear.rs"]
+mod linear;
+
 /// `mbfx run --set`.
 #[path = "cli/set.rs"]
 mod set;

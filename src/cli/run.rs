@@ -147,6 +147,11 @@ pub struct RunArgs {
     /// time instead of integrating (SIMULATE/KINEMATICS).
     #[arg(long)]
     kinematics: bool,
+    /// Linearize where the run ends (LINEAR/EIGENSOL) and print the modes: frequencies,
+    /// damping ratios, eigenvalues. With =FILE, also write FILE_modes.csv and
+    /// FILE_shapes.csv. Without --end, at the start (after --statics: at equilibrium).
+    #[arg(long, value_name = "FILE", num_args = 0..=1, require_equals = true)]
+    linear: Option<Option<String>>,
 }
 
 impl RunArgs {
@@ -177,6 +182,10 @@ impl RunArgs {
         r.probes = self.probes.iter().map(|p| parse_probe(p)).collect();
         r.set.clone_from(&self.set);
         (r.statics, r.kinematics) = (self.statics, self.kinematics);
+        r.linear = self
+            .linear
+            .clone()
+            .map(crate::model::linear_command::Linear::eigensol);
         r
     }
 }

@@ -85,9 +85,22 @@ pub fn null_space(d: &Dynamics) -> DMat {
 /// moves one coordinate the others leave still (Gauss–Jordan with full pivoting), the
 /// directions named one per coordinate.
 pub fn describe_all(d: &Dynamics, basis: &DMat) -> Vec<Freedom> {
+    let (b, _) = independent(basis);
+    (0..b.ncols())
+        .map(|k| describe(d, &b.column(k).into_owned()))
+        .collect()
+}
+
+/// The basis `basis` (n × k, columns) recombined by Gauss–Jordan with full pivoting so
+/// that direction j moves coordinate `coords[j]` by 1 and the other chosen coordinates
+/// not at all: the chosen coordinates are independent ones, the rest follow them. The
+/// pivots are the largest entries left, so the recombination is as well conditioned as
+/// the basis allows. Returns the recombined basis and the chosen coordinates.
+pub fn independent(basis: &DMat) -> (DMat, Vec<usize>) {
     let mut b = basis.transpose();
     let k = b.nrows();
     let mut used = vec![false; b.ncols()];
+    let mut coords = Vec::with_capacity(k);
     for row in 0..k {
         // The largest remaining entry of rows row.. picks the pivot row and coordinate.
         let mut best = (row, 0, 0.0f64);
@@ -104,6 +117,7 @@ pub fn describe_all(d: &Dynamics, basis: &DMat) -> Vec<Freedom> {
         }
         b.swap_rows(row, r);
         used[c] = true;
+        coords.push(c);
         let p = b[(row, c)];
         let pivot = b.row(row) / p;
         b.set_row(row, &pivot);
@@ -116,28 +130,31 @@ pub fn describe_all(d: &Dynamics, basis: &DMat) -> Vec<Freedom> {
             }
         }
     }
-    (0..k).map(|r| describe(d, &b.row(r).transpose())).collect()
+    (b.transpose(), coords)
+}
+
+/// The part whose block holds column `col` of the velocity layout.
+pub fn column_part(d: &Dynamics, col: usize) -> Option<PartHandle> {
+    let index = col / d.sys.dim.cols();
+    d.sys
+        .parts
+        .iter()
+        .position(|p| p.index == Some(index))
+        .map(|h| PartHandle(h as u32))
 }
 
 /// Names the direction `s` (scaled coordinates): its largest coordinate, and the
 /// constraint element on that coordinate's part whose markers it moves apart most.
 pub fn describe(d: &Dynamics, s: &DVec) -> Freedom {
-    let bs = d.sys.dim.cols();
     let col = s.iamax();
-    let index = col / bs;
-    let part = d
-        .sys
-        .parts
-        .iter()
-        .position(|p| p.index == Some(index))
-        .map(|h| PartHandle(h as u32));
+    let part = column_part(d, col);
     let Some(part) = part else {
         return Freedom {
             coordinate: format!("column {col}"),
             culprit: None,
         };
     };
-    let coordinate = format!("{} {}", part_name(d, part), component_name(d, col % bs));
+    let coordinate = coordinate_name(d, part, col);
     // δq per part: (δr, δθ) in global axes.
     let dq: DVec = DVec::from_iterator(d.n, (0..d.n).map(|c| s[c] * column_scale(d, c)));
     let motion = |h: PartHandle| -> (Vec3, Vec3) {
@@ -203,6 +220,12 @@ pub fn part_name(d: &Dynamics, h: PartHandle) -> String {
         .part(h)
         .id
         .map_or(format!("part {}", h.0), |id| format!("PART/{id}"))
+}
+
+/// Column `col` of the velocity layout, on part `part`, named: `PART/3 rotation about z`.
+pub fn coordinate_name(d: &Dynamics, part: PartHandle, col: usize) -> String {
+    let c = col % d.sys.dim.cols();
+    format!("{} {}", part_name(d, part), component_name(d, c))
 }
 
 /// What column `c` of a part's block (velocity layout) moves: `x translation`,

@@ -46,6 +46,7 @@ pub mod freedom;
 pub mod fused_rows;
 pub mod inertia;
 pub mod kinematics;
+pub mod linear;
 pub mod measures;
 mod normal;
 pub mod planar;

@@ -13,9 +13,11 @@
 //!   `SIMULATE/KINEMATICS` with the same arguments: a fully driven model solved from its
 //!   constraints at each output time; `SIMULATE/STATICS`: one static equilibrium where
 //!   the run stands, or with END and STEPS (DTOUT) a quasi-static sequence of them;
+//! - `LINEAR/EIGENSOL` and `LINEAR/STATEMAT` ([`super::linear_command`]): the modes or
+//!   the state matrix where the run stands;
 //! - commands that only set what mbfx does not have (OUTPUT, IC, KINEMATICS, …) are
 //!   warnings; commands that change the model during the run (DEACTIVATE, VARIABLE, …) or
-//!   run an analysis mbfx does not have (SIMULATE/INITIAL_CONDITIONS, LINEAR) are `E0610`
+//!   run an analysis mbfx does not have (SIMULATE/INITIAL_CONDITIONS) are `E0610`
 //!   errors at the command, so such a file does not run at all.
 //!
 //! Every malformed line is a diagnostic at its place; the reader never stops at the first.
@@ -25,6 +27,7 @@ use super::cursor::Cursor;
 use super::equilibrium_settings::{read_equilibrium, EquilibriumStatement};
 use super::integrator_settings::{read_integrator, Given, IntegratorStatement};
 use super::keywords::Keyword;
+use super::linear_command::{read_linear, Linear};
 use super::lines::Piece;
 use super::statement::{read_id, ItemKind, Statement};
 use super::stmt_args::Args;
@@ -39,6 +42,8 @@ pub enum Step {
     Equilibrium(Box<EquilibriumStatement>),
     /// A SIMULATE command.
     Simulate(Simulate),
+    /// A LINEAR command: the modes or the state matrix where the run stands.
+    Linear(Box<Linear>),
 }
 
 /// What a SIMULATE command runs.
@@ -51,6 +56,8 @@ pub enum Analysis {
     Statics,
     /// KINEMATICS: a fully driven model solved from its constraints at each output time.
     Kinematics,
+    /// LINEAR: the modes or the state matrix where the run stands (no time passes).
+    Linear,
 }
 
 /// `SIMULATE/kind`: from where the last one stopped to `end`, a row every
@@ -91,7 +98,7 @@ impl CommandFile {
     pub fn simulations(&self) -> impl Iterator<Item = &Simulate> {
         self.steps.iter().filter_map(|s| match s {
             Step::Simulate(s) => Some(s),
-            Step::Integrator(_) | Step::Equilibrium(_) => None,
+            Step::Integrator(_) | Step::Equilibrium(_) | Step::Linear(_) => None,
         })
     }
 }
@@ -103,6 +110,7 @@ enum Kind {
     Integrator,
     Equilibrium,
     Simulate,
+    Linear,
     Stop,
     /// Sets something the run does not use: a warning saying why.
     Ignored(&'static str),
@@ -152,12 +160,7 @@ const COMMANDS: &[(&str, Kind)] = &[
         "KINEMATICS",
         Kind::Ignored("it sets Adams' kinematic tolerances; mbfx solves positions to rounding"),
     ),
-    (
-        "LINEAR",
-        Kind::Refused(
-            "runs a linear (eigenvalue or state-matrix) analysis, which mbfx does not have",
-        ),
-    ),
+    ("LINEAR", Kind::Linear),
     (
         "LSOLVER",
         Kind::Ignored("mbfx chooses its own linear solver"),
@@ -388,6 +391,11 @@ impl Reader {
                 self.file.steps.push(Step::Equilibrium(Box::new(s)));
             }
             Kind::Simulate => self.simulate(&mut a),
+            Kind::Linear => {
+                if let Some(l) = read_linear(&mut a) {
+                    self.file.steps.push(Step::Linear(Box::new(l)));
+                }
+            }
             Kind::Ignored(why) => {
                 for arg in &stmt.args {
                     a.find(&arg.name, arg.name.len());
@@ -652,7 +660,8 @@ mod tests {
         for (text, what, bad) in [
             ("m.adm\nout\nSIMULATE/INITIAL_CONDITIONS\nSTOP\n", "initial-conditions", "SIMULATE/INITIAL_CONDITIONS"),
             ("m.adm\nout\nDEACTIVATE/JOINT, ID=12\n", "DEACTIVATE changes the model", "DEACTIVATE/JOINT, ID=12"),
-            ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 1, 25\n", "linear", "LINEAR/EIGENSOL, COORDS = 1, 25"),
+            ("m.adm\nout\nLINEAR/STATEMAT, FILE = lin, PINPUT = 1\n", "plant inputs", "PINPUT = 1"),
+            ("m.adm\nout\nLINEAR/STATEMAT, FILE = lin, FORMAT = MATRIXX\n", "MATLAB format", "MATRIXX"),
             ("m.adm\nout\nVARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)\n", "VARIABLE changes", "VARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)"),
             ("\nfile/command=other.acf\n", "another command file", "command=other.acf"),
         ] {
@@ -669,6 +678,25 @@ mod tests {
     }
 
     #[test]
+    fn linear_commands_read_their_arguments() {
+        // old-NWTC__FAST Test14_ADAMS_LIN.acf's command, then a state matrix.
+        let f = read_commands(
+            "m.adm\nout\nSIMULATE/STATICS\nLINEAR/EIGENSOL, COORDS = 1, 25\nLIN/STATEMAT, FILE = out/plant, FORMAT = MATLAB, NODAMPIN, NOVECTOR\nSTOP\n",
+        );
+        assert!(errors(&f).is_empty(), "{:?}", f.diagnostics);
+        let [Step::Simulate(_), Step::Linear(eig), Step::Linear(mat)] = f.steps.as_slice() else {
+            panic!("{:?}", f.steps)
+        };
+        assert!(!eig.statemat && eig.vectors && eig.damping && eig.file.is_none());
+        assert_eq!(eig.coords, Some((1, 25)));
+        assert!(mat.statemat && !mat.vectors && !mat.damping && mat.coords.is_none());
+        assert_eq!(
+            mat.file.as_ref().map(|f| f.value.as_str()),
+            Some("out/plant")
+        );
+    }
+
+    #[test]
     fn malformed_lines_are_errors_at_their_place() {
         for (text, bad, code) in [
             ("m.adm\nout\nSIMULATE/DYNAMIC, END = 0, DTOUT = 0.1\n", "0", Code::BadArgument),
@@ -681,6 +709,10 @@ mod tests {
             ("m.adm\nout\nSIMULATE DYNAMIC\n", "D", Code::Statement),
             ("m.adm\nout\nINTEGRATOR/HHT, ALPHA = 0.5\n", "0.5", Code::BadArgument),
             ("m.adm\nout\nSIMULATE/DYNAMIC, END = 1, DTOUT = x\n", "x", Code::BadArgument),
+            ("m.adm\nout\nLINEAR/STATEMAT\n", "LINEAR", Code::MissingArgument),
+            ("m.adm\nout\nLINEAR/COORDS = 1\n", "LINEAR", Code::MissingArgument),
+            ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 3, 1\n", "COORDS = 3, 1", Code::BadArgument),
+            ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 0\n", "COORDS = 0", Code::BadArgument),
         ] {
             let f = read_commands(text);
             let e = f

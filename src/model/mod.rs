@@ -26,6 +26,7 @@ pub mod frames;
 mod inertia;
 pub mod integrator_settings;
 pub mod keywords;
+pub mod linear_command;
 mod lines;
 mod motion_time;
 pub mod overrides;

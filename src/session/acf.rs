@@ -145,6 +145,7 @@ pub fn segments(
             integrator,
             kind: first.as_ref().map_or(Analysis::Dynamic, |s| s.kind),
             equilibrium: first.and_then(|s| s.equilibrium),
+            linear: None,
         });
     } else if let Some(dt) = output_step {
         for s in segments.iter_mut().filter(|s| s.output_step > 0.0) {
@@ -175,7 +176,7 @@ fn merged(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Option<Integ
         .fold(dataset.cloned(), |acc, s| match (acc, s) {
             (Some(a), Step::Integrator(s)) => Some(a.merged(s)),
             (None, Step::Integrator(s)) => Some((**s).clone()),
-            (acc, Step::Simulate(_) | Step::Equilibrium(_)) => acc,
+            (acc, Step::Simulate(_) | Step::Equilibrium(_) | Step::Linear(_)) => acc,
         })
 }
 

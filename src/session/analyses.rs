@@ -1,6 +1,7 @@
-//! The stretches of a run that integrate nothing (SIMULATE/STATICS and
-//! SIMULATE/KINEMATICS): each solves the state at its output times and hands it to the
-//! run's row writer. A static stretch without an end is one equilibrium where the run
+//! The stretches of a run that integrate nothing (SIMULATE/STATICS,
+//! SIMULATE/KINEMATICS and LINEAR): each solves the state at its output times and hands
+//! it to the run's row writer; a linear analysis moves nothing and writes its own files
+//! ([`super::linear`]). A static stretch without an end is one equilibrium where the run
 //! stands (`mbd::statics`); with one, a quasi-static sequence, the equilibrium at each
 //! output time under the forces and motions of that time, each from the last. A
 //! kinematic stretch refuses a model with degrees of freedom left, then solves
@@ -8,6 +9,7 @@
 //! output time (`mbd::kinematics`). The stretch's first row, at its start, is written
 //! only when the run has written none yet (`first_row`): rows never repeat a time.
 
+use super::linear::{self, LinearReport};
 use super::run::Segment;
 use crate::mbd::dynamics::integrator::Interrupt;
 use crate::mbd::dynamics::integrator::OutputTimes;
@@ -19,18 +21,30 @@ use crate::model::commands::Analysis;
 /// Writes the row of a solved state.
 pub type Emit<'a> = dyn FnMut(&mut Dynamics) -> Result<(), DynError> + 'a;
 
-/// Runs segment `seg` (static or kinematic) on `d`; `first_row` says the run has
-/// written no row yet, `last` that it is the run's last segment.
+/// What the analyses found: the equilibria's reports and the linear analyses'.
+pub type Found<'a> = (&'a mut Vec<Report>, &'a mut Vec<LinearReport>);
+
+/// Runs segment `seg` (static, kinematic or linear) on `d`; `first_row` says the run
+/// has written no row yet, `last` that it is the run's last segment.
 pub fn run(
     d: &mut Dynamics,
     seg: &Segment,
     (first_row, last): (bool, bool),
     emit: &mut Emit<'_>,
-    reports: &mut Vec<Report>,
+    (reports, linear): Found<'_>,
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), DynError> {
-    match seg.kind {
-        Analysis::Kinematics => kinematics(d, seg, first_row, emit, interrupt),
+    match (seg.kind, &seg.linear) {
+        (Analysis::Kinematics, _) => kinematics(d, seg, first_row, emit, interrupt),
+        (Analysis::Linear, Some(command)) => {
+            // A run that is only a linear analysis writes the state it stands at.
+            if first_row {
+                d.solve_accelerations()?;
+                emit(d)?;
+            }
+            linear.push(linear::analyse(d, command)?);
+            Ok(())
+        }
         _ => statics(d, seg, first_row, last, emit, reports, interrupt),
     }
 }

@@ -36,6 +36,7 @@ pub mod evaluate;
 pub mod expression;
 pub mod files;
 pub mod lifted;
+pub mod linear;
 pub mod loaded;
 pub mod plan;
 pub mod prepared;

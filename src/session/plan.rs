@@ -171,7 +171,7 @@ pub fn segments(
 ) -> Vec<Segment> {
     let mut current = dataset.cloned();
     let mut statics = equilibrium.cloned();
-    let mut out = Vec::new();
+    let mut out: Vec<Segment> = Vec::new();
     for step in steps {
         match step {
             Step::Integrator(s) => {
@@ -192,7 +192,12 @@ pub fn segments(
                 integrator: current.clone(),
                 kind: sim.kind,
                 equilibrium: statics.clone(),
+                linear: None,
             }),
+            Step::Linear(l) => {
+                let at = out.last().map_or(0.0, |s| s.end);
+                out.push(Segment::linear(at, (**l).clone()));
+            }
         }
     }
     out

@@ -126,6 +126,10 @@ pub struct RunRequest {
     /// Solve a fully driven model from its constraints at each output time instead of
     /// integrating (`--kinematics`, as SIMULATE/KINEMATICS).
     pub kinematics: bool,
+    /// A linear analysis where the run ends (`--linear[=FILE]`, as LINEAR/EIGENSOL): the
+    /// modes printed, and written to FILE_modes.csv and FILE_shapes.csv when FILE is
+    /// given. Without an end time (and no static equilibrium), at the assembled start.
+    pub linear: Option<crate::model::linear_command::Linear>,
 }
 
 impl RunRequest {
@@ -155,6 +159,7 @@ impl RunRequest {
             set: Vec::new(),
             statics: false,
             kinematics: false,
+            linear: None,
         }
     }
 
@@ -255,8 +260,9 @@ impl RunRequest {
     }
 }
 
-/// The segments changed as `--statics` and `--kinematics` ask: an equilibrium first
-/// (unless the first segment is one), every stretch of dynamics made kinematic. Every
+/// The segments changed as `--statics`, `--kinematics` and `--linear` ask: an
+/// equilibrium first (unless the first segment is one), every stretch of dynamics made
+/// kinematic, a linear analysis last. Every
 /// segment without EQUILIBRIUM settings takes the dataset's `equilibrium`.
 fn asked_analyses(
     request: &RunRequest,
@@ -269,6 +275,10 @@ fn asked_analyses(
         let mut start = Segment::dynamic(0.0, 0.0, None);
         start.kind = Analysis::Statics;
         segments.insert(0, start);
+    }
+    if let Some(command) = &request.linear {
+        let at = segments.last().map_or(0.0, |s| s.end);
+        segments.push(Segment::linear(at, command.clone()));
     }
     for s in segments.iter_mut() {
         if request.kinematics && s.kind == Analysis::Dynamic {
@@ -511,7 +521,7 @@ pub fn run(
             }
             Err(refused) => return Err(RunFailed::new(refused.source, refused.diagnostics)),
         },
-        _ if request.end.is_none() && !request.statics => {
+        _ if request.end.is_none() && !request.statics && request.linear.is_none() => {
             return Err(RunFailed::command_line(Diagnostic::error(
                 Code::CommandLine,
                 0..0,

@@ -22,6 +22,7 @@ use crate::model::commands::Analysis;
 use crate::model::elements::{Expr, RequestKind};
 use crate::model::equilibrium_settings::EquilibriumStatement;
 use crate::model::integrator_settings::{Formulation, IntegratorStatement};
+use crate::model::linear_command::Linear;
 use crate::model::{read_model, ModelRead};
 use std::time::Instant;
 
@@ -68,6 +69,8 @@ pub struct Segment {
     pub kind: Analysis,
     /// The EQUILIBRIUM statement in force for a static stretch (None: Adams' defaults).
     pub equilibrium: Option<EquilibriumStatement>,
+    /// What a linear analysis asks for (kind [`Analysis::Linear`]).
+    pub linear: Option<Box<Linear>>,
 }
 
 impl Segment {
@@ -79,6 +82,16 @@ impl Segment {
             integrator,
             kind: Analysis::Dynamic,
             equilibrium: None,
+            linear: None,
+        }
+    }
+
+    /// A linear analysis `command` at time `at`.
+    pub fn linear(at: f64, command: Linear) -> Segment {
+        Segment {
+            kind: Analysis::Linear,
+            linear: Some(Box::new(command)),
+            ..Segment::dynamic(at, 0.0, None)
         }
     }
 }
@@ -233,6 +246,8 @@ pub struct Summary {
     pub reused: bool,
     /// The static equilibria it found, in order.
     pub equilibria: Vec<crate::mbd::statics::Report>,
+    /// The linear analyses it ran, in order.
+    pub linear: Vec<super::linear::LinearReport>,
 }
 
 impl Summary {
@@ -270,6 +285,9 @@ impl Summary {
             );
         }
         out += &equilibria_text(&s.equilibria);
+        for l in &s.linear {
+            out += &l.text();
+        }
         for n in &s.notes {
             out += &format!("note: {n}\n");
         }
@@ -719,12 +737,14 @@ impl Simulation {
         let mut max_residual: f64 = 0.0;
         let mut name = match segments.iter().find(|s| s.kind != Analysis::Dynamic) {
             Some(s) if s.kind == Analysis::Kinematics => "kinematics",
+            Some(s) if s.kind == Analysis::Linear => "linear",
             Some(_) => "statics",
             None => "hht",
         };
         let mut error: f64 = 0.0;
         let mut notes = self.notes.clone();
         let mut equilibria = Vec::new();
+        let mut linear = Vec::new();
         let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
         let conservative = self.conservative;
         let mut kinetic_max: f64 = 0.0;
@@ -774,7 +794,7 @@ impl Simulation {
                     seg,
                     (first_row, last),
                     &mut solved_emit,
-                    &mut equilibria,
+                    (&mut equilibria, &mut linear),
                     interrupt,
                 );
                 (first_row, after_solved) = (false, true);
@@ -816,6 +836,7 @@ impl Simulation {
         let summary = Summary {
             integrator: name,
             equilibria,
+            linear,
             stats: self.dynamics.stats,
             cpu_seconds: clock.elapsed().as_secs_f64(),
             max_residual,

@@ -18,6 +18,7 @@ mod exact;
 mod explicit;
 mod failures;
 mod kinematics;
+mod linear;
 mod motions;
 mod planar_reactions;
 mod reference;

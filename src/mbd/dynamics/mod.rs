@@ -1013,6 +1013,30 @@ impl Dynamics {
         self.add_blocks_times(&self.mass_blocks(), 1.0, x, out);
     }
 
+    /// w·M / UCF added to the top-left n × n of the dense matrix `a`, M at the current
+    /// state (the static Newton matrix and the linearization want it whole).
+    pub fn add_mass_matrix(&self, w: f64, a: &mut crate::vocab::math::DMat) {
+        let bs = self.sys.dim.cols();
+        for (i, b) in self.mass_blocks().iter().enumerate() {
+            let c = i * bs;
+            match *b {
+                Mat3Block::Three(mass, j) => {
+                    for r in 0..3 {
+                        a[(c + r, c + r)] += w * mass;
+                        for k in 0..3 {
+                            a[(c + 3 + r, c + 3 + k)] += w * j[(r, k)];
+                        }
+                    }
+                }
+                Mat3Block::Two(mass, j) => {
+                    a[(c, c)] += w * mass;
+                    a[(c + 1, c + 1)] += w * mass;
+                    a[(c + 2, c + 2)] += w * j;
+                }
+            }
+        }
+    }
+
     /// Φ_qᵀ·λ added to `out`, with the Φ_q of the last [`Dynamics::eval_constraints`].
     pub fn add_constraint_forces(&self, lambda: &DVec, out: &mut DVec) {
         self.jac.add_transpose_times(lambda.as_slice(), 1.0, out);

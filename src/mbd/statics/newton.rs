@@ -16,10 +16,9 @@
 //! constraint residual below ERROR; the last correction is applied.
 
 use super::{stability, tangent, Failure, Reaction, Report, Settings};
-use crate::mbd::dynamics::{DynError, Dynamics, Mat3Block};
+use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::error::element_name;
-use crate::mbd::freedom::{column_scale, component_name, part_name};
-use crate::mbd::system::PartHandle;
+use crate::mbd::freedom::{column_part, column_scale, coordinate_name};
 use crate::vocab::math::{DMat, DVec};
 
 /// Halvings of the damping factor before a step is taken anyway.
@@ -156,25 +155,7 @@ fn newton_matrix(d: &Dynamics, stability: f64) -> DMat {
     let (n, m) = (d.n, d.m);
     let mut a = DMat::zeros(n + m, n + m);
     if stability != 0.0 {
-        let bs = d.sys.dim.cols();
-        for (i, b) in d.mass_blocks().iter().enumerate() {
-            let c = i * bs;
-            match *b {
-                Mat3Block::Three(mass, j) => {
-                    for r in 0..3 {
-                        a[(c + r, c + r)] += stability * mass;
-                        for k in 0..3 {
-                            a[(c + 3 + r, c + 3 + k)] += stability * j[(r, k)];
-                        }
-                    }
-                }
-                Mat3Block::Two(mass, j) => {
-                    a[(c, c)] += stability * mass;
-                    a[(c + 1, c + 1)] += stability * mass;
-                    a[(c + 2, c + 2)] += stability * j;
-                }
-            }
-        }
+        d.add_mass_matrix(stability, &mut a);
         for &(r, c, x) in &d.gen.dv {
             a[(r, c)] -= stability * x;
         }
@@ -331,23 +312,13 @@ fn unstable(d: &Dynamics, mode: stability::Mode, converged: bool) -> DynError {
 
 /// `PART/2 y translation` for velocity-layout column `col`.
 fn coordinate(d: &Dynamics, col: usize) -> String {
-    let bs = d.sys.dim.cols();
-    match part_of(d, col) {
-        Some(h) => format!("{} {}", part_name(d, h), component_name(d, col % bs)),
+    match column_part(d, col) {
+        Some(h) => coordinate_name(d, h, col),
         None if d.n == 0 => "no part moves".to_string(),
         None => format!("column {col}"),
     }
 }
 
-fn part_of(d: &Dynamics, col: usize) -> Option<PartHandle> {
-    let i = col / d.sys.dim.cols();
-    d.sys
-        .parts
-        .iter()
-        .position(|p| p.index == Some(i))
-        .map(|h| PartHandle(h as u32))
-}
-
 fn part_id(d: &Dynamics, col: usize) -> Option<u32> {
-    part_of(d, col).and_then(|h| d.sys.part(h).id)
+    column_part(d, col).and_then(|h| d.sys.part(h).id)
 }

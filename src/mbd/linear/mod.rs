@@ -1,0 +1,179 @@
+//! Linearization about an operating point (Adams' LINEAR): the equations of motion
+//! M·a = Q(q, v, t) − Φ_qᵀ·λ with Φ(q, t) = 0, perturbed about the state where the run
+//! stands, give
+//!
+//! ```text
+//! M·δa + C·δv + K·δq + Φ_qᵀ·δλ = 0,     Φ_q·δq = 0,
+//! C = −∂Q/∂v,    K = −∂Q/∂q + ∂(Φ_qᵀ·λ)/∂q (λ held),
+//! ```
+//!
+//! in the velocity layout (a part's translation and its rotation vector in global axes).
+//! Every partial is the analytic one the static solver uses: the force Jacobians from
+//! the compiled derivatives of the expressions, the constraint forces' tangent from
+//! [`super::statics::tangent`]. The constraints are eliminated by moving only along
+//! their Jacobian's null space, δq = T·z: T's columns span it, recombined
+//! ([`super::freedom::independent`]) so that each minimal coordinate zₖ is one of the
+//! model's own coordinates (`PART/2 rotation about z`) and the others follow it. Then
+//!
+//! ```text
+//! M̃·z̈ + C̃·ż + K̃·z = 0,     M̃ = Tᵀ·M·T,  C̃ = Tᵀ·C·T,  K̃ = Tᵀ·K·T,
+//! ```
+//!
+//! whose state matrix A = [[0, I], [−M̃⁻¹·K̃, −M̃⁻¹·C̃]] on x = (z, ż) gives the modes
+//! ([`modes`]). The reduction is exact at rest (v = 0, a = 0: a static equilibrium);
+//! at an operating point that moves, the partials of the inertial terms (centripetal,
+//! gyroscopic, M(q)·a) and of the constraints' velocity terms are not included, and
+//! the result says so ([`Linearized::moving`]). Rows of MOTIONs and GCONs add their
+//! Jacobian but not their second derivative (as in statics).
+
+pub mod modes;
+
+use super::dynamics::{DynError, Dynamics};
+use super::freedom::{column_part, column_scale, coordinate_name, independent, null_space};
+use super::statics::tangent;
+use super::system::{PartHandle, System};
+use crate::vocab::math::DMat;
+
+/// Scaled velocities and accelerations below this count as rest.
+const REST: f64 = 1e-9;
+
+/// One minimal coordinate: a coordinate of the model (velocity layout).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coordinate {
+    /// Its column in the velocity layout.
+    pub column: usize,
+    /// Its part.
+    pub part: PartHandle,
+    /// What it is, named (`PART/2 rotation about z`).
+    pub name: String,
+}
+
+/// The linearized equations in minimal coordinates.
+#[derive(Clone, Debug)]
+pub struct Linearized {
+    /// Simulation time of the operating point.
+    pub time: f64,
+    /// The minimal coordinates z, in order.
+    pub coords: Vec<Coordinate>,
+    /// T (n × f): the model's coordinates move by T·z (model units: a translation in
+    /// length units, a rotation in radians).
+    pub basis: DMat,
+    /// M̃ = Tᵀ·M·T.
+    pub mass: DMat,
+    /// C̃ = Tᵀ·C·T (zero when damping is left out).
+    pub damping: DMat,
+    /// K̃ = Tᵀ·K·T.
+    pub stiffness: DMat,
+    /// Every column of the velocity layout, named (`PART/2 x translation`).
+    pub columns: Vec<String>,
+    /// Each column's scale: the model length for a translation, 1 for a rotation.
+    pub scale: Vec<f64>,
+    /// The operating point moves (velocities or accelerations not zero): the inertial
+    /// partials are left out (see the module comment).
+    pub moving: bool,
+}
+
+/// Linearizes `d` about its current state; `damping` false leaves out C (Adams'
+/// NODAMPIN). The multipliers are solved at the state first (a state reached by
+/// dynamics or by statics alike). Fails when a free direction has no mass.
+pub fn linearize(d: &mut Dynamics, damping: bool) -> Result<Linearized, DynError> {
+    let n = d.n;
+    d.solve_accelerations()?;
+    d.eval_constraints(true)?;
+    d.eval_forces(true)?;
+    let scale: Vec<f64> = (0..n).map(|c| column_scale(d, c)).collect();
+    let v = d.sys.v();
+    let moving = (0..n).any(|c| {
+        let a = d.a.get(c).copied().unwrap_or(0.0);
+        (v[c].abs() + a.abs()) / scale[c] > REST
+    });
+    let mut m = DMat::zeros(n, n);
+    d.add_mass_matrix(1.0, &mut m);
+    let mut k = DMat::zeros(n, n);
+    for &(r, c, x) in &d.gen.dq {
+        k[(r, c)] -= x;
+    }
+    tangent::add_constraint_tangent(d, d.lambda.as_slice(), &mut k);
+    let mut c = DMat::zeros(n, n);
+    if damping {
+        for &(r, col, x) in &d.gen.dv {
+            c[(r, col)] -= x;
+        }
+    }
+    // The null space in scaled coordinates (translations over the model length), then
+    // recombined on independent coordinates and brought back to model units.
+    let (scaled, columns) = independent(&null_space(d));
+    let f = columns.len();
+    let basis = DMat::from_fn(n, f, |r, j| scaled[(r, j)] * scale[r] / scale[columns[j]]);
+    let coords = columns
+        .iter()
+        .map(|&col| {
+            let part = column_part(d, col).unwrap_or(System::GROUND);
+            Coordinate {
+                column: col,
+                part,
+                name: coordinate_name(d, part, col),
+            }
+        })
+        .collect();
+    let columns = (0..n)
+        .map(|col| coordinate_name(d, column_part(d, col).unwrap_or(System::GROUND), col))
+        .collect();
+    let reduce = |x: &DMat| basis.transpose() * x * &basis;
+    Ok(Linearized {
+        time: d.sys.time,
+        coords,
+        mass: reduce(&m),
+        damping: reduce(&c),
+        stiffness: reduce(&k),
+        basis,
+        columns,
+        scale,
+        moving,
+    })
+}
+
+impl Linearized {
+    /// The number of minimal coordinates (degrees of freedom).
+    pub fn freedom(&self) -> usize {
+        self.coords.len()
+    }
+
+    /// The state matrix A on x = (z, ż): [[0, I], [−M̃⁻¹·K̃, −M̃⁻¹·C̃]]. Fails when M̃ is
+    /// singular (a free direction without mass), naming the part of that direction.
+    pub fn state_matrix(&self) -> Result<DMat, DynError> {
+        let f = self.freedom();
+        let lu = self.mass.clone().lu();
+        let rhs = {
+            let mut r = DMat::zeros(f, 2 * f);
+            r.view_mut((0, 0), (f, f)).copy_from(&(-&self.stiffness));
+            r.view_mut((0, f), (f, f)).copy_from(&(-&self.damping));
+            r
+        };
+        let lower = lu.solve(&rhs).filter(|x| x.iter().all(|v| v.is_finite()));
+        let Some(lower) = lower else {
+            let weakest =
+                (0..f).min_by(|&a, &b| self.mass[(a, a)].abs().total_cmp(&self.mass[(b, b)].abs()));
+            return Err(DynError::Massless {
+                part: weakest.map_or_else(String::new, |k| self.coords[k].name.clone()),
+                directions: 1,
+            });
+        };
+        let mut a = DMat::zeros(2 * f, 2 * f);
+        for i in 0..f {
+            a[(i, f + i)] = 1.0;
+        }
+        a.view_mut((f, 0), (f, 2 * f)).copy_from(&lower);
+        Ok(a)
+    }
+
+    /// The names of the states of [`Linearized::state_matrix`]: each coordinate, then
+    /// each one's rate (`d/dt PART/2 rotation about z`).
+    pub fn state_names(&self) -> Vec<String> {
+        let names = self.coords.iter().map(|c| c.name.clone());
+        names
+            .clone()
+            .chain(names.map(|n| format!("d/dt {n}")))
+            .collect()
+    }
+}
