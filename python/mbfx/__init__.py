@@ -17,6 +17,7 @@ Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any, Dict, Iterator, List, Optional, Sequence
 
 import numpy as np
@@ -41,6 +42,7 @@ __all__ = [
     "Diagnostic",
     "Expression",
     "InternalError",
+    "Linearization",
     "MbfxError",
     "Model",
     "Report",
@@ -137,6 +139,41 @@ class Run:
         if names:
             ax.legend()
         return ax
+
+
+@dataclass(frozen=True, eq=False)
+class Linearization:
+    """A model linearized where a run left it (`Model.linearize()`; docs/analyses.md).
+
+    The minimal coordinates z are model coordinates (`coordinates`, e.g. "PART/2 rotation
+    about z"); every coordinate of the model (`columns`) moves by `shapes`-weighted z.
+    Modes are numbered by rising |λ|: `eigenvalues` (complex, Im ≥ 0, one per conjugate
+    pair), `natural_hz` = |λ|/2π, `damped_hz` = Im λ/2π, `damping_ratio` = −Re λ/|λ|, and
+    `shapes[:, k]` mode k's displacement of every column, the largest at 1. `M`, `C`, `K`
+    are the reduced mass, damping and stiffness matrices; `A` the state matrix on
+    `states` (z, then ż). `moving` says the operating point was not at rest (the inertial
+    partials are then left out); `text` is what `mbfx run --linear` prints.
+    """
+
+    time: float
+    coordinates: List[str]
+    eigenvalues: np.ndarray
+    natural_hz: np.ndarray
+    damped_hz: np.ndarray
+    damping_ratio: np.ndarray
+    shapes: np.ndarray
+    columns: List[str]
+    A: np.ndarray
+    states: List[str]
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    moving: bool
+    text: str
+
+    def __repr__(self) -> str:
+        hz = ", ".join(f"{f:.6g}" for f in self.natural_hz)
+        return f"mbfx.Linearization(t={self.time}, {len(self.coordinates)} DOF, natural Hz [{hz}])"
 
 
 class _Progress:

@@ -6,7 +6,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, o
 import numpy as np
 import numpy.typing as npt
 
-from . import Run
+from . import Linearization, Run
 
 __version__: str
 
@@ -129,6 +129,16 @@ class Model:
         engine: str = "jit",
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
     ) -> Run: ...
+    def linearize(
+        self,
+        statics: bool = True,
+        end: Optional[float] = None,
+        damping: bool = True,
+        *,
+        engine: str = "jit",
+        set: Optional[Mapping[str, Union[float, int, str]]] = None,
+    ) -> "Linearization":
+        """The model linearized at its static equilibrium (or after a run to `end`)."""
     def with_values(self, values: Mapping[str, Union[float, int, str]]) -> Model:
         """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
 

@@ -8,6 +8,7 @@
 mod arrays;
 mod errors;
 mod expression;
+mod linear;
 mod model;
 mod run;
 

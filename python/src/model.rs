@@ -9,6 +9,7 @@ use crate::run;
 use mbfx::check::Expect;
 use mbfx::diag::{Diagnostic, SourceFile};
 use mbfx::mbd::system::Dimension;
+use mbfx::model::linear_command::Linear;
 use mbfx::model::overrides::Settings;
 use mbfx::session::evaluate::{EvalError, Evaluator};
 use mbfx::session::files::read_dataset;
@@ -357,6 +358,35 @@ impl PyModel {
             r.probes = run::probes_of(probes)?;
             r.set = run::settings_of(set)?;
             run::run_model(py, &r, progress)
+        })
+    }
+
+    /// The model linearized (as `mbfx run --linear`): at its static equilibrium when
+    /// `statics` (the default), after a run to `end` when given (the dynamics start from
+    /// the equilibrium when both are), else at the assembled start. `damping=False`
+    /// leaves the damping out (NODAMPIN); `set` is as in `run`. Returns an
+    /// `mbfx.Linearization`; a failure (no equilibrium, a run that fails) raises
+    /// `RunError`.
+    #[pyo3(signature = (statics = true, end = None, damping = true, *, engine = "jit", set = None))]
+    fn linearize(
+        &self,
+        py: Python<'_>,
+        statics: bool,
+        end: Option<f64>,
+        damping: bool,
+        engine: &str,
+        set: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Py<PyAny>> {
+        guarded(|| {
+            let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
+            (r.statics, r.end) = (statics, end);
+            r.engine = engine_of(engine)?;
+            r.dim = dim_request(self.dim)?;
+            r.set = run::settings_of(set)?;
+            let mut command = Linear::eigensol(None);
+            command.damping = damping;
+            r.linear = Some(command);
+            crate::linear::linearize(py, &r)
         })
     }
 

@@ -215,7 +215,11 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
 }
 
 /// `RunError` for `failed`, carrying the partial run.
-fn run_error(py: Python<'_>, failed: &RunFailed, partial: Option<Py<PyAny>>) -> PyResult<PyErr> {
+pub fn run_error(
+    py: Python<'_>,
+    failed: &RunFailed,
+    partial: Option<Py<PyAny>>,
+) -> PyResult<PyErr> {
     let e = RunError::new_err(failed.render(false).trim_end().to_string());
     let v = e.value(py);
     v.setattr("time", failed.time)?;

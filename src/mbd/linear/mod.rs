@@ -143,6 +143,9 @@ impl Linearized {
     /// singular (a free direction without mass), naming the part of that direction.
     pub fn state_matrix(&self) -> Result<DMat, DynError> {
         let f = self.freedom();
+        if f == 0 {
+            return Ok(DMat::zeros(0, 0));
+        }
         let lu = self.mass.clone().lu();
         let rhs = {
             let mut r = DMat::zeros(f, 2 * f);
