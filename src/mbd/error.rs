@@ -92,6 +92,8 @@ pub enum MbdError {
         /// The chain of values read, in words.
         reads: String,
     },
+    /// A plant input or output a linearization cannot use (why, in words).
+    Plant(String),
 }
 
 /// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the
@@ -175,6 +177,7 @@ impl fmt::Display for MbdError {
             MbdError::UnknownMotionJoint { motion, joint } => {
                 write!(f, "MOTION/{motion}: JOINT/{joint} does not exist")
             }
+            MbdError::Plant(why) => write!(f, "LINEAR/STATEMAT: {why}"),
             MbdError::Variable(id) => write!(
                 f,
                 "it reads VARVAL({id}), and VARIABLE/{id} has no FUNCTION mbfx can evaluate (a USER subroutine, or no such VARIABLE)"

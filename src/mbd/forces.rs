@@ -30,6 +30,8 @@ use super::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Vec3};
 
+mod input_partials;
+
 /// Where the value of an expression's slot comes from.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Source {
@@ -262,6 +264,9 @@ struct Inputs<'a> {
     solved: &'a [f64],
     /// The fused values, or with Jacobians the fused values and partials.
     fused: Option<&'a [f64]>,
+    /// The design variable an input-partials evaluation differentiates along
+    /// ([`ForceSet::input_partials`]).
+    seed: Option<i64>,
 }
 
 /// The fused evaluation of a set's expressions: the function of their values and, when
@@ -598,6 +603,7 @@ impl ForceSet {
         let inputs = Inputs {
             solved: &self.solved,
             fused: fused.as_deref().map(Vec::as_slice),
+            seed: None,
         };
         self.loads[k] = self.elements[k].eval(sys, &inputs, out, jacobians)?;
         Ok(())
@@ -665,18 +671,28 @@ impl ForceElement {
                 )),
             };
         }
-        let solved = inputs.solved;
+        self.with_slot_values(sys, inputs, s, |vals| s.f.value(sys.time, vals))
+    }
+
+    /// `f` of the slot values of expression `s` from the measures' values (solution
+    /// values from `inputs`), its error named after the element.
+    fn with_slot_values<R>(
+        &self,
+        sys: &System,
+        inputs: &Inputs,
+        s: &Scalar,
+        f: impl FnOnce(&[f64]) -> Result<R, ExprError>,
+    ) -> Result<R, MbdError> {
         let slot_ids = s.f.slots();
         let mut shared = sys.scratch.borrow_mut();
         let vals = shared.slots_to(slot_ids.last().copied());
         for (&src, &slot) in s.map.iter().zip(slot_ids) {
             vals[slot as usize] = match src {
                 Source::Measure(m) => measure_value(sys, m),
-                Source::Solution(k) => solved[k],
+                Source::Solution(k) => inputs.solved[k],
             };
         }
-        s.f.value(sys.time, vals)
-            .map_err(|why| MbdError::Expression(self.elref.clone(), why))
+        f(vals).map_err(|why| MbdError::Expression(self.elref.clone(), why))
     }
 
     /// An expression's value as a dual: f with ∂f/∂measure chained through the

@@ -660,7 +660,6 @@ mod tests {
         for (text, what, bad) in [
             ("m.adm\nout\nSIMULATE/INITIAL_CONDITIONS\nSTOP\n", "initial-conditions", "SIMULATE/INITIAL_CONDITIONS"),
             ("m.adm\nout\nDEACTIVATE/JOINT, ID=12\n", "DEACTIVATE changes the model", "DEACTIVATE/JOINT, ID=12"),
-            ("m.adm\nout\nLINEAR/STATEMAT, FILE = lin, PINPUT = 1\n", "plant inputs", "PINPUT = 1"),
             ("m.adm\nout\nLINEAR/STATEMAT, FILE = lin, FORMAT = MATRIXX\n", "MATLAB format", "MATRIXX"),
             ("m.adm\nout\nVARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)\n", "VARIABLE changes", "VARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)"),
             ("\nfile/command=other.acf\n", "another command file", "command=other.acf"),
@@ -713,6 +712,8 @@ mod tests {
             ("m.adm\nout\nLINEAR/COORDS = 1\n", "LINEAR", Code::MissingArgument),
             ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 3, 1\n", "COORDS = 3, 1", Code::BadArgument),
             ("m.adm\nout\nLINEAR/EIGENSOL, COORDS = 0\n", "COORDS = 0", Code::BadArgument),
+            ("m.adm\nout\nLINEAR/EIGENSOL, PINPUT = 1\n", "1", Code::BadArgument),
+            ("m.adm\nout\nLINEAR/STATEMAT, FILE = a, POUTPUT = x\n", "x", Code::BadArgument),
         ] {
             let f = read_commands(text);
             let e = f

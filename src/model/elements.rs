@@ -58,6 +58,8 @@ pub struct Model {
     pub bushings: Vec<Bushing>,
     /// VARIABLE statements (read by `VARVAL`).
     pub variables: Vec<Variable>,
+    /// PINPUT and POUTPUT statements.
+    pub plants: Vec<PlantVariables>,
     /// In file order; an expression's AKISPL/CUBSPL spline index is a position here.
     pub splines: Vec<SplineData>,
     /// ARRAY statements (read by `ARYVAL`).
@@ -387,6 +389,18 @@ pub struct SplineData {
     pub z: Vec<f64>,
     /// LINEAR_EXTRAPOLATE, as written (the fits do not read it).
     pub linear_extrapolate: bool,
+}
+
+/// PINPUT or POUTPUT: the VARIABLEs that are a plant's inputs or outputs (Adams
+/// Controls; LINEAR/STATEMAT's B, C and D).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlantVariables {
+    /// Id, view name and span.
+    pub el: Named,
+    /// POUTPUT (rather than PINPUT).
+    pub output: bool,
+    /// The VARIABLE ids, in order.
+    pub variables: Vec<Id>,
 }
 
 /// ARRAY (kept for ARYVAL).

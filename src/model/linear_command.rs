@@ -1,8 +1,9 @@
 //! The LINEAR command of a command file: `LINEAR/EIGENSOL` (the modes about where the
-//! run stands) or `LINEAR/STATEMAT` (the state matrix), with COORDS, NOVECTOR, NODAMPIN,
-//! FILE and FORMAT. Plant inputs and outputs (PINPUT, POUTPUT: the B, C and D matrices)
-//! are refused with an error at the argument; the energy tables (ENERGY, KINETIC, …) are
-//! warned about as any argument nothing reads.
+//! run stands) or `LINEAR/STATEMAT` (the state matrices), with COORDS, NOVECTOR,
+//! NODAMPIN, FILE and FORMAT, and for STATEMAT the plant's inputs and outputs (PINPUT,
+//! POUTPUT: the ids of the dataset's PINPUT and POUTPUT statements, which give B, C and
+//! D). The energy tables (ENERGY, KINETIC, …) are warned about as any argument nothing
+//! reads.
 
 use super::integrator_settings::Given;
 use super::statement::ItemKind;
@@ -23,6 +24,10 @@ pub struct Linear {
     pub damping: bool,
     /// FILE: the base name of the files written (None: the modes are only printed).
     pub file: Option<Given<String>>,
+    /// PINPUT = id: the dataset's PINPUT statement whose VARIABLEs are the inputs.
+    pub pinput: Option<Given<u32>>,
+    /// POUTPUT = id: the dataset's POUTPUT statement whose VARIABLEs are the outputs.
+    pub poutput: Option<Given<u32>>,
     /// The command.
     pub span: Span,
 }
@@ -37,6 +42,8 @@ impl Linear {
             vectors: true,
             damping: true,
             file: file.map(|value| Given { value, span: 0..0 }),
+            pinput: None,
+            poutput: None,
             span: 0..0,
         }
     }
@@ -48,16 +55,8 @@ const KINDS: [(&str, usize); 2] = [("EIGENSOL", 3), ("STATEMAT", 3)];
 /// Reads a LINEAR command's arguments (its errors go to `a`); None when it has errors.
 pub fn read_linear(a: &mut Args) -> Option<Linear> {
     let kind = a.choice(&KINDS);
-    for input in ["PINPUT", "POUTPUT"] {
-        if let Some(arg) = a.find(input, 3) {
-            let span = arg.span.clone();
-            a.error(
-                Code::UnsupportedCommand,
-                span,
-                format!("{input}: plant inputs and outputs (the B, C and D matrices) are not supported by mbfx; without them LINEAR/STATEMAT writes the state matrix A"),
-            );
-        }
-    }
+    let [pinput, poutput] =
+        ["PINPUT", "POUTPUT"].map(|name| a.id(name, 3).map(|(value, span)| Given { value, span }));
     let coords = coords(a);
     let vectors = !a.flag("NOVECTOR", 3);
     let damping = !a.flag("NODAMPIN", 3);
@@ -91,6 +90,14 @@ pub fn read_linear(a: &mut Args) -> Option<Linear> {
     if statemat && file.is_none() {
         a.missing("FILE = name (the base name of the state-matrix files)");
     }
+    if let Some(io) = pinput.as_ref().or(poutput.as_ref()).filter(|_| !statemat) {
+        let span = io.span.clone();
+        a.error(
+            Code::BadArgument,
+            span,
+            "PINPUT and POUTPUT belong to LINEAR/STATEMAT (the B, C and D matrices)".into(),
+        );
+    }
     if a.diags.iter().any(|d| d.is_error()) {
         return None;
     }
@@ -100,6 +107,8 @@ pub fn read_linear(a: &mut Args) -> Option<Linear> {
         vectors,
         damping,
         file,
+        pinput,
+        poutput,
         span: a.stmt.span.clone(),
     })
 }

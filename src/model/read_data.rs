@@ -2,7 +2,9 @@
 //! settings statements (OUTPUT, RESULTS, INTEGRATOR, EQUILIBRIUM, KINEMATICS, IC) kept as
 //! written (spec §2.5, §7, §8).
 
-use super::elements::{Array, Request, RequestKind, Setting, SplineData, Variable};
+use super::elements::{
+    Array, Id, PlantVariables, Request, RequestKind, Setting, SplineData, Variable,
+};
 use super::reader::Reader;
 use super::resolve::{ExprArg, MarkerUse};
 use super::statement::ArgValue;
@@ -16,6 +18,36 @@ pub fn variable(r: &mut Reader, a: &mut Args) {
     if let Some(function) = r.required_expr(a, "FUNCTION", 2) {
         r.model.variables.push(Variable { el, function, ic });
     }
+}
+
+/// `PINPUT/id, VARIABLES = id, …` (`output` false) or `POUTPUT/id, VARIABLES = …`.
+pub fn plant(r: &mut Reader, a: &mut Args, output: bool) {
+    let el = r.named(a);
+    if a.stmt.arg("VARIABLES", 3).is_none() {
+        return a.missing("VARIABLES = id, …");
+    }
+    let Some(values) = a.numbers("VARIABLES", 3, 1..=usize::MAX) else {
+        return;
+    };
+    let mut variables = Vec::with_capacity(values.len());
+    for v in values {
+        match Id::try_from(v as i64)
+            .ok()
+            .filter(|_| v.fract() == 0.0 && v >= 1.0)
+        {
+            Some(id) => variables.push(id),
+            None => {
+                let span = a.stmt.keyword_span.clone();
+                let msg = format!("{}: VARIABLES lists ids, and {v} is not one", a.label);
+                return a.error(Code::BadArgument, span, msg);
+            }
+        }
+    }
+    r.model.plants.push(PlantVariables {
+        el,
+        output,
+        variables,
+    });
 }
 
 /// `SPLINE/id, X = …, Y = …[, Z = …]`: a curve, or one row of Y per Z value; X (and Z)

@@ -232,6 +232,8 @@ impl<'a> Reader<'a> {
             "VARIABLE" => read_data::variable(self, &mut a),
             "SPLINE" => read_data::spline(self, &mut a),
             "ARRAY" => read_data::array(self, &mut a),
+            "PINPUT" => read_data::plant(self, &mut a, false),
+            "POUTPUT" => read_data::plant(self, &mut a, true),
             "REQUEST" => read_data::request(self, &mut a),
             "INTEGRATOR" => read_data::integrator(self, &mut a),
             "EQUILIBRIUM" => read_data::equilibrium(self, &mut a),

@@ -106,7 +106,7 @@ pub fn read(path: &Path) -> Result<Commands, Box<Refused>> {
 
 /// The message when neither the command file nor the caller says when to end.
 pub const NO_SIMULATION: &str =
-    "the command file has no SIMULATE command: give --end (and --output-step)";
+    "the command file has no SIMULATE or LINEAR command: give --end (and --output-step)";
 
 /// The segments of the run: the command file's SIMULATE commands under the INTEGRATOR
 /// and EQUILIBRIUM in force at each (the dataset's, then the file's commands), or, when

@@ -10,6 +10,7 @@
 //! only when the run has written none yet (`first_row`): rows never repeat a time.
 
 use super::linear::{self, LinearReport};
+use super::plant::Plant;
 use super::run::Segment;
 use crate::mbd::dynamics::integrator::Interrupt;
 use crate::mbd::dynamics::integrator::OutputTimes;
@@ -24,10 +25,12 @@ pub type Emit<'a> = dyn FnMut(&mut Dynamics) -> Result<(), DynError> + 'a;
 /// What the analyses found: the equilibria's reports and the linear analyses'.
 pub type Found<'a> = (&'a mut Vec<Report>, &'a mut Vec<LinearReport>);
 
-/// Runs segment `seg` (static, kinematic or linear) on `d`; `first_row` says the run
-/// has written no row yet, `last` that it is the run's last segment.
+/// Runs segment `seg` (static, kinematic or linear) on `d` (a linear one with the
+/// model's `plant` inputs and outputs); `first_row` says the run has written no row
+/// yet, `last` that it is the run's last segment.
 pub fn run(
     d: &mut Dynamics,
+    plant: &Plant,
     seg: &Segment,
     (first_row, last): (bool, bool),
     emit: &mut Emit<'_>,
@@ -42,7 +45,7 @@ pub fn run(
                 d.solve_accelerations()?;
                 emit(d)?;
             }
-            linear.push(linear::analyse(d, command)?);
+            linear.push(linear::analyse(d, plant, command)?);
             Ok(())
         }
         _ => statics(d, seg, first_row, last, emit, reports, interrupt),

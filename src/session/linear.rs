@@ -9,9 +9,14 @@
 //!   coordinate at 1), for the modes COORDS names;
 //! - STATEMAT: `FILE.a`, the state matrix as plain text rows (MATLAB's `load`, NumPy's
 //!   `loadtxt`), and `FILE.st`, its states one per line (each minimal coordinate, then
-//!   each one's rate), as Adams' MATLAB format names them.
+//!   each one's rate), as Adams' MATLAB format names them; with PINPUT and POUTPUT also
+//!   `FILE.b`, `FILE.c`, `FILE.d` and the inputs' and outputs' names in `FILE.pi` and
+//!   `FILE.po` ([`crate::mbd::linear::plant`]).
 
+use super::plant::Plant;
 use crate::mbd::dynamics::{DynError, Dynamics};
+use crate::mbd::error::MbdError;
+use crate::mbd::linear::plant::{inputs_outputs, InputsOutputs};
 use crate::mbd::linear::{self, modes::Mode, Linearized};
 use crate::model::linear_command::Linear;
 use crate::vocab::math::DMat;
@@ -29,23 +34,45 @@ pub struct LinearReport {
     pub modes: Vec<Mode>,
     /// The state matrix (STATEMAT).
     pub state_matrix: Option<DMat>,
+    /// B, C and D, with the inputs' and outputs' names (STATEMAT with PINPUT or
+    /// POUTPUT).
+    pub plant: Option<(InputsOutputs, Vec<String>, Vec<String>)>,
     /// The files written.
     pub files: Vec<PathBuf>,
 }
 
-/// Runs the linear analysis `command` on `d` where it stands and writes its files.
-pub fn analyse(d: &mut Dynamics, command: &Linear) -> Result<LinearReport, DynError> {
+/// Runs the linear analysis `command` on `d` where it stands (its inputs and outputs
+/// from `plant`) and writes its files.
+pub fn analyse(
+    d: &mut Dynamics,
+    plant: &Plant,
+    command: &Linear,
+) -> Result<LinearReport, DynError> {
+    let io = match command.pinput.is_some() || command.poutput.is_some() {
+        true => Some(plant.resolve(command).map_err(MbdError::Plant)?),
+        false => None,
+    };
     let lin = linear::linearize(d, command.damping)?;
     let modes = linear::modes::modes(&lin, command.vectors)?;
     let state_matrix = match command.statemat {
         true => Some(lin.state_matrix()?),
         false => None,
     };
+    let plant = match io {
+        Some((inputs, outputs)) => {
+            let m = inputs_outputs(&lin, d, &inputs, &outputs)?;
+            let inputs = inputs.iter().map(|id| format!("VARIABLE/{id}")).collect();
+            let outputs = outputs.iter().map(|o| o.name.clone()).collect();
+            Some((m, inputs, outputs))
+        }
+        None => None,
+    };
     let mut report = LinearReport {
         command: command.clone(),
         linearized: lin,
         modes,
         state_matrix,
+        plant,
         files: Vec::new(),
     };
     if let Some(base) = &command.file {
@@ -75,7 +102,14 @@ fn write_files(r: &LinearReport, base: &str) -> std::io::Result<Vec<PathBuf>> {
     };
     if let Some(a) = &r.state_matrix {
         put(".a", matrix_text(a))?;
-        put(".st", r.linearized.state_names().join("\n") + "\n")?;
+        put(".st", lines(&r.linearized.state_names()))?;
+        if let Some((m, inputs, outputs)) = &r.plant {
+            put(".b", matrix_text(&m.b))?;
+            put(".c", matrix_text(&m.c))?;
+            put(".d", matrix_text(&m.d))?;
+            put(".pi", lines(inputs))?;
+            put(".po", lines(outputs))?;
+        }
         return Ok(files);
     }
     let mut modes = String::from("mode,natural_hz,damped_hz,damping_ratio,real,imag,dominant\n");
@@ -104,6 +138,11 @@ fn write_files(r: &LinearReport, base: &str) -> std::io::Result<Vec<PathBuf>> {
         put("_shapes.csv", shapes)?;
     }
     Ok(files)
+}
+
+/// One name a line.
+fn lines(names: &[String]) -> String {
+    names.iter().map(|n| format!("{n}\n")).collect()
 }
 
 /// A matrix as rows of numbers separated by spaces, every digit kept.
@@ -137,6 +176,19 @@ impl LinearReport {
         }
         if let Some(a) = &self.state_matrix {
             out += &format!("state matrix A: {0} × {0}\n", a.nrows());
+            if let Some((m, inputs, outputs)) = &self.plant {
+                out += &format!(
+                    "B: {} × {} (inputs {}), C: {} × {} (outputs {}), D: {} × {}\n",
+                    m.b.nrows(),
+                    m.b.ncols(),
+                    inputs.join(", "),
+                    m.c.nrows(),
+                    m.c.ncols(),
+                    outputs.join(", "),
+                    m.d.nrows(),
+                    m.d.ncols()
+                );
+            }
         } else {
             out += &modes_table(&self.modes);
         }

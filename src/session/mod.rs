@@ -39,6 +39,7 @@ pub mod lifted;
 pub mod linear;
 pub mod loaded;
 pub mod plan;
+pub mod plant;
 pub mod prepared;
 pub mod report;
 pub mod request;

@@ -534,7 +534,13 @@ pub fn run(
         _ => None,
     };
     if let Some(c) = commands.as_ref().filter(|_| request.end.is_none()) {
-        if c.file.simulations().next().is_none() {
+        let analyses = c.file.steps.iter().any(|s| {
+            matches!(
+                s,
+                crate::model::commands::Step::Simulate(_) | crate::model::commands::Step::Linear(_)
+            )
+        });
+        if !analyses {
             let d = Diagnostic::error(Code::MissingArgument, 0..0, acf::NO_SIMULATION);
             return Err(RunFailed::new(copy(&c.source), vec![d]));
         }

@@ -7,6 +7,7 @@
 
 use super::lifted::Lifted;
 use super::plan::Plan;
+use super::plant::Plant;
 use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
@@ -362,6 +363,8 @@ pub struct Simulation {
     /// The checker's warnings about each probe that has some (units of measure, ...):
     /// (name, expression, warnings with spans into the expression).
     pub probe_warnings: Vec<(String, String, Vec<Diagnostic>)>,
+    /// The dataset's plant inputs and outputs, for LINEAR/STATEMAT.
+    plant: Plant,
 }
 
 /// The expression text of component k (1..8) of a standard REQUEST, if it has one.
@@ -522,6 +525,13 @@ impl Simulation {
                 .map(|r| r.row)
                 .collect(),
         };
+        let constraint_designs: Vec<i64> = read
+            .model
+            .constraint_designs()
+            .into_iter()
+            .map(i64::from)
+            .collect();
+        let plant = Plant::new(&read.model, &exprs, &mut system, &constraint_designs);
         let start = system.start_state();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
         // A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads.
@@ -556,12 +566,6 @@ impl Simulation {
             ));
         }
         let measures = vec![0.0; read.model.measures.len()];
-        let constraint_designs = read
-            .model
-            .constraint_designs()
-            .into_iter()
-            .map(i64::from)
-            .collect();
         let reconcile = slots.iter().any(|(_, s)| s.reads_reconciled(&dynamics.sys));
         Ok(Simulation {
             read,
@@ -583,6 +587,7 @@ impl Simulation {
             start,
             constraint_designs,
             probe_warnings,
+            plant,
         })
     }
 
@@ -745,7 +750,7 @@ impl Simulation {
         let mut notes = self.notes.clone();
         let mut equilibria = Vec::new();
         let mut linear = Vec::new();
-        let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
+        let (dynamics, outputs, plant) = (&mut self.dynamics, &mut self.outputs, &self.plant);
         let conservative = self.conservative;
         let mut kinetic_max: f64 = 0.0;
         // A row of the integrated state (`Some(last)`: reconciled when the columns need
@@ -791,6 +796,7 @@ impl Simulation {
                 let mut solved_emit = |d: &mut Dynamics| emit(d, None);
                 result = super::analyses::run(
                     dynamics,
+                    plant,
                     seg,
                     (first_row, last),
                     &mut solved_emit,

@@ -357,7 +357,7 @@ fn verbose_prints_a_step_table_row_per_output_time() {
 fn command_file_errors_point_into_the_file() {
     let dir = pendulum_dir("");
     for (acf, want) in [
-        ("a01_pendulum\nout\nSTOP\n", "[E0604] Error: the command file has no SIMULATE command"),
+        ("a01_pendulum\nout\nSTOP\n", "[E0604] Error: the command file has no SIMULATE or LINEAR command"),
         ("missing_model\nout\nSIMULATE/DYNAMIC, END = 1, DTOUT = 0.1\n", "run.acf:1:1"),
         ("a01_pendulum\nout\nSIMULATE/DYNAMIC, END = 1, DTOUT = 0.1 &\n, STEPS = 3\n", "run.acf:4:11"),
         ("a01_pendulum\nout\nINTEGRATOR/HHT, &\n  ALPHA = -0.9\nSIMULATE/DYNAMIC, END = 1, DTOUT = 0.1\n", "run.acf:4:11"),

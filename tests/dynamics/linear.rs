@@ -304,3 +304,182 @@ fn a_moving_operating_point_is_said_to_be_approximate() {
     assert!(!r.linearized.moving, "{}", r.text());
     assert!(!r.text().contains("operating point moves"));
 }
+
+/// Runs command file `acf` (beside `dataset`, written as `m.adm`) in a scratch folder;
+/// the run's result and the folder.
+fn run_command_file(
+    dataset: &str,
+    acf: &str,
+) -> (
+    Result<mbfx::session::request::RunDone, Box<mbfx::session::request::RunFailed>>,
+    std::path::PathBuf,
+) {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static NEXT: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "mbfx-plant-{}-{}",
+        std::process::id(),
+        NEXT.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    std::fs::write(dir.join("m.adm"), dataset).expect("dataset");
+    let path = dir.join("lin.acf");
+    std::fs::write(
+        &path,
+        acf.replace("BASE", &dir.join("plant").display().to_string()),
+    )
+    .expect("command file");
+    let mut sink = |_: &[f64]| -> std::io::Result<()> { Ok(()) };
+    (run(&RunRequest::file(&path), &mut sink, None), dir)
+}
+
+fn read_matrix(path: &std::path::Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .lines()
+        .map(|l| {
+            l.split_whitespace()
+                .map(|x| x.parse().expect("a number"))
+                .collect()
+        })
+        .collect()
+}
+
+fn assert_matrix(got: &[Vec<f64>], want: &[&[f64]], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}: {got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(g.len(), w.len(), "{what}: {got:?}");
+        for (x, y) in g.iter().zip(w.iter()) {
+            assert!(
+                (x - y).abs() <= DIGITS * y.abs().max(1.0),
+                "{what}: {got:?} vs {want:?}"
+            );
+        }
+    }
+}
+
+const PLANT_COMMANDS: &str = "m.adm\nout\nSIMULATE/STATICS\n\
+    LINEAR/STATEMAT, FILE = BASE, PINPUT = 1, POUTPUT = 2\nSTOP\n";
+
+#[test]
+fn a_force_input_and_state_outputs_give_b_c_and_d() {
+    // The spring-mass-damper pushed up by SFORCE/2 = u (from a ground marker below the
+    // block, so the line of action is +y); outputs y1 = DY(20), the CM's height, and
+    // y2 = VY(20) + 2·u. On x = (y, ẏ): B = [0; 1/m], C = [[1, 0], [0, 1]], D = [0; 2].
+    let dataset = SPRING_MASS_DAMPER.replace(
+        "END\n",
+        "MARKER/12, PART = 1, QP = 0, -10, 0\n\
+         SFORCE/2, TRANSLATION, I = 20, J = 12, FUNCTION = VARVAL(1)\n\
+         VARIABLE/1, FUNCTION = 0\nVARIABLE/2, FUNCTION = DY(20)\n\
+         VARIABLE/3, FUNCTION = VY(20) + 2*VARVAL(1)\n\
+         PINPUT/1, VARIABLES = 1\nPOUTPUT/2, VARIABLES = 2, 3\nEND\n",
+    );
+    let (done, dir) = run_command_file(&dataset, PLANT_COMMANDS);
+    let done = done.unwrap_or_else(|f| panic!("{}", f.cause));
+    assert!(
+        done.summary.text().contains("inputs VARIABLE/1"),
+        "{}",
+        done.summary.text()
+    );
+    let m = 2.0;
+    assert_matrix(
+        &read_matrix(&dir.join("plant.a")),
+        &[&[0.0, 1.0], &[-250.0, -1.5]],
+        "A",
+    );
+    assert_matrix(
+        &read_matrix(&dir.join("plant.b")),
+        &[&[0.0], &[1.0 / m]],
+        "B",
+    );
+    assert_matrix(
+        &read_matrix(&dir.join("plant.c")),
+        &[&[1.0, 0.0], &[0.0, 1.0]],
+        "C",
+    );
+    assert_matrix(&read_matrix(&dir.join("plant.d")), &[&[0.0], &[2.0]], "D");
+    let names = |ext: &str| std::fs::read_to_string(dir.join(format!("plant.{ext}"))).expect(ext);
+    assert_eq!(names("pi"), "VARIABLE/1\n");
+    assert_eq!(names("po"), "VARIABLE/2\nVARIABLE/3\n");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_torque_input_reaches_the_pendulum_through_its_coordinates() {
+    // A compound pendulum (m, d, I about the CM) driven by a torque u about the pin.
+    // With the state's coordinate z and its angle θ = z·∂θ/∂z, the linearized equation
+    // is I_pin·θ̈ = −m·g·d·θ + u: in any coordinate, B's lower entry is
+    // (∂z/∂θ)/I_pin and C for the output AZ is (∂θ/∂z, 0). The coordinate mbfx picks
+    // is read from the states file: the CM's x (x = d·θ) or the rotation (θ itself).
+    let (m, d, i) = (2.0, 1.5, 0.5);
+    let dataset = format!(
+        "pendulum\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+         PART/2, MASS = {m}, CM = 20, IP = {i}, {i}, {i}\nMARKER/20, PART = 2, QP = 0, -{d}, 0\n\
+         MARKER/21, PART = 2\nJOINT/1, REVOLUTE, I = 21, J = 10\nACCGRAV/JGRAV = -{G}\n\
+         SFORCE/1, ROTATION, I = 21, J = 10, FUNCTION = VARVAL(1)\n\
+         VARIABLE/1, FUNCTION = 0\nVARIABLE/2, FUNCTION = AZ(21, 10)\n\
+         PINPUT/1, VARIABLES = 1\nPOUTPUT/2, VARIABLES = 2\nEND\n"
+    );
+    let (done, dir) = run_command_file(&dataset, PLANT_COMMANDS);
+    done.unwrap_or_else(|f| panic!("{}", f.cause));
+    let states = std::fs::read_to_string(dir.join("plant.st")).expect("states");
+    let dz_dtheta = match states.lines().next() {
+        Some("PART/2 x translation") => d,
+        Some("PART/2 rotation about z") => 1.0,
+        other => panic!("unexpected coordinate {other:?}"),
+    };
+    let pin = i + m * d * d;
+    let w2 = m * G * d / pin;
+    assert_matrix(
+        &read_matrix(&dir.join("plant.a")),
+        &[&[0.0, 1.0], &[-w2, 0.0]],
+        "A",
+    );
+    assert_matrix(
+        &read_matrix(&dir.join("plant.b")),
+        &[&[0.0], &[dz_dtheta / pin]],
+        "B",
+    );
+    assert_matrix(
+        &read_matrix(&dir.join("plant.c")),
+        &[&[1.0 / dz_dtheta, 0.0]],
+        "C",
+    );
+    assert_matrix(&read_matrix(&dir.join("plant.d")), &[&[0.0]], "D");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_input_that_is_not_a_constant_is_named() {
+    let dataset = SPRING_MASS_DAMPER.replace(
+        "END\n",
+        "SFORCE/2, TRANSLATION, I = 20, J = 10, FUNCTION = VARVAL(1)\n\
+         VARIABLE/1, FUNCTION = TIME\nVARIABLE/2, FUNCTION = DY(20)\n\
+         PINPUT/1, VARIABLES = 1\nPOUTPUT/2, VARIABLES = 2\nEND\n",
+    );
+    let (done, dir) = run_command_file(&dataset, PLANT_COMMANDS);
+    let Err(failed) = done else {
+        panic!("VARIABLE/1 is a function of time")
+    };
+    assert!(
+        failed
+            .cause
+            .contains("LINEAR/STATEMAT: VARIABLE/1 (an input) has a FUNCTION of time"),
+        "{}",
+        failed.cause
+    );
+    let missing = run_command_file(
+        SPRING_MASS_DAMPER,
+        "m.adm\nout\nLINEAR/STATEMAT, FILE = BASE, POUTPUT = 7\nSTOP\n",
+    );
+    let Err(failed) = missing.0 else {
+        panic!("there is no POUTPUT/7")
+    };
+    assert!(
+        failed.cause.contains("POUTPUT/7 is not in the dataset"),
+        "{}",
+        failed.cause
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&missing.1);
+}

@@ -27,6 +27,7 @@
 //! Jacobian but not their second derivative (as in statics).
 
 pub mod modes;
+pub mod plant;
 
 use super::dynamics::{DynError, Dynamics};
 use super::freedom::{column_part, column_scale, coordinate_name, independent, null_space};
