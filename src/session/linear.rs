@@ -172,7 +172,8 @@ impl LinearReport {
                 .join(", ")
         );
         if lin.moving {
-            out += "note: the operating point moves: the partials of the inertial terms (centripetal, gyroscopic) are left out; linearize at rest (after SIMULATE/STATICS) for exact modes\n";
+            let (v, a) = lin.rest;
+            out += &format!("note: the operating point is not at rest (largest velocity {v:.1e}/s, acceleration {a:.1e}/s², translations over the model length): the partials of the inertial terms (centripetal, gyroscopic, M(q)·a) are left out; linearize after SIMULATE/STATICS, with a tight EQUILIBRIUM/IMBALANCE, for exact modes\n");
         }
         if let Some(a) = &self.state_matrix {
             out += &format!("state matrix A: {0} × {0}\n", a.nrows());

@@ -298,11 +298,14 @@ fn a_moving_operating_point_is_said_to_be_approximate() {
     let mut sink = |_: &[f64]| -> std::io::Result<()> { Ok(()) };
     let done = run(&r, &mut sink, None).unwrap_or_else(|f| panic!("{}", f.cause));
     assert!(done.summary.linear[0].linearized.moving);
-    assert!(done.summary.text().contains("the operating point moves"));
+    assert!(done
+        .summary
+        .text()
+        .contains("the operating point is not at rest"));
     // After the statics it is at rest and says nothing.
     let r = linearized(SPRING_MASS_DAMPER, DimRequest::Auto);
     assert!(!r.linearized.moving, "{}", r.text());
-    assert!(!r.text().contains("operating point moves"));
+    assert!(!r.text().contains("operating point is not at rest"));
 }
 
 /// Runs command file `acf` (beside `dataset`, written as `m.adm`) in a scratch folder;

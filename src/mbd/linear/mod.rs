@@ -35,8 +35,12 @@ use super::statics::tangent;
 use super::system::{PartHandle, System};
 use crate::vocab::math::DMat;
 
-/// Scaled velocities and accelerations below this count as rest.
-const REST: f64 = 1e-9;
+/// Scaled velocities (1/s) below this count as rest.
+const REST_VELOCITY: f64 = 1e-9;
+
+/// Scaled accelerations (1/s²) below this count as rest: what a static equilibrium to
+/// a tight IMBALANCE leaves.
+const REST_ACCELERATION: f64 = 1e-6;
 
 /// One minimal coordinate: a coordinate of the model (velocity layout).
 #[derive(Clone, Debug, PartialEq)]
@@ -72,6 +76,9 @@ pub struct Linearized {
     /// The operating point moves (velocities or accelerations not zero): the inertial
     /// partials are left out (see the module comment).
     pub moving: bool,
+    /// The largest velocity and acceleration at the operating point, scaled
+    /// (translations over the model length): 1/s and 1/s².
+    pub rest: (f64, f64),
 }
 
 /// Linearizes `d` about its current state; `damping` false leaves out C (Adams'
@@ -84,10 +91,13 @@ pub fn linearize(d: &mut Dynamics, damping: bool) -> Result<Linearized, DynError
     d.eval_forces(true)?;
     let scale: Vec<f64> = (0..n).map(|c| column_scale(d, c)).collect();
     let v = d.sys.v();
-    let moving = (0..n).any(|c| {
-        let a = d.a.get(c).copied().unwrap_or(0.0);
-        (v[c].abs() + a.abs()) / scale[c] > REST
-    });
+    let largest =
+        |x: &dyn Fn(usize) -> f64| (0..n).map(|c| x(c).abs() / scale[c]).fold(0.0, f64::max);
+    let rest = (
+        largest(&|c| v[c]),
+        largest(&|c| d.a.get(c).copied().unwrap_or(0.0)),
+    );
+    let moving = rest.0 > REST_VELOCITY || rest.1 > REST_ACCELERATION;
     let mut m = DMat::zeros(n, n);
     d.add_mass_matrix(1.0, &mut m);
     let mut k = DMat::zeros(n, n);
@@ -131,6 +141,7 @@ pub fn linearize(d: &mut Dynamics, damping: bool) -> Result<Linearized, DynError
         columns,
         scale,
         moving,
+        rest,
     })
 }
 
