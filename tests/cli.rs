@@ -10,6 +10,10 @@ mod common;
 #[path = "cli/acf.rs"]
 mod acf;
 
+/// Command files that change the model between SIMULATE commands.
+#[path = "cli/model_changes.rs"]
+mod model_changes;
+
 /// `mbfx run --set`.
 #[path = "cli/set.rs"]
 mod set;

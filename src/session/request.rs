@@ -268,6 +268,10 @@ fn asked_analyses(
     if request.statics && !segments.first().is_some_and(point) {
         let mut start = Segment::dynamic(0.0, 0.0, None);
         start.kind = Analysis::Statics;
+        // The command file's changes before its first SIMULATE come before this too.
+        if let Some(first) = segments.first_mut() {
+            start.changes = std::mem::take(&mut first.changes);
+        }
         segments.insert(0, start);
     }
     for s in segments.iter_mut() {
@@ -634,6 +638,19 @@ pub fn run(
         })?,
     };
     asked_analyses(request, &mut segments, equilibrium.as_ref());
+    if let Some(c) = &commands {
+        // The command file's changes to the model, checked against the dataset before
+        // the first row: a bad one is an error at its place in the command file.
+        let found = sim.check_changes(&segments);
+        if crate::diag::has_errors(&found) {
+            return Err(RunFailed::new(copy(&c.source), found));
+        }
+        if !found.is_empty() {
+            observer
+                .warnings(&found, &c.source)
+                .map_err(RunFailed::output)?;
+        }
+    }
     let end = segments.last().map_or(0.0, |s| s.end);
     let started = Started {
         header: &header,
