@@ -299,6 +299,18 @@ pub fn read_commands(text: &str) -> CommandFile {
         }
         reader.command(text, &group);
     }
+    // Changes after the last SIMULATE change nothing that runs: said, not dropped silently.
+    for step in reader.file.steps.iter().rev() {
+        match step {
+            Step::Simulate(_) => break,
+            Step::Change(c) => reader.file.diagnostics.push(Diagnostic::warning(
+                Code::UnsupportedStatement,
+                c.span.clone(),
+                "no SIMULATE command follows this change to the model: it changes nothing",
+            )),
+            Step::Integrator(_) | Step::Equilibrium(_) => {}
+        }
+    }
     reader.file.diagnostics.sort_by_key(|d| d.span.start);
     reader.file
 }
@@ -820,6 +832,17 @@ mod tests {
         let args: Vec<&str> = gforce.iter().map(|g| g.argument).collect();
         assert_eq!(args, ["FX", "TZ"]);
         assert_eq!(f.simulations().count(), 2);
+        // A change no SIMULATE follows is a warning at it.
+        let text = "m.adm\nout\nsim/dyn, end=1, dtout=0.1\nACCGRAV/JGRAV = -1\nSTOP\n";
+        let f = read_commands(text);
+        let [w] = f.diagnostics.as_slice() else {
+            panic!("{:?}", f.diagnostics);
+        };
+        assert!(
+            !w.is_error() && w.message.contains("changes nothing"),
+            "{w:?}"
+        );
+        assert_eq!(&text[w.span.clone()], "ACCGRAV/JGRAV = -1");
     }
 
     #[test]

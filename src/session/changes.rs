@@ -206,15 +206,22 @@ impl Resolved {
                 id,
                 functions,
             } => {
+                let mut rebuild = false;
                 for (argument, function) in functions {
-                    if let Some(slot) = expression_of(model, kind, id, argument) {
+                    // (The same expression again, as a change made before the first
+                    // SIMULATE is when the run starts, changes nothing.)
+                    let Some(slot) = expression_of(model, kind, id, argument) else {
+                        continue;
+                    };
+                    if format!("{:?}", slot.function) != format!("{function:?}") {
                         slot.function = function;
+                        rebuild = true;
                     }
                 }
                 Applied {
-                    rebuild: true,
+                    rebuild,
                     constraints: false,
-                    variables: kind == Element::Variable,
+                    variables: rebuild && kind == Element::Variable,
                 }
             }
         }
@@ -260,6 +267,28 @@ fn same(kind: Element, k: VectorForceKind) -> bool {
             | (Element::Vtorque, VectorForceKind::Vtorque)
             | (Element::Gforce, VectorForceKind::Gforce)
     )
+}
+
+/// Whether the measure slot `slot` of `model` reads the reaction or force of an element
+/// in `inactive` (`JOINT(3, …)` with JOINT/3 switched off).
+pub fn reads_inactive(model: &Model, slot: u32, inactive: &Inactive) -> bool {
+    let Some(ms) = model.measures.get(slot as usize) else {
+        return false;
+    };
+    let kind = match ms.name.as_str() {
+        "JOINT" => Element::Joint,
+        "JPRIM" => Element::Jprim,
+        "MOTION" => Element::Motion,
+        "SFORCE" => Element::Sforce,
+        "VFORCE" => Element::Vforce,
+        "VTORQ" => Element::Vtorque,
+        "GFORCE" => Element::Gforce,
+        "BUSH" => Element::Bushing,
+        "SPDP" => Element::SpringDamper,
+        _ => return false,
+    };
+    let id = ms.ids.first().and_then(|&id| Id::try_from(id).ok());
+    id.is_some_and(|id| inactive.contains(&(kind, id)))
 }
 
 /// The model without its `inactive` elements, and without the MOTIONs of inactive

@@ -427,6 +427,19 @@ impl Simulation {
         spec: RunSpec,
         probes: &[(String, String)],
     ) -> Result<Simulation, RunFailure> {
+        Self::with_changes(text, spec, probes, &[])
+    }
+
+    /// [`Simulation::new`] for a command file whose changes `initial`, written before
+    /// its first SIMULATE, make the model the run starts from (Adams View writes the
+    /// elements switched off in a model as DEACTIVATE commands there). A change that does
+    /// not resolve is left out here; [`Simulation::check_changes`] reports it.
+    pub fn with_changes(
+        text: &str,
+        spec: RunSpec,
+        probes: &[(String, String)],
+        initial: &[ModelChange],
+    ) -> Result<Simulation, RunFailure> {
         let mut read = read_model(text);
         if read.has_errors() {
             return Err(RunFailure::Diagnostics {
@@ -434,9 +447,17 @@ impl Simulation {
                 diagnostics: read.diagnostics,
             });
         }
+        let mut inactive = super::changes::Inactive::new();
+        for c in initial {
+            if let Ok((r, _)) = super::changes::resolve(&mut read, c) {
+                r.apply(&mut read.model, &mut inactive);
+            }
+        }
+        // The model built: the dataset without the elements switched off.
+        let mut model = super::changes::effective(&read.model, &inactive);
         let interpret = spec.engine == Engine::Interp;
         let analysis =
-            analyze_model_with(&read.model, spec.dim, interpret).map_err(RunFailure::Analysis)?;
+            analyze_model_with(&model, spec.dim, interpret).map_err(RunFailure::Analysis)?;
         let mut columns = Vec::new();
         let mut probe_warnings = Vec::new();
         for (name, text) in probes {
@@ -505,7 +526,9 @@ impl Simulation {
         }
         let exprs = analysis.exprs;
         let mut system = analysis.system;
-        let forces = system.forces_from_model(&read.model, &exprs)?;
+        // (The columns added their measures to the dataset's slots.)
+        model.measures.clone_from(&read.model.measures);
+        let forces = system.forces_from_model(&model, &exprs)?;
         // Energy is conserved only without force elements and without rows that move
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
@@ -523,8 +546,12 @@ impl Simulation {
                 if slots.iter().any(|(x, _)| *x == s) {
                     continue;
                 }
-                match OutputSlot::resolve(&mut system, &read.model, s) {
+                match OutputSlot::resolve(&mut system, &model, s) {
                     Ok(o) => slots.push((s, Some(o))),
+                    // An element switched off: the column holds 0 while it is.
+                    Err(_) if super::changes::reads_inactive(&read.model, s, &inactive) => {
+                        slots.push((s, None));
+                    }
                     Err(e) => {
                         ok = Err(e);
                         break;
@@ -560,7 +587,7 @@ impl Simulation {
         };
         let start = system.start_state();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
-        let lifted = shadow(&read.model, &exprs, &dynamics, &slots, &mut notes);
+        let lifted = shadow(&model, &exprs, &dynamics, &slots, &mut notes);
         // Every expression of the model is recorded now: constraints, forces, outputs.
         let functions: Vec<&crate::ir::Function> = columns.iter().map(|c| &c.function).collect();
         let code = match functions.is_empty() {
@@ -601,7 +628,7 @@ impl Simulation {
             start,
             constraint_designs,
             probe_warnings,
-            inactive: Default::default(),
+            inactive,
         })
     }
 

@@ -274,6 +274,23 @@ fn a_joint_switched_off_and_on_again_reassembles() {
     }
 }
 
+#[test]
+fn a_change_that_cannot_be_assembled_stops_the_run_at_its_command() {
+    // MOTION/2 turns the joint while MOTION/1 holds it: switched on at t = 0.1, the two
+    // contradict each other. The rows before the change stay written.
+    let model =
+        pendulum("MOTION/1, JOINT = 1, FUNCTION = 0\nMOTION/2, JOINT = 1, FUNCTION = 0.5*TIME\n");
+    let acf = "m\nout\nDEACTIVATE/MOTION, ID = 2\nSIMULATE/DYNAMIC, END = 0.1, DTOUT = 0.05\n\
+               ACTIVATE/MOTION, ID = 2\nSIMULATE/DYNAMIC, END = 0.2, DTOUT = 0.05\nSTOP\n";
+    let (r, _, rows) = run(&model, acf, &["y=DY(20,10)"]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    for want in ["run.acf:5:1", "change to the model at t = 0.1"] {
+        assert!(r.stderr.contains(want), "{want}\n{}", r.describe());
+    }
+    assert!(!r.stderr.contains("panicked"), "{}", r.describe());
+    assert_eq!(rows.len(), 3, "the rows up to the change");
+}
+
 /// The pendulum's folder with `acf` as run.acf.
 fn pendulum_dir(acf: &str) -> PathBuf {
     let dir = scratch_dir("model-changes-errors");

@@ -191,6 +191,8 @@ pub enum DynError {
         time: f64,
         /// What went wrong, in words.
         why: String,
+        /// The changes' commands in the command file.
+        at: crate::diag::Span,
     },
     /// A kinematic analysis asked of a model with degrees of freedom left
     /// ([`super::kinematics`]): how many, and each named.
@@ -373,7 +375,7 @@ impl fmt::Display for DynError {
                 "{part} can move in {directions} direction(s) that have no mass or inertia and that no constraint holds: give it MASS and IP, or constrain it"
             ),
             DynError::Structure => f.write_str("the Newton matrix has no valid structure"),
-            DynError::Change { time, why } => {
+            DynError::Change { time, why, .. } => {
                 write!(f, "the command file's change to the model at t = {time}: {why}")
             }
             DynError::Output(why) => write!(f, "the output could not be written: {why}"),

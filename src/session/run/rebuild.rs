@@ -39,7 +39,15 @@ impl Simulation {
     /// solved: the caller reconciles before the next stretch.
     pub(super) fn change_model(&mut self, changes: &[ModelChange]) -> Result<(), DynError> {
         let time = self.dynamics.sys.time;
-        let fail = |why: String| DynError::Change { time, why };
+        let at = match (changes.first(), changes.last()) {
+            (Some(a), Some(b)) => a.span.start..b.span.end,
+            _ => 0..0,
+        };
+        let fail = |why: String| DynError::Change {
+            time,
+            why,
+            at: at.clone(),
+        };
         let mut applied = Applied::default();
         for c in changes {
             let (r, _) = changes::resolve(&mut self.read, c)
@@ -71,8 +79,7 @@ impl Simulation {
             dropped: dropped.clone(),
             ..AssemblyOptions::default()
         };
-        sys.assemble(&options)
-            .map_err(|e| fail(format!("the changed model does not assemble: {e}")))?;
+        sys.assemble(&options).map_err(|e| fail(e.to_string()))?;
         let dropped = match constraints {
             false => dropped,
             true => {
