@@ -1,5 +1,6 @@
 //! Command files that change the model between SIMULATE commands (issue 26 §4): a joint
-//! or a MOTION switched off, an SFORCE's FUNCTION, a VARIABLE and ACCGRAV redefined.
+//! or a MOTION switched off, an SFORCE's FUNCTION, a MOTION's, a VFORCE component, a
+//! VARIABLE and ACCGRAV redefined.
 //! Each run continues one CSV, and every stretch is checked against its closed form
 //! from the state the change starts it at; a column reading an element switched off
 //! holds 0. Bad changes are errors at their place in the command file.
@@ -253,6 +254,82 @@ fn a_variable_redefined_changes_the_force_that_reads_it() {
         };
         near(row[z], want_z, 1e-6, format!("t = {t}: z"));
         near(row[v], want_v, 1e-12, format!("t = {t}: VARVAL(1)"));
+    }
+}
+
+#[test]
+fn a_swinging_pendulum_under_new_gravity_keeps_its_new_energy() {
+    // g = 9.81 until t1 = 0.3, then 3: from the state at t1, ½·I·ω² + m·g₂·y keeps its
+    // value, on the circle. (A 2D part rebuilt away from its input orientation: it once
+    // took its θ twice, which this pins.)
+    let acf = "m\nout\nINTEGRATOR/HHT, ERROR = 1e-9\nSIMULATE/DYNAMIC, END = 0.3, DTOUT = 0.02\n\
+               ACCGRAV/JGRAV = -3\nSIMULATE/DYNAMIC, END = 0.9, DTOUT = 0.02\nSTOP\n";
+    let probes = ["x=DX(20,10)", "y=DY(20,10)", "w=WZ(20,10)"];
+    let (r, h, rows) = run(&pendulum(""), acf, &probes);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    let [x, y, w] = ["x", "y", "w"].map(|n| col(&h, n));
+    let energy = |row: &[f64], g: f64| 0.5 * I_PIN * row[w] * row[w] + MASS * g * row[y];
+    let t1 = 0.3;
+    let at = rows.iter().find(|r| (r[0] - t1).abs() < 1e-12).expect("t1");
+    let e1 = energy(at, 3.0);
+    for row in &rows {
+        let (g, e) = match row[0] <= t1 + 1e-12 {
+            true => (G, 0.0),
+            false => (3.0, e1),
+        };
+        near(energy(row, g), e, 2e-5, format!("t = {}: energy", row[0]));
+        near(
+            row[x].hypot(row[y]),
+            1.0,
+            1e-9,
+            format!("t = {}: radius", row[0]),
+        );
+    }
+}
+
+#[test]
+fn a_motion_redefined_drives_its_new_function() {
+    // θ = 0.5·t, then 0.1 − 0.3·(t − 0.2) from t1 = 0.2: the CM, 1 m from the pin, is at
+    // (cos θ, sin θ) to the assembly's tolerance.
+    let model = pendulum("MOTION/1, JOINT = 1, FUNCTION = 0.5*TIME\n");
+    let acf = "m\nout\nSIMULATE/DYNAMIC, END = 0.2, DTOUT = 0.05\n\
+               MOTION/1, FUNCTION = 0.1 - 0.3*(TIME - 0.2)\n\
+               SIMULATE/DYNAMIC, END = 0.6, DTOUT = 0.05\nSTOP\n";
+    let (r, h, rows) = run(&model, acf, &["x=DX(20,10)", "y=DY(20,10)"]);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert_eq!(rows.len(), 13);
+    let (x, y) = (col(&h, "x"), col(&h, "y"));
+    for row in &rows {
+        let t: f64 = row[0];
+        let theta = match t <= 0.2 + 1e-12 {
+            true => 0.5 * t,
+            false => 0.1 - 0.3 * (t - 0.2),
+        };
+        near(row[x], theta.cos(), 1e-9, format!("t = {t}: x"));
+        near(row[y], theta.sin(), 1e-9, format!("t = {t}: y"));
+    }
+}
+
+#[test]
+fn a_vforce_component_redefined_pushes_the_other_way() {
+    // A VFORCE on the free part (no gravity) pushes along x with 2 N until t1 = 0.4;
+    // then FY = 3 is written (FX keeps its 2): x = t², y = 1.5·τ².
+    let model = free_part(
+        "MARKER/11, PART = 1, FLOATING\n\
+         VFORCE/1, I = 20, JFLOAT = 11, RM = 10, FX = 2\\ FY = 0\\ FZ = 0\n",
+    )
+    .replace("ACCGRAV/IGRAV = 0.5, JGRAV = -9.81\n", "");
+    let acf = "m\nout\nINTEGRATOR/HHT, ERROR = 1e-10\nSIMULATE/DYNAMIC, END = 0.4, DTOUT = 0.05\n\
+               VFORCE/1, FY = 3\nSIMULATE/DYNAMIC, END = 0.8, DTOUT = 0.05\nSTOP\n";
+    let (r, h, rows) = run(&model, acf, &["x=DX(20,10)", "y=DY(20,10)"]);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert_eq!(rows.len(), 17);
+    let (x, y) = (col(&h, "x"), col(&h, "y"));
+    for row in &rows {
+        let t: f64 = row[0];
+        let tau = (t - 0.4).max(0.0);
+        near(row[x], t * t, 1e-8, format!("t = {t}: x"));
+        near(row[y], 1.5 * tau * tau, 1e-8, format!("t = {t}: y"));
     }
 }
 

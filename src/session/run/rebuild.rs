@@ -135,15 +135,16 @@ impl Simulation {
     }
 }
 
-/// Poses, velocities (as the velocities assembly stays closest to) and time of `from`
-/// onto the same parts of `to`.
+/// Poses, velocities (as the velocities assembly stays closest to), input poses and time
+/// of `from` onto the same parts of `to`.
 fn carry_state(from: &System, to: &mut System) {
     to.restore(&from.snapshot());
     for (h, p) in from.parts.iter().enumerate() {
         let h = PartHandle(h as u32);
         to.set_part_velocity(h, p.v, p.w);
+        // The input pose stays the run's: a 2D part's θ is its rotation from it.
         let q = to.part_mut(h);
-        (q.input_r, q.input_rot) = (p.r, p.rot);
+        (q.input_r, q.input_rot) = (p.input_r, p.input_rot);
     }
     to.time = from.time;
 }
