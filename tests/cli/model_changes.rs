@@ -41,6 +41,16 @@ fn read_csv(csv: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
+/// (t, x, y) of marker 20 from the origin at each of the `count` rows of a run that
+/// succeeds.
+fn positions(model: &str, acf: &str, count: usize) -> Vec<(f64, f64, f64)> {
+    let (r, h, rows) = run(model, acf, &["x=DX(20,10)", "y=DY(20,10)"]);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    assert_eq!(rows.len(), count);
+    let (x, y) = (col(&h, "x"), col(&h, "y"));
+    rows.iter().map(|r| (r[0], r[x], r[y])).collect()
+}
+
 /// Fails with `what` unless `got` is within `tol` of `want`.
 fn near(got: f64, want: f64, tol: f64, what: String) {
     assert!((got - want).abs() < tol, "{what}: {got} vs {want}");
@@ -295,18 +305,13 @@ fn a_motion_redefined_drives_its_new_function() {
     let acf = "m\nout\nSIMULATE/DYNAMIC, END = 0.2, DTOUT = 0.05\n\
                MOTION/1, FUNCTION = 0.1 - 0.3*(TIME - 0.2)\n\
                SIMULATE/DYNAMIC, END = 0.6, DTOUT = 0.05\nSTOP\n";
-    let (r, h, rows) = run(&model, acf, &["x=DX(20,10)", "y=DY(20,10)"]);
-    assert_eq!(r.code, 0, "{}", r.describe());
-    assert_eq!(rows.len(), 13);
-    let (x, y) = (col(&h, "x"), col(&h, "y"));
-    for row in &rows {
-        let t: f64 = row[0];
+    for (t, x, y) in positions(&model, acf, 13) {
         let theta = match t <= 0.2 + 1e-12 {
             true => 0.5 * t,
             false => 0.1 - 0.3 * (t - 0.2),
         };
-        near(row[x], theta.cos(), 1e-9, format!("t = {t}: x"));
-        near(row[y], theta.sin(), 1e-9, format!("t = {t}: y"));
+        near(x, theta.cos(), 1e-9, format!("t = {t}: x"));
+        near(y, theta.sin(), 1e-9, format!("t = {t}: y"));
     }
 }
 
@@ -321,15 +326,10 @@ fn a_vforce_component_redefined_pushes_the_other_way() {
     .replace("ACCGRAV/IGRAV = 0.5, JGRAV = -9.81\n", "");
     let acf = "m\nout\nINTEGRATOR/HHT, ERROR = 1e-10\nSIMULATE/DYNAMIC, END = 0.4, DTOUT = 0.05\n\
                VFORCE/1, FY = 3\nSIMULATE/DYNAMIC, END = 0.8, DTOUT = 0.05\nSTOP\n";
-    let (r, h, rows) = run(&model, acf, &["x=DX(20,10)", "y=DY(20,10)"]);
-    assert_eq!(r.code, 0, "{}", r.describe());
-    assert_eq!(rows.len(), 17);
-    let (x, y) = (col(&h, "x"), col(&h, "y"));
-    for row in &rows {
-        let t: f64 = row[0];
+    for (t, x, y) in positions(&model, acf, 17) {
         let tau = (t - 0.4).max(0.0);
-        near(row[x], t * t, 1e-8, format!("t = {t}: x"));
-        near(row[y], 1.5 * tau * tau, 1e-8, format!("t = {t}: y"));
+        near(x, t * t, 1e-8, format!("t = {t}: x"));
+        near(y, 1.5 * tau * tau, 1e-8, format!("t = {t}: y"));
     }
 }
 
