@@ -370,6 +370,9 @@ pub enum RewindError {
     ConstraintReads(i64),
     /// The dynamics could not be made again.
     Dynamics(DynError),
+    /// A command file changed the model during the last run: its start is another
+    /// system's, so a new build is needed.
+    ModelChanged,
 }
 
 /// A model ready to run.
@@ -391,6 +394,8 @@ pub struct Simulation {
     start: StartState,
     /// The elements a command file switched off ([`super::changes`]).
     inactive: super::changes::Inactive,
+    /// A command file rebuilt the system during a run ([`Simulation::rewind`] refuses).
+    changed: bool,
     /// The design variables the constraints read: changing one needs a new build.
     constraint_designs: Vec<i64>,
     /// The checker's warnings about each probe that has some (units of measure, ...):
@@ -629,6 +634,7 @@ impl Simulation {
             constraint_designs,
             probe_warnings,
             inactive,
+            changed: false,
         })
     }
 
@@ -649,6 +655,9 @@ impl Simulation {
             .find(|(id, _)| self.constraint_designs.contains(id))
         {
             return Err(RewindError::ConstraintReads(id));
+        }
+        if self.changed {
+            return Err(RewindError::ModelChanged);
         }
         let sys = &mut self.dynamics.sys;
         sys.rewind_to(&self.start);

@@ -112,7 +112,7 @@ impl Simulation {
         if applied.variables {
             self.recompile_columns().map_err(fail)?;
         }
-        (self.dynamics, self.dropped) = (dynamics, dropped);
+        (self.dynamics, self.dropped, self.changed) = (dynamics, dropped, true);
         Ok(())
     }
 
