@@ -458,11 +458,17 @@ impl Simulation {
                 r.apply(&mut read.model, &mut inactive);
             }
         }
-        // The model built: the dataset without the elements switched off.
-        let mut model = super::changes::effective(&read.model, &inactive);
+        // The model built: the dataset without the elements switched off (the dataset
+        // itself, not a copy, when none is).
+        let switched_off =
+            (!inactive.is_empty()).then(|| super::changes::effective(&read.model, &inactive));
         let interpret = spec.engine == Engine::Interp;
-        let analysis =
-            analyze_model_with(&model, spec.dim, interpret).map_err(RunFailure::Analysis)?;
+        let analysis = analyze_model_with(
+            switched_off.as_ref().unwrap_or(&read.model),
+            spec.dim,
+            interpret,
+        )
+        .map_err(RunFailure::Analysis)?;
         let mut columns = Vec::new();
         let mut probe_warnings = Vec::new();
         for (name, text) in probes {
@@ -532,8 +538,12 @@ impl Simulation {
         let exprs = analysis.exprs;
         let mut system = analysis.system;
         // (The columns added their measures to the dataset's slots.)
-        model.measures.clone_from(&read.model.measures);
-        let forces = system.forces_from_model(&model, &exprs)?;
+        let switched_off = switched_off.map(|mut m| {
+            m.measures.clone_from(&read.model.measures);
+            m
+        });
+        let model = switched_off.as_ref().unwrap_or(&read.model);
+        let forces = system.forces_from_model(model, &exprs)?;
         // Energy is conserved only without force elements and without rows that move
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
@@ -551,7 +561,7 @@ impl Simulation {
                 if slots.iter().any(|(x, _)| *x == s) {
                     continue;
                 }
-                match OutputSlot::resolve(&mut system, &model, s) {
+                match OutputSlot::resolve(&mut system, model, s) {
                     Ok(o) => slots.push((s, Some(o))),
                     // An element switched off: the column holds 0 while it is.
                     Err(_) if super::changes::reads_inactive(&read.model, s, &inactive) => {
@@ -592,7 +602,7 @@ impl Simulation {
         };
         let start = system.start_state();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
-        let lifted = shadow(&model, &exprs, &dynamics, &slots, &mut notes);
+        let lifted = shadow(model, &exprs, &dynamics, &slots, &mut notes);
         // Every expression of the model is recorded now: constraints, forces, outputs.
         let functions: Vec<&crate::ir::Function> = columns.iter().map(|c| &c.function).collect();
         let code = match functions.is_empty() {
