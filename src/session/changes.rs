@@ -320,3 +320,67 @@ pub fn effective(model: &Model, inactive: &Inactive) -> Model {
     m.bushings.retain(|e| on(Element::Bushing, e.el.id));
     m
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::commands::{read_commands, Step};
+
+    const MODEL: &str = "m\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        PART/2, MASS = 1, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+        JOINT/1, REVOLUTE, I = 20, J = 10\nMOTION/1, JOINT = 1, FUNCTION = TIME\n\
+        SFORCE/2, ROTATION, I = 20, J = 10, FUNCTION = 1\nVARIABLE/3, FUNCTION = 2\n\
+        ACCGRAV/JGRAV = -9.81\nEND\n";
+
+    /// The command file's changes, resolved against MODEL and applied in order.
+    fn applied(acf: &str) -> (Model, Inactive, Vec<Applied>) {
+        let mut read = crate::model::read_model(MODEL);
+        assert!(!read.has_errors(), "{:?}", read.diagnostics);
+        let mut inactive = Inactive::new();
+        let mut done = Vec::new();
+        for step in read_commands(acf).steps {
+            if let Step::Change(c) = step {
+                let (r, _) = resolve(&mut read, &c).expect("resolves");
+                done.push(r.apply(&mut read.model, &mut inactive));
+            }
+        }
+        (read.model, inactive, done)
+    }
+
+    #[test]
+    fn a_joint_switched_off_takes_its_motion_with_it() {
+        let (model, inactive, done) =
+            applied("m\nout\nDEACTIVATE/JOINT, ID = 1\nDEACTIVATE/SFORCE, RANGE = 1, 5\n");
+        let m = effective(&model, &inactive);
+        assert!(m.joints.is_empty() && m.motions.is_empty() && m.sforces.is_empty());
+        assert_eq!(model.joints.len(), 1, "the dataset keeps every element");
+        assert!(done[0].constraints && done[0].rebuild);
+        assert!(!done[1].constraints && done[1].rebuild);
+    }
+
+    #[test]
+    fn switching_twice_and_the_same_gravity_change_nothing() {
+        let (_, inactive, done) = applied(
+            "m\nout\nACTIVATE/JOINT, ID = 1\nDEACTIVATE/MOTION, ID = 1\nDEACTIVATE/MOTION, ID = 1\nACCGRAV/JGRAV = -9.81\nACCGRAV/IGRAV = 1\nVARIABLE/3, FUNCTION = 2*TIME\n",
+        );
+        let rebuilt: Vec<bool> = done.iter().map(|d| d.rebuild).collect();
+        assert_eq!(rebuilt, [false, true, false, false, true, true]);
+        assert!(done[5].variables);
+        assert_eq!(inactive.len(), 1);
+    }
+
+    #[test]
+    fn what_the_dataset_lacks_is_an_error_at_the_id() {
+        let mut read = crate::model::read_model(MODEL);
+        let text = "m\nout\nDEACTIVATE/GFORCE, ID = 2\nVFORCE/1, FX = 1\nSFORCE/2, FUNCTION = DX(20, 99)\n";
+        for step in read_commands(text).steps {
+            let Step::Change(c) = step else { continue };
+            let Err(found) = resolve(&mut read, &c) else {
+                panic!("{c:?} resolves");
+            };
+            let e = found.iter().find(|d| d.is_error()).expect("an error");
+            let at = &text[e.span.clone()];
+            assert!(["2", "1", "99"].contains(&at), "{at}: {}", e.message);
+        }
+    }
+}
