@@ -298,6 +298,37 @@ fn a_swinging_pendulum_under_new_gravity_keeps_its_new_energy() {
 }
 
 #[test]
+fn a_static_equilibrium_after_a_drive_is_switched_off_hangs_the_pendulum() {
+    // Held at −0.3 rad by MOTION/1, then released: SIMULATE/STATICS finds it hanging
+    // straight down, the pin carrying m·g and the drive nothing.
+    let model = pendulum("MOTION/1, JOINT = 1, FUNCTION = -0.3\n");
+    let acf = "m\nout\nSIMULATE/DYNAMIC, END = 0.1, DTOUT = 0.05\nDEACTIVATE/MOTION, ID = 1\n\
+               SIMULATE/STATICS\nSIMULATE/DYNAMIC, END = 0.2, DTOUT = 0.05\nSTOP\n";
+    let probes = [
+        "x=DX(20,10)",
+        "y=DY(20,10)",
+        "fy=JOINT(1,0,3,0)",
+        "tz=MOTION(1,0,8,0)",
+    ];
+    let (r, h, rows) = run(&model, acf, &probes);
+    assert_eq!(r.code, 0, "{}", r.describe());
+    let [x, y, fy, tz] = ["x", "y", "fy", "tz"].map(|n| col(&h, n));
+    let held = &rows[0];
+    near(held[y], (-0.3f64).sin(), 1e-9, "held: y".into());
+    near(
+        held[tz].abs(),
+        MASS * G * 0.3f64.cos(),
+        1e-6,
+        "held: torque".into(),
+    );
+    let last = rows.last().expect("rows");
+    near(last[x], 0.0, 1e-9, "hanging: x".into());
+    near(last[y], -1.0, 1e-9, "hanging: y".into());
+    near(last[fy].abs(), MASS * G, 1e-6, "hanging: pin force".into());
+    assert_eq!(last[tz], 0.0);
+}
+
+#[test]
 fn a_motion_redefined_drives_its_new_function() {
     // θ = 0.5·t, then 0.1 − 0.3·(t − 0.2) from t1 = 0.2: the CM, 1 m from the pin, is at
     // (cos θ, sin θ) to the assembly's tolerance.
