@@ -370,6 +370,29 @@ mod tests {
     }
 
     #[test]
+    fn every_cut_of_a_command_file_is_read_and_resolved_without_a_panic() {
+        // Bad input never panics, and every diagnostic points into the text.
+        let full = "m\nout\nDEACTIVATE/JOINT, RANGE = 1, 3\nVARIABLE/3 &\n, FUNCTION = STEP(TIME, 0, 0, 1, 2) & ! ramp\n  + 1\nGFORCE/2, FX = 1\\ TZ = 2\nACCGRAV/IGRAV = 1, KGRAV = -2\nACTIVATE/SFORCE, ID = 2\nSFORCE/2, FUNCTION = DX(20,10)*-3\nsim/dyn, end=1, steps=2\n";
+        for cut in (0..=full.len()).filter(|&k| full.is_char_boundary(k)) {
+            let text = &full[..cut];
+            let f = read_commands(text);
+            let mut read = crate::model::read_model(MODEL);
+            let mut all = f.diagnostics.clone();
+            for step in &f.steps {
+                if let Step::Change(c) = step {
+                    match resolve(&mut read, c) {
+                        Ok((_, w)) => all.extend(w),
+                        Err(e) => all.extend(e),
+                    }
+                }
+            }
+            for d in &all {
+                assert!(d.span.end <= text.len(), "{text:?}: {d:?}");
+            }
+        }
+    }
+
+    #[test]
     fn what_the_dataset_lacks_is_an_error_at_the_id() {
         let mut read = crate::model::read_model(MODEL);
         let text = "m\nout\nDEACTIVATE/GFORCE, ID = 2\nVFORCE/1, FX = 1\nSFORCE/2, FUNCTION = DX(20, 99)\n";
