@@ -112,6 +112,17 @@ impl Simulation {
         if applied.variables {
             self.recompile_columns().map_err(fail)?;
         }
+        let redundancy = match constraints {
+            true => format!(
+                "; a new redundancy analysis found {} redundant equations",
+                self.redundant
+            ),
+            false => String::new(),
+        };
+        self.notes.push(format!(
+            "at t = {time} the command file changed the model (elements switched off: {}){redundancy}",
+            self.inactive.len()
+        ));
         (self.dynamics, self.dropped, self.changed) = (dynamics, dropped, true);
         Ok(())
     }
