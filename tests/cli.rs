@@ -14,6 +14,10 @@ mod acf;
 #[path = "cli/linear.rs"]
 mod linear;
 
+/// Command files that change the model between SIMULATE commands.
+#[path = "cli/model_changes.rs"]
+mod model_changes;
+
 /// `mbfx run --set`.
 #[path = "cli/set.rs"]
 mod set;

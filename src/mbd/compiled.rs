@@ -41,17 +41,27 @@ struct Batch {
     error: RefCell<Option<crate::jit::JitError>>,
     /// How many modules the functions in `code` live in.
     modules: std::cell::Cell<usize>,
+    /// The index of the first function recorded with each value (`{:?}`, constants to
+    /// the bit): a function recorded again once that one is compiled takes its code.
+    seen: RefCell<std::collections::HashMap<String, usize>>,
 }
 
 impl Batch {
-    /// Records `g` and returns its index.
+    /// Records `g` and returns its index. A function recorded and compiled before (a
+    /// model rebuilt after a command file changed it: every expression that did not
+    /// change) takes that code and is not compiled again.
     fn record(&self, g: crate::ir::Function) -> usize {
         let mut code = self.code.borrow_mut();
         code.push(None);
         let index = code.len() - 1;
         if self.jit.borrow().is_some() {
+            let key = format!("{g:?}");
+            let first = *self.seen.borrow_mut().entry(key).or_insert(index);
+            match code[first].clone() {
+                Some(compiled) if first != index => code[index] = Some(compiled),
+                _ => self.pending.borrow_mut().push(index),
+            }
             self.functions.borrow_mut().push(g);
-            self.pending.borrow_mut().push(index);
         }
         index
     }
@@ -153,6 +163,7 @@ impl CompiledExprs {
                 code: RefCell::new(Vec::new()),
                 error: RefCell::new(None),
                 modules: std::cell::Cell::new(0),
+                seen: RefCell::new(std::collections::HashMap::new()),
             }),
             splines: Arc::new([]),
         }
@@ -462,6 +473,26 @@ mod tests {
         assert_eq!(fc.value(1.0, &[1.5]).unwrap(), 1.5f64 * 1.5 - 4.0 - 3.25);
         assert_eq!(module_of(&a, 0), module_of(&b, 0));
         assert_ne!(module_of(&a, 0), module_of(&c, 0));
+    }
+
+    #[test]
+    fn a_function_recorded_again_takes_the_code_compiled_for_it() {
+        let e = CompiledExprs::new();
+        let f = e.compile(&expr("DM(2,1)**2 + 5.5*TIME"));
+        assert_eq!(f.value(1.0, &[2.0]).unwrap(), 9.5);
+        // Compiled: the same function again is not; another one is.
+        let again = e.compile(&expr("DM(2,1)**2 + 5.5*TIME"));
+        let other = e.compile(&expr("DM(2,1)**2 + 6.5*TIME"));
+        if e.batch.jit.borrow().is_some() {
+            assert!(e.batch.code.borrow()[1].is_some());
+            assert_eq!(*e.batch.pending.borrow(), [2]);
+        }
+        assert_eq!(again.value(1.0, &[2.0]).unwrap(), 9.5);
+        assert_eq!(other.value(1.0, &[2.0]).unwrap(), 10.5);
+        if e.batch.jit.borrow().is_some() {
+            assert_eq!(module_of(&e, 0), module_of(&e, 1));
+            assert_ne!(module_of(&e, 0), module_of(&e, 2));
+        }
     }
 
     #[test]

@@ -14,14 +14,18 @@
 //!   constraints at each output time; `SIMULATE/STATICS`: one static equilibrium where
 //!   the run stands, or with END and STEPS (DTOUT) a quasi-static sequence of them;
 //! - `LINEAR/EIGENSOL` and `LINEAR/STATEMAT` ([`super::linear_command`]): the modes or
-//!   the state matrix where the run stands;
+//!   the state matrices where the run stands;
+//! - ACTIVATE, DEACTIVATE, ACCGRAV and new expressions for VARIABLE, MOTION, SFORCE,
+//!   VFORCE, VTORQUE and GFORCE change the model for the SIMULATE commands after them
+//!   ([`super::command_changes`]);
 //! - commands that only set what mbfx does not have (OUTPUT, IC, KINEMATICS, …) are
-//!   warnings; commands that change the model during the run (DEACTIVATE, VARIABLE, …) or
+//!   warnings; commands that change the model otherwise (JOINT, PART, SENSOR, …) or
 //!   run an analysis mbfx does not have (SIMULATE/INITIAL_CONDITIONS) are `E0610`
 //!   errors at the command, so such a file does not run at all.
 //!
 //! Every malformed line is a diagnostic at its place; the reader never stops at the first.
 
+use super::command_changes::{read_change, ModelChange};
 use super::command_lines::{command_groups, lines, readable};
 use super::cursor::Cursor;
 use super::equilibrium_settings::{read_equilibrium, EquilibriumStatement};
@@ -44,6 +48,9 @@ pub enum Step {
     Simulate(Simulate),
     /// A LINEAR command: the modes or the state matrix where the run stands.
     Linear(Box<Linear>),
+    /// A command that changes the model for the SIMULATE commands after it (ACTIVATE,
+    /// DEACTIVATE, VARIABLE, MOTION, SFORCE, …, ACCGRAV).
+    Change(Box<ModelChange>),
 }
 
 /// What a SIMULATE command runs.
@@ -98,7 +105,7 @@ impl CommandFile {
     pub fn simulations(&self) -> impl Iterator<Item = &Simulate> {
         self.steps.iter().filter_map(|s| match s {
             Step::Simulate(s) => Some(s),
-            Step::Integrator(_) | Step::Equilibrium(_) | Step::Linear(_) => None,
+            Step::Integrator(_) | Step::Equilibrium(_) | Step::Linear(_) | Step::Change(_) => None,
         })
     }
 }
@@ -114,16 +121,18 @@ enum Kind {
     Stop,
     /// Sets something the run does not use: a warning saying why.
     Ignored(&'static str),
+    /// Changes the model between SIMULATE commands ([`super::command_changes`]).
+    Change,
     /// Changes the model or runs another analysis: an error saying why.
     Refused(&'static str),
 }
 
-const CHANGES_MODEL: &str = "changes the model during the run, which mbfx does not support";
+const CHANGES_MODEL: &str = "changes the model in a way mbfx does not support (it honours ACTIVATE, DEACTIVATE, ACCGRAV and new expressions for VARIABLE, MOTION, SFORCE, VFORCE, VTORQUE and GFORCE)";
 
 /// The commands of the Adams Solver command language (three letters abbreviate any).
 const COMMANDS: &[(&str, Kind)] = &[
-    ("ACCGRAV", Kind::Refused(CHANGES_MODEL)),
-    ("ACTIVATE", Kind::Refused(CHANGES_MODEL)),
+    ("ACCGRAV", Kind::Change),
+    ("ACTIVATE", Kind::Change),
     ("ARRAY", Kind::Refused(CHANGES_MODEL)),
     ("BEAM", Kind::Refused(CHANGES_MODEL)),
     ("BUSHING", Kind::Refused(CHANGES_MODEL)),
@@ -131,7 +140,7 @@ const COMMANDS: &[(&str, Kind)] = &[
         "CONTROL",
         Kind::Refused("hands control to a user subroutine, which mbfx does not run"),
     ),
-    ("DEACTIVATE", Kind::Refused(CHANGES_MODEL)),
+    ("DEACTIVATE", Kind::Change),
     (
         "DEBUG",
         Kind::Ignored("it sets Adams Solver's debugging output"),
@@ -146,7 +155,7 @@ const COMMANDS: &[(&str, Kind)] = &[
     ("FLEX_BODY", Kind::Refused(CHANGES_MODEL)),
     ("FRICTION", Kind::Refused(CHANGES_MODEL)),
     ("GCON", Kind::Refused(CHANGES_MODEL)),
-    ("GFORCE", Kind::Refused(CHANGES_MODEL)),
+    ("GFORCE", Kind::Change),
     ("HELP", Kind::Ignored("it is interactive")),
     (
         "IC",
@@ -167,7 +176,7 @@ const COMMANDS: &[(&str, Kind)] = &[
     ),
     ("MARKER", Kind::Refused(CHANGES_MODEL)),
     ("MENU", Kind::Ignored("it is interactive")),
-    ("MOTION", Kind::Refused(CHANGES_MODEL)),
+    ("MOTION", Kind::Change),
     (
         "OUTPUT",
         Kind::Ignored("it sets Adams' result files; mbfx writes the CSV of --csv"),
@@ -191,16 +200,16 @@ const COMMANDS: &[(&str, Kind)] = &[
         Kind::Refused("saves the state for a later RELOAD, which mbfx does not support"),
     ),
     ("SENSOR", Kind::Refused(CHANGES_MODEL)),
-    ("SFORCE", Kind::Refused(CHANGES_MODEL)),
+    ("SFORCE", Kind::Change),
     ("SHOW", Kind::Ignored("it is interactive")),
     ("SIMULATE", Kind::Simulate),
     ("SPLINE", Kind::Refused(CHANGES_MODEL)),
     ("SPRINGDAMPER", Kind::Refused(CHANGES_MODEL)),
     ("STOP", Kind::Stop),
     ("STRING", Kind::Refused(CHANGES_MODEL)),
-    ("VARIABLE", Kind::Refused(CHANGES_MODEL)),
-    ("VFORCE", Kind::Refused(CHANGES_MODEL)),
-    ("VTORQUE", Kind::Refused(CHANGES_MODEL)),
+    ("VARIABLE", Kind::Change),
+    ("VFORCE", Kind::Change),
+    ("VTORQUE", Kind::Change),
 ];
 
 /// The command a written keyword names: an exact spelling, or a unique prefix of at
@@ -292,6 +301,19 @@ pub fn read_commands(text: &str) -> CommandFile {
             break;
         }
         reader.command(text, &group);
+    }
+    // Changes after the last SIMULATE or LINEAR change nothing that runs: said, not
+    // dropped silently.
+    for step in reader.file.steps.iter().rev() {
+        match step {
+            Step::Simulate(_) | Step::Linear(_) => break,
+            Step::Change(c) => reader.file.diagnostics.push(Diagnostic::warning(
+                Code::UnsupportedStatement,
+                c.span.clone(),
+                "no SIMULATE or LINEAR command follows this change to the model: it changes nothing",
+            )),
+            Step::Integrator(_) | Step::Equilibrium(_) => {}
+        }
     }
     reader.file.diagnostics.sort_by_key(|d| d.span.start);
     reader.file
@@ -394,6 +416,11 @@ impl Reader {
             Kind::Linear => {
                 if let Some(l) = read_linear(&mut a) {
                     self.file.steps.push(Step::Linear(Box::new(l)));
+                }
+            }
+            Kind::Change => {
+                if let Some(c) = read_change(name, text, group, &mut a) {
+                    self.file.steps.push(Step::Change(Box::new(c)));
                 }
             }
             Kind::Ignored(why) => {
@@ -658,11 +685,41 @@ mod tests {
     #[test]
     fn unsupported_commands_are_errors_at_the_command() {
         for (text, what, bad) in [
-            ("m.adm\nout\nSIMULATE/INITIAL_CONDITIONS\nSTOP\n", "initial-conditions", "SIMULATE/INITIAL_CONDITIONS"),
-            ("m.adm\nout\nDEACTIVATE/JOINT, ID=12\n", "DEACTIVATE changes the model", "DEACTIVATE/JOINT, ID=12"),
-            ("m.adm\nout\nLINEAR/STATEMAT, FILE = lin, FORMAT = MATRIXX\n", "MATLAB format", "MATRIXX"),
-            ("m.adm\nout\nVARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)\n", "VARIABLE changes", "VARIABLE/1001, FUNC= -step5(time,0,0,2,20*PI) &\n -STEP5(TIME,2.0,0,4,20*PI)"),
-            ("\nfile/command=other.acf\n", "another command file", "command=other.acf"),
+            (
+                "m.adm\nout\nSIMULATE/INITIAL_CONDITIONS\nSTOP\n",
+                "initial-conditions",
+                "SIMULATE/INITIAL_CONDITIONS",
+            ),
+            (
+                "m.adm\nout\nDEACTIVATE/SENSOR, ID=12\n",
+                "mbfx has no SENSOR elements",
+                "DEACTIVATE/SENSOR, ID=12",
+            ),
+            (
+                "m.adm\nout\nJOINT/3, I = 1, J = 2\n",
+                "JOINT changes the model",
+                "JOINT/3, I = 1, J = 2",
+            ),
+            (
+                "m.adm\nout\nMOTION/3, DISP, FUNCTION = TIME\n",
+                "redefines only FUNCTION",
+                "DISP",
+            ),
+            (
+                "m.adm\nout\nVARIABLE/3, FUNCTION = USER(1)\n",
+                "user subroutine",
+                "USER(1)",
+            ),
+            (
+                "m.adm\nout\nLINEAR/STATEMAT, FILE = lin, FORMAT = MATRIXX\n",
+                "MATLAB format",
+                "MATRIXX",
+            ),
+            (
+                "\nfile/command=other.acf\n",
+                "another command file",
+                "command=other.acf",
+            ),
         ] {
             let f = read_commands(text);
             let e = f
@@ -759,6 +816,67 @@ mod tests {
             .find(|d| d.is_error())
             .expect("an error");
         assert_eq!(&text[e.span.clone()], "4");
+    }
+
+    #[test]
+    fn changes_to_the_model_are_read_in_order_between_simulations() {
+        use crate::model::command_changes::{Change, Element, Ids};
+        // adamspy's test.acf writes its VARIABLEs over `&` lines with leading commas.
+        let text = "\nfile/model=m\nVARIABLE/1102 &\n, FUNCTION=VARVAL(11021) * & ! why\n, (STEP(TIME,0.0,0.0,15.0,500.0))\nsim/dyn, end=1, dtout=0.1\nDEACTIVATE/JOINT, RANGE = 1301, 1321\nact/motion, id=4\naccg/kgrav=0\nGFORCE/3, FX = 1\\ TZ = TIME\nsim/dyn, end=2, dtout=0.1\n";
+        let f = read_commands(text);
+        assert!(errors(&f).is_empty(), "{:?}", f.diagnostics);
+        let changes: Vec<&Change> = f
+            .steps
+            .iter()
+            .filter_map(|s| match s {
+                Step::Change(c) => Some(&c.change),
+                _ => None,
+            })
+            .collect();
+        let [Change::Redefine {
+            kind: Element::Variable,
+            id: 1102,
+            functions,
+            ..
+        }, Change::Switch {
+            active: false,
+            kind: Element::Joint,
+            ids: Ids::Range(1301, 1321),
+            ..
+        }, Change::Switch {
+            active: true,
+            kind: Element::Motion,
+            ids: Ids::One(4),
+            ..
+        }, Change::Gravity([None, None, Some(0.0)]), Change::Redefine {
+            kind: Element::Gforce,
+            functions: gforce,
+            ..
+        }] = changes.as_slice()
+        else {
+            panic!("{changes:?}");
+        };
+        // The expression's text keeps its place: the line joins are blanks.
+        let e = &functions[0];
+        assert_eq!(e.text.len(), text[e.start..].find(")\n").unwrap() + 1);
+        assert_eq!(
+            e.text.split_whitespace().collect::<String>(),
+            "VARVAL(11021)*(STEP(TIME,0.0,0.0,15.0,500.0))"
+        );
+        let args: Vec<&str> = gforce.iter().map(|g| g.argument).collect();
+        assert_eq!(args, ["FX", "TZ"]);
+        assert_eq!(f.simulations().count(), 2);
+        // A change no SIMULATE follows is a warning at it.
+        let text = "m.adm\nout\nsim/dyn, end=1, dtout=0.1\nACCGRAV/JGRAV = -1\nSTOP\n";
+        let f = read_commands(text);
+        let [w] = f.diagnostics.as_slice() else {
+            panic!("{:?}", f.diagnostics);
+        };
+        assert!(
+            !w.is_error() && w.message.contains("changes nothing"),
+            "{w:?}"
+        );
+        assert_eq!(&text[w.span.clone()], "ACCGRAV/JGRAV = -1");
     }
 
     #[test]

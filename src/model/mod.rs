@@ -15,6 +15,7 @@
 //! and EQUILIBRIUM statements for both.
 
 mod args;
+pub mod command_changes;
 mod command_lines;
 pub mod commands;
 mod cursor;

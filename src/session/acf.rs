@@ -144,6 +144,7 @@ pub fn segments(
             output_step: dt,
             integrator,
             kind: first.as_ref().map_or(Analysis::Dynamic, |s| s.kind),
+            changes: first.as_ref().map_or(Vec::new(), |s| s.changes.clone()),
             equilibrium: first.and_then(|s| s.equilibrium),
             linear: None,
         });
@@ -176,7 +177,9 @@ fn merged(dataset: Option<&IntegratorStatement>, steps: &[Step]) -> Option<Integ
         .fold(dataset.cloned(), |acc, s| match (acc, s) {
             (Some(a), Step::Integrator(s)) => Some(a.merged(s)),
             (None, Step::Integrator(s)) => Some((**s).clone()),
-            (acc, Step::Simulate(_) | Step::Equilibrium(_) | Step::Linear(_)) => acc,
+            (acc, Step::Simulate(_) | Step::Equilibrium(_) | Step::Linear(_) | Step::Change(_)) => {
+                acc
+            }
         })
 }
 

@@ -32,6 +32,7 @@
 
 pub mod acf;
 pub mod analyses;
+pub mod changes;
 pub mod evaluate;
 pub mod expression;
 pub mod files;

@@ -163,7 +163,8 @@ impl Plan {
 
 /// The segments of a command file's `steps`: each SIMULATE runs under the dataset's
 /// INTEGRATOR and EQUILIBRIUM statements with every such command before it put over
-/// them.
+/// them, after the changes to the model written since the SIMULATE before it (changes
+/// after the last SIMULATE change nothing that runs).
 pub fn segments(
     dataset: Option<&IntegratorStatement>,
     equilibrium: Option<&EquilibriumStatement>,
@@ -171,6 +172,7 @@ pub fn segments(
 ) -> Vec<Segment> {
     let mut current = dataset.cloned();
     let mut statics = equilibrium.cloned();
+    let mut changes = Vec::new();
     let mut out: Vec<Segment> = Vec::new();
     for step in steps {
         match step {
@@ -186,6 +188,7 @@ pub fn segments(
                     None => (**s).clone(),
                 });
             }
+            Step::Change(c) => changes.push((**c).clone()),
             Step::Simulate(sim) => out.push(Segment {
                 end: sim.end,
                 output_step: sim.output_step,
@@ -193,10 +196,14 @@ pub fn segments(
                 kind: sim.kind,
                 equilibrium: statics.clone(),
                 linear: None,
+                changes: std::mem::take(&mut changes),
             }),
             Step::Linear(l) => {
                 let at = out.last().map_or(0.0, |s| s.end);
-                out.push(Segment::linear(at, (**l).clone()));
+                out.push(Segment {
+                    changes: std::mem::take(&mut changes),
+                    ..Segment::linear(at, (**l).clone())
+                });
             }
         }
     }

@@ -258,6 +258,7 @@ pub fn code_of(e: &DynError) -> Code {
         DynError::Model(_)
         | DynError::Massless { .. }
         | DynError::Structure
+        | DynError::Change { .. }
         | DynError::Output(_) => Code::CannotSimulate,
     }
 }

@@ -45,6 +45,8 @@ use crate::diag::{render, Code, Diagnostic, Severity, SourceFile};
 use crate::mbd::dynamics::integrator::Interrupt;
 use crate::mbd::dynamics::DynError;
 use crate::mbd::system::Dimension;
+use crate::model::command_changes::ModelChange;
+use crate::model::commands::Step;
 use crate::model::integrator_settings::Formulation;
 use crate::model::overrides::Settings;
 use std::cell::RefCell;
@@ -274,6 +276,10 @@ fn asked_analyses(
     if request.statics && !segments.first().is_some_and(point) {
         let mut start = Segment::dynamic(0.0, 0.0, None);
         start.kind = Analysis::Statics;
+        // The command file's changes before its first SIMULATE come before this too.
+        if let Some(first) = segments.first_mut() {
+            start.changes = std::mem::take(&mut first.changes);
+        }
         segments.insert(0, start);
     }
     if let Some(command) = &request.linear {
@@ -586,7 +592,18 @@ pub fn run(
     let key = commands
         .is_none()
         .then(|| prepared::key(request, &name, &text));
-    let (mut sim, source, keepable, reused) = simulation_for(request, key.as_ref(), name, text)?;
+    // The changes a command file makes before its first SIMULATE: the model it starts from.
+    let initial: Vec<ModelChange> = commands.as_ref().map_or(Vec::new(), |c| {
+        (c.file.steps.iter())
+            .take_while(|s| !matches!(s, Step::Simulate(_)))
+            .filter_map(|s| match s {
+                Step::Change(c) => Some((**c).clone()),
+                _ => None,
+            })
+            .collect()
+    });
+    let (mut sim, source, keepable, reused) =
+        simulation_for(request, key.as_ref(), name, text, &initial)?;
     let header = sim.header();
     let dim_reason = sim.dynamics.sys.dim_reason.clone();
     observer
@@ -650,6 +667,19 @@ pub fn run(
         })?,
     };
     asked_analyses(request, &mut segments, equilibrium.as_ref());
+    if let Some(c) = &commands {
+        // The command file's changes to the model, checked against the dataset before
+        // the first row: a bad one is an error at its place in the command file.
+        let found = sim.check_changes(&segments);
+        if crate::diag::has_errors(&found) {
+            return Err(RunFailed::new(copy(&c.source), found));
+        }
+        if !found.is_empty() {
+            observer
+                .warnings(&found, &c.source)
+                .map_err(RunFailed::output)?;
+        }
+    }
     let end = segments.last().map_or(0.0, |s| s.end);
     let started = Started {
         header: &header,
@@ -681,7 +711,16 @@ pub fn run(
             dim_reason,
         }),
         Some(e) => {
-            let mut f = RunFailed::dynamics(e, source, &sim.read.model);
+            let mut f = match (&e, &commands) {
+                // A change to the model that could not be made: at its commands.
+                (DynError::Change { at, .. }, Some(c)) => {
+                    let d = Diagnostic::error(report::code_of(&e), at.clone(), e.to_string());
+                    let mut f = RunFailed::new(copy(&c.source), vec![d]);
+                    (f.time, f.error) = (e.time(), Some(e));
+                    f
+                }
+                _ => RunFailed::dynamics(e, source, &sim.read.model),
+            };
             (f.header, f.summary) = (Some(header), Some(summary));
             Err(f)
         }
@@ -709,6 +748,7 @@ fn simulation_for(
     key: Option<&RunRequest>,
     name: String,
     text: String,
+    initial: &[ModelChange],
 ) -> Result<(Simulation, SourceFile, bool, bool), Box<RunFailed>> {
     let parsed = Settings::parse(&request.set);
     let design = parsed.as_ref().ok().filter(|s| s.only_design());
@@ -723,7 +763,7 @@ fn simulation_for(
             }
         }
         let source = SourceFile::new(name.clone(), text.clone());
-        let mut sim = build(request, &text, &source)?;
+        let mut sim = build(request, &text, &source, initial)?;
         match settings.design_values(|id| reads_design(&sim, id)) {
             Some(values) if values.is_empty() => return Ok((sim, source, true, false)),
             Some(values) if sim.rewind(&values).is_ok() => return Ok((sim, source, true, false)),
@@ -732,7 +772,7 @@ fn simulation_for(
     }
     let text = apply_settings(parsed, text)?;
     let source = SourceFile::new(name, text);
-    let sim = build(request, source.text.as_str(), &source)?;
+    let sim = build(request, source.text.as_str(), &source, initial)?;
     Ok((sim, source, false, false))
 }
 
@@ -746,13 +786,15 @@ fn read_file(path: &std::path::Path) -> Result<(String, String, Vec<Diagnostic>)
 
 /// The simulation of `text` (the text of `source`) for `request`, or why it cannot be
 /// built: the reader's diagnostics, a probe's, the analysis' (all errors), or a dynamics
-/// failure at its element.
+/// failure at its element. `initial` are the command file's changes before its first
+/// SIMULATE ([`Simulation::with_changes`]).
 fn build(
     request: &RunRequest,
     text: &str,
     source: &SourceFile,
+    initial: &[ModelChange],
 ) -> Result<Simulation, Box<RunFailed>> {
-    match Simulation::new(text, request.spec(), &request.probes) {
+    match Simulation::with_changes(text, request.spec(), &request.probes, initial) {
         Ok(sim) => Ok(sim),
         Err(RunFailure::Diagnostics {
             probe: None,

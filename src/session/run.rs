@@ -19,6 +19,7 @@ use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::FusedFn;
 use crate::mbd::rewind::StartState;
+use crate::model::command_changes::ModelChange;
 use crate::model::commands::Analysis;
 use crate::model::elements::{Expr, RequestKind};
 use crate::model::equilibrium_settings::EquilibriumStatement;
@@ -26,6 +27,8 @@ use crate::model::integrator_settings::{Formulation, IntegratorStatement};
 use crate::model::linear_command::Linear;
 use crate::model::{read_model, ModelRead};
 use std::time::Instant;
+
+mod rebuild;
 
 /// Which back end evaluates the model's expressions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -72,6 +75,8 @@ pub struct Segment {
     pub equilibrium: Option<EquilibriumStatement>,
     /// What a linear analysis asks for (kind [`Analysis::Linear`]).
     pub linear: Option<Box<Linear>>,
+    /// The command file's changes to the model to make before the stretch, in order.
+    pub changes: Vec<ModelChange>,
 }
 
 impl Segment {
@@ -84,6 +89,7 @@ impl Segment {
             kind: Analysis::Dynamic,
             equilibrium: None,
             linear: None,
+            changes: Vec::new(),
         }
     }
 
@@ -218,6 +224,9 @@ impl From<MbdError> for RunFailure {
 struct Column {
     name: String,
     function: Function,
+    /// The expression as written, its VARIABLEs not inlined (a command file that gives
+    /// a VARIABLE a new expression inlines it again).
+    source: Expr,
 }
 
 /// The summary `mbfx run` prints.
@@ -320,7 +329,8 @@ fn equilibria_text(reports: &[crate::mbd::statics::Report]) -> String {
 /// The output columns compiled, and the measure slots they read.
 struct Outputs {
     columns: Vec<Column>,
-    slots: Vec<(u32, OutputSlot)>,
+    /// None: the slot reads an element the command file switched off (it holds 0).
+    slots: Vec<(u32, Option<OutputSlot>)>,
     /// Some column reads velocities, accelerations or forces: each row reconciles.
     reconcile: bool,
     /// Every column's value from one call ([`crate::ir::fuse`]), the slots filled once.
@@ -332,6 +342,46 @@ struct Outputs {
     lifted: Option<Lifted>,
 }
 
+/// A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads: the
+/// shadow of `dynamics` (built from `model`) for the reaction slots among `slots`, when
+/// the run is 2D and reads any (a note says why when it cannot be built).
+fn shadow(
+    model: &crate::model::Model,
+    exprs: &crate::mbd::compiled::CompiledExprs,
+    dynamics: &Dynamics,
+    slots: &[(u32, Option<OutputSlot>)],
+    notes: &mut Vec<String>,
+) -> Option<Lifted> {
+    let reactions: Vec<u32> = slots
+        .iter()
+        .filter(|(_, o)| o.is_some_and(|o| o.reads_reaction()))
+        .map(|&(s, _)| s)
+        .collect();
+    if dynamics.sys.dim != crate::mbd::Dimension::Two || reactions.is_empty() {
+        return None;
+    }
+    match Lifted::new(model, exprs, dynamics, &reactions) {
+        Ok(l) => Some(l),
+        Err(why) => {
+            let note = format!(
+                "out-of-plane reaction components are left at 0: the 3D system that gives them cannot be built ({why})"
+            );
+            if !notes.contains(&note) {
+                notes.push(note);
+            }
+            None
+        }
+    }
+}
+
+/// Whether an output slot reads velocities, accelerations or forces: each row then
+/// reconciles.
+fn reads_reconciled(slots: &[(u32, Option<OutputSlot>)], dynamics: &Dynamics) -> bool {
+    slots
+        .iter()
+        .any(|(_, s)| s.is_some_and(|s| s.reads_reconciled(&dynamics.sys)))
+}
+
 /// Why [`Simulation::rewind`] refused.
 #[derive(Debug)]
 pub enum RewindError {
@@ -339,6 +389,9 @@ pub enum RewindError {
     ConstraintReads(i64),
     /// The dynamics could not be made again.
     Dynamics(DynError),
+    /// A command file changed the model during the last run: its start is another
+    /// system's, so a new build is needed.
+    ModelChanged,
 }
 
 /// A model ready to run.
@@ -358,6 +411,10 @@ pub struct Simulation {
     dropped: Vec<usize>,
     /// The state the run starts from, to run again from it ([`Simulation::rewind`]).
     start: StartState,
+    /// The elements a command file switched off ([`super::changes`]).
+    inactive: super::changes::Inactive,
+    /// A command file rebuilt the system during a run ([`Simulation::rewind`] refuses).
+    changed: bool,
     /// The design variables the constraints read: changing one needs a new build.
     constraint_designs: Vec<i64>,
     /// The checker's warnings about each probe that has some (units of measure, ...):
@@ -396,6 +453,19 @@ impl Simulation {
         spec: RunSpec,
         probes: &[(String, String)],
     ) -> Result<Simulation, RunFailure> {
+        Self::with_changes(text, spec, probes, &[])
+    }
+
+    /// [`Simulation::new`] for a command file whose changes `initial`, written before
+    /// its first SIMULATE, make the model the run starts from (Adams View writes the
+    /// elements switched off in a model as DEACTIVATE commands there). A change that does
+    /// not resolve is left out here; [`Simulation::check_changes`] reports it.
+    pub fn with_changes(
+        text: &str,
+        spec: RunSpec,
+        probes: &[(String, String)],
+        initial: &[ModelChange],
+    ) -> Result<Simulation, RunFailure> {
         let mut read = read_model(text);
         if read.has_errors() {
             return Err(RunFailure::Diagnostics {
@@ -403,9 +473,23 @@ impl Simulation {
                 diagnostics: read.diagnostics,
             });
         }
+        let mut inactive = super::changes::Inactive::new();
+        for c in initial {
+            if let Ok((r, _)) = super::changes::resolve(&mut read, c) {
+                r.apply(&mut read.model, &mut inactive);
+            }
+        }
+        // The model built: the dataset without the elements switched off (the dataset
+        // itself, not a copy, when none is).
+        let switched_off =
+            (!inactive.is_empty()).then(|| super::changes::effective(&read.model, &inactive));
         let interpret = spec.engine == Engine::Interp;
-        let analysis =
-            analyze_model_with(&read.model, spec.dim, interpret).map_err(RunFailure::Analysis)?;
+        let analysis = analyze_model_with(
+            switched_off.as_ref().unwrap_or(&read.model),
+            spec.dim,
+            interpret,
+        )
+        .map_err(RunFailure::Analysis)?;
         let mut columns = Vec::new();
         let mut probe_warnings = Vec::new();
         for (name, text) in probes {
@@ -433,6 +517,7 @@ impl Simulation {
             columns.push(Column {
                 name: name.clone(),
                 function: function.function,
+                source: e,
             });
         }
         let mut notes = Vec::new();
@@ -465,6 +550,7 @@ impl Simulation {
                     Ok(e) => columns.push(Column {
                         name,
                         function: e.function,
+                        source: expr,
                     }),
                     Err(why) => notes.push(format!("{name} left out: {why}")),
                 }
@@ -472,7 +558,13 @@ impl Simulation {
         }
         let exprs = analysis.exprs;
         let mut system = analysis.system;
-        let forces = system.forces_from_model(&read.model, &exprs)?;
+        // (The columns added their measures to the dataset's slots.)
+        let switched_off = switched_off.map(|mut m| {
+            m.measures.clone_from(&read.model.measures);
+            m
+        });
+        let model = switched_off.as_ref().unwrap_or(&read.model);
+        let forces = system.forces_from_model(model, &exprs)?;
         // Energy is conserved only without force elements and without rows that move
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
@@ -482,7 +574,7 @@ impl Simulation {
                 .all(|(e, q)| !system.row_reads_time(e, q) && !system.row_reads_velocity(e, q));
         // Every slot the columns read, resolved for the dynamics. A probe that reads what
         // the dynamics cannot give is an error; a REQUEST column, a note.
-        let mut slots: Vec<(u32, OutputSlot)> = Vec::new();
+        let mut slots: Vec<(u32, Option<OutputSlot>)> = Vec::new();
         let mut kept = Vec::with_capacity(columns.len());
         for (k, c) in columns.into_iter().enumerate() {
             let mut ok = Ok(());
@@ -490,8 +582,12 @@ impl Simulation {
                 if slots.iter().any(|(x, _)| *x == s) {
                     continue;
                 }
-                match OutputSlot::resolve(&mut system, &read.model, s) {
-                    Ok(o) => slots.push((s, o)),
+                match OutputSlot::resolve(&mut system, model, s) {
+                    Ok(o) => slots.push((s, Some(o))),
+                    // An element switched off: the column holds 0 while it is.
+                    Err(_) if super::changes::reads_inactive(&read.model, s, &inactive) => {
+                        slots.push((s, None));
+                    }
                     Err(e) => {
                         ok = Err(e);
                         break;
@@ -531,28 +627,10 @@ impl Simulation {
             .into_iter()
             .map(i64::from)
             .collect();
-        let plant = Plant::new(&read.model, &exprs, &mut system, &constraint_designs);
+        let plant = Plant::new(model, &exprs, &mut system, &constraint_designs);
         let start = system.start_state();
         let dynamics = Dynamics::new(system, forces, &dropped)?;
-        // A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads.
-        let reactions: Vec<u32> = slots
-            .iter()
-            .filter(|(_, o)| o.reads_reaction())
-            .map(|&(s, _)| s)
-            .collect();
-        let lifted = if dynamics.sys.dim == crate::mbd::Dimension::Two && !reactions.is_empty() {
-            match Lifted::new(&read.model, &exprs, &dynamics, &reactions) {
-                Ok(l) => Some(l),
-                Err(why) => {
-                    notes.push(format!(
-                        "out-of-plane reaction components are left at 0: the 3D system that gives them cannot be built ({why})"
-                    ));
-                    None
-                }
-            }
-        } else {
-            None
-        };
+        let lifted = shadow(model, &exprs, &dynamics, &slots, &mut notes);
         // Every expression of the model is recorded now: constraints, forces, outputs.
         let functions: Vec<&crate::ir::Function> = columns.iter().map(|c| &c.function).collect();
         let code = match functions.is_empty() {
@@ -566,7 +644,7 @@ impl Simulation {
             ));
         }
         let measures = vec![0.0; read.model.measures.len()];
-        let reconcile = slots.iter().any(|(_, s)| s.reads_reconciled(&dynamics.sys));
+        let reconcile = reads_reconciled(&slots, &dynamics);
         Ok(Simulation {
             read,
             dynamics,
@@ -588,6 +666,8 @@ impl Simulation {
             constraint_designs,
             probe_warnings,
             plant,
+            inactive,
+            changed: false,
         })
     }
 
@@ -608,6 +688,9 @@ impl Simulation {
             .find(|(id, _)| self.constraint_designs.contains(id))
         {
             return Err(RewindError::ConstraintReads(id));
+        }
+        if self.changed {
+            return Err(RewindError::ModelChanged);
         }
         let sys = &mut self.dynamics.sys;
         sys.rewind_to(&self.start);
@@ -667,7 +750,7 @@ impl Outputs {
     /// The columns at the state of `d` as it stands (evaluated for outputs).
     fn fill_row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
         for &(s, slot) in &self.slots {
-            self.measures[s as usize] = slot.value(d);
+            self.measures[s as usize] = slot.map_or(0.0, |o| o.value(d));
         }
         if let Some(lifted) = &mut self.lifted {
             lifted.fill(d, &mut self.measures)?;
@@ -737,7 +820,10 @@ impl Simulation {
     ) -> (Summary, Option<DynError>) {
         let clock = Instant::now();
         // Energy is watched over runs of dynamics alone (an equilibrium changes it).
-        let integrates_only = segments.iter().all(|s| s.kind == Analysis::Dynamic);
+        // (A command file that changes the model changes its energy too.)
+        let integrates_only = segments
+            .iter()
+            .all(|s| s.kind == Analysis::Dynamic && s.changes.is_empty());
         let e0 = (self.conservative && integrates_only).then(|| self.energy());
         let mut max_residual: f64 = 0.0;
         let mut name = match segments.iter().find(|s| s.kind != Analysis::Dynamic) {
@@ -750,40 +836,45 @@ impl Simulation {
         let mut notes = self.notes.clone();
         let mut equilibria = Vec::new();
         let mut linear = Vec::new();
-        let (dynamics, outputs, plant) = (&mut self.dynamics, &mut self.outputs, &self.plant);
         let conservative = self.conservative;
         let mut kinetic_max: f64 = 0.0;
         // A row of the integrated state (`Some(last)`: reconciled when the columns need
         // it or it is a segment's last) or of a state solved already (None).
-        let mut emit = |d: &mut Dynamics, row: Option<bool>| -> Result<(), DynError> {
-            if conservative {
-                kinetic_max = kinetic_max.max(kinetic(&d.sys));
-            }
-            let row = match row {
-                Some(last) => outputs.row(d, last)?,
-                None => outputs.solved_row(d)?,
+        let mut emit =
+            |outputs: &mut Outputs, d: &mut Dynamics, row: Option<bool>| -> Result<(), DynError> {
+                if conservative {
+                    kinetic_max = kinetic_max.max(kinetic(&d.sys));
+                }
+                let row = match row {
+                    Some(last) => outputs.row(d, last)?,
+                    None => outputs.solved_row(d)?,
+                };
+                max_residual = max_residual.max(residual(d));
+                if let Some(table) = table.as_mut() {
+                    table(&TableRow {
+                        time: d.sys.time,
+                        step: d.stats.last_step,
+                        steps: d.stats.steps,
+                        newton_iterations: d.stats.newton_iterations,
+                        order: d.stats.order,
+                        cpu_seconds: clock.elapsed().as_secs_f64(),
+                    });
+                }
+                out(&row).map_err(|e| DynError::Output(e.to_string()))
             };
-            max_residual = max_residual.max(residual(d));
-            if let Some(table) = table.as_mut() {
-                table(&TableRow {
-                    time: d.sys.time,
-                    step: d.stats.last_step,
-                    steps: d.stats.steps,
-                    newton_iterations: d.stats.newton_iterations,
-                    order: d.stats.order,
-                    cpu_seconds: clock.elapsed().as_secs_f64(),
-                });
-            }
-            out(&row).map_err(|e| DynError::Output(e.to_string()))
-        };
         // The row at the start belongs to the first segment: the dynamics' consistent
-        // state, or the first equilibrium or kinematic solution.
+        // state, or the first equilibrium or kinematic solution. The command file's
+        // changes before its first SIMULATE come before it.
         let mut first_row = true;
-        let mut result = Ok(());
-        if segments.first().is_none_or(|s| s.kind == Analysis::Dynamic) {
+        let mut result = match segments.first() {
+            Some(s) => self.change_model(&s.changes),
+            None => Ok(()),
+        };
+        if result.is_ok() && segments.first().is_none_or(|s| s.kind == Analysis::Dynamic) {
+            let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
             result = dynamics
                 .solve_accelerations()
-                .and_then(|()| emit(dynamics, Some(segments.is_empty())));
+                .and_then(|()| emit(outputs, dynamics, Some(segments.is_empty())));
             first_row = false;
         }
         let mut after_solved = false;
@@ -791,9 +882,19 @@ impl Simulation {
             if result.is_err() {
                 break;
             }
+            if k > 0 && !seg.changes.is_empty() {
+                // The stretch starts from the changed model, assembled where the last
+                // one stopped: its velocities and accelerations are reconciled below.
+                result = self.change_model(&seg.changes);
+                if result.is_err() {
+                    break;
+                }
+                after_solved = true;
+            }
             let last = k + 1 == segments.len();
+            let (dynamics, outputs, plant) = (&mut self.dynamics, &mut self.outputs, &self.plant);
             if seg.kind != Analysis::Dynamic {
-                let mut solved_emit = |d: &mut Dynamics| emit(d, None);
+                let mut solved_emit = |d: &mut Dynamics| emit(outputs, d, None);
                 result = super::analyses::run(
                     dynamics,
                     plant,
@@ -806,8 +907,8 @@ impl Simulation {
                 (first_row, after_solved) = (false, true);
                 continue;
             }
-            // From an equilibrium (velocities zero) or a kinematic state: velocities
-            // consistent with the constraints, then the accelerations.
+            // From an equilibrium (velocities zero), a kinematic state or a changed
+            // model: velocities consistent with the constraints, then the accelerations.
             if after_solved {
                 result = dynamics.reconcile();
                 if result.is_err() {
@@ -825,7 +926,7 @@ impl Simulation {
             let (t0, dt, end) = (dynamics.sys.time, seg.output_step, seg.end);
             let times = OutputTimes::new(t0, dt, end);
             // Each segment's last row reconciles: the next segment starts from it.
-            let mut segment_emit = |d: &mut Dynamics| emit(d, Some(d.sys.time >= end));
+            let mut segment_emit = |d: &mut Dynamics| emit(outputs, d, Some(d.sys.time >= end));
             result = simulate(
                 dynamics,
                 integrator.as_mut(),
@@ -836,6 +937,12 @@ impl Simulation {
             );
             if let Some(n) = integrator.formulation().filter(|n| !notes.contains(n)) {
                 notes.push(n);
+            }
+        }
+        // Notes the changes to the model added.
+        for n in &self.notes {
+            if !notes.contains(n) {
+                notes.push(n.clone());
             }
         }
         let result = result.map_err(|e| self.diagnose_lock_up(e));

@@ -184,6 +184,16 @@ pub enum DynError {
     },
     /// No static equilibrium came out ([`super::statics`]).
     Statics(Box<super::statics::Failure>),
+    /// A command file's change to the model could not be made at `time` (the changed
+    /// model does not build or assemble), for the reason `why`.
+    Change {
+        /// Simulation time of the change.
+        time: f64,
+        /// What went wrong, in words.
+        why: String,
+        /// The changes' commands in the command file.
+        at: crate::diag::Span,
+    },
     /// A kinematic analysis asked of a model with degrees of freedom left
     /// ([`super::kinematics`]): how many, and each named.
     FreeDegrees {
@@ -235,7 +245,8 @@ impl DynError {
             | DynError::Newton { time, .. }
             | DynError::StepTooSmall { time, .. }
             | DynError::DroppedViolated { time, .. }
-            | DynError::Interrupted { time } => Some(*time),
+            | DynError::Interrupted { time }
+            | DynError::Change { time, .. } => Some(*time),
             DynError::Statics(f) => Some(f.time()),
             DynError::Model(_)
             | DynError::FreeDegrees { .. }
@@ -364,6 +375,9 @@ impl fmt::Display for DynError {
                 "{part} can move in {directions} direction(s) that have no mass or inertia and that no constraint holds: give it MASS and IP, or constrain it"
             ),
             DynError::Structure => f.write_str("the Newton matrix has no valid structure"),
+            DynError::Change { time, why, .. } => {
+                write!(f, "the command file's change to the model at t = {time}: {why}")
+            }
             DynError::Output(why) => write!(f, "the output could not be written: {why}"),
             DynError::Interrupted { time } => write!(f, "at time {time}: the run was interrupted"),
             DynError::Statics(failure) => write!(f, "{failure}"),
