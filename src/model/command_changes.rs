@@ -6,14 +6,15 @@
 //!   SPRINGDAMPER, BUSHING); any other kind (SENSOR, CONTACT, …) is refused, naming it;
 //! - `VARIABLE/id, FUNCTION = e`, `MOTION/id, FUNCTION = e`, `SFORCE/id, FUNCTION = e`
 //!   and `VFORCE/VTORQUE/GFORCE/id, FX = e …`: new expressions for an element of the
-//!   dataset; any other argument is refused at itself (mbfx redefines expressions only);
+//!   dataset; a MOTION may also change what its FUNCTION gives (DISPLACEMENT, VELOCITY,
+//!   ACCELERATION) and its ICDISP and ICVEL; any other argument is refused at itself;
 //! - `ACCGRAV/IGRAV = g, JGRAV = g, KGRAV = g`: the components given replace gravity's.
 //!
 //! The reader knows the command file alone: whether the ids exist, and whether the
 //! expressions check against the dataset, is the run's to say (with spans into the
 //! command file, which a [`NewFunction`] keeps).
 
-use super::elements::Id;
+use super::elements::{Id, MotionLevel};
 use super::lines::Piece;
 use super::statement::ArgValue;
 use super::stmt_args::Args;
@@ -143,9 +144,45 @@ pub enum Change {
         id_span: Span,
         /// The expressions given.
         functions: Vec<NewFunction>,
+        /// A MOTION's new drive settings (None: none given).
+        drive: Option<MotionDrive>,
     },
     /// ACCGRAV: the components given (global x, y, z; model units).
     Gravity([Option<f64>; 3]),
+}
+
+/// What a MOTION command gives besides its FUNCTION: what the function drives and the
+/// initial conditions of a VELOCITY or ACCELERATION motion (each None: as before).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MotionDrive {
+    /// DISPLACEMENT, VELOCITY or ACCELERATION.
+    pub level: Option<MotionLevel>,
+    /// ICDISP.
+    pub icdisp: Option<f64>,
+    /// ICVEL.
+    pub icvel: Option<f64>,
+}
+
+/// The flags of a MOTION's level, as the dataset reader takes them.
+const LEVELS: [(&str, usize, MotionLevel); 3] = [
+    ("DISPLACEMENT", 1, MotionLevel::Displacement),
+    ("VELOCITY", 1, MotionLevel::Velocity),
+    ("ACCELERATION", 1, MotionLevel::Acceleration),
+];
+
+/// A MOTION command's DISPLACEMENT/VELOCITY/ACCELERATION, ICDISP and ICVEL (None when
+/// it gives none of them); marks them read.
+fn motion_drive(a: &mut Args) -> Option<MotionDrive> {
+    let level = a
+        .choice(&LEVELS.map(|(n, m, _)| (n, m)))
+        .map(|k| LEVELS[k].2);
+    let (icdisp, icvel) = (a.number("ICDISP", 3), a.number("ICVEL", 3));
+    let drive = MotionDrive {
+        level,
+        icdisp,
+        icvel,
+    };
+    (drive != MotionDrive::default()).then_some(drive)
 }
 
 /// One model-changing command of a command file.
@@ -276,7 +313,23 @@ fn redefine(kind: Element, text: &str, group: &[Piece], a: &mut Args) -> Option<
     };
     let mut functions = Vec::new();
     let mut bad = false;
+    let drive = match kind {
+        Element::Motion => motion_drive(a),
+        _ => None,
+    };
+    let drive_argument = |name: &str| {
+        kind == Element::Motion
+            && (LEVELS
+                .iter()
+                .any(|(n, m, _)| super::keywords::abbreviates(name, n, *m))
+                || ["ICDISP", "ICVEL"]
+                    .iter()
+                    .any(|n| super::keywords::abbreviates(name, n, 3)))
+    };
     for arg in &a.stmt.args {
+        if drive_argument(&arg.name) {
+            continue;
+        }
         let known = arguments_of(kind)
             .iter()
             .find(|n| super::keywords::abbreviates(&arg.name, n, n.len().min(3)));
@@ -304,12 +357,13 @@ fn redefine(kind: Element, text: &str, group: &[Piece], a: &mut Args) -> Option<
             start: span.start,
         });
     }
-    if functions.is_empty() && !bad {
+    if functions.is_empty() && drive.is_none() && !bad {
         a.missing(&arguments_of(kind).join(" or "));
     }
-    (!bad && !functions.is_empty()).then_some(Change::Redefine {
+    (!bad && (!functions.is_empty() || drive.is_some())).then_some(Change::Redefine {
         kind,
         id,
+        drive,
         id_span,
         functions,
     })

@@ -437,11 +437,17 @@ impl Reader {
                 for arg in &stmt.args {
                     a.find(&arg.name, arg.name.len());
                 }
-                a.error(
-                    Code::UnsupportedCommand,
-                    stmt.span.clone(),
-                    format!("{name} {why}"),
-                );
+                // A USER(…) expression is the reason no tool but Adams with the
+                // compiled subroutine could run it: say that first.
+                let user = stmt.args.iter().find(|arg| arg.is_user_call);
+                let (span, message) = match user {
+                    Some(arg) => (
+                        arg.span.clone(),
+                        format!("{name}: {} = USER(…) calls a user subroutine, which exists only compiled for Adams; mbfx cannot run it", arg.name),
+                    ),
+                    None => (stmt.span.clone(), format!("{name} {why}")),
+                };
+                a.error(Code::UnsupportedCommand, span, message);
             }
         }
         let found = a.finish();
@@ -701,9 +707,9 @@ mod tests {
                 "JOINT/3, I = 1, J = 2",
             ),
             (
-                "m.adm\nout\nMOTION/3, DISP, FUNCTION = TIME\n",
+                "m.adm\nout\nMOTION/3, JOINT = 2, FUNCTION = TIME\n",
                 "redefines only FUNCTION",
-                "DISP",
+                "JOINT = 2",
             ),
             (
                 "m.adm\nout\nVARIABLE/3, FUNCTION = USER(1)\n",
@@ -866,6 +872,42 @@ mod tests {
         let args: Vec<&str> = gforce.iter().map(|g| g.argument).collect();
         assert_eq!(args, ["FX", "TZ"]);
         assert_eq!(f.simulations().count(), 2);
+        // A MOTION may change what its FUNCTION drives (old-NWTC__FAST's Test14_ADAMS_LIN).
+        let f = read_commands("m\nout\nMOTION/3150, VELOCITY, ICDISP = 0\nMOTION/3150, DISPLACEMENT, FUNCTION = 3.141593E+00\nSIMULATE/STATICS\n");
+        assert!(errors(&f).is_empty(), "{:?}", f.diagnostics);
+        let drives: Vec<_> = (f.steps.iter())
+            .filter_map(|s| match s {
+                Step::Change(c) => match &c.change {
+                    Change::Redefine {
+                        drive, functions, ..
+                    } => Some((*drive, functions.len())),
+                    _ => None,
+                },
+                _ => None,
+            })
+            .collect();
+        use crate::model::command_changes::MotionDrive;
+        use crate::model::elements::MotionLevel;
+        assert_eq!(
+            drives,
+            [
+                (
+                    Some(MotionDrive {
+                        level: Some(MotionLevel::Velocity),
+                        icdisp: Some(0.0),
+                        icvel: None
+                    }),
+                    0
+                ),
+                (
+                    Some(MotionDrive {
+                        level: Some(MotionLevel::Displacement),
+                        ..MotionDrive::default()
+                    }),
+                    1
+                )
+            ]
+        );
         // A change no SIMULATE follows is a warning at it.
         let text = "m.adm\nout\nsim/dyn, end=1, dtout=0.1\nACCGRAV/JGRAV = -1\nSTOP\n";
         let f = read_commands(text);

@@ -9,7 +9,7 @@
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
-use crate::model::command_changes::{Change, Element, Ids, ModelChange};
+use crate::model::command_changes::{Change, Element, Ids, ModelChange, MotionDrive};
 use crate::model::elements::{Expr, Id, Model, MotionTarget, VectorForceKind};
 use crate::model::ModelRead;
 use std::collections::BTreeSet;
@@ -35,6 +35,8 @@ pub enum Resolved {
         id: Id,
         /// FUNCTION, or FX … TZ, with the new expression.
         functions: Vec<(&'static str, Function)>,
+        /// A MOTION's new drive settings.
+        drive: Option<MotionDrive>,
     },
     /// ACCGRAV's components given.
     Gravity([Option<f64>; 3]),
@@ -136,6 +138,7 @@ pub fn resolve(
             id,
             id_span,
             functions,
+            drive,
         } => {
             let (mut errors, mut warnings) = (Vec::new(), Vec::new());
             if !ids_of(&read.model, *kind).contains(id) {
@@ -165,6 +168,7 @@ pub fn resolve(
                 kind: *kind,
                 id: *id,
                 functions: compiled,
+                drive: *drive,
             };
             Ok((r, warnings))
         }
@@ -205,8 +209,17 @@ impl Resolved {
                 kind,
                 id,
                 functions,
+                drive,
             } => {
                 let mut rebuild = false;
+                let motion = model.motions.iter_mut().find(|m| m.el.id == id);
+                if let (Some(dr), Some(m)) = (drive, motion) {
+                    let before = (m.level, m.icdisp, m.icvel);
+                    m.level = dr.level.unwrap_or(m.level);
+                    m.icdisp = dr.icdisp.or(m.icdisp);
+                    m.icvel = dr.icvel.or(m.icvel);
+                    rebuild |= (m.level, m.icdisp, m.icvel) != before;
+                }
                 for (argument, function) in functions {
                     // (The same expression again, as a change made before the first
                     // SIMULATE is when the run starts, changes nothing.)

@@ -113,12 +113,12 @@ const COMMAND_FILES: &[(&str, Outcome)] = &[
         "old-NWTC__FAST/CertTest/Old_Adams_files/Test14_ADAMS.acf",
         Fails(FAST),
     ),
-    // MOTION/3150 made a VELOCITY motion and back to DISPLACEMENT (a change of kind
-    // mbfx does not make), then DEACTIVATEs, SIMULATE/STATICS and LINEAR/EIGENSOL (both
-    // read); its dataset also reads FAST's USER subroutines, as Test14_ADAMS's.
+    // MOTION/3150 made a VELOCITY motion and back to DISPLACEMENT, DEACTIVATEs,
+    // SIMULATE/STATICS and LINEAR/EIGENSOL (all read); REQUEST/1 is given a USER
+    // subroutine (and the dataset is Test14_ADAMS's, with FAST's).
     (
         "old-NWTC__FAST/CertTest/Old_Adams_files/Test14_ADAMS_LIN.acf",
-        Refused("MOTION/3150"),
+        Refused("REQUEST: FUNCTION = USER(…) calls a user subroutine"),
     ),
 ];
 

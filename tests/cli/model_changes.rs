@@ -347,6 +347,25 @@ fn a_motion_redefined_drives_its_new_function() {
 }
 
 #[test]
+fn a_motion_changed_to_a_velocity_drive_integrates_it() {
+    // θ = 0.5·t until t1 = 0.2, then `MOTION/1, VELOCITY, ICDISP = 0.16, FUNCTION = -0.3`:
+    // a velocity drive is integrated from ICDISP at t = 0, θ = 0.16 − 0.3·t, which meets
+    // the displacement drive at t1 (0.1) and goes on as 0.1 − 0.3·(t − 0.2).
+    let model = pendulum("MOTION/1, JOINT = 1, FUNCTION = 0.5*TIME\n");
+    let acf = "m\nout\nSIMULATE/DYNAMIC, END = 0.2, DTOUT = 0.05\n\
+               MOTION/1, VELOCITY, ICDISP = 0.16, FUNCTION = -0.3\n\
+               SIMULATE/DYNAMIC, END = 0.6, DTOUT = 0.05\nSTOP\n";
+    for (t, x, y) in positions(&model, acf, 13) {
+        let theta = match t <= 0.2 + 1e-12 {
+            true => 0.5 * t,
+            false => 0.16 - 0.3 * t,
+        };
+        near(x, theta.cos(), 1e-9, format!("t = {t}: x"));
+        near(y, theta.sin(), 1e-9, format!("t = {t}: y"));
+    }
+}
+
+#[test]
 fn a_vforce_component_redefined_pushes_the_other_way() {
     // A VFORCE on the free part (no gravity) pushes along x with 2 N until t1 = 0.4;
     // then FY = 3 is written (FX keeps its 2): x = t², y = 1.5·τ².
