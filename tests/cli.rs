@@ -744,6 +744,34 @@ fn check_of_a_model_prints_its_summary() {
 }
 
 #[test]
+fn a_build_failure_points_at_the_element_not_the_title() {
+    // An SFORCE reading five moving parts: the force Jacobian holds four, so the run
+    // stops before its first step, at the SFORCE's statement (line 14).
+    let mut text = String::from("many parts\nPART/1, GROUND\nMARKER/10, PART = 1\n");
+    for p in 2..=6 {
+        text += &format!(
+            "PART/{p}, MASS = 1, CM = {p}0, IP = 1, 1, 1, QG = {}, 0, 0\nMARKER/{p}0, PART = {p}\n",
+            p - 2
+        );
+    }
+    text += "SFORCE/1, TRANSLATION, I = 20, J = 30, FUNCTION = DX(40) + DX(50) + DX(60)\nEND\n";
+    let path = scratch_file("five_parts.adm", text.as_bytes());
+    let r = mbfx(&["run", path.to_str().unwrap(), "--end", "1", "--csv", "-"]);
+    assert_eq!(r.code, 1, "{}", r.describe());
+    assert!(
+        r.stderr
+            .contains("SFORCE/1: it reads more than four moving parts"),
+        "{}",
+        r.describe()
+    );
+    assert!(
+        r.stderr.contains(&format!("{}:14:1", path.display())),
+        "{}",
+        r.describe()
+    );
+}
+
+#[test]
 fn check_of_a_bad_model_points_at_the_reference() {
     let path = scratch_file(
         "bad_model.adm",

@@ -109,6 +109,23 @@ pub fn element_name(e: &ElementRef) -> String {
     }
 }
 
+impl MbdError {
+    /// The element the error is about, when it names one: a diagnostic points at its
+    /// statement rather than at the dataset's title.
+    pub fn element(&self) -> Option<&ElementRef> {
+        match self {
+            MbdError::SamePart(e)
+            | MbdError::Floating(e, _)
+            | MbdError::TooManyParts(e)
+            | MbdError::Expression(e, _)
+            | MbdError::NoSecondDerivative(e, _, _)
+            | MbdError::SolutionLoop { element: e, .. } => Some(e),
+            MbdError::ForceCycle(circle) => circle.first(),
+            _ => None,
+        }
+    }
+}
+
 impl fmt::Display for MbdError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -202,7 +202,10 @@ pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
     let text = f.to_string();
     match f {
         Failure::Read(d) => d.clone(),
-        Failure::Build(_) => vec![multi_line(Code::NotAnalysed, 0..0, &text, true)],
+        Failure::Build(e) => {
+            let span = e.element().map_or(0..0, |el| element_span(model, el));
+            vec![multi_line(Code::NotAnalysed, span, &text, true)]
+        }
         Failure::NotPlanar(_) => vec![multi_line(Code::CommandLine, 0..0, &text, false)],
         Failure::Assembly {
             conflict: Some(c), ..
@@ -269,7 +272,10 @@ pub fn culprit_span(e: &DynError, model: &Model) -> Span {
     match e.culprit() {
         Some(Culprit::Element(el)) => element_span(model, &el),
         Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
-        None => 0..0,
+        None => match e {
+            DynError::Model(m) => m.element().map_or(0..0, |el| element_span(model, el)),
+            _ => 0..0,
+        },
     }
 }
 
