@@ -160,6 +160,7 @@ mod tests {
             error_position: Some(error),
             error_reaction: None,
             cpu: 1e-3,
+            cpu_position: None,
             counters: [None; 5],
             status: status.into(),
             warnings: warnings.into(),

@@ -36,11 +36,11 @@ pub fn wp_curves(rows: &[Row], group: Group) -> Vec<Curve> {
     for name in names {
         let mut pts: Vec<(f64, f64, Option<f64>)> = rows
             .iter()
-            .filter(|r| label(r) == name && r.ok() && r.cpu > 0.0)
+            .filter(|r| label(r) == name && r.ok() && r.cpu_of(group) > 0.0)
             .filter_map(|r| {
                 let e = r.error(group)?;
                 let asked = (r.control == "tolerance").then_some(r.setting);
-                Some((r.cpu, e.max(1e-17), asked))
+                Some((r.cpu_of(group), e.max(1e-17), asked))
             })
             .collect();
         if pts.is_empty() {

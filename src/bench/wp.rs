@@ -121,6 +121,10 @@ pub const HEADER: [&str; 14] = [
 /// kinds of each run's accuracy warnings, and its local errors' sum in ERRORs.
 pub const WARNINGS: [&str; 2] = ["warnings", "error_sum"];
 
+/// The column mbfx's points files add after [`WARNINGS`]: the CPU of the run reading
+/// positions only ([`Point::cpu_position`]; empty where the scene reads nothing else).
+pub const CPU_POSITION: [&str; 1] = ["cpu_position_s"];
+
 /// A point as it is charted: mbfx's own or a peer's, read back from CSV.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -140,6 +144,8 @@ pub struct Row {
     pub error_reaction: Option<f64>,
     /// CPU time, s.
     pub cpu: f64,
+    /// CPU time of the run reading positions only, s, where it differs from `cpu`'s run.
+    pub cpu_position: Option<f64>,
     /// Counters (None where a peer does not report them).
     pub counters: [Option<usize>; 5],
     /// `ok` or `failed: why`.
@@ -168,6 +174,7 @@ impl Row {
             error_position: p.errors.position,
             error_reaction: p.errors.reaction,
             cpu: p.cpu,
+            cpu_position: p.cpu_position,
             counters: [
                 Some(p.stats.steps),
                 Some(p.stats.rejected),
@@ -192,6 +199,15 @@ impl Row {
         }
     }
 
+    /// The CPU time that pays for a group's error: positions alone, where a run that
+    /// reads only them was measured, else the run's.
+    pub fn cpu_of(&self, g: Group) -> f64 {
+        match g {
+            Group::Position => self.cpu_position.unwrap_or(self.cpu),
+            Group::Reaction => self.cpu,
+        }
+    }
+
     /// Whether the run reached its end.
     pub fn ok(&self) -> bool {
         self.status == "ok"
@@ -204,6 +220,7 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
     let mut w = csv::Writer::from_path(path).map_err(fail)?;
     let mut header = HEADER.to_vec();
     header.extend(WARNINGS);
+    header.extend(CPU_POSITION);
     w.write_record(&header).map_err(fail)?;
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
     for r in rows {
@@ -225,6 +242,7 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
         rec.push(r.status.clone());
         rec.push(r.warnings.clone());
         rec.push(opt(r.error_sum));
+        rec.push(opt(r.cpu_position));
         w.write_record(&rec).map_err(fail)?;
     }
     w.flush().map_err(|e| format!("{}: {e}", path.display()))
@@ -266,6 +284,11 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
         Ok(w) => w.into_iter().map(|(_, w)| w).collect(),
         Err(_) => Vec::new(), // a peer's file
     };
+    // (Files written before the column have none.)
+    let cpu_position: Vec<Option<f64>> = match read_columns(path, CPU_POSITION) {
+        Ok(c) => c.into_iter().map(|(_, [c])| c.parse().ok()).collect(),
+        Err(_) => Vec::new(),
+    };
     for (k, (line, f)) in read_columns(path, HEADER)?.into_iter().enumerate() {
         let float = |k: usize| -> Result<Option<f64>, String> {
             let s = &f[k];
@@ -290,6 +313,7 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
             status: f[13].clone(),
             warnings: extra.get(k).map(|e| e[0].clone()).unwrap_or_default(),
             error_sum: extra.get(k).and_then(|e| e[1].parse().ok()),
+            cpu_position: cpu_position.get(k).copied().flatten(),
         });
     }
     Ok(rows)
@@ -298,8 +322,9 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
 /// The cheapest finished run whose `group` error is at most `level`.
 pub fn cheapest(rows: &[Row], group: Group, level: f64) -> Option<&Row> {
     rows.iter()
-        .filter(|r| r.ok() && r.error(group).is_some_and(|e| e <= level) && r.cpu.is_finite())
-        .min_by(|a, b| a.cpu.total_cmp(&b.cpu))
+        .filter(|r| r.ok() && r.error(group).is_some_and(|e| e <= level))
+        .filter(|r| r.cpu_of(group).is_finite())
+        .min_by(|a, b| a.cpu_of(group).total_cmp(&b.cpu_of(group)))
 }
 
 /// The markdown table of the cheapest method per accuracy level of one scene, for each
@@ -329,7 +354,7 @@ pub fn summary_table(scene: &Scene, rows: &[Row]) -> String {
                 continue;
             }
             let cell = |r: Option<&Row>| match r {
-                Some(r) => format!("{} | {:.0e} | {:.3e}", label(r), r.setting, r.cpu),
+                Some(r) => format!("{} | {:.0e} | {:.3e}", label(r), r.setting, r.cpu_of(g)),
                 None => "— | | ".to_string(),
             };
             if peers.is_empty() {
@@ -339,7 +364,7 @@ pub fn summary_table(scene: &Scene, rows: &[Row]) -> String {
                 let _ = writeln!(s, "| 1e-{k} | {} | {steps} |", cell(a));
             } else {
                 let ratio = match (a, b) {
-                    (Some(a), Some(b)) => format!("{:.1}×", b.cpu / a.cpu),
+                    (Some(a), Some(b)) => format!("{:.1}×", b.cpu_of(g) / a.cpu_of(g)),
                     _ => "—".into(),
                 };
                 let _ = writeln!(s, "| 1e-{k} | {} | {} | {ratio} |", cell(a), cell(b));
@@ -382,8 +407,10 @@ mod tests {
             control: "tolerance".into(),
             setting: 1e-6,
             error_position: Some(e),
-            error_reaction: None,
+            error_reaction: Some(e),
             cpu,
+            // hht's positions alone cost a tenth of its run with the reactions.
+            cpu_position: (m == "hht").then_some(cpu / 10.0),
             counters: [Some(3), None, Some(1), Some(2), Some(0)],
             status: "ok".into(),
             warnings: if m == "x" {
@@ -395,7 +422,7 @@ mod tests {
         };
         let rows = vec![
             row("hht", 1e-7, 0.5),
-            row("gstiff", 5e-7, 0.01),
+            row("gstiff", 5e-7, 0.1),
             row("x", 1e-3, 1e-4),
         ];
         let path = std::env::temp_dir().join(format!("mbfx-wp-{}.csv", std::process::id()));
@@ -403,14 +430,14 @@ mod tests {
         let back = read_csv(&path).unwrap();
         let _ = std::fs::remove_file(&path);
         assert_eq!(back, rows);
-        assert_eq!(
-            cheapest(&rows, Group::Position, 1e-6).unwrap().method,
-            "gstiff"
-        );
-        assert_eq!(
-            cheapest(&rows, Group::Position, 2e-7).unwrap().method,
-            "hht"
-        );
-        assert!(cheapest(&rows, Group::Reaction, 1.0).is_none());
+        // Positions are charged the run that reads them alone, reactions the full one.
+        let cheapest_at = |g, level| cheapest(&rows, g, level).unwrap().method.as_str();
+        assert_eq!(cheapest_at(Group::Position, 1e-6), "hht");
+        assert_eq!(cheapest_at(Group::Reaction, 1e-6), "gstiff");
+        assert_eq!(cheapest_at(Group::Reaction, 2e-7), "hht");
+        assert_eq!(cheapest_at(Group::Position, 1e-2), "x");
+        assert!(cheapest(&rows, Group::Position, 1e-8).is_none());
+        assert_eq!(rows[0].cpu_of(Group::Position), 0.05);
+        assert_eq!(rows[0].cpu_of(Group::Reaction), 0.5);
     }
 }
