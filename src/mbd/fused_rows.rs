@@ -39,11 +39,7 @@ pub struct FusedRow {
 impl System {
     /// Fuses the rows' expressions `rows` (GCON or displacement-MOTION element index,
     /// the expression's IR) with `exprs`, when it fuses.
-    pub fn fuse_rows(
-        &mut self,
-        exprs: &dyn super::build::ExprCompiler,
-        rows: &[(usize, Function)],
-    ) {
+    pub fn fuse_rows(&mut self, exprs: &dyn super::expr::ExprCompiler, rows: &[(usize, Function)]) {
         if rows.is_empty() {
             return;
         }
@@ -51,7 +47,7 @@ impl System {
         let Some(values) = exprs.fuse(&functions) else {
             return;
         };
-        let (partials, offsets, width) = match super::build::fuse_partials(exprs, &functions) {
+        let (partials, offsets, width) = match super::expr::fuse_partials(exprs, &functions) {
             Some((p, o, w)) => (Some(p), o, w),
             None => (None, Vec::new(), 0),
         };

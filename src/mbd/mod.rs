@@ -49,6 +49,7 @@ pub mod kinematics;
 pub mod linear;
 pub mod measures;
 mod normal;
+pub mod output_slot;
 pub mod planar;
 pub mod redundancy;
 pub mod rewind;
