@@ -7,7 +7,7 @@ use super::error::MbdError;
 use super::expr::{ExprCompiler, ExprError, ExprFn, Integrated, Integration::*};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar, Source};
 use super::inertia::mass_properties;
-use super::measures::Measure;
+use super::measure_set::Measure;
 use super::output_slot::OutputSlot;
 use super::planar::Dim;
 use super::system::{MarkerHandle, PartHandle, System};

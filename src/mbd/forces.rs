@@ -23,7 +23,8 @@
 use super::dual::{Scalar as ScalarT, D, N, PER_PART, V};
 use super::error::MbdError;
 use super::expr::{ExprError, ExprFn, FusedFn};
-use super::measures::{dual_frame, value_frame, Frame, Measure, PartSlots, M};
+use super::measure_set::{Measure, M};
+use super::measures::{dual_frame, value_frame, Frame, PartSlots};
 use super::output_slot::OutputSlot;
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::elements::ElementRef;

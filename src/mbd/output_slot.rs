@@ -6,7 +6,7 @@
 //! state of a dynamics (`OutputSlot::value` in `dynamics::outputs`).
 
 use super::error::MbdError;
-use super::measures::M;
+use super::measure_set::M;
 use super::system::{MarkerHandle, System};
 use crate::model::elements::{MeasureSlot, Model};
 use crate::vocab::elements::{ElementKind, ForceKind};

@@ -27,9 +27,10 @@ pub mod schur;
 mod stiffness;
 pub mod tree;
 
-use super::constraints::{Primitive, Row};
+use super::constraints::Primitive;
 use super::error::{element_name, MbdError};
 use super::forces::{ForceSet, Generalized};
+use super::rows::Row;
 use super::sparse::{FactorError, Pattern, SparseLu};
 use super::system::{Dimension, PartHandle, System};
 use crate::vocab::elements::ElementRef;

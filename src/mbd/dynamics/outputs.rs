@@ -7,10 +7,10 @@
 //! state of a [`Dynamics`] at an output time (after [`Dynamics::refresh_outputs`]).
 
 use super::Dynamics;
-use crate::mbd::constraints::Row;
 use crate::mbd::error::MbdError;
-use crate::mbd::measures::M;
+use crate::mbd::measure_set::M;
 use crate::mbd::output_slot::OutputSlot;
+use crate::mbd::rows::Row;
 use crate::mbd::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::math::Vec3;
 
