@@ -126,6 +126,7 @@ class Model:
         formulation: Optional[str] = None,
         error_per: str = "step",
         cartesian: bool = False,
+        interpolate: bool = False,
         engine: str = "jit",
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
     ) -> Run: ...

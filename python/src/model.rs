@@ -319,7 +319,7 @@ impl PyModel {
         end = None, output_step = None, integrator = None, error = None, probes = None,
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
-        cartesian = false, engine = "jit", set = None
+        cartesian = false, interpolate = false, engine = "jit", set = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -341,6 +341,7 @@ impl PyModel {
         formulation: Option<&str>,
         error_per: &str,
         cartesian: bool,
+        interpolate: bool,
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
@@ -353,6 +354,7 @@ impl PyModel {
             r.formulation = formulation.map(run::formulation_of).transpose()?;
             r.error_per_run = run::error_per_run(error_per)?;
             r.cartesian = cartesian;
+            r.interpolate = interpolate;
             r.engine = engine_of(engine)?;
             r.dim = dim_request(self.dim)?;
             r.probes = run::probes_of(probes)?;

@@ -10,6 +10,7 @@
 mod bench;
 mod check_file;
 mod eval;
+mod number;
 pub mod output;
 mod plot;
 mod progress;

@@ -9,6 +9,7 @@
 //! of the element it names, with the time and the cause; the rows before it are written;
 //! the exit code is 1.
 
+use super::number::Shortest;
 use super::output::{Named, Output, Stop};
 use super::progress::Progress;
 use super::Dim;
@@ -238,6 +239,8 @@ struct Printer<'o> {
     table_error: Option<io::Error>,
     /// The `--csv` file could not be created.
     refused: Option<String>,
+    /// Scratch for the rows' numbers.
+    numbers: Shortest,
 }
 
 impl Printer<'_> {
@@ -319,7 +322,11 @@ impl RunObserver for Printer<'_> {
         let Some(csv) = &mut self.csv else {
             return Ok(());
         };
-        let w = csv.write_record(row.iter().map(|x| format!("{x:?}")));
+        let mut w = Ok(());
+        for &x in row {
+            w = w.and_then(|()| csv.write_field(self.numbers.text(x)));
+        }
+        let w = w.and_then(|()| csv.write_record(None::<&[u8]>));
         w.map_err(|e| self.keep(e.into()))
     }
 
@@ -351,6 +358,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         io_error: None,
         table_error: None,
         refused: None,
+        numbers: Shortest::default(),
     };
     let result = request::run(&req, &mut printer, None);
     let (rows, io_error, refused) = printer.finish();

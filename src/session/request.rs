@@ -1193,7 +1193,7 @@ mod tests {
             &mut tripwire,
             &plan.settings,
             &OutputTimes::new(0.0, 10.0, 10.0),
-            &mut |_| Ok(()),
+            &mut |_, _| Ok(()),
             Some(&|| flag.load(Ordering::Relaxed)),
         );
         assert_eq!(stopped, Err(DynError::Interrupted { time: d.sys.time }));

@@ -12,7 +12,7 @@ use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
-use crate::mbd::dynamics::integrator::{simulate, Interrupt, OutputTimes};
+use crate::mbd::dynamics::integrator::{simulate, Interrupt, OutputTimes, RowState};
 use crate::mbd::dynamics::{DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprCompiler as _;
@@ -340,6 +340,8 @@ struct Outputs {
     exprs: crate::mbd::compiled::CompiledExprs,
     /// A 2D run's 3D shadow for the reactions ([`Lifted`]).
     lifted: Option<Lifted>,
+    /// The last row (time, then the columns), kept to be filled again.
+    row: Vec<f64>,
 }
 
 /// A 2D run's reactions come from a 3D shadow, which holds the out-of-plane loads: the
@@ -656,6 +658,7 @@ impl Simulation {
                 measures,
                 exprs,
                 lifted,
+                row: Vec::new(),
             },
             spec,
             notes,
@@ -723,14 +726,14 @@ impl Simulation {
 impl Outputs {
     /// The output row of a state solved already (an equilibrium, a kinematic solution):
     /// its velocities, accelerations and multipliers are the solution's, not reconciled.
-    fn solved_row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
+    fn solved_row(&mut self, d: &mut Dynamics) -> Result<&[f64], DynError> {
         d.refresh_outputs()?;
         self.fill_row(d)
     }
 
     /// The output row at the state of `d`; `last` says it is the run's final row, which
     /// the summary's energy and residual read.
-    fn row(&mut self, d: &mut Dynamics, last: bool) -> Result<Vec<f64>, DynError> {
+    fn row(&mut self, d: &mut Dynamics, last: bool, state: RowState) -> Result<&[f64], DynError> {
         // The integrator's accelerations and multipliers are its own (HHT's are shifted
         // by α and only first-order accurate), and index 3 lets velocities drift: outputs
         // get velocities projected onto the velocity constraints and the consistent a
@@ -740,15 +743,16 @@ impl Outputs {
         if self.reconcile || last {
             d.reconcile()?;
             d.refresh_outputs()?;
-        } else {
-            // Φ at this state, for the summary's largest constraint residual.
+        } else if state == RowState::Stepped {
+            // Φ at this state, for the summary's largest constraint residual (an
+            // interpolated row's was measured where it was made).
             d.eval_constraints(false)?;
         }
         self.fill_row(d)
     }
 
     /// The columns at the state of `d` as it stands (evaluated for outputs).
-    fn fill_row(&mut self, d: &mut Dynamics) -> Result<Vec<f64>, DynError> {
+    fn fill_row(&mut self, d: &mut Dynamics) -> Result<&[f64], DynError> {
         for &(s, slot) in &self.slots {
             self.measures[s as usize] = slot.map_or(0.0, |o| o.value(d));
         }
@@ -756,7 +760,8 @@ impl Outputs {
             lifted.fill(d, &mut self.measures)?;
         }
         let t = d.sys.time;
-        let mut row = Vec::with_capacity(self.columns.len() + 1);
+        let row = &mut self.row;
+        row.clear();
         row.push(t);
         row.resize(self.columns.len() + 1, 0.0);
         if let Some(code) = &self.code {
@@ -838,30 +843,32 @@ impl Simulation {
         let mut linear = Vec::new();
         let conservative = self.conservative;
         let mut kinetic_max: f64 = 0.0;
-        // A row of the integrated state (`Some(last)`: reconciled when the columns need
-        // it or it is a segment's last) or of a state solved already (None).
-        let mut emit =
-            |outputs: &mut Outputs, d: &mut Dynamics, row: Option<bool>| -> Result<(), DynError> {
-                if conservative {
-                    kinetic_max = kinetic_max.max(kinetic(&d.sys));
-                }
-                let row = match row {
-                    Some(last) => outputs.row(d, last)?,
-                    None => outputs.solved_row(d)?,
-                };
-                max_residual = max_residual.max(residual(d));
-                if let Some(table) = table.as_mut() {
-                    table(&TableRow {
-                        time: d.sys.time,
-                        step: d.stats.last_step,
-                        steps: d.stats.steps,
-                        newton_iterations: d.stats.newton_iterations,
-                        order: d.stats.order,
-                        cpu_seconds: clock.elapsed().as_secs_f64(),
-                    });
-                }
-                out(&row).map_err(|e| DynError::Output(e.to_string()))
+        // A row of the integrated state (`Some((last, state))`: reconciled when the
+        // columns need it or it is a segment's last) or of a state solved already (None).
+        let mut emit = |outputs: &mut Outputs,
+                        d: &mut Dynamics,
+                        row: Option<(bool, RowState)>|
+         -> Result<(), DynError> {
+            if conservative {
+                kinetic_max = kinetic_max.max(kinetic(&d.sys));
+            }
+            let row = match row {
+                Some((last, state)) => outputs.row(d, last, state)?,
+                None => outputs.solved_row(d)?,
             };
+            max_residual = max_residual.max(residual(d));
+            if let Some(table) = table.as_mut() {
+                table(&TableRow {
+                    time: d.sys.time,
+                    step: d.stats.last_step,
+                    steps: d.stats.steps,
+                    newton_iterations: d.stats.newton_iterations,
+                    order: d.stats.order,
+                    cpu_seconds: clock.elapsed().as_secs_f64(),
+                });
+            }
+            out(row).map_err(|e| DynError::Output(e.to_string()))
+        };
         // The row at the start belongs to the first segment: the dynamics' consistent
         // state, or the first equilibrium or kinematic solution. The command file's
         // changes before its first SIMULATE come before it.
@@ -872,9 +879,13 @@ impl Simulation {
         };
         if result.is_ok() && segments.first().is_none_or(|s| s.kind == Analysis::Dynamic) {
             let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
-            result = dynamics
-                .solve_accelerations()
-                .and_then(|()| emit(outputs, dynamics, Some(segments.is_empty())));
+            result = dynamics.solve_accelerations().and_then(|()| {
+                emit(
+                    outputs,
+                    dynamics,
+                    Some((segments.is_empty(), RowState::Stepped)),
+                )
+            });
             first_row = false;
         }
         let mut after_solved = false;
@@ -926,7 +937,8 @@ impl Simulation {
             let (t0, dt, end) = (dynamics.sys.time, seg.output_step, seg.end);
             let times = OutputTimes::new(t0, dt, end);
             // Each segment's last row reconciles: the next segment starts from it.
-            let mut segment_emit = |d: &mut Dynamics| emit(outputs, d, Some(d.sys.time >= end));
+            let mut segment_emit =
+                |d: &mut Dynamics, state| emit(outputs, d, Some((d.sys.time >= end, state)));
             result = simulate(
                 dynamics,
                 integrator.as_mut(),

@@ -378,6 +378,8 @@ def test_the_other_options_reach_the_run_as_on_the_command_line(cli, shared):
         (dict(integrator="dopri853", error=1e-8), ["--integrator", "dopri853", "--error", "1e-8"]),
         (dict(integrator="dopri853", cartesian=True), ["--integrator", "dopri853", "--cartesian"]),
         (dict(error_per="run"), ["--error-per", "run"]),
+        (dict(integrator="dopri853", interpolate=True), ["--integrator", "dopri853", "--interpolate"]),
+        (dict(interpolate=True), ["--interpolate"]),
     ]
     for kwargs, args in cases:
         run = m.run(0.5, output_step=0.05, probes={"x": "DX(201,101)"}, **kwargs)

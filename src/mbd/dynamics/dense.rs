@@ -10,7 +10,7 @@
 //! accepted state is put back before the next step.
 
 use super::dopri853::rotation_vector_rate;
-use super::integrator::{Integrator, OutputTimes};
+use super::integrator::{Integrator, OutputTimes, RowState};
 use super::{DynError, Dynamics, Snapshot};
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Mat3, Vec3};
@@ -55,7 +55,7 @@ pub(super) fn emit(
     outputs: &OutputTimes,
     next: &mut usize,
     drift_tol: f64,
-    output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
+    output: &mut dyn FnMut(&mut Dynamics, RowState) -> Result<(), DynError>,
 ) -> Result<(), DynError> {
     let last = outputs.len().saturating_sub(1);
     let end = d.sys.time;
@@ -63,15 +63,18 @@ pub(super) fn emit(
         let kept = Kept::of(d);
         while *next < last && outputs.at(*next) < end {
             integrator.dense_state(d, outputs.at(*next));
-            consistent(d, drift_tol)?;
-            output(d)?;
+            match integrator.dense_on_constraints() {
+                true => d.stats.interpolated += 1,
+                false => consistent(d, drift_tol)?,
+            }
+            output(d, RowState::Interpolated)?;
             *next += 1;
         }
         kept.restore(d);
     }
     while *next < last && outputs.at(*next) <= end {
         integrator.prepare_output(d)?;
-        output(d)?;
+        output(d, RowState::Stepped)?;
         *next += 1;
     }
     Ok(())

@@ -314,6 +314,10 @@ impl Integrator for Dopri853 {
         self.start = Some(start);
     }
 
+    fn dense_on_constraints(&self) -> bool {
+        self.joint.is_some()
+    }
+
     fn formulation(&self) -> Option<String> {
         self.joint_coordinates()
             .map(|f| format!("a planar tree of joints: integrated in its {f} joint coordinates"))

@@ -155,6 +155,12 @@ pub trait Integrator {
     /// inside the step [`Integrator::extend`] readied (accelerations and multipliers are
     /// left to the outputs' consistent solve).
     fn dense_state(&mut self, _d: &mut Dynamics, _t: f64) {}
+    /// Whether every state [`Integrator::dense_state`] gives holds the position
+    /// constraints by construction (joint coordinates place the parts on them), so an
+    /// interpolated row need not measure and project them.
+    fn dense_on_constraints(&self) -> bool {
+        false
+    }
     /// Forgets the past after a located force-law switch (a multistep method restarts
     /// at order one rather than interpolate across it).
     fn restart(&mut self, _d: &mut Dynamics) {}
@@ -172,6 +178,16 @@ pub trait Integrator {
 /// load of a flag another thread sets (`|| flag.load(Ordering::Relaxed)`), or a check
 /// of its own that looks at the clock every so many steps (Python's Ctrl-C).
 pub type Interrupt<'a> = &'a dyn Fn() -> bool;
+
+/// Where an output row's state comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowState {
+    /// A state the integrator stands on: a step's end.
+    Stepped,
+    /// A continuous extension's state inside a step, whose position residual has been
+    /// measured already or holds by construction (the dense output of `dense.rs`).
+    Interpolated,
+}
 
 /// The output times of a stretch from `t0`: `t0 + k·dt` for k = 1, 2, ... while below
 /// `end`, then `end` itself. Made one at a time, so a stretch of 10⁹ rows holds none.
@@ -228,7 +244,7 @@ pub fn simulate(
     integrator: &mut dyn Integrator,
     s: &Settings,
     outputs: &OutputTimes,
-    output: &mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
+    output: &mut dyn FnMut(&mut Dynamics, RowState) -> Result<(), DynError>,
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), DynError> {
     integrator.start(d)?;
@@ -415,7 +431,7 @@ pub fn simulate(
             }
         }
         integrator.prepare_output(d)?;
-        output(d)?;
+        output(d, RowState::Stepped)?;
     }
     Ok(())
 }
