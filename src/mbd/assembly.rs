@@ -10,10 +10,10 @@
 //! dropped can be passed in [`AssemblyOptions::dropped`]; they are left out of the solve
 //! and checked afterwards (a violated dropped row is a conflict, not a redundancy).
 
-use super::constraints::Row;
 use super::equations::Equation;
 use super::error::{element_name, MbdError};
 use super::normal::min_norm;
+use super::rows::Row;
 use super::sparse::Triplets;
 use super::system::{Dimension, PartHandle, System};
 use crate::model::elements::Id;

@@ -1,70 +1,20 @@
 //! From a [`Model`] to a [`System`]: parts, markers, JOINT, JPRIM, GCON and MOTION
 //! through the library constructors, then the choice of 2D or 3D. Expressions become
 //! [`ExprFn`]s through an [`ExprCompiler`]: the integration plugs in the compiled IR
-//! derivative; [`InterpretOnly`] evaluates values alone.
+//! derivative; [`super::expr::InterpretOnly`] evaluates values alone.
 
-use super::dynamics::outputs::OutputSlot;
 use super::error::MbdError;
-use super::expr::{ExprError, ExprFn, FusedFn, Integrated, Integration::*, Interpreted};
+use super::expr::{ExprCompiler, ExprError, ExprFn, Integrated, Integration::*};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar, Source};
 use super::inertia::mass_properties;
-use super::measures::Measure;
+use super::measure_set::Measure;
+use super::output_slot::OutputSlot;
 use super::planar::Dim;
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
 use crate::vocab::elements::{ElementKind, ElementRef, ForceKind};
 use crate::vocab::math::Vec3;
 use std::collections::HashMap;
-
-/// Turns an expression of the model into an [`ExprFn`].
-pub trait ExprCompiler {
-    /// The evaluator of `e`.
-    fn compile(&self, e: &Expr) -> Box<dyn ExprFn>;
-    /// One evaluator of every value of `functions` ([`crate::mbd::expr::FusedFn`]), when
-    /// the compiler fuses (None: each expression is evaluated on its own).
-    fn fuse(&self, _functions: &[&crate::ir::Function]) -> Option<Box<dyn FusedFn>> {
-        None
-    }
-}
-
-/// One evaluator of the values and partials of `functions` (for each, f, ∂f/∂slot in the
-/// slots it reads, ∂f/∂t), with where each one's outputs start and their total count;
-/// None when one has no derivative or `exprs` does not fuse.
-pub fn fuse_partials(
-    exprs: &dyn ExprCompiler,
-    functions: &[&crate::ir::Function],
-) -> Option<(Box<dyn FusedFn>, Vec<usize>, usize)> {
-    use crate::ir::deriv::{gradient, Input};
-    let derivatives = functions
-        .iter()
-        .map(|ir| {
-            let wrt: Vec<Input> = ir
-                .uses
-                .measures
-                .iter()
-                .map(|&s| Input::Measure(s))
-                .chain([Input::Time])
-                .collect();
-            gradient(ir, &wrt).ok()
-        })
-        .collect::<Option<Vec<_>>>()?;
-    let (mut offsets, mut width) = (Vec::new(), 0);
-    for d in &derivatives {
-        offsets.push(width);
-        width += d.outputs.len();
-    }
-    let fused = exprs.fuse(&derivatives.iter().collect::<Vec<_>>())?;
-    Some((fused, offsets, width))
-}
-
-/// Values through the interpreter, no derivatives.
-pub struct InterpretOnly;
-
-impl ExprCompiler for InterpretOnly {
-    fn compile(&self, e: &Expr) -> Box<dyn ExprFn> {
-        Box::new(Interpreted::new(e.function.clone()))
-    }
-}
 
 fn elref(kind: ElementKind, n: &Named) -> ElementRef {
     ElementRef {

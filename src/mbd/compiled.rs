@@ -16,8 +16,7 @@
 //! keeps: no allocation per call. A JIT failure is kept ([`CompiledExprs::jit_error`])
 //! and the interpreter runs those functions instead.
 
-use super::build::ExprCompiler;
-use super::expr::{ExprError, ExprFn, FusedFn};
+use super::expr::{ExprCompiler, ExprError, ExprFn, FusedFn};
 use crate::context::Context;
 use crate::interp::Program;
 use crate::ir::deriv::{gradient, hessian, Input};

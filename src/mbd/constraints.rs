@@ -8,7 +8,8 @@
 use super::equations::{Equation, EquationLabel};
 use super::error::MbdError;
 use super::expr::ExprFn;
-use super::measures::Measure;
+use super::measure_set::Measure;
+use super::rows::{Element, Equ, Row};
 use super::system::{Dimension, ElementHandle, MarkerHandle, PartHandle, System};
 use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
 use crate::vocab::math::Vec3;
@@ -67,66 +68,6 @@ impl Primitive {
     }
 }
 
-/// How one scalar equation is computed.
-pub enum Row {
-    /// (r_I − r_J)·(R_J dir) · sign.
-    Along {
-        /// The I marker.
-        i: MarkerHandle,
-        /// The J marker.
-        j: MarkerHandle,
-        /// The direction, J-marker axes.
-        dir: Vec3,
-        /// ±1.
-        sign: f64,
-    },
-    /// (R_I a)·(R_J b).
-    Dot {
-        /// The I marker.
-        i: MarkerHandle,
-        /// The J marker.
-        j: MarkerHandle,
-        /// The I vector, I-marker axes.
-        a: Vec3,
-        /// The J vector, J-marker axes.
-        b: Vec3,
-    },
-    /// Σ cₖ·measureₖ − g(t) (g = 0 when there is no drive).
-    Measured {
-        /// (cₖ, measure index) pairs.
-        terms: Vec<(f64, usize)>,
-        /// g(t): a MOTION's function.
-        drive: Option<Box<dyn ExprFn>>,
-    },
-    /// f(t, measures): `map[k]` is the measure index of the k-th slot f reads.
-    Gcon {
-        /// The GCON's compiled expression.
-        f: Box<dyn ExprFn>,
-        /// Measure index of each slot f reads.
-        map: Vec<usize>,
-    },
-}
-
-/// One equation of an element.
-pub struct Equ {
-    /// How the row is computed.
-    pub row: Row,
-    /// Its Adams label (`X Delta`, `Zi.Xj`, ...).
-    pub label: Equation,
-    /// Length-valued (scaled by the model length in the scaled Jacobian).
-    pub translational: bool,
-    /// False when the 2D build drops it as identically satisfied out of plane.
-    pub active: bool,
-}
-
-/// A constraint element as the user named it, with its equations.
-pub struct Element {
-    /// The element as the user named it.
-    pub elref: ElementRef,
-    /// Its equations, in Adams label order.
-    pub eqs: Vec<Equ>,
-}
-
 /// Value and derivatives of one row: ∂/∂q and ∂/∂v over velocity-level columns, ∂/∂t.
 #[derive(Clone, Debug, Default)]
 pub struct RowEval {
@@ -177,18 +118,6 @@ fn axis(c: usize) -> Vec3 {
     let mut v = Vec3::zeros();
     v[c] = 1.0;
     v
-}
-
-impl Equ {
-    /// An active equation (for elements built with [`System::add_element`]).
-    pub fn new(row: Row, label: Equation, translational: bool) -> Equ {
-        Equ {
-            row,
-            label,
-            translational,
-            active: true,
-        }
-    }
 }
 
 impl System {

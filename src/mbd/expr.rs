@@ -8,6 +8,7 @@
 use crate::context::Context;
 use crate::interp::Program;
 use crate::ir::Function;
+use crate::model::elements::Expr;
 
 /// Why an expression of the model gives no usable value.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,6 +132,56 @@ impl ExprFn for Interpreted {
              derivative, which this build does not plug in yet"
                 .into(),
         ))
+    }
+}
+
+/// Turns an expression of the model into an [`ExprFn`].
+pub trait ExprCompiler {
+    /// The evaluator of `e`.
+    fn compile(&self, e: &Expr) -> Box<dyn ExprFn>;
+    /// One evaluator of every value of `functions` ([`FusedFn`]), when
+    /// the compiler fuses (None: each expression is evaluated on its own).
+    fn fuse(&self, _functions: &[&crate::ir::Function]) -> Option<Box<dyn FusedFn>> {
+        None
+    }
+}
+
+/// One evaluator of the values and partials of `functions` (for each, f, ∂f/∂slot in the
+/// slots it reads, ∂f/∂t), with where each one's outputs start and their total count;
+/// None when one has no derivative or `exprs` does not fuse.
+pub fn fuse_partials(
+    exprs: &dyn ExprCompiler,
+    functions: &[&crate::ir::Function],
+) -> Option<(Box<dyn FusedFn>, Vec<usize>, usize)> {
+    use crate::ir::deriv::{gradient, Input};
+    let derivatives = functions
+        .iter()
+        .map(|ir| {
+            let wrt: Vec<Input> = ir
+                .uses
+                .measures
+                .iter()
+                .map(|&s| Input::Measure(s))
+                .chain([Input::Time])
+                .collect();
+            gradient(ir, &wrt).ok()
+        })
+        .collect::<Option<Vec<_>>>()?;
+    let (mut offsets, mut width) = (Vec::new(), 0);
+    for d in &derivatives {
+        offsets.push(width);
+        width += d.outputs.len();
+    }
+    let fused = exprs.fuse(&derivatives.iter().collect::<Vec<_>>())?;
+    Some((fused, offsets, width))
+}
+
+/// Values through the interpreter, no derivatives.
+pub struct InterpretOnly;
+
+impl ExprCompiler for InterpretOnly {
+    fn compile(&self, e: &Expr) -> Box<dyn ExprFn> {
+        Box::new(Interpreted::new(e.function.clone()))
     }
 }
 

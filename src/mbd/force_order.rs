@@ -3,9 +3,9 @@
 //! pass gives every value at the same state. Forces that read each other in a circle
 //! have no such order; the error names the circle.
 
-use super::dynamics::outputs::OutputSlot;
 use super::error::MbdError;
 use super::forces::ForceSet;
+use super::output_slot::OutputSlot;
 
 /// The elements of `set` it reads the force of, for element `k` (after
 /// [`ForceSet::reads`] is filled).

@@ -21,15 +21,17 @@
 //! each other's values are evaluated in dependency order ([`ForceSet::order`]).
 
 use super::dual::{Scalar as ScalarT, D, N, PER_PART, V};
-use super::dynamics::events::contact::ContactProbe;
-use super::dynamics::outputs::OutputSlot;
 use super::error::MbdError;
 use super::expr::{ExprError, ExprFn, FusedFn};
-use super::measures::{dual_frame, value_frame, Frame, Measure, PartSlots, M};
+use super::measure_set::{Measure, M};
+use super::measures::{dual_frame, value_frame, Frame, PartSlots};
+use super::output_slot::OutputSlot;
 use super::system::{MarkerHandle, PartHandle, System};
 use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Vec3};
+use contact::ContactProbe;
 
+pub mod contact;
 mod input_partials;
 
 /// Where the value of an expression's slot comes from.
@@ -441,7 +443,7 @@ impl ForceSet {
     /// expression reads the solution, whose values are filled in element by element):
     /// the values without Jacobians then come from one call a state, the measures it
     /// reads filled once.
-    pub fn fuse(&mut self, exprs: &dyn crate::mbd::build::ExprCompiler) {
+    pub fn fuse(&mut self, exprs: &dyn crate::mbd::expr::ExprCompiler) {
         if self.reads_solution() {
             return;
         }
@@ -464,8 +466,7 @@ impl ForceSet {
         };
         // The partials in the slots each expression reads, then TIME (as its own
         // compiled gradient has them).
-        let (gradients, offsets, width) = match crate::mbd::build::fuse_partials(exprs, &functions)
-        {
+        let (gradients, offsets, width) = match crate::mbd::expr::fuse_partials(exprs, &functions) {
             Some((g, o, w)) => (Some(g), o, w),
             None => (None, Vec::new(), 0),
         };
@@ -1047,8 +1048,8 @@ mod fused_tests {
     //! The fused evaluation ([`super::ForceSet::fuse`]) against each expression on its
     //! own: the same values, bit for bit, from one call.
     use super::*;
-    use crate::mbd::build::InterpretOnly;
     use crate::mbd::compiled::CompiledExprs;
+    use crate::mbd::expr::InterpretOnly;
     use crate::mbd::planar::Dim;
     use crate::model::read_model;
 
@@ -1063,7 +1064,7 @@ mod fused_tests {
 
     /// Q (and with `jacobians` its Jacobian entries) as bits, the set fused when `fuse`
     /// (and the compiler fuses).
-    fn q(exprs: &dyn crate::mbd::build::ExprCompiler, fuse: bool, jacobians: bool) -> Vec<u64> {
+    fn q(exprs: &dyn crate::mbd::expr::ExprCompiler, fuse: bool, jacobians: bool) -> Vec<u64> {
         let read = read_model(MODEL);
         assert!(!read.has_errors(), "{:?}", read.diagnostics);
         let mut sys = System::from_model(&read.model, Dim::Three, exprs).unwrap();

@@ -6,8 +6,8 @@
 //! Directions are worked in scaled coordinates s (δq = D·s, D = the model length for a
 //! translation and 1 for a rotation), so a translation and a rotation compare.
 
-use super::constraints::Row;
 use super::dynamics::{Culprit, Dynamics};
+use super::rows::Row;
 use super::system::PartHandle;
 use crate::vocab::math::{DMat, DVec, Vec3};
 

@@ -7,43 +7,16 @@
 //! callers (assembly) evaluate each row on its own. (A VELOCITY or ACCELERATION MOTION
 //! integrates its function by quadrature, several values a call: not fused.)
 
-use super::expr::{ExprError, FusedFn};
+use super::expr::ExprError;
+use super::rows::{FusedRow, FusedRows, Row};
 use super::system::System;
 use crate::ir::Function;
 use std::cell::{Cell, RefCell};
 
-/// The fused row expressions and their outputs at the last evaluation.
-pub struct FusedRows {
-    values: Box<dyn FusedFn>,
-    partials: Option<Box<dyn FusedFn>>,
-    /// The (slot, measure) pairs read.
-    slots: Vec<(u32, usize)>,
-    /// Per element (None: not a fused GCON): its value's output and where its value and
-    /// partials start.
-    at: Vec<Option<(usize, usize)>>,
-    out_values: RefCell<Vec<f64>>,
-    out_partials: RefCell<Vec<f64>>,
-    /// The outputs are the current state's (Some(true): with the partials).
-    current: Cell<Option<bool>>,
-}
-
-/// What a fused row reads from the fused evaluation: f, and with the partials
-/// ∂f/∂slot (into `grad`) and ∂f/∂t.
-pub struct FusedRow {
-    /// f.
-    pub value: f64,
-    /// ∂f/∂t (NaN when only values were computed).
-    pub dt: f64,
-}
-
 impl System {
     /// Fuses the rows' expressions `rows` (GCON or displacement-MOTION element index,
     /// the expression's IR) with `exprs`, when it fuses.
-    pub fn fuse_rows(
-        &mut self,
-        exprs: &dyn super::build::ExprCompiler,
-        rows: &[(usize, Function)],
-    ) {
+    pub fn fuse_rows(&mut self, exprs: &dyn super::expr::ExprCompiler, rows: &[(usize, Function)]) {
         if rows.is_empty() {
             return;
         }
@@ -51,7 +24,7 @@ impl System {
         let Some(values) = exprs.fuse(&functions) else {
             return;
         };
-        let (partials, offsets, width) = match super::build::fuse_partials(exprs, &functions) {
+        let (partials, offsets, width) = match super::expr::fuse_partials(exprs, &functions) {
             Some((p, o, w)) => (Some(p), o, w),
             None => (None, Vec::new(), 0),
         };
@@ -59,7 +32,7 @@ impl System {
         let mut at = vec![None; self.elements.len()];
         for (k, (e, _)) in rows.iter().enumerate() {
             for eq in &self.elements[*e].eqs {
-                if let super::constraints::Row::Gcon { f, map } = &eq.row {
+                if let Row::Gcon { f, map } = &eq.row {
                     slots.extend(f.slots().iter().copied().zip(map.iter().copied()));
                 }
             }

@@ -1,12 +1,29 @@
 //! The constrained-multibody core: from a [`crate::model::Model`] (Adams ids and names) to
 //! an assembled system with dense indices into the coordinate, velocity and multiplier
 //! vectors; marker kinematics and measures, constraint equations with analytic
-//! Jacobians, assembly, and redundancy analysis.
+//! Jacobians, assembly, redundancy analysis, and the dynamics with its analyses.
 //!
-//! [`system`] holds parts, markers and the coordinate layout (2D or 3D, [`planar`]
-//! decides); [`measures`] computes the expression measures with their derivatives;
-//! [`constraints`] builds JOINT, JPRIM, GCON and MOTION from primitive equations;
-//! [`assembly`] solves positions and velocities; [`build`] turns a Model into a System.
+//! **Layers.** The files stand in layers, lowest first. A file may refer (`use`, or a
+//! path in code) to modules of its own layer and of lower ones, never to a higher one;
+//! what a lower layer owns but a higher one computes is data below (the [`System`] holds
+//! [`rows::Row`]s and a [`measure_set::MeasureSet`]) and `impl` blocks above. The test
+//! `mbd::tests::layers` holds the same table and fails on an edge upward.
+//!
+//! 1. Vocabulary, what the rest is written in: `dual` numbers, `dense` and `sparse`
+//!    matrices, the minimum-norm solve `normal`, `expr` (expressions and their
+//!    compiler) with `compiled` (the JIT's), `error`, `equations` (the Adams labels),
+//!    `inertia`, and `redundancy` (the analysis of a Jacobian's rows).
+//! 2. System: `system` (parts, markers, coordinates, handles) and the data it holds:
+//!    `rows` (constraint elements and their rows) and `measure_set`.
+//! 3. Measures: `measures` (values and derivatives from the state) and `output_slot`
+//!    (what an output expression reads).
+//! 4. Constraints and forces: `constraints` (JOINT, JPRIM, GCON and MOTION from primitive
+//!    equations, evaluated), `fused_rows`, `forces` and `force_order`.
+//! 5. Build: `build` (a Model into a System), `planar` (2D or 3D), `assembly` (positions
+//!    and velocities solved).
+//! 6. Dynamics: `dynamics` (equations of motion and integrators) and the analyses on it,
+//!    `freedom`, `kinematics`, `statics`, `linear` and `rewind`.
+//!
 //! The redundancy analysis reads [`System::jacobian`] (scaled) with [`System::labels`]
 //! and [`System::element_refs`], and hands the rows it drops back through
 //! [`AssemblyOptions::dropped`].
@@ -47,11 +64,14 @@ pub mod fused_rows;
 pub mod inertia;
 pub mod kinematics;
 pub mod linear;
+pub mod measure_set;
 pub mod measures;
 mod normal;
+pub mod output_slot;
 pub mod planar;
 pub mod redundancy;
 pub mod rewind;
+pub mod rows;
 pub mod sparse;
 pub mod statics;
 pub mod system;

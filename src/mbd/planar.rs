@@ -13,10 +13,10 @@
 //! remains: a REVOLUTE keeps X Delta and Y Delta, a TRANSLATIONAL with z_J in the plane
 //! keeps one transverse Delta and Xi.Yj or Zi.Xj, the equations of the 2D prismatic joint.
 
-use super::build::ExprCompiler;
-use super::constraints::Row;
 use super::error::{element_name, MbdError};
+use super::expr::ExprCompiler;
 use super::redundancy::{self, Problem};
+use super::rows::Row;
 use super::sparse::Triplets;
 use super::system::{Dimension, MarkerHandle, System};
 use crate::model::elements::Model;

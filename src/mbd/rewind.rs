@@ -8,9 +8,9 @@
 //! overwrites before it reads it; the dynamics' own state (factors and the flags that pick
 //! them, counters) is made anew by [`Dynamics::new`].
 
-use super::constraints::Row;
 use super::dynamics::{DynError, Dynamics};
-use super::measures::MeasureSet;
+use super::measure_set::MeasureSet;
+use super::rows::Row;
 use super::system::{Marker, Part, System};
 
 /// The state of a system at the start of a run.

@@ -16,8 +16,8 @@
 //! translations and δθ_n (3 per part); all kinematics are computed in 3D either way, so measures
 //! and equations are one code path and the 2D system gives the 3D results.
 
-use super::constraints::Element;
-use super::measures::MeasureSet;
+use super::measure_set::MeasureSet;
+use super::rows::Element;
 use crate::model::elements::Id;
 use crate::vocab::math::{DVec, Mat3, Quat, Vec3};
 use std::collections::HashMap;
@@ -147,7 +147,7 @@ pub struct ExprScratch {
     /// A GCON row's partials ∂f/∂slot.
     pub grad: Vec<f64>,
     /// A GCON row's measure duals, one per slot.
-    pub evs: Vec<super::measures::Evaluated>,
+    pub evs: Vec<super::measure_set::Evaluated>,
 }
 
 impl ExprScratch {
@@ -191,7 +191,7 @@ pub struct System {
     pub(crate) scratch: std::cell::RefCell<ExprScratch>,
     /// The GCONs' and displacement MOTIONs' expressions fused into one call
     /// ([`super::fused_rows`]).
-    pub(crate) fused_rows: Option<super::fused_rows::FusedRows>,
+    pub(crate) fused_rows: Option<super::rows::FusedRows>,
 }
 
 impl Default for System {

@@ -8,9 +8,9 @@
 //! redundant rows as Adams drops them in 3D), and reads the reactions from it. Everything
 //! else the outputs read stays 2D.
 
-use crate::mbd::build::ExprCompiler;
-use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics};
+use crate::mbd::expr::ExprCompiler;
+use crate::mbd::output_slot::OutputSlot;
 use crate::mbd::planar::{self, Dim};
 use crate::mbd::rewind::StartState;
 use crate::mbd::system::{PartHandle, System};

@@ -4,7 +4,7 @@
 //! checked to be a design variable the constraints do not read. What cannot be used is
 //! kept as the reason, reported only if a command asks for it.
 
-use crate::mbd::build::ExprCompiler;
+use crate::mbd::expr::ExprCompiler;
 use crate::mbd::linear::plant::Output;
 use crate::mbd::system::System;
 use crate::model::elements::{Id, Model, PlantVariables};

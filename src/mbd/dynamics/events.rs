@@ -7,10 +7,10 @@
 //! motion is free flight, the error estimate is zero and the step grows, so a step can
 //! start with the force off and end after a short pulse of force is over, never having
 //! seen it. Adams watches such functions and cuts the step; here every force expression
-//! that calls IMPACT or BISTOP brings switching functions ([`contact`]), signed values
-//! whose sign says which branch acts. They are evaluated at every accepted state and at
-//! every candidate step that error control would accept; a sign change means a switch
-//! inside the step, and then:
+//! that calls IMPACT or BISTOP brings switching functions ([`crate::mbd::forces::contact`]),
+//! signed values whose sign says which branch acts. They are evaluated at every accepted
+//! state and at every candidate step that error control would accept; a sign change means
+//! a switch inside the step, and then:
 //!
 //! 1. if the step is no longer than the location tolerance, it is accepted: the switch is
 //!    located, and the next step starts on the new branch;
@@ -30,8 +30,6 @@
 //! tolerance is a fraction of the step that first found the switch. A switch crossed back
 //! within one step (two sign changes) is not seen; the contacts' own error control keeps
 //! steps in contact short enough for that.
-
-pub mod contact;
 
 use super::Dynamics;
 

@@ -11,16 +11,17 @@
 //!
 //! A non-holonomic GCON f(q, v, t) = 0 is differentiated once: γ = −(f_q·v + f_t).
 //! Rows built on measures (GCON, MOTION, RACKPIN, SCREW, CONVEL) take the measures'
-//! second time derivatives from jets ([`crate::mbd::measures::MeasureSet::jet`]) and the
+//! second time derivatives from jets ([`crate::mbd::measure_set::MeasureSet::jet`]) and the
 //! expression's Hessian from the IR derivative applied twice (`ir::deriv::hessian`); where
 //! mbfx has no second derivative (SWEEP in arguments other than x and its amplitude),
 //! that is an error naming the element and the function, never a silently wrong γ. A VELOCITY
 //! or ACCELERATION MOTION's drive is the integral of its function, so its g̈ is ḟ or f.
 
 use super::Dynamics;
-use crate::mbd::constraints::{Primitive, Row};
+use crate::mbd::constraints::Primitive;
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;
+use crate::mbd::rows::Row;
 use crate::mbd::system::{MarkerHandle, System};
 use crate::vocab::math::{DVec, Vec3};
 

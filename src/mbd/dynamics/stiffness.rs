@@ -17,7 +17,8 @@
 //! rows, and the reactions (Φ_qᵀλ over an element's rows) do not.
 
 use super::Dynamics;
-use crate::mbd::constraints::{PointAxis, Primitive, Row};
+use crate::mbd::constraints::{PointAxis, Primitive};
+use crate::mbd::rows::Row;
 use crate::mbd::system::{Dimension, PartHandle, System};
 use crate::vocab::math::{DVec, Mat3, Vec3};
 use std::collections::HashMap;

@@ -24,8 +24,8 @@
 //! (measures, contact switches, outputs, reactions) sees the same model.
 
 use super::{DynError, Dynamics, Mat3Block, Snapshot};
-use crate::mbd::constraints::Row;
 use crate::mbd::dense::DenseLlt;
+use crate::mbd::rows::Row;
 use crate::mbd::sparse::DENSE_MAX;
 use crate::mbd::system::Dimension;
 use crate::vocab::elements::{ElementKind, JointType};

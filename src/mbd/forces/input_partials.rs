@@ -10,7 +10,8 @@
 use super::{measure_value, ForceElement, ForceSet, Generalized, Inputs, Num, Scalar, Source};
 use crate::mbd::dual::{Scalar as _, J2, V};
 use crate::mbd::error::MbdError;
-use crate::mbd::measures::{value_frame, Frame, Measure, PartSlots, M};
+use crate::mbd::measure_set::{Measure, M};
+use crate::mbd::measures::{value_frame, Frame, PartSlots};
 use crate::mbd::system::{PartHandle, System};
 use crate::vocab::math::DVec;
 

@@ -16,7 +16,7 @@ use super::Linearized;
 use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprFn;
-use crate::mbd::measures::Measure;
+use crate::mbd::measure_set::Measure;
 use crate::vocab::math::{DMat, DVec};
 
 /// An output: a VARIABLE's expression compiled, with its slots' measures.

@@ -5,8 +5,8 @@ use super::*;
 use crate::check::{self, Expect, MeasureCall, MeasureValue, Scope};
 use crate::diag::Diagnostic;
 use crate::mbd::assembly::AssemblyOptions;
-use crate::mbd::build::InterpretOnly;
 use crate::mbd::expr::ExprFn;
+use crate::mbd::expr::InterpretOnly;
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{Dimension, PartHandle, System};
 use crate::model::elements::{self as el, MeasureSlot, Model, Named};
@@ -205,7 +205,7 @@ fn gcon_without_a_derivative_says_what_is_missing() {
 /// Every expression becomes g(t) = 0.5 + t (stands in for the compiled derivative).
 struct Ramp;
 
-impl crate::mbd::build::ExprCompiler for Ramp {
+impl crate::mbd::expr::ExprCompiler for Ramp {
     fn compile(&self, _: &el::Expr) -> Box<dyn ExprFn> {
         time_fn(0.5, 1.0)
     }

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::mbd::expr::Closure;
-use crate::mbd::measures::Measure;
+use crate::mbd::measure_set::Measure;
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{MarkerHandle, System};
 use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};

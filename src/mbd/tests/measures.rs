@@ -1,7 +1,7 @@
 //! Measures against the worked examples of expr-language §6 and known rotations.
 
 use super::*;
-use crate::mbd::measures::Measure;
+use crate::mbd::measure_set::Measure;
 use crate::mbd::system::System;
 use crate::vocab::math::{Mat3, Vec3};
 use std::f64::consts::PI;

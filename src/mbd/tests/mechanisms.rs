@@ -4,7 +4,7 @@
 use super::*;
 use crate::mbd::assembly::AssemblyOptions;
 use crate::mbd::expr::Closure;
-use crate::mbd::measures::Measure;
+use crate::mbd::measure_set::Measure;
 use crate::mbd::planar::Dim;
 use crate::mbd::system::{Dimension, PartHandle, System};
 use crate::mbd::AssemblyError;

@@ -6,6 +6,7 @@
 
 mod from_model;
 mod jacobians;
+mod layers;
 mod measures;
 mod mechanisms;
 

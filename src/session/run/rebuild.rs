@@ -14,8 +14,8 @@
 
 use super::{reads_reconciled, shadow, Segment, Simulation};
 use crate::diag::Diagnostic;
-use crate::mbd::dynamics::outputs::OutputSlot;
 use crate::mbd::dynamics::{DynError, Dynamics};
+use crate::mbd::output_slot::OutputSlot;
 use crate::mbd::{planar, AssemblyOptions, Dim, Dimension, PartHandle, System};
 use crate::model::command_changes::ModelChange;
 use crate::session::changes::{self, Applied};
@@ -136,7 +136,7 @@ impl Simulation {
     /// The output columns with the VARIABLEs they read inlined again (some have new
     /// expressions), fused again.
     fn recompile_columns(&mut self) -> Result<(), String> {
-        use crate::mbd::build::ExprCompiler as _;
+        use crate::mbd::expr::ExprCompiler as _;
         let outputs = &mut self.outputs;
         for c in &mut outputs.columns {
             c.function = (self.read.model.inline_variables(&c.source))

@@ -2,7 +2,7 @@
 //! force expression calls them, the signed quantities whose zeros are the instants their
 //! force changes branch. [`ContactProbe`] finds the calls in a force's IR once, keeps a
 //! program that computes just their arguments, and turns the arguments at a state into
-//! switching values for the step control ([`super::Events`]).
+//! switching values for the step control ([`crate::mbd::dynamics::events::Events`]).
 //!
 //! Each value is positive on the side where the branch acts and NaN where the switch
 //! means nothing (the clamp of a contact that is not touching):

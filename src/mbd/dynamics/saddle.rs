@@ -1,0 +1,201 @@
+//! The consistent solve at a state (spec §6.1 phase 3): accelerations and multipliers
+//! from the saddle-point matrix [[M/UCF, Φ_qᵀ], [Φ_q, 0]] (refined when it had to be
+//! regularised), swept until forces that read them settle; and the reconciliation of
+//! the velocities for output ([`Dynamics::reconcile`]).
+
+use super::error::DynError;
+use super::gamma;
+use super::newton::{Weights, Which};
+use super::setup::Dynamics;
+use super::state::{copy_into, zero_into};
+use crate::mbd::error::MbdError;
+use crate::vocab::math::DVec;
+
+/// Sweeps of the consistent accelerations when forces read them (or reactions), and the
+/// relative change at which they have settled.
+pub(super) const SOLUTION_SWEEPS: usize = 200;
+
+pub(super) const SOLUTION_TOL: f64 = 1e-14;
+
+/// Reused buffers of the saddle-point solves.
+#[derive(Default)]
+pub(super) struct Scratch {
+    pub(super) rhs: Vec<f64>,
+    pub(super) residual: Vec<f64>,
+    /// M·a + Φ_qᵀ·λ, and Φ_q·a.
+    pub(super) product: DVec,
+    pub(super) row_product: Vec<f64>,
+    /// γ and the solution (a; λ) of [`Dynamics::accelerations_factored`].
+    pub(super) gamma: DVec,
+    pub(super) solution: Vec<f64>,
+}
+
+impl Dynamics {
+    /// Consistent accelerations and multipliers at the current state (spec §6.1 phase
+    /// 3): M·a/UCF + Φ_qᵀλ = Q, Φ_q·a = γ.
+    pub fn solve_accelerations(&mut self) -> Result<(), DynError> {
+        self.eval_constraints(true)?;
+        self.factor_saddle()?;
+        self.accelerations_factored()
+    }
+
+    /// Reconciles the state for output (as Adams does at output steps): velocities
+    /// projected onto the velocity constraints, closest in the mass metric
+    /// ([[M, Φ_qᵀ], [Φ_q, 0]]·[δv; μ] = [0; −(Φ_q·v + Φ_t)]), then the consistent
+    /// accelerations and multipliers, both from one factorization. The index-3 integrators
+    /// keep positions on the constraints but let velocities drift by their error.
+    pub fn reconcile(&mut self) -> Result<(), DynError> {
+        self.eval_constraints(true)?;
+        self.factor_saddle()?;
+        let v = self.sys.v();
+        let mut rhs = vec![0.0; self.n + self.m];
+        let mut jv = vec![0.0; self.m];
+        self.jac.add_times(v.as_slice(), &mut jv);
+        for (r, x) in jv.iter().enumerate() {
+            rhs[self.n + r] -= x;
+        }
+        for (r, &(e, q)) in self.rows.iter().enumerate() {
+            if self.sys.row_reads_velocity(e, q) {
+                // A non-holonomic row holds ∂f/∂v: its velocity residual is f itself.
+                rhs[self.n + r] = -self.phi[r];
+            } else {
+                rhs[self.n + r] -= self.sys.row_dt(e, q)?;
+            }
+        }
+        self.solve_saddle(&mut rhs)?;
+        let v = v + DVec::from_column_slice(&rhs[..self.n]);
+        self.sys.set_v(&v);
+        self.accelerations_factored()
+    }
+
+    /// Solves [[M/UCF, Φ_qᵀ], [Φ_q, 0]]·x = b in place with the factorization of
+    /// [`Dynamics::factor_saddle`]: its regularisation is taken back out by iterative
+    /// refinement against the exact matrix (a direct solve, unlike a Newton step, would
+    /// keep the regularisation's bias).
+    pub(super) fn solve_saddle(&mut self, b: &mut [f64]) -> Result<(), DynError> {
+        let n = self.n;
+        let mut s = std::mem::take(&mut self.scratch);
+        s.rhs.clear();
+        s.rhs.extend_from_slice(b);
+        let mut solved = self.solve_with(Which::Saddle, b);
+        if solved.is_ok() && self.factors[Which::Saddle as usize].regularised {
+            for _ in 0..3 {
+                // r = rhs − [[M, Φ_qᵀ], [Φ_q, 0]]·b.
+                zero_into(&mut s.product, n);
+                let (a, lambda) = b.split_at(n);
+                self.add_mass_times(a, &mut s.product);
+                self.jac.add_transpose_times(lambda, 1.0, &mut s.product);
+                s.residual.clear();
+                s.residual.extend((0..n).map(|k| s.rhs[k] - s.product[k]));
+                s.residual.extend_from_slice(&s.rhs[n..]);
+                s.row_product.clear();
+                s.row_product.resize(self.m, 0.0);
+                self.jac.add_times(a, &mut s.row_product);
+                for (x, y) in s.residual[n..].iter_mut().zip(&s.row_product) {
+                    *x -= y;
+                }
+                let size = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                solved = self.solve_with(Which::Saddle, &mut s.residual);
+                if solved.is_err() {
+                    break;
+                }
+                let step = s.residual.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for (x, d) in b.iter_mut().zip(&s.residual) {
+                    *x += d;
+                }
+                if step <= 1e-15 * size {
+                    break;
+                }
+            }
+        }
+        self.scratch = s;
+        solved
+    }
+
+    /// Factors [[M/UCF, Φ_qᵀ], [Φ_q, 0]] from the last constraint evaluation.
+    pub(super) fn factor_saddle(&mut self) -> Result<(), DynError> {
+        self.stats.jacobian_evaluations += 1;
+        self.factor_into(
+            Which::Saddle,
+            Weights {
+                w_m: 1.0,
+                w_k: 0.0,
+                w_c: 0.0,
+                w_l: 1.0,
+            },
+        )
+    }
+
+    /// The accelerations and multipliers with the saddle-point matrix factored. Forces
+    /// that read accelerations or reactions make this a fixed point: solved by repeating
+    /// the solve with the forces at the last accelerations and multipliers until they
+    /// settle (at the loop's gain per sweep).
+    pub(super) fn accelerations_factored(&mut self) -> Result<(), DynError> {
+        // (Buffers taken out of the scratch are put back on success; a failure ends the
+        // attempt, and a lost buffer is only allocated again.)
+        let mut gamma = std::mem::take(&mut self.scratch.gamma);
+        gamma::gamma(self, &mut gamma)?;
+        let mut rhs = std::mem::take(&mut self.scratch.solution);
+        let looped = self.forces.reads_solution();
+        let mut last_change = f64::INFINITY;
+        let mut stalled = 0;
+        for _ in 0..SOLUTION_SWEEPS {
+            self.eval_forces(false)?;
+            self.check_forces()?;
+            rhs.clear();
+            rhs.extend_from_slice(self.gen.q.as_slice());
+            rhs.extend_from_slice(gamma.as_slice());
+            self.solve_saddle(&mut rhs)?;
+            let (a, lambda) = rhs.split_at(self.n);
+            let change = if looped && self.a.len() == self.n && self.lambda.len() == self.m {
+                let diff = |x: &[f64], y: &DVec| {
+                    x.iter()
+                        .zip(y.iter())
+                        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+                };
+                let size = rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                diff(a, &self.a).max(diff(lambda, &self.lambda)) / (size + f64::MIN_POSITIVE)
+            } else {
+                f64::INFINITY
+            };
+            copy_into(&mut self.a, a);
+            copy_into(&mut self.lambda, lambda);
+            self.store_accelerations();
+            if !looped || change <= SOLUTION_TOL {
+                (self.scratch.gamma, self.scratch.solution) = (gamma, rhs);
+                return Ok(());
+            }
+            stalled = if change < 0.9 * last_change {
+                0
+            } else {
+                stalled + 1
+            };
+            if stalled >= 5 {
+                break;
+            }
+            last_change = change;
+        }
+        Err(self.solution_loop())
+    }
+
+    /// The failure of a force–solution loop that does not settle: names the first force
+    /// reading an acceleration or a reaction, and what it reads.
+    pub(super) fn solution_loop(&self) -> DynError {
+        let f = &self.forces;
+        // Forces that read only forces settle in one ordered pass: the loop that did not
+        // runs through an acceleration or a reaction (any read, should that ever not be).
+        let reads = |motion: bool| {
+            f.reads.iter().enumerate().find_map(|(k, reads)| {
+                reads
+                    .iter()
+                    .find(|&&s| !motion || f.solution[s].reads_motion())
+                    .map(|&s| (k, s))
+            })
+        };
+        let (k, s) = reads(true).or_else(|| reads(false)).unwrap_or((0, 0));
+        DynError::Model(MbdError::SolutionLoop {
+            element: f.elements[k].elref.clone(),
+            reads: f.names.get(s).cloned().unwrap_or_default(),
+        })
+    }
+}
