@@ -272,10 +272,7 @@ pub fn culprit_span(e: &DynError, model: &Model) -> Span {
     match e.culprit() {
         Some(Culprit::Element(el)) => element_span(model, &el),
         Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
-        None => match e {
-            DynError::Model(m) => m.element().map_or(0..0, |el| element_span(model, el)),
-            _ => 0..0,
-        },
+        None => 0..0,
     }
 }
 

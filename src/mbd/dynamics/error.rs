@@ -189,12 +189,7 @@ impl DynError {
                 culprit: Some(Culprit::Element(e)),
                 ..
             } => Some(e),
-            DynError::Model(MbdError::Expression(e, _))
-            | DynError::Model(MbdError::NoSecondDerivative(e, _, _))
-            | DynError::Model(MbdError::SamePart(e))
-            | DynError::Model(MbdError::Floating(e, _))
-            | DynError::Model(MbdError::SolutionLoop { element: e, .. }) => Some(e),
-            DynError::Model(MbdError::ForceCycle(circle)) => circle.first(),
+            DynError::Model(m) => m.element(),
             DynError::Statics(f) => match f.as_ref() {
                 crate::mbd::statics::Failure::Unstable { freedom, .. } => match &freedom.culprit {
                     Some(Culprit::Element(e)) => Some(e),
