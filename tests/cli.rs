@@ -10,6 +10,10 @@ mod common;
 #[path = "cli/acf.rs"]
 mod acf;
 
+/// Accuracy warnings against a closed form, `--estimate-error` and `--strict`.
+#[path = "cli/accuracy.rs"]
+mod accuracy;
+
 /// `mbfx run --linear` and LINEAR commands.
 #[path = "cli/linear.rs"]
 mod linear;

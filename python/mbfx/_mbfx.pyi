@@ -129,6 +129,7 @@ class Model:
         interpolate: bool = False,
         engine: str = "jit",
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
+        estimate_error: bool = False,
     ) -> Run: ...
     def linearize(
         self,

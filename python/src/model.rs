@@ -313,13 +313,16 @@ impl PyModel {
     /// Simulates the model to `end`, as `mbfx run` does with the same arguments and
     /// defaults, and returns an `mbfx.Run`. `probes` maps output column names to
     /// expressions; `set` maps `"KIND/ID.FIELD"` to a value for this run only (as
-    /// `--set`). A failure raises `RunError` with the rows so far as `.run`; Ctrl-C
-    /// raises `KeyboardInterrupt` with them.
+    /// `--set`). `estimate_error` runs the model again at ERROR/10 to estimate the
+    /// answer's error (`stats["error_estimate"]`, in ERRORs), as `--estimate-error`.
+    /// A failure raises `RunError` with the rows so far as `.run`; Ctrl-C raises
+    /// `KeyboardInterrupt` with them.
     #[pyo3(signature = (
         end = None, output_step = None, integrator = None, error = None, probes = None,
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
-        cartesian = false, interpolate = false, engine = "jit", set = None
+        cartesian = false, interpolate = false, engine = "jit", set = None,
+        estimate_error = false
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -344,10 +347,12 @@ impl PyModel {
         interpolate: bool,
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
+        estimate_error: bool,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
             (r.end, r.output_step, r.error) = (end, output_step, error);
+            r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;
             (r.hmax, r.hinit, r.hmin, r.fixed_step) = (hmax, hinit, hmin, fixed_step);
             (r.alpha, r.rho_inf, r.kmax) = (alpha, rho_inf, kmax);

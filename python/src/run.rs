@@ -269,6 +269,10 @@ fn run_object(
         stats.set_item(intern!(py, "max_residual"), s.max_residual)?;
         // The simulation of the last run on this thread ran again (design values only).
         stats.set_item(intern!(py, "reused"), s.reused)?;
+        if let Some(e) = &s.estimate {
+            stats.set_item(intern!(py, "error_estimate"), e.error)?;
+            stats.set_item(intern!(py, "estimate_cpu_seconds"), e.cpu_seconds)?;
+        }
         (warnings, notes) = (s.warnings.clone(), s.notes.clone());
         text = s.text();
         integrator = s.integrator;

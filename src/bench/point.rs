@@ -8,7 +8,7 @@ use super::scene::{Errors, Group, Scene};
 use crate::diag::Severity;
 use crate::mbd::dynamics::Stats;
 use crate::model::integrator_settings::Formulation;
-use crate::session::run::{Engine, Method, RunFailure, RunSpec, Simulation};
+use crate::session::run::{Engine, Estimate, Method, RunFailure, RunSpec, Simulation};
 use crate::session::DimRequest;
 
 /// A named method: an integrator with its formulation and parameters.
@@ -199,6 +199,9 @@ pub struct Point {
     /// What the run itself said was wrong although it reached the end (the summary's
     /// warnings): a run that says so did not fail silently.
     pub warnings: Vec<String>,
+    /// The run's global error estimate, when [`Options::estimate`] asked for one and it
+    /// could be made.
+    pub estimate: Option<Estimate>,
 }
 
 /// What else a run may change from the scene's own settings.
@@ -216,6 +219,9 @@ pub struct Options {
     pub kmax: Option<u32>,
     /// Keep the redundant rows in the equations of motion.
     pub keep_redundant: bool,
+    /// Estimate each error-controlled run's error from a second run at ERROR/10
+    /// (`mbfx run --estimate-error`); its CPU is not the point's.
+    pub estimate: bool,
 }
 
 /// Runs `scene` (dataset `text`) with `variant` under `control` and scores it.
@@ -234,6 +240,7 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
         max_residual: f64::NAN,
         status: Status::Ok,
         warnings: Vec::new(),
+        estimate: None,
     };
     let mut spent = 0.0;
     let mut best = f64::INFINITY;
@@ -260,6 +267,14 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
         point.stats = summary.stats;
         point.max_residual = summary.max_residual;
         point.warnings = summary.warnings.clone();
+        // The estimate's CPU, like the run's, is the best of the repeats.
+        point.estimate = match (point.estimate, summary.estimate) {
+            (Some(a), Some(b)) => Some(Estimate {
+                cpu_seconds: a.cpu_seconds.min(b.cpu_seconds),
+                ..b
+            }),
+            (_, b) => b,
+        };
         point.status = match failure {
             None => Status::Ok,
             Some(e) => Status::Failed(e.to_string()),
@@ -319,6 +334,7 @@ fn build(
     spec.error_per_run = variant.per_run;
     spec.cartesian = variant.cartesian;
     spec.keep_redundant = o.keep_redundant;
+    spec.estimate_error = o.estimate;
     spec.engine = o.engine;
     spec.dim = match o.dim.or(scene.dim) {
         Some(2) => DimRequest::Two,

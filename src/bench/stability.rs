@@ -204,11 +204,13 @@ pub fn must_stop(scene: &Scene) -> bool {
     scene.source.contains("must stop")
 }
 
-/// Runs one case on its scene, handing each cell to `each`.
+/// Runs one case on its scene, handing each cell to `each`; `estimate` asks each
+/// error-controlled run for its global error estimate (`mbfx run --estimate-error`).
 pub fn run_case(
     index: usize,
     case: &Case,
     scene: &Scene,
+    estimate: bool,
     each: &mut dyn FnMut(&Cell),
 ) -> Result<Vec<Cell>, String> {
     let text = scene.dataset_text()?;
@@ -225,6 +227,7 @@ pub fn run_case(
         let o = Options {
             repeat_budget: 0.0,
             error: Some(case.tolerance),
+            estimate,
             ..Options::default()
         };
         let point = measure(scene, &text, v, control, o);

@@ -118,8 +118,9 @@ pub const HEADER: [&str; 14] = [
 ];
 
 /// The columns mbfx's points files add after [`HEADER`] (a peer's file has neither): the
-/// kinds of each run's accuracy warnings, and its local errors' sum in ERRORs.
-pub const WARNINGS: [&str; 2] = ["warnings", "error_sum"];
+/// kinds of each run's accuracy warnings, its local errors' sum in ERRORs, and its
+/// global error estimate in ERRORs with the CPU that took (empty when not asked for).
+pub const WARNINGS: [&str; 4] = ["warnings", "error_sum", "error_estimate", "estimate_cpu_s"];
 
 /// The column mbfx's points files add after [`WARNINGS`]: the CPU of the run reading
 /// positions only ([`Point::cpu_position`]; empty where the scene reads nothing else).
@@ -156,6 +157,10 @@ pub struct Row {
     /// The accepted steps' local error estimates added up, in units of ERROR (None for
     /// a peer's run).
     pub error_sum: Option<f64>,
+    /// The global error estimate in units of ERROR (`bench wp --estimate-error`).
+    pub error_estimate: Option<f64>,
+    /// The CPU the estimate's second run took, s.
+    pub estimate_cpu: Option<f64>,
 }
 
 impl Row {
@@ -188,6 +193,8 @@ impl Row {
             },
             warnings: super::alarms::kinds(&p.warnings),
             error_sum: Some(p.stats.error_sum),
+            error_estimate: p.estimate.map(|e| e.error),
+            estimate_cpu: p.estimate.map(|e| e.cpu_seconds),
         }
     }
 
@@ -242,6 +249,8 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
         rec.push(r.status.clone());
         rec.push(r.warnings.clone());
         rec.push(opt(r.error_sum));
+        rec.push(opt(r.error_estimate));
+        rec.push(opt(r.estimate_cpu));
         rec.push(opt(r.cpu_position));
         w.write_record(&rec).map_err(fail)?;
     }
@@ -280,7 +289,7 @@ pub fn read_columns<const N: usize>(
 /// Reads a points CSV (mbfx's or a peer's) by its header's names.
 pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
     let mut rows = Vec::new();
-    let extra: Vec<[String; 2]> = match read_columns(path, WARNINGS) {
+    let extra: Vec<[String; 4]> = match read_columns(path, WARNINGS) {
         Ok(w) => w.into_iter().map(|(_, w)| w).collect(),
         Err(_) => Vec::new(), // a peer's file
     };
@@ -313,6 +322,8 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
             status: f[13].clone(),
             warnings: extra.get(k).map(|e| e[0].clone()).unwrap_or_default(),
             error_sum: extra.get(k).and_then(|e| e[1].parse().ok()),
+            error_estimate: extra.get(k).and_then(|e| e[2].parse().ok()),
+            estimate_cpu: extra.get(k).and_then(|e| e[3].parse().ok()),
             cpu_position: cpu_position.get(k).copied().flatten(),
         });
     }
@@ -419,6 +430,8 @@ mod tests {
                 String::new()
             },
             error_sum: Some(12.5),
+            error_estimate: (m == "x").then_some(3.5),
+            estimate_cpu: (m == "x").then_some(2e-5),
         };
         let rows = vec![
             row("hht", 1e-7, 0.5),

@@ -65,6 +65,11 @@ pub struct WpArgs {
     /// `NAME@keep-redundant`, `NAME@interp`).
     #[arg(long)]
     variations: bool,
+    /// Estimate each error-controlled run's error from a second run at ERROR/10 (`mbfx
+    /// run --estimate-error`): warnings.md then tells the warnings apart with and
+    /// without it, and what it costs.
+    #[arg(long = "estimate-error")]
+    estimate_error: bool,
 }
 
 #[derive(clap::Args)]
@@ -96,6 +101,10 @@ pub struct StabilityArgs {
     /// must stop) on stdout and run nothing: the peers' script reads the suite from it.
     #[arg(long)]
     list: bool,
+    /// Give each error-controlled run the global error estimate (`mbfx run
+    /// --estimate-error`): its warning then names a wrong answer too.
+    #[arg(long = "estimate-error")]
+    estimate_error: bool,
 }
 
 #[derive(clap::Args)]
@@ -285,6 +294,7 @@ fn wp(a: &WpArgs, o: &mut Output) -> Result<i32, Stop> {
         budget: a.budget,
         options: Options {
             repeat_budget: 0.05,
+            estimate: a.estimate_error,
             ..Options::default()
         },
     };
@@ -424,7 +434,7 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
             continue;
         };
         let mut each = |c: &Cell| ticker.point(&c.point);
-        match run_case(i, case, scene, &mut each) {
+        match run_case(i, case, scene, a.estimate_error, &mut each) {
             Ok(c) => cells.extend(c),
             Err(e) => return fail(format!("{}: {e}", case.scene), o),
         }
@@ -563,6 +573,7 @@ fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
         budget: 2.0,
         halvings: 10,
         variations: true,
+        estimate_error: true,
     };
     let mut code = wp(&wp_args, o)?;
     // the peers' stability cells are in the same directory as their points, when run
@@ -571,6 +582,7 @@ fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
         out: a.out.clone(),
         peers: a.peers.clone().filter(|d| d.join("stability.csv").exists()),
         list: false,
+        estimate_error: true,
     };
     code = code.max(stability(&st, o)?);
     let sc = ScalingArgs {

@@ -140,6 +140,12 @@ pub struct RunArgs {
     /// CI: a warned answer fails the job without being an error).
     #[arg(long)]
     strict: bool,
+    /// Estimate the answer's error: run again from the start at ERROR/10, compare the
+    /// output columns at the output times (each over its largest magnitude, at least 1),
+    /// and warn when the estimate exceeds 10×ERROR instead of summing the local errors
+    /// (the second run costs about 1.6 times the first).
+    #[arg(long = "estimate-error")]
+    estimate_error: bool,
     /// Find the static equilibrium first (SIMULATE/STATICS, under the dataset's
     /// EQUILIBRIUM settings): the dynamics start from it; without --end it is the run.
     #[arg(long, conflicts_with = "kinematics")]
@@ -172,6 +178,7 @@ impl RunArgs {
         r.error_per_run = self.error_per == ErrorPer::Run;
         r.cartesian = self.cartesian;
         r.interpolate = self.interpolate;
+        r.estimate_error = self.estimate_error;
         (r.fixed_step, r.alpha, r.rho_inf) = (self.fixed_step, self.alpha, self.rho_inf);
         r.formulation = self.formulation.map(|f| match f {
             FormulationArg::I3 => Formulation::I3,
@@ -469,6 +476,7 @@ mod tests {
             "--error-per=run",
             "--cartesian",
             "--interpolate",
+            "--estimate-error",
             "--fixed-step=0.001",
             "--alpha=-0.2",
             "--formulation=si2",
@@ -492,6 +500,7 @@ mod tests {
             error_per_run: true,
             cartesian: true,
             interpolate: true,
+            estimate_error: true,
             fixed_step: Some(0.001),
             alpha: Some(-0.2),
             formulation: Some(Formulation::Si2),

@@ -102,6 +102,9 @@ pub struct RunRequest {
     /// Output rows from each method's continuous extension (`--interpolate`, as
     /// INTEGRATOR/INTERPOLATE = ON); false leaves it to the statement.
     pub interpolate: bool,
+    /// Estimate the answer's error from a second run at ERROR/10 and warn when it
+    /// exceeds 10·ERROR (`--estimate-error`, [`super::run::Estimate`]).
+    pub estimate_error: bool,
     /// Fixed steps of at most this (`--fixed-step`): no error control.
     pub fixed_step: Option<f64>,
     /// HHT's ALPHA in [−1/3, 0] (`--alpha`): None takes the statement's, else −0.3.
@@ -150,6 +153,7 @@ impl RunRequest {
             error_per_run: false,
             cartesian: false,
             interpolate: false,
+            estimate_error: false,
             fixed_step: None,
             alpha: None,
             formulation: None,
@@ -252,6 +256,7 @@ impl RunRequest {
         spec.error_per_run = self.error_per_run;
         spec.cartesian = self.cartesian;
         spec.interpolate = self.interpolate;
+        spec.estimate_error = self.estimate_error;
         spec.formulation = self.formulation;
         (spec.error, spec.hmax, spec.hinit, spec.hmin) =
             (self.error, self.hmax, self.hinit, self.hmin);

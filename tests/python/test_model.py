@@ -387,6 +387,23 @@ def test_the_other_options_reach_the_run_as_on_the_command_line(cli, shared):
         assert_same_run(run, want, str(kwargs))
 
 
+def test_estimate_error_keeps_the_rows_and_gives_the_clis_estimate_and_warning(cli):
+    m = mbfx.load(SLIDER)
+    plain = m.run(2.0, output_step=0.01)
+    run = m.run(2.0, output_step=0.01, estimate_error=True)
+    want = CliRun(SLIDER, "--end", "2", "--output-step", "0.01", "--estimate-error")
+    assert_same_run(run, want, "estimate_error=True")
+    assert same_bits(run.data, plain.data), "the second run changes no row"
+    line = next(l for l in want.stderr.splitlines() if l.startswith("error estimate: "))
+    assert run.stats["error_estimate"] == pytest.approx(float(line.split("×")[0].split()[-1]), rel=1e-2)
+    assert run.stats["estimate_cpu_seconds"] > 0
+    assert "error_estimate" not in plain.stats
+    # The estimate judges the run instead of the local errors' sum.
+    assert any(w.startswith("the answer's error is estimated at") for w in run.warnings), run.warnings
+    assert not any("add up to" in w for w in run.warnings), run.warnings
+    assert any("add up to" in w for w in plain.warnings), plain.warnings
+
+
 def test_the_datasets_integrator_is_the_default(cli, tmp_path):
     text = SLIDER.read_text(encoding="utf-8").replace("\nEND", "\nINTEGRATOR/\n, HHT, ERROR = 1E-4\nEND")
     path = tmp_path / "slider_hht.adm"

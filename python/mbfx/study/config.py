@@ -55,6 +55,7 @@ _TOP_KEYS = {
 _RUN_KEYS = {
     "output_step", "integrator", "error", "hmax", "hinit", "hmin", "fixed_step", "alpha",
     "rho_inf", "kmax", "formulation", "error_per", "cartesian", "interpolate", "engine",
+    "estimate_error",
 }
 _REDUCTIONS = ("max", "min", "final", "at", "first_crossing")
 
