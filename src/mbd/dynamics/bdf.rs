@@ -733,6 +733,32 @@ impl Integrator for Bdf {
         d.set_state(base, &dense.xs, &dense.vs, t);
     }
 
+    fn extend_candidate(&mut self, d: &mut Dynamics) -> bool {
+        // The corrector's polynomial through the candidate and the k points before it.
+        let Some(hist) = self.hist.as_ref() else {
+            return false;
+        };
+        let k = self.k_step.min(hist.len()).max(1);
+        let newest = hist.newest();
+        let dense = &mut self.dense;
+        dense.base = Some(newest.snap.clone());
+        dense.ts.clear();
+        dense.x.clear();
+        dense.v.clear();
+        let mut x = vec![0.0; d.n];
+        d.increment(&newest.snap, &d.snapshot(), &mut x);
+        dense.ts.push(d.sys.time - newest.t);
+        dense.x.push(x);
+        dense.v.push(d.sys.v());
+        for j in 0..k {
+            let p = hist.point(j);
+            dense.ts.push(p.t - newest.t);
+            dense.x.push(p.x.clone());
+            dense.v.push(p.v.clone());
+        }
+        true
+    }
+
     fn restart(&mut self, d: &mut Dynamics) {
         if let Some(h) = self.hist.as_mut() {
             h.restart(d);

@@ -191,6 +191,49 @@ impl Hermite {
     }
 }
 
+/// The quadratic Taylor extension of an accepted state forward in time: positions
+/// x₀ + v₀·τ + ½·a₀·τ² in the chart of the state (whose rate there is (v, ω), and whose
+/// second derivative (a, ω̇): the chart's curvature term ½·θ̇ × ω vanishes at θ = 0),
+/// velocities v₀ + a₀·τ. It follows the force laws' present branches only, so it says
+/// where one of them switches when a step across the switch says little (exact in free
+/// flight under constant forces).
+pub struct Taylor {
+    start: Snapshot,
+    a0: DVec,
+    /// Scratch: the increment and the velocities.
+    x: Vec<f64>,
+    v: DVec,
+}
+
+impl Taylor {
+    /// The extension of `d`'s state with its accelerations `d.a`.
+    pub fn of(d: &Dynamics) -> Taylor {
+        let start = d.snapshot();
+        Taylor {
+            x: vec![0.0; start.v.len()],
+            v: start.v.clone(),
+            a0: d.a.clone(),
+            start,
+        }
+    }
+
+    /// Moves `d` to the extension's state at `t`.
+    pub fn place(&mut self, d: &mut Dynamics, t: f64) {
+        let tau = t - self.start.time;
+        for (i, x) in self.x.iter_mut().enumerate() {
+            let (v0, a0) = (self.start.v[i], self.a0[i]);
+            *x = tau * (v0 + 0.5 * tau * a0);
+            self.v[i] = v0 + tau * a0;
+        }
+        d.set_state(&self.start, &self.x, &self.v, t);
+    }
+
+    /// Puts `d` back at the extended state (accelerations and multipliers were not moved).
+    pub fn restore(&self, d: &mut Dynamics) {
+        d.restore(&self.start);
+    }
+}
+
 /// The global angular velocity ω whose chart rate at θ is `rate`: the inverse of
 /// [`rotation_vector_rate`], which is linear in ω (J_l(θ)⁻¹·ω), solved as a 3×3 system.
 fn angular_velocity(theta: Vec3, rate: Vec3) -> Vec3 {

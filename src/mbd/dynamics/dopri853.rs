@@ -109,8 +109,10 @@ struct Joints {
     /// Per-coordinate error scales and the ERROR they are for.
     tol: Vec<f64>,
     tol_error: f64,
-    /// The continuous extension of the last step with an output inside it.
+    /// The continuous extension of the last step with an output inside it (or of the
+    /// last candidate across a switch), and the y it starts from.
     dense: Extension,
+    dense_from: Vec<f64>,
 }
 
 impl Default for Dopri853 {
@@ -318,6 +320,21 @@ impl Integrator for Dopri853 {
         self.joint.is_some()
     }
 
+    fn extend_candidate(&mut self, d: &mut Dynamics) -> bool {
+        let Some(base) = self.base.take() else {
+            return false;
+        };
+        let extended = match &mut self.joint {
+            Some(j) => j.extend_candidate(d, self.h, base.time),
+            None => self.extend_candidate_cartesian(d, &base),
+        };
+        // The extension starts from the accepted state (`accept` moves it on again).
+        self.start = Some(base.clone());
+        self.start_v.clone_from(&self.v0);
+        self.base = Some(base);
+        extended
+    }
+
     fn formulation(&self) -> Option<String> {
         self.joint_coordinates()
             .map(|f| format!("a planar tree of joints: integrated in its {f} joint coordinates"))
@@ -365,6 +382,7 @@ impl Joints {
             tol: Vec::new(),
             tol_error: f64::NAN,
             dense: Extension::default(),
+            dense_from: Vec::new(),
         })
     }
 
@@ -394,14 +412,35 @@ impl Joints {
         let (y0, y1, k) = (&self.y0, &self.y1, &self.k);
         self.dense
             .fill(2 * f, h, full, |i| y0[i] - y1[i], |j, i| k[j][i]);
+        self.dense_from.clone_from(&self.y1);
         Ok(())
+    }
+
+    /// The continuous extension of the candidate just attempted, a step of `h` from `t0`
+    /// that error control accepted (its end in `y1`, θ̈ there in `a1`); false when a
+    /// stage could not be evaluated.
+    fn extend_candidate(&mut self, d: &mut Dynamics, h: f64, t0: f64) -> bool {
+        let f = self.tree.coordinates();
+        let (dy, dv) = self.k[END].split_at_mut(f);
+        dy.copy_from_slice(&self.y1[f..]);
+        dv.copy_from_slice(&self.a1);
+        for (e, s) in (END + 1..EXTENDED).enumerate() {
+            if !self.combine(A_EXTRA[e], h) || self.slope(d, s, t0 + C_EXTRA[e] * h).is_err() {
+                return false;
+            }
+        }
+        let (y0, y1, k) = (&self.y0, &self.y1, &self.k);
+        self.dense
+            .fill(2 * f, h, true, |i| y1[i] - y0[i], |j, i| k[j][i]);
+        self.dense_from.clone_from(&self.y0);
+        true
     }
 
     /// Places `d` at the continuous extension's state at `s` (of the step), time `t`.
     fn dense_state(&mut self, d: &mut Dynamics, s: f64, t: f64) {
         let f = self.tree.coordinates();
         for i in 0..2 * f {
-            self.y[i] = self.y1[i] + self.dense.at(i, s);
+            self.y[i] = self.dense_from[i] + self.dense.at(i, s);
         }
         let (theta, rate) = self.y.split_at(f);
         self.tree.place(d, theta, rate, t);
@@ -580,6 +619,32 @@ impl Dopri853 {
         self.dense_v
             .fill(n, h, full, |i| v1[i] - v0[i], |j, i| kv[j][i]);
         Ok(())
+    }
+
+    /// The continuous extension of the candidate just attempted from `base` (error
+    /// control accepted it: `self.x` and `self.v` hold its end before the projection,
+    /// `d.a` the accelerations after it), as [`Dopri853::extend_cartesian`] makes an
+    /// accepted step's; false when an extra stage could not be evaluated.
+    fn extend_candidate_cartesian(&mut self, d: &mut Dynamics, base: &Snapshot) -> bool {
+        let h = self.h;
+        let (dx, v1) = (self.x.clone(), self.v.clone());
+        self.kv[END].copy_from_slice(d.a.as_slice());
+        self.chart_rates(d, END);
+        for (e, s) in (END + 1..EXTENDED).enumerate() {
+            self.combine(A_EXTRA[e], h);
+            if !self.place(d, base, base.time + C_EXTRA[e] * h) || d.solve_accelerations().is_err()
+            {
+                return false;
+            }
+            self.kv[s].copy_from_slice(d.a.as_slice());
+            self.chart_rates(d, s);
+        }
+        let (kx, kv, v0) = (&self.kx, &self.kv, &self.v0);
+        let n = dx.len();
+        self.dense_x.fill(n, h, true, |i| dx[i], |j, i| kx[j][i]);
+        self.dense_v
+            .fill(n, h, true, |i| v1[i] - v0[i], |j, i| kv[j][i]);
+        true
     }
 
     /// Moves `d` to `base` moved by the stage increment `self.x`, with velocities

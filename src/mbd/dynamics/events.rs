@@ -15,14 +15,24 @@
 //! 1. if the step is no longer than the location tolerance, it is accepted: the switch is
 //!    located, and the next step starts on the new branch;
 //! 2. otherwise the candidate is rejected and becomes the upper end of a bracket whose
-//!    lower end is the accepted state. The next step aims just short of the crossing the
-//!    secant of the earliest switching function to change sign estimates (regula falsi,
-//!    with the Illinois correction: a bracket end kept twice running has its value halved;
-//!    and a bisection when a trial did not halve the bracket). A step landing short is
-//!    still on the old branch, so it is accepted and becomes the lower end; once the
-//!    bracket is within the tolerance, a step to its upper end crosses the switch.
+//!    lower end is the accepted state, and the crossing is estimated on a continuous
+//!    extension ([`Events::estimate`], [`super::crossing`]: switching values at
+//!    interpolated states, no integrator step): the candidate's own when error control
+//!    accepted it, else (or when that shows none) the accepted state's Taylor extension,
+//!    which follows the old branch (exact in free flight). The next step lands half the
+//!    tolerance short of the estimate, and the one after crosses it with a step of the
+//!    tolerance: a switch estimated within a quarter of the tolerance is located by
+//!    these two accepted steps. A landing step that crosses is a new, shorter candidate
+//!    with a new estimate; a crossing step that does not cross means the estimate was
+//!    early, and the Taylor extension of the state it reached estimates again;
+//! 3. with no estimate, the next step aims just short of the crossing the secant of the
+//!    earliest switching function to change sign estimates (regula falsi, with the
+//!    Illinois correction: a bracket end kept twice running has its value halved; and a
+//!    bisection when a trial did not halve the bracket). A step landing short is still
+//!    on the old branch, so it is accepted and becomes the lower end; once the bracket is
+//!    within the tolerance, a step to its upper end crosses the switch.
 //!
-//! The switch is located by the bracket's width, not by the secant's word: a switching
+//! The switch is located by the steps taken, not by an estimate's word: a switching
 //! function can be far from linear over a long step (the clamp's, near the end of a
 //! contact, is), and a switch may stop being defined at the far end (the clamp's, once
 //! the contact is over) and so change sign unseen. Every accepted step thus integrates
@@ -31,7 +41,7 @@
 //! within one step (two sign changes) is not seen; the contacts' own error control keeps
 //! steps in contact short enough for that.
 
-use super::Dynamics;
+use super::{crossing, Dynamics};
 
 /// A switch is located when it is bracketed within this fraction of the step that first
 /// found it: the step that crosses it is no longer than that.
@@ -70,6 +80,9 @@ struct Target {
     moved_lo: Option<bool>,
     /// The last trial shrank the bracket by less than half: bisect next.
     bisect: bool,
+    /// Its time estimated on a continuous extension ([`Events::estimate`]), while that
+    /// lies ahead.
+    root: Option<f64>,
 }
 
 /// What the step control does with a candidate that error control accepts.
@@ -106,7 +119,7 @@ impl Target {
 
 /// Whether a switching function went from `s0` to `s1` across a switch (both defined,
 /// on different branches).
-fn switched(s0: f64, s1: f64) -> bool {
+pub(super) fn switched(s0: f64, s1: f64) -> bool {
     !(s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0))
 }
 
@@ -130,8 +143,10 @@ impl Events {
     }
 
     /// The step from time `t` toward the switch being located (None: none is): onto the
-    /// bracket's upper end once it is within the tolerance, else just short of the
-    /// secant's crossing (or to the middle when bisecting).
+    /// bracket's upper end once it is within the tolerance; else, with a crossing
+    /// estimated on an extension ahead, half the tolerance short of it, or across it
+    /// within the tolerance once that close; else just short of the secant's crossing
+    /// (or to the middle when bisecting).
     pub fn aim(&self, t: f64) -> Option<f64> {
         let g = self.target?;
         let width = g.t_hi - t;
@@ -140,6 +155,15 @@ impl Events {
         }
         if width <= g.tol {
             return Some(width);
+        }
+        if let Some(root) = g.root.filter(|&r| r > t) {
+            let ahead = root - t;
+            // Across it once within three quarters of the tolerance (a landing half a
+            // tolerance short leaves half a tolerance on either side of it).
+            return Some(match ahead <= 0.75 * g.tol {
+                true => g.tol,
+                false => ahead - 0.5 * g.tol,
+            });
         }
         let (s0, s1) = (self.at[g.k] * g.lo_scale, g.s_hi * g.hi_scale);
         let root = width * s0 / (s0 - s1);
@@ -198,6 +222,11 @@ impl Events {
             if let Some(g) = &mut self.target {
                 let before = g.t_hi - (t1 - h);
                 g.moved(true, before, g.t_hi - t1);
+                if g.root.is_some_and(|r| t1 >= r) {
+                    // Past the estimate without a switch: it was early. The secant from
+                    // here on.
+                    (g.root, g.bisect) = (None, false);
+                }
                 if t1 >= g.t_hi {
                     // Reached the upper end without a switch (a trial from an earlier
                     // state had seen one): nothing left to locate.
@@ -221,6 +250,7 @@ impl Events {
                 }
                 (g.k, g.t_hi, g.s_hi) = (k, t1, self.next[k]);
                 g.moved(false, before, h);
+                g.root = None;
                 g
             }
             None => Target {
@@ -233,9 +263,29 @@ impl Events {
                 hi_scale: 1.0,
                 moved_lo: None,
                 bisect: false,
+                root: None,
             },
         });
         Verdict::Locate
+    }
+
+    /// The span (from the last accepted time `t`) over which the switch being located
+    /// has no estimate ahead: a step passed the last one, or none was made.
+    pub fn unestimated(&self, t: f64) -> Option<(f64, f64)> {
+        let g = self.target?;
+        (g.t_hi > t && g.root.is_none_or(|r| r <= t)).then_some((t, g.t_hi))
+    }
+
+    /// Estimates where the switch being located lies between `t0` and `t1` on a
+    /// continuous extension from the last accepted state (the candidate's just judged
+    /// [`Verdict::Locate`], or the state's own; [`super::crossing`]): `values(t, out)`
+    /// appends the switching values at the extension's state at `t`. [`Events::aim`]
+    /// aims at the estimate until a step passes it.
+    pub fn estimate(&mut self, (t0, t1): (f64, f64), values: impl FnMut(f64, &mut Vec<f64>)) {
+        let Some(g) = &mut self.target else { return };
+        // Well inside the window the aim leaves on either side of the estimate.
+        let resolution = 0.05 * g.tol;
+        g.root = crossing::earliest(&self.at, (t0, t1), resolution, values);
     }
 
     /// The candidate [`Events::check`] judged was accepted: its switching values are the
@@ -257,6 +307,18 @@ mod tests {
     /// switching values at t given by `s`; returns each accepted step that crossed a
     /// switch, as (start, end), and the number of rejected trials.
     fn drive(s: impl Fn(f64) -> Vec<f64>, want: f64, end: f64) -> (Vec<(f64, f64)>, usize) {
+        drive_estimating(s, want, end, None)
+    }
+
+    /// [`drive`], estimating each crossing on an extension that is `s` delayed by
+    /// `late` (when given), as the driver does after a rejected candidate and after a
+    /// step past the estimate.
+    fn drive_estimating(
+        s: impl Fn(f64) -> Vec<f64>,
+        want: f64,
+        end: f64,
+        late: Option<f64>,
+    ) -> (Vec<(f64, f64)>, usize) {
         let mut ev = Events {
             at: s(0.0),
             next: Vec::new(),
@@ -267,7 +329,12 @@ mod tests {
             let h = ev.aim(t).map_or(want, |a| a.min(want)).min(end - t);
             ev.next = s(t + h);
             match ev.judge(t + h, h, 1e-12) {
-                Verdict::Locate => rejected += 1,
+                Verdict::Locate => {
+                    rejected += 1;
+                    if let Some(late) = late {
+                        ev.estimate((t, t + h), |x, out| out.extend(s(x - late)));
+                    }
+                }
                 Verdict::Accept { event } => {
                     if event {
                         crossings.push((t, t + h));
@@ -275,6 +342,9 @@ mod tests {
                     ev.accept();
                     t += h;
                 }
+            }
+            if let (Some(late), Some(span)) = (late, ev.unestimated(t)) {
+                ev.estimate(span, |x, out| out.extend(s(x - late)));
             }
         }
         (crossings, rejected)
@@ -303,6 +373,35 @@ mod tests {
             assert!(b - a <= LOCATE_REL * want * (1.0 + 1e-9), "({a}, {b})");
         }
         assert!(rejected < 15 * zeros.len(), "{rejected} rejected trials");
+    }
+
+    #[test]
+    fn an_estimated_switch_costs_the_rejected_step_that_found_it_alone() {
+        let want = 0.04;
+        let zeros = [0.1, 0.15, 0.2345, 0.3];
+        // Exact estimates, and estimates a fifth of the tolerance late or early.
+        for late in [0.0, 0.2e-3 * want, -0.2e-3 * want] {
+            let (crossings, rejected) = drive_estimating(contact, want, 0.5, Some(late));
+            assert_eq!(crossings.len(), zeros.len(), "{late}: {crossings:?}");
+            for ((a, b), z) in crossings.iter().zip(zeros) {
+                assert!(*a < z && z <= *b, "{late}: {z} not in ({a}, {b})");
+                assert!(b - a <= LOCATE_REL * want * (1.0 + 1e-9), "({a}, {b})");
+            }
+            assert_eq!(rejected, zeros.len(), "{late}");
+        }
+        // Estimates far off still locate every switch, through more trials.
+        for late in [0.01, -0.01] {
+            let (crossings, rejected) = drive_estimating(contact, want, 0.5, Some(late));
+            assert_eq!(crossings.len(), zeros.len(), "{late}: {crossings:?}");
+            for ((a, b), z) in crossings.iter().zip(zeros) {
+                assert!(*a < z && z <= *b, "{late}: {z} not in ({a}, {b})");
+                assert!(b - a <= LOCATE_REL * want * (1.0 + 1e-9), "({a}, {b})");
+            }
+            assert!(
+                rejected < 15 * zeros.len(),
+                "{late}: {rejected} rejected trials"
+            );
+        }
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //! step attempt, so a run stops within one step of it being set however far apart its
 //! output times are.
 
-use super::dense::{self, Kept};
+use super::dense::{self, Kept, Taylor};
 use super::events::{Events, Verdict};
 use super::{DynError, Dynamics};
 
@@ -155,6 +155,14 @@ pub trait Integrator {
     /// inside the step [`Integrator::extend`] readied (accelerations and multipliers are
     /// left to the outputs' consistent solve).
     fn dense_state(&mut self, _d: &mut Dynamics, _t: f64) {}
+    /// Readies the continuous extension of the candidate just attempted, before it is
+    /// rejected for crossing a force law's switch, so that [`Integrator::dense_state`]
+    /// places `d` inside it: where the switch lies is estimated on it. False when the
+    /// method has none or could not make it (then the switch is located by trial steps
+    /// alone). It may move `d` and the method's scratch; the candidate is rejected next.
+    fn extend_candidate(&mut self, _d: &mut Dynamics) -> bool {
+        false
+    }
     /// Whether every state [`Integrator::dense_state`] gives holds the position
     /// constraints by construction (joint coordinates place the parts on them), so an
     /// interpolated row need not measure and project them.
@@ -327,10 +335,10 @@ pub fn simulate(
                 Attempt::Converged { err, worst } if err > 1.0 && s.fixed_step.is_none() => {
                     // A candidate over a force law's switch integrated two laws: its
                     // error says nothing of either, and shrinking by it only creeps up
-                    // on the switch. Locate the switch instead (the secant aims at it).
+                    // on the switch. Locate the switch instead (`events` aims at it).
                     d.sys.time = end;
                     if events.crosses(d) && events.judge(end, h, s.hmin) == Verdict::Locate {
-                        integrator.reject(d);
+                        reject_locating(d, integrator, &mut events, (t, end), false);
                         d.stats.rejected += 1;
                         continue;
                     }
@@ -366,7 +374,7 @@ pub fn simulate(
                     d.sys.time = end;
                     let verdict = events.check(d, h, s.hmin);
                     if verdict == Verdict::Locate {
-                        integrator.reject(d);
+                        reject_locating(d, integrator, &mut events, (t, end), true);
                         d.stats.rejected += 1;
                         continue;
                     }
@@ -386,6 +394,7 @@ pub fn simulate(
                     if event {
                         integrator.restart(d);
                     }
+                    estimate_ahead(d, &mut events);
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
                     if let Some(k) = d.stats.order {
@@ -434,6 +443,46 @@ pub fn simulate(
         output(d, RowState::Stepped)?;
     }
     Ok(())
+}
+
+/// Rejects the candidate in `d` (a step over `span`, judged to cross a switch) after
+/// estimating where the switch lies: on the candidate's continuous extension when error
+/// control accepted the candidate (`trusted`) and the method has one; else, or when that
+/// shows no switch, on the accepted state's Taylor extension. A candidate the error
+/// estimate refuses has integrated a stiff contact with far too long a step, and its
+/// extension is no better than its end, while the Taylor extension follows the branch
+/// the switch ends (exactly, in free flight).
+fn reject_locating(
+    d: &mut Dynamics,
+    integrator: &mut dyn Integrator,
+    events: &mut Events,
+    span: (f64, f64),
+    trusted: bool,
+) {
+    if trusted && integrator.extend_candidate(d) {
+        events.estimate(span, |t, out| {
+            integrator.dense_state(d, t);
+            d.forces.switches(&d.sys, out);
+        });
+    }
+    integrator.reject(d);
+    estimate_ahead(d, events);
+}
+
+/// Estimates where the switch being located lies on the Taylor extension of the
+/// accepted state in `d` when there is no estimate ahead of it (none was made, or a
+/// step went past it without crossing: from closer by, the extension is closer to the
+/// truth).
+fn estimate_ahead(d: &mut Dynamics, events: &mut Events) {
+    let Some(span) = events.unestimated(d.sys.time) else {
+        return;
+    };
+    let mut taylor = Taylor::of(d);
+    events.estimate(span, |t, out| {
+        taylor.place(d, t);
+        d.forces.switches(&d.sys, out);
+    });
+    taylor.restore(d);
 }
 
 #[cfg(test)]

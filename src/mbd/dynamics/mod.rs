@@ -20,6 +20,7 @@
 
 pub mod bdf;
 mod checks;
+mod crossing;
 mod dense;
 pub mod dopri853;
 mod error;

@@ -497,6 +497,15 @@ impl Integrator for Newmark {
         self.hermite.place(d, t);
     }
 
+    fn extend_candidate(&mut self, d: &mut Dynamics) -> bool {
+        let Some(base) = &self.base else {
+            return false;
+        };
+        let (end, v1) = (d.snapshot(), d.sys.v());
+        self.hermite.fill(d, base, &end, (&self.v0, &v1), self.h1);
+        true
+    }
+
     fn reject(&mut self, d: &mut Dynamics) {
         let base = self.base.as_ref().expect("started");
         d.restore(base);
