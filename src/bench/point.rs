@@ -242,15 +242,13 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
         warnings: Vec::new(),
         estimate: None,
     };
-    let mut spent = 0.0;
-    let mut best = f64::INFINITY;
     // Repeat a short run (each from a freshly built model) and keep its best time.
-    for _ in 0..5 {
+    let best = least_cpu(o.repeat_budget, || {
         let mut sim = match build(scene, text, variant, control, &o, None) {
             Ok(s) => s,
             Err(why) => {
                 point.status = Status::Failed(why);
-                return point;
+                return None;
             }
         };
         point.redundant = sim.redundant;
@@ -261,8 +259,6 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
             rows.push(row[1..=np].to_vec());
             Ok(())
         });
-        spent += summary.cpu_seconds;
-        best = best.min(summary.cpu_seconds);
         point.errors = scene.score(&rows, scene.stride());
         point.stats = summary.stats;
         point.max_residual = summary.max_residual;
@@ -279,10 +275,11 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
             None => Status::Ok,
             Some(e) => Status::Failed(e.to_string()),
         };
-        if point.status != Status::Ok || spent > o.repeat_budget {
-            break;
-        }
-    }
+        Some((summary.cpu_seconds, point.status == Status::Ok))
+    });
+    let Some(best) = best else {
+        return point;
+    };
     point.cpu = best;
     if point.status == Status::Ok && scene.groups().len() > 1 {
         point.cpu_position = positions_only(scene, text, variant, control, &o);
@@ -290,8 +287,24 @@ pub fn measure(scene: &Scene, text: &str, variant: Variant, control: Control, o:
     point
 }
 
+/// The least CPU of up to five runs of `once`, fewer once they spent `budget` seconds
+/// or one says to stop (`once` gives its CPU and whether to go on); None when one could
+/// not run.
+fn least_cpu(budget: f64, mut once: impl FnMut() -> Option<(f64, bool)>) -> Option<f64> {
+    let (mut spent, mut best) = (0.0, f64::INFINITY);
+    for _ in 0..5 {
+        let (cpu, go_on) = once()?;
+        spent += cpu;
+        best = best.min(cpu);
+        if !go_on || spent > budget {
+            break;
+        }
+    }
+    Some(best)
+}
+
 /// The best CPU time of runs reading the scene's position probes only (None when one
-/// fails), repeated as [`measure`] repeats.
+/// fails), repeated as [`measure`] repeats; no error estimate (its CPU is not the run's).
 fn positions_only(
     scene: &Scene,
     text: &str,
@@ -299,20 +312,15 @@ fn positions_only(
     control: Control,
     o: &Options,
 ) -> Option<f64> {
-    let (mut spent, mut best) = (0.0, f64::INFINITY);
-    for _ in 0..5 {
-        let mut sim = build(scene, text, variant, control, o, Some(Group::Position)).ok()?;
+    let o = Options {
+        estimate: false,
+        ..*o
+    };
+    least_cpu(o.repeat_budget, || {
+        let mut sim = build(scene, text, variant, control, &o, Some(Group::Position)).ok()?;
         let (summary, failure) = sim.run(&mut |_: &[f64]| Ok(()));
-        if failure.is_some() {
-            return None;
-        }
-        spent += summary.cpu_seconds;
-        best = best.min(summary.cpu_seconds);
-        if spent > o.repeat_budget {
-            break;
-        }
-    }
-    Some(best)
+        failure.is_none().then_some((summary.cpu_seconds, true))
+    })
 }
 
 fn build(
