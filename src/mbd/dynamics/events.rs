@@ -16,7 +16,7 @@
 //!    located, and the next step starts on the new branch;
 //! 2. otherwise the candidate is rejected and becomes the upper end of a bracket whose
 //!    lower end is the accepted state, and the crossing is estimated on a continuous
-//!    extension ([`Events::estimate`], [`super::crossing`]: switching values at
+//!    extension ([`Events::estimate`], `crossing.rs`: switching values at
 //!    interpolated states, no integrator step): the candidate's own when error control
 //!    accepted it, else (or when that shows none) the accepted state's Taylor extension,
 //!    which follows the old branch (exact in free flight). The next step lands half the
@@ -278,7 +278,7 @@ impl Events {
 
     /// Estimates where the switch being located lies between `t0` and `t1` on a
     /// continuous extension from the last accepted state (the candidate's just judged
-    /// [`Verdict::Locate`], or the state's own; [`super::crossing`]): `values(t, out)`
+    /// [`Verdict::Locate`], or the state's own; `crossing.rs`): `values(t, out)`
     /// appends the switching values at the extension's state at `t`. [`Events::aim`]
     /// aims at the estimate until a step passes it.
     pub fn estimate(&mut self, (t0, t1): (f64, f64), values: impl FnMut(f64, &mut Vec<f64>)) {
