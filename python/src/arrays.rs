@@ -161,19 +161,24 @@ impl<'py> Inputs<'py> {
         let time = column(&self.time)?;
         let points: usize = self.shape.iter().product();
         let k = e.outputs();
-        let mut out = vec![0.0; points * k];
+        // numpy's own allocation, not a Rust Vec handed over: numpy asks the kernel for
+        // huge pages on large arrays, where a fresh Vec of 10⁶ points took a page fault
+        // every 4 KiB, which cost as much as evaluating `arith` (benches/python).
+        let flat = PyArray1::<f64>::zeros(py, points * k, false);
         if points > 0 {
-            py.detach(|| e.eval_columns(&columns, time, &mut out))
+            let mut guard = flat.readwrite();
+            let out = guard.as_slice_mut()?;
+            py.detach(|| e.eval_columns(&columns, time, out))
                 .map_err(|x| expr_error(py, e.text(), x))?;
         }
         if self.all_numbers && k == 1 {
-            return Ok(out[0].into_pyobject(py)?.into_any());
+            let value = flat.readonly().as_slice()?[0];
+            return Ok(value.into_pyobject(py)?.into_any());
         }
         let mut shape = self.shape.clone();
         if k > 1 {
             shape.push(k);
         }
-        let flat = PyArray1::from_vec(py, out);
         Ok(flat.reshape(shape)?.into_any())
     }
 }

@@ -550,6 +550,12 @@ fn plot_and_csv_files_are_written() {
     assert!(svg_text.starts_with("<svg") && svg_text.contains("<polyline"));
     let png_bytes = std::fs::read(&png).unwrap();
     assert_eq!(&png_bytes[1..4], b"PNG");
+    // IHDR: 960 wide (src/cli/plot.rs), 8-bit RGB; a blank canvas would compress to a
+    // few hundred bytes, the three panels' lines and text to far more.
+    let be = |k: usize| u32::from_be_bytes(png_bytes[k..k + 4].try_into().unwrap());
+    assert_eq!((&png_bytes[12..16], be(16)), (&b"IHDR"[..], 960));
+    assert_eq!((png_bytes[24], png_bytes[25]), (8, 2));
+    assert!(png_bytes.len() > 20_000, "{} bytes", png_bytes.len());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
