@@ -1150,9 +1150,6 @@ mod tests {
         fn first_step(&self, d: &Dynamics, hinit: f64, s: &Settings) -> f64 {
             self.inner.first_step(d, hinit, s)
         }
-        fn prepare_output(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
-            self.inner.prepare_output(d)
-        }
         fn restart(&mut self, d: &mut Dynamics) {
             self.inner.restart(d)
         }

@@ -73,7 +73,6 @@ pub(super) fn emit(
         kept.restore(d);
     }
     while *next < last && outputs.at(*next) <= end {
-        integrator.prepare_output(d)?;
         output(d, RowState::Stepped)?;
         *next += 1;
     }

@@ -273,15 +273,6 @@ impl Integrator for Dopri853 {
         outcome
     }
 
-    fn prepare_output(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
-        // The joint form solves θ̈ only: the Cartesian accelerations and multipliers
-        // (reactions) are solved where they are read.
-        match self.joint {
-            Some(_) => d.solve_accelerations(),
-            None => Ok(()),
-        }
-    }
-
     fn dense(&self) -> bool {
         true
     }
@@ -368,7 +359,7 @@ impl Joints {
         let mut a0 = vec![0.0; f];
         let (theta, rate) = y0.split_at_mut(f);
         tree.rates_at_start(d, rate)?;
-        tree.accelerations(d, theta, rate, d.sys.time, &mut a0)?;
+        tree.accelerations(d, (theta, rate, d.sys.time), &mut a0, false)?;
         // The Cartesian accelerations and multipliers at the start, for the outputs.
         d.solve_accelerations()?;
         Ok(Joints {
@@ -452,7 +443,7 @@ impl Joints {
         let (theta, rate) = self.y.split_at(f);
         let (dy, dv) = self.k[s].split_at_mut(f);
         dy.copy_from_slice(rate);
-        self.tree.accelerations(d, theta, rate, t, dv)
+        self.tree.accelerations(d, (theta, rate, t), dv, true)
     }
 
     /// `self.y` = y₀ + h·Σⱼ wⱼ·kⱼ; false when it is not finite.
@@ -465,8 +456,9 @@ impl Joints {
     }
 
     /// One step of `h` from the accepted state: the stages, the estimate, and θ̈ at a
-    /// candidate error control accepts (the next step's first stage; the Cartesian
-    /// accelerations and multipliers wait for an output, [`Integrator::prepare_output`]).
+    /// candidate error control accepts (the next step's first stage). The Cartesian
+    /// accelerations and multipliers are not solved: an output row that reads them
+    /// reconciles, which solves them afresh (`session::run`'s `Outputs::row`).
     fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
         let f = self.tree.coordinates();
         if self.tol_error != st.error || self.tol.len() != 2 * f {
@@ -499,7 +491,7 @@ impl Joints {
         if err <= 1.0 || st.fixed_step.is_some() {
             // θ̈ at the candidate: the next step's first stage.
             self.tree
-                .accelerations(d, theta, rate, t0 + h, &mut self.a1)?;
+                .accelerations(d, (theta, rate, t0 + h), &mut self.a1, false)?;
         } else {
             // The state alone, for the switches the driver reads.
             self.tree.place(d, theta, rate, t0 + h);

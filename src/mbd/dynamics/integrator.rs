@@ -119,11 +119,6 @@ pub trait Integrator {
     fn monitored_error(&self, err: f64) -> f64 {
         err
     }
-    /// Makes `d`'s accelerations and multipliers those of its state before an output,
-    /// where the method does not keep them at every step.
-    fn prepare_output(&mut self, _d: &mut Dynamics) -> Result<(), DynError> {
-        Ok(())
-    }
     /// The largest factor a step may grow by after an accepted one (the driver's rule).
     fn max_growth(&self) -> f64 {
         2.0
@@ -439,7 +434,6 @@ pub fn simulate(
                 }
             }
         }
-        integrator.prepare_output(d)?;
         output(d, RowState::Stepped)?;
     }
     Ok(())

@@ -302,16 +302,32 @@ impl JointTree {
     }
 
     /// The joint accelerations θ̈ into `out` at joint coordinates `theta`, rates `rate`,
-    /// time `t`; leaves `d` at that state.
+    /// time `t`; leaves `d` at that state, unless `stage` (a stage of a step, whose state
+    /// nothing reads afterwards) and no force element reads it: with gravity alone, in
+    /// the plane, neither Q nor the mass blocks depend on where the parts are, so they
+    /// are not moved, a quarter of a stage's work on a pendulum (callgrind, A01).
     pub fn accelerations(
         &mut self,
         d: &mut Dynamics,
-        theta: &[f64],
-        rate: &[f64],
+        (theta, rate, t): (&[f64], &[f64], f64),
+        out: &mut [f64],
+        stage: bool,
+    ) -> Result<(), DynError> {
+        if stage && d.forces.elements.is_empty() {
+            self.kinematics(theta, rate);
+        } else {
+            self.place(d, theta, rate, t);
+        }
+        self.accelerations_here(d, t, out)
+    }
+
+    /// θ̈ into `out` at the kinematics last computed, with `d`'s Q and mass blocks.
+    fn accelerations_here(
+        &mut self,
+        d: &mut Dynamics,
         t: f64,
         out: &mut [f64],
     ) -> Result<(), DynError> {
-        self.place(d, theta, rate, t);
         d.eval_forces(false)?;
         d.check_forces()?;
         d.stats.factorizations += 1;
