@@ -1,6 +1,9 @@
 //! The kernels: each node over every lane of a block. Loops run over the whole block
 //! (a partial last block computes lanes it then ignores), so their trip count is fixed
-//! and the compiler vectorises them.
+//! and the compiler vectorises them: twice, for the baseline x86-64 (two lanes a vector
+//! instruction) and for AVX2 (four), picked once per call by what the processor has.
+//! Both do the same IEEE operations on the same numbers (no FMA is enabled, and Rust
+//! never fuses a multiply and an add by itself), so they give the same bits.
 
 use super::build::{Arg, Bin, Code, Law, Node};
 use super::{Column, Lanes, Source, INPUT, LANES};
@@ -38,6 +41,7 @@ impl Others<'_> {
 }
 
 /// Slot `d`, to write, and the others.
+#[inline(always)]
 fn split<'a>(slots: &'a mut [Lane], inputs: &'a Inputs<'a>, d: u32) -> (&'a mut Lane, Others<'a>) {
     let (below, rest) = slots.split_at_mut(d as usize);
     let (dest, above) = rest
@@ -53,6 +57,7 @@ fn split<'a>(slots: &'a mut [Lane], inputs: &'a Inputs<'a>, d: u32) -> (&'a mut 
 }
 
 /// Slot `s` to read, outside a node.
+#[inline(always)]
 fn read<'a>(slots: &'a [Lane], inputs: &'a Inputs<'a>, s: u32) -> &'a Lane {
     if s & INPUT != 0 {
         inputs[(s & !INPUT) as usize]
@@ -119,6 +124,18 @@ fn arith(d: &mut Lane, s: &Others, a: Arg, b: Arg, f: impl Fn(f64, f64) -> f64) 
 impl Lanes {
     /// See [`Lanes::eval`], whose checks this relies on.
     pub(super) fn run(&self, columns: &[Column], time: Column, n: usize, out: &mut [f64]) {
+        self.run_at(Level::detect(), columns, time, n, out)
+    }
+
+    /// [`Lanes::run`] with the kernels of `level` (the tests run each).
+    pub(super) fn run_at(
+        &self,
+        level: Level,
+        columns: &[Column],
+        time: Column,
+        n: usize,
+        out: &mut [f64],
+    ) {
         let mut slots = vec![[0.0; LANES]; self.slots];
         for &(s, c) in &self.consts {
             slots[s as usize] = [c; LANES];
@@ -148,7 +165,7 @@ impl Lanes {
                 Column::Values(v) => v[first..first + LANES].try_into().unwrap_or(own),
                 Column::Const(_) => own,
             }));
-            run_code(&self.code, &mut slots, &inputs);
+            level.code(&self.code, &mut slots, &inputs);
             self.write(&slots, &inputs, first, LANES, out);
         }
         drop(inputs);
@@ -161,7 +178,7 @@ impl Lanes {
                 }
             }
             let inputs: Vec<&Lane> = own.iter().collect();
-            run_code(&self.code, &mut slots, &inputs);
+            level.code(&self.code, &mut slots, &inputs);
             self.write(&slots, &inputs, first, m, out);
         }
     }
@@ -183,18 +200,79 @@ impl Lanes {
     }
 }
 
-fn run_code(code: &Code, slots: &mut [Lane], inputs: &Inputs) {
+/// The instruction set the kernels are compiled for.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Level {
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+}
+
+impl Level {
+    /// AVX2 where the processor has it (std caches the answer).
+    fn detect() -> Level {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return Level::Avx2;
+        }
+        Level::Baseline
+    }
+
+    /// Every level this processor can run (the baseline first).
+    #[cfg(test)]
+    pub(super) fn available() -> Vec<Level> {
+        let mut out = vec![Level::Baseline];
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            out.push(Level::Avx2);
+        }
+        out
+    }
+
+    /// Runs `code` over one block with the kernels of this level.
+    fn code(self, code: &Code, slots: &mut [Lane], inputs: &Inputs) {
+        match self {
+            Level::Baseline => run_code(self, code, slots, inputs),
+            // SAFETY: `Avx2` is only made by `detect`, when the processor has AVX2.
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 => unsafe { run_code_avx2(code, slots, inputs) },
+        }
+    }
+}
+
+/// [`run_code`] with AVX2 instructions: everything below it down to the loops is
+/// inlined into it, so it is all compiled with them (calls to the runtime stay calls).
+///
+/// # Safety
+/// The processor must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn run_code_avx2(code: &Code, slots: &mut [Lane], inputs: &Inputs) {
+    run_code(Level::Avx2, code, slots, inputs)
+}
+
+#[inline(always)]
+fn run_code(level: Level, code: &Code, slots: &mut [Lane], inputs: &Inputs) {
     for node in &code.nodes {
         match node {
-            Node::If { test, arms, dests } => run_if(*test, arms, dests, slots, inputs),
+            Node::If { test, arms, dests } => run_if(level, *test, arms, dests, slots, inputs),
             node => run_node(node, slots, inputs),
         }
     }
 }
 
-/// The IF: the arm of each lane, each arm some lane picks, then its results merged into
-/// `dests` at its lanes; NaN at the lanes whose test is NaN.
-fn run_if(test: u32, arms: &[Code; 3], dests: &[u32], slots: &mut [Lane], inputs: &Inputs) {
+/// The IF: the arm of each lane, each arm some lane picks (run at `level`: the arms
+/// recurse through [`Level::code`]), then its results merged into `dests` at its lanes;
+/// NaN at the lanes whose test is NaN.
+#[inline(always)]
+fn run_if(
+    level: Level,
+    test: u32,
+    arms: &[Code; 3],
+    dests: &[u32],
+    slots: &mut [Lane],
+    inputs: &Inputs,
+) {
     const NAN_TEST: u8 = 3;
     let mut pick = [NAN_TEST; LANES];
     for (p, &t) in pick.iter_mut().zip(read(slots, inputs, test)) {
@@ -207,7 +285,7 @@ fn run_if(test: u32, arms: &[Code; 3], dests: &[u32], slots: &mut [Lane], inputs
         if picked & 1 << k == 0 {
             continue;
         }
-        run_code(arm, slots, inputs);
+        level.code(arm, slots, inputs);
         for (&d, &r) in dests.iter().zip(&arm.results) {
             let (dest, s) = split(slots, inputs, d);
             for ((d, &r), &p) in dest.iter_mut().zip(s.get(r)).zip(&pick) {
@@ -244,6 +322,7 @@ macro_rules! binary {
     };
 }
 
+#[inline(always)]
 fn run_node(node: &Node, slots: &mut [Lane], inputs: &Inputs) {
     match node {
         Node::Neg { d, a } => {
