@@ -233,7 +233,8 @@ impl Level {
     fn code(self, code: &Code, slots: &mut [Lane], inputs: &Inputs) {
         match self {
             Level::Baseline => run_code(self, code, slots, inputs),
-            // SAFETY: `Avx2` is only made by `detect`, when the processor has AVX2.
+            // SAFETY: `Avx2` is only made where the processor was found to have AVX2
+            // (`detect`, and `available` for the tests).
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 => unsafe { run_code_avx2(code, slots, inputs) },
         }
