@@ -221,20 +221,18 @@ impl Level {
     /// Every level this processor can run (the baseline first).
     #[cfg(test)]
     pub(super) fn available() -> Vec<Level> {
-        let mut out = vec![Level::Baseline];
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            out.push(Level::Avx2);
+        match Level::detect() {
+            Level::Baseline => vec![Level::Baseline],
+            #[cfg(target_arch = "x86_64")]
+            best => vec![Level::Baseline, best],
         }
-        out
     }
 
     /// Runs `code` over one block with the kernels of this level.
     fn code(self, code: &Code, slots: &mut [Lane], inputs: &Inputs) {
         match self {
             Level::Baseline => run_code(self, code, slots, inputs),
-            // SAFETY: `Avx2` is only made where the processor was found to have AVX2
-            // (`detect`, and `available` for the tests).
+            // SAFETY: `Avx2` is only made by `detect`, when the processor has AVX2.
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 => unsafe { run_code_avx2(code, slots, inputs) },
         }
