@@ -20,7 +20,7 @@ use crate::model::commands::Analysis;
 /// The second run's ERROR over the run's: ρ. A tighter second run is the better judge:
 /// its own error is a fraction ρ^α of the run's, so the difference is most of the run's
 /// error whatever α turns out to be on the model. Over the work-precision bench a looser
-/// one (ρ = 10, 73 % of the run's CPU instead of 160 %) warned 11.7–22.8 % of the
+/// one (ρ = 10, 73 % of the run's CPU instead of 157 %) warned 11.7–22.8 % of the
 /// accurate runs, this one 5.2 % (docs/bench.md).
 pub const SECOND_RUN: f64 = 0.1;
 
