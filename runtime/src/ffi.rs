@@ -395,11 +395,12 @@ mod tests;
 
 /// The C library functions some wrappers are exactly: their symbols point at libm itself.
 ///
-/// `f64::sin`, `f64::ln`, `f64::powf`, … compile to calls of libm's `sin`, `log`, `pow`, …
-/// on Linux with glibc, so a wrapper such as [`mbfx_sin`] only adds a jump (and the PLT's
+/// `f64::exp`, `f64::ln`, `f64::powf`, … compile to calls of libm's `exp`, `log`, `pow`, …
+/// on Linux with glibc, so a wrapper such as [`mbfx_exp`] only adds a jump (and the PLT's
 /// indirect jump) in front of libm. Pointing the symbol at libm gives the same bits with
 /// one call instead of three jumps; the interpreter ≡ JIT differential tests check the
-/// bits. Elsewhere the wrappers stay.
+/// bits. Elsewhere the wrappers stay, and so do SIN, COS and ATAN2, which are mbfx's own
+/// ([`crate::math::trig`]).
 mod libm {
     use super::Symbol;
 
@@ -410,9 +411,6 @@ mod libm {
             pub fn acos(a: f64) -> f64;
             pub fn asin(a: f64) -> f64;
             pub fn atan(a: f64) -> f64;
-            pub fn atan2(a: f64, b: f64) -> f64;
-            pub fn cos(a: f64) -> f64;
-            pub fn sin(a: f64) -> f64;
             pub fn tan(a: f64) -> f64;
             pub fn cosh(a: f64) -> f64;
             pub fn sinh(a: f64) -> f64;
@@ -426,14 +424,11 @@ mod libm {
 
     /// Each wrapper that is exactly a libm function, with that function's address.
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    fn direct() -> [(&'static str, *const u8); 14] {
+    fn direct() -> [(&'static str, *const u8); 11] {
         [
             ("mbfx_acos", c::acos as *const u8),
             ("mbfx_asin", c::asin as *const u8),
             ("mbfx_atan", c::atan as *const u8),
-            ("mbfx_atan2", c::atan2 as *const u8),
-            ("mbfx_cos", c::cos as *const u8),
-            ("mbfx_sin", c::sin as *const u8),
             ("mbfx_tan", c::tan as *const u8),
             ("mbfx_cosh", c::cosh as *const u8),
             ("mbfx_sinh", c::sinh as *const u8),

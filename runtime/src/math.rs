@@ -9,6 +9,7 @@
 
 pub mod elementary;
 pub mod piecewise;
+pub mod trig;
 
 pub use elementary::*;
 pub use piecewise::*;

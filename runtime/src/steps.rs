@@ -13,6 +13,7 @@
 
 use core::f64::consts::{FRAC_PI_2, PI};
 
+use crate::math::trig::{cos, sin};
 use crate::{any_nan, nan_grad};
 
 /// Partials of h0 + (h1 − h0)·s(Δ) with respect to (x, x0, h0, x1, h1), given
@@ -127,7 +128,7 @@ impl StepParams {
             h1
         } else {
             let d = (x - x0) / (x1 - x0);
-            (h0 + h1) / 2.0 + (h1 - h0) / 2.0 * (PI * d - FRAC_PI_2).sin()
+            (h0 + h1) / 2.0 + (h1 - h0) / 2.0 * sin(PI * d - FRAC_PI_2)
         }
     }
 }
@@ -221,7 +222,7 @@ pub fn step5_d2(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
 /// ```text
 /// NaN / h0 / h1 rows as in STEP, then
 /// d = (x - x0) / (x1 - x0);
-/// (h0 + h1) / 2.0 + (h1 - h0) / 2.0 * (PI * d - FRAC_PI_2).sin()
+/// (h0 + h1) / 2.0 + (h1 - h0) / 2.0 * sin(PI * d - FRAC_PI_2)
 /// ```
 /// with `PI` and `FRAC_PI_2` the `f64` constants (π/2 is exactly PI/2).
 /// `HAVSIN(0.25,0,0,1,1)` = 0.1464466094067263.
@@ -245,14 +246,14 @@ pub fn havsin_grad(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> (f64, [f64; 5]
         let l = x1 - x0;
         let d = (x - x0) / l;
         let theta = PI * d - FRAC_PI_2;
-        let s = 0.5 + 0.5 * theta.sin();
-        let ds = FRAC_PI_2 * theta.cos();
+        let s = 0.5 + 0.5 * sin(theta);
+        let ds = FRAC_PI_2 * cos(theta);
         (v, interior_grad(h1 - h0, l, d, s, ds))
     }
 }
 
 /// Second derivative of [`havsin`] in x:
-/// `(h1 - h0) / 2.0 * (PI * PI) * -theta.sin() / (l * l)` inside, θ = πΔ − π/2; 0 at and
+/// `(h1 - h0) / 2.0 * (PI * PI) * -sin(theta) / (l * l)` inside, θ = πΔ − π/2; 0 at and
 /// beyond the ends (it jumps there: HAVSIN is only C¹).
 pub fn havsin_d2(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
     if any_nan([x, x0, h0, x1, h1]) || x0 >= x1 {
@@ -264,7 +265,7 @@ pub fn havsin_d2(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
     let l = x1 - x0;
     let d = (x - x0) / l;
     let theta = PI * d - FRAC_PI_2;
-    (h1 - h0) / 2.0 * (PI * PI) * -theta.sin() / (l * l)
+    (h1 - h0) / 2.0 * (PI * PI) * -sin(theta) / (l * l)
 }
 
 #[cfg(test)]

@@ -496,7 +496,7 @@ impl Lower<'_> {
         self.add(h0, q)
     }
 
-    /// `(h0 + h1) / 2.0 + (h1 - h0) / 2.0 * (PI * d - FRAC_PI_2).sin()`.
+    /// `(h0 + h1) / 2.0 + (h1 - h0) / 2.0 * SIN(PI * d - FRAC_PI_2)`.
     fn haversine(&mut self, h0: Value, h1: Value, d: Value) -> Value {
         let two = self.c(2.0);
         let sum = self.add(h0, h1);

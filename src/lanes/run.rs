@@ -10,6 +10,7 @@ use super::{Column, Lanes, Source, INPUT, LANES};
 use crate::ir::Cmp;
 use crate::vocab::func::Func;
 use mbfx_runtime as rt;
+use rt::math::trig;
 
 /// One slot: a value per lane.
 type Lane = [f64; LANES];
@@ -360,10 +361,36 @@ fn run_node(node: &Node, slots: &mut [Lane], inputs: &Inputs) {
                 Cmp::Uno => select(dest, ops, |a, b| a.is_nan() || b.is_nan()),
             }
         }
+        // The runtime's own SIN, COS and ATAN2 come as block loops (vectorised here).
+        Node::Call1 {
+            func: Func::Sin,
+            d,
+            a,
+        } => {
+            let (dest, s) = split(slots, inputs, *d);
+            trig::sin_lanes(dest, s.get(*a))
+        }
+        Node::Call1 {
+            func: Func::Cos,
+            d,
+            a,
+        } => {
+            let (dest, s) = split(slots, inputs, *d);
+            trig::cos_lanes(dest, s.get(*a))
+        }
+        Node::Call2 {
+            func: Func::Atan2,
+            d,
+            a,
+            b,
+        } => {
+            let (dest, s) = split(slots, inputs, *d);
+            trig::atan2_lanes(dest, s.get(*a), s.get(*b))
+        }
         Node::Call1 { func, d, a } => {
             let (dest, s) = split(slots, inputs, *d);
             unary!(*func, dest, s.get(*a), [
-                Abs => rt::abs, Sin => rt::sin, Cos => rt::cos, Tan => rt::tan,
+                Abs => rt::abs, Tan => rt::tan,
                 Atan => rt::atan, Asin => rt::asin, Acos => rt::acos, Exp => rt::exp,
                 Log => rt::log, Log10 => rt::log10, Sqrt => rt::sqrt, Sinh => rt::sinh,
                 Cosh => rt::cosh, Tanh => rt::tanh, Aint => rt::aint, Anint => rt::anint,
@@ -372,7 +399,7 @@ fn run_node(node: &Node, slots: &mut [Lane], inputs: &Inputs) {
         Node::Call2 { func, d, a, b } => {
             let (dest, s) = split(slots, inputs, *d);
             binary!(*func, dest, s.get(*a), s.get(*b), [
-                Atan2 => rt::atan2, Pow => rt::pow, PowLibm => rt::pow_libm, Mod => rt::amod,
+                Pow => rt::pow, PowLibm => rt::pow_libm, Mod => rt::amod,
                 Min => rt::min, Max => rt::max, Dim => rt::dim, Sign => rt::sign,
             ])
         }

@@ -1,9 +1,10 @@
 //! Smooth elementary functions of spec §4 (ACOS … SQRT) and the `**` operator, each with
 //! its analytic derivative companion.
 //!
-//! Values come straight from `std` (`f64::sin`, `f64::powf`, …), so both back ends call
-//! the same libm routine. Derivative formulas are written in the order stated in each
-//! doc comment. Domains follow IEEE: outside its domain a function gives NaN (or ±∞ at a
+//! Values come straight from `std` (`f64::exp`, `f64::powf`, …), so both back ends call
+//! the same libm routine; SIN, COS and ATAN2 are mbfx's own ([`super::trig`]), the same
+//! bits on every platform and vectorisable over arrays. Derivative formulas are written
+//! in the order stated in each doc comment. Domains follow IEEE: outside its domain a function gives NaN (or ±∞ at a
 //! pole), and so does its derivative.
 
 use core::f64::consts::LN_10;
@@ -45,43 +46,43 @@ pub fn atan_grad(a: f64) -> (f64, [f64; 1]) {
 }
 
 /// `ATAN2(a1, a2)`: angle of the point (x = a2, y = a1) in (−π, π] (FORTRAN order: the
-/// first argument is y). `a1.atan2(a2)`. At (0, 0) Adams leaves it undefined; IEEE gives
-/// ±0 or ±π depending on the signs of the zeros.
+/// first argument is y). [`super::trig::atan2`], under 1 ulp. At (0, 0) Adams leaves it
+/// undefined; IEEE gives ±0 or ±π depending on the signs of the zeros.
 #[doc(alias = "ATAN2")]
 #[inline]
 pub fn atan2(a1: f64, a2: f64) -> f64 {
-    a1.atan2(a2)
+    super::trig::atan2(a1, a2)
 }
 
 /// [`atan2`] and its partials: with `r2 = a1 * a1 + a2 * a2`,
 /// ∂/∂a1 = `a2 / r2`, ∂/∂a2 = `-a1 / r2` (NaN at the origin).
 pub fn atan2_grad(a1: f64, a2: f64) -> (f64, [f64; 2]) {
     let r2 = a1 * a1 + a2 * a2;
-    (a1.atan2(a2), [a2 / r2, -a1 / r2])
+    (atan2(a1, a2), [a2 / r2, -a1 / r2])
 }
 
-/// `COS(a)`, a in radians. `f64::cos`; NaN for ±∞.
+/// `COS(a)`, a in radians. [`super::trig::cos`], under 1 ulp; NaN for ±∞.
 #[doc(alias = "COS")]
 #[inline]
 pub fn cos(a: f64) -> f64 {
-    a.cos()
+    super::trig::cos(a)
 }
 
-/// [`cos`] and d/da = `-a.sin()`.
+/// [`cos`] and d/da = `-sin(a)`.
 pub fn cos_grad(a: f64) -> (f64, [f64; 1]) {
-    (a.cos(), [-a.sin()])
+    (cos(a), [-sin(a)])
 }
 
-/// `SIN(a)`, a in radians. `f64::sin`; NaN for ±∞.
+/// `SIN(a)`, a in radians. [`super::trig::sin`], under 1 ulp; NaN for ±∞.
 #[doc(alias = "SIN")]
 #[inline]
 pub fn sin(a: f64) -> f64 {
-    a.sin()
+    super::trig::sin(a)
 }
 
-/// [`sin`] and d/da = `a.cos()`.
+/// [`sin`] and d/da = `cos(a)`.
 pub fn sin_grad(a: f64) -> (f64, [f64; 1]) {
-    (a.sin(), [a.cos()])
+    (sin(a), [cos(a)])
 }
 
 /// `TAN(a)`, a in radians. `f64::tan`; NaN for ±∞.

@@ -4,6 +4,7 @@
 use core::f64::consts::TAU;
 
 use super::{count_valid, grad_args_valid};
+use crate::math::trig::{cos, sin};
 use crate::steps::{step5, step5_grad};
 use crate::{any_nan, nan_grad};
 
@@ -67,13 +68,14 @@ fn fourier_grad(
 /// `FORCOS(x, x0, ω, a0, …, an)` = a0 + Σ_{j≥1} a_j·cos(j·ω·(x − x0)), 1 ..= 31
 /// coefficients; a0 is a constant term.
 ///
-/// Order: `t = x - x0; sum = a[0]; for j in 1..n { sum = sum + a[j] * (j as f64 * w *
-/// t).cos(); }` (the angle is `(j * w) * t`). NaN for an empty or too long list, or a NaN
-/// t or ω (tested first, so a single coefficient does not hide them).
+/// Order: `t = x - x0; sum = a[0]; for j in 1..n { sum = sum + a[j] * cos(j as f64 * w *
+/// t); }` (the angle is `(j * w) * t`; cos is [`crate::math::trig::cos`]). NaN for an
+/// empty or too long list, or a NaN t or ω (tested first, so a single coefficient does
+/// not hide them).
 /// `FORCOS(0.25,0,PI,1,2,3)` = 2.4142135623730954.
 #[doc(alias = "FORCOS")]
 pub fn forcos(x: f64, x0: f64, w: f64, coeffs: &[f64]) -> f64 {
-    fourier(x, x0, w, coeffs, f64::cos)
+    fourier(x, x0, w, coeffs, cos)
 }
 
 /// [`forcos`] with its partials: returns (value, ∂/∂x, ∂/∂x0, ∂/∂ω) and writes
@@ -89,7 +91,7 @@ pub fn forcos_grad(
     coeffs: &[f64],
     d_coeffs: &mut [f64],
 ) -> (f64, f64, f64, f64) {
-    fourier_grad(x, x0, w, coeffs, d_coeffs, f64::cos, |a| -a.sin())
+    fourier_grad(x, x0, w, coeffs, d_coeffs, cos, |a| -sin(a))
 }
 
 /// `FORSIN(x, x0, ω, a0, …, an)` = a0 + Σ_{j≥1} a_j·sin(j·ω·(x − x0)), 1 ..= 31
@@ -111,17 +113,17 @@ pub fn forsin_grad(
     coeffs: &[f64],
     d_coeffs: &mut [f64],
 ) -> (f64, f64, f64, f64) {
-    fourier_grad(x, x0, w, coeffs, d_coeffs, f64::sin, f64::cos)
+    fourier_grad(x, x0, w, coeffs, d_coeffs, sin, cos)
 }
 
 /// `SHF(x, x0, a, ω, φ, b)` = a·sin(ω·(x − x0) − φ) + b (note the minus on φ).
 ///
-/// Order: `a * (w * (x - x0) - phi).sin() + b`. Every argument enters the arithmetic,
+/// Order: `a * sin(w * (x - x0) - phi) + b`. Every argument enters the arithmetic,
 /// so NaN propagates. `SHF(1,0,2,PI/2,0,3)` = 5.
 #[doc(alias = "SHF")]
 #[inline]
 pub fn shf(x: f64, x0: f64, a: f64, w: f64, phi: f64, b: f64) -> f64 {
-    a * (w * (x - x0) - phi).sin() + b
+    a * sin(w * (x - x0) - phi) + b
 }
 
 /// [`shf`] and its partials with respect to (x, x0, a, ω, φ, b): with θ = ω(x − x0) − φ,
@@ -133,8 +135,8 @@ pub fn shf_grad(x: f64, x0: f64, a: f64, w: f64, phi: f64, b: f64) -> (f64, [f64
     }
     let t = x - x0;
     let theta = w * t - phi;
-    let ac = a * theta.cos();
-    (v, [ac * w, -(ac * w), theta.sin(), ac * t, -ac, 1.0])
+    let ac = a * cos(theta);
+    (v, [ac * w, -(ac * w), sin(theta), ac * t, -ac, 1.0])
 }
 
 /// Phase (in cycles) of SWEEP and its partials (∂x, ∂x0, ∂f0, ∂x1, ∂f1).
@@ -172,7 +174,7 @@ fn sweep_phase(x: f64, x0: f64, f0: f64, x1: f64, f1: f64) -> (f64, [f64; 5]) {
 ///         f1 * x - (f1 - f0) / 2.0 * (x1 + x0)                     x >= x1
 ///         u = x - x0;
 ///         f0 * u + (f1 - f0) / (2.0 * (x1 - x0)) * u * u + f0 * x0  otherwise
-/// STEP5(x, x0, 0.0, x0 + dx, 1.0) * a * (TAU * phase).sin()
+/// STEP5(x, x0, 0.0, x0 + dx, 1.0) * a * sin(TAU * phase)
 /// ```
 /// (`TAU` = 2π, exactly `2.0 * PI`; products left to right.)
 ///
@@ -186,7 +188,7 @@ pub fn sweep(x: f64, a: f64, x0: f64, f0: f64, x1: f64, f1: f64, dx: f64) -> f64
         return f64::NAN;
     }
     let (phase, _) = sweep_phase(x, x0, f0, x1, f1);
-    step5(x, x0, 0.0, x0 + dx, 1.0) * a * (TAU * phase).sin()
+    step5(x, x0, 0.0, x0 + dx, 1.0) * a * sin(TAU * phase)
 }
 
 /// [`sweep`] and its partials with respect to (x, a, x0, f0, x1, f1, dx).
@@ -202,8 +204,8 @@ pub fn sweep_grad(x: f64, a: f64, x0: f64, f0: f64, x1: f64, f1: f64, dx: f64) -
     }
     let (phase, [px, px0, pf0, px1, pf1]) = sweep_phase(x, x0, f0, x1, f1);
     let (fade, [gx, gx0, _, gx1, _]) = step5_grad(x, x0, 0.0, x0 + dx, 1.0);
-    let s = (TAU * phase).sin();
-    let kappa = a * fade * TAU * (TAU * phase).cos();
+    let s = sin(TAU * phase);
+    let kappa = a * fade * TAU * cos(TAU * phase);
     let g = [
         a * gx * s + kappa * px,
         fade * s,
