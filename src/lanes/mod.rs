@@ -5,8 +5,9 @@
 //! a million points that spends most of its time in call overhead and in libm's range
 //! reductions mispredicting branches that another function just trained. Here each IR
 //! instruction runs over a block of points before the next one starts: arithmetic and
-//! selects become tight loops the compiler vectorises, and `SIN` runs 128 times in a row
-//! through a direct call. The IR is the JIT's (the branch-free lowering of
+//! selects become tight loops the compiler vectorises, so do SIN, COS and ATAN2 (the
+//! runtime's own, written for it), and a libm function such as `EXP` runs 128 times in
+//! a row through a direct call. The IR is the JIT's (the branch-free lowering of
 //! [`crate::ir::lower`]) and library calls go to `mbfx-runtime`, so the bits are the
 //! interpreter's and the JIT's, point for point; `tests/backends` checks it.
 //!

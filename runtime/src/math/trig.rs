@@ -14,11 +14,12 @@
 //!   tail's first-order correction. The polynomials' coefficients are fdlibm's (Sun, 1993;
 //!   |error| ≤ 2⁻⁵⁸ on [0, π/4]). Larger, infinite and NaN arguments go to `f64::sin` /
 //!   `f64::cos` (the platform's libm), which is then the answer in every back end too.
-//! - **ATAN2(y, x)** for finite, non-zero x and y between 2⁻⁵⁰⁰ and 2⁵⁰⁰ in magnitude: the
-//!   ratio u = min/max ≤ 1 with its rounding error recovered exactly (Dekker's product);
-//!   atan(u) = atan(c) + atan((u − c)/(1 + c·u)) with c ∈ {0, ½, 1} and fdlibm's atan
-//!   polynomial on |t| ≤ 7/16; then the quadrant's k·π/2 ± atan(u) summed with π and
-//!   atan(c) as double-doubles, so only the last addition rounds at the result's scale.
+//! - **ATAN2(y, x)** for finite, non-zero x and y between 2⁻⁵⁰⁰ and 2⁵⁰⁰ in magnitude: with
+//!   num/den = min/max ≤ 1, atan(num/den) = atan(c) + atan(t), c ∈ {0, ½, 1} and
+//!   t = (num − c·den)/(den + c·num), its rounding error recovered (Dekker's product);
+//!   fdlibm's atan polynomial on |t| ≤ 7/16; then the quadrant's k·π/2 ± atan(num/den)
+//!   summed with π and atan(c) as double-doubles, so only the last addition rounds at the
+//!   result's scale.
 //!   Zeros, infinities, NaN and extreme magnitudes go to `f64::atan2`.
 //!
 //! The accuracy is measured, not only argued: `tests/python/test_trig_accuracy.py`
@@ -77,14 +78,10 @@ const ATAN_ONE: (f64, f64) = (
     f64::from_bits(0x3fe9_21fb_5444_2d18),
     f64::from_bits(0x3c81_a626_3314_5c07),
 );
-/// π/2 and π as double-doubles.
+/// π/2 as a double-double.
 const PIO2: (f64, f64) = (
     f64::from_bits(0x3ff9_21fb_5444_2d18),
     f64::from_bits(0x3c91_a626_3314_5c07),
-);
-const PI: (f64, f64) = (
-    f64::from_bits(0x4009_21fb_5444_2d18),
-    f64::from_bits(0x3ca1_a626_3314_5c07),
 );
 /// ATAN2's fast path takes magnitudes in (2⁻⁵⁰⁰, 2⁵⁰⁰): Dekker's split of them cannot
 /// overflow and their ratio stays a normal number.
@@ -97,11 +94,14 @@ fn in_range(x: f64) -> bool {
     x.abs() < TRIG_LIMIT
 }
 
-/// `a` where `pick`, `b` elsewhere, as bit masks (no branch, so block loops vectorise).
+/// `a` where `pick`, `b` elsewhere (both computed: a select, which block loops vectorise).
 #[inline(always)]
 fn blend(pick: bool, a: f64, b: f64) -> f64 {
-    let mask = 0u64.wrapping_sub(u64::from(pick));
-    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+    if pick {
+        a
+    } else {
+        b
+    }
 }
 
 /// `x` with its sign bit flipped where `flip`.
@@ -179,10 +179,11 @@ fn sin_cos_lane(ax: f64, offset: u64) -> f64 {
     flip_sign(r, q & 2 != 0)
 }
 
-/// The same value as [`sin_cos_lane`], running only the kernel the quadrant picks.
+/// The same value as [`sin_cos_lane`], running only the kernel the quadrant picks, and
+/// no reduction below π/4 (where [`reduce`] gives (ax, 0, 0) exactly: n = 0).
 #[inline(always)]
 fn sin_cos_point(ax: f64, offset: u64) -> f64 {
-    let (y0, y1, n) = reduce(ax);
+    let (y0, y1, n) = if ax < 0.785 { (ax, 0.0, 0) } else { reduce(ax) };
     let q = n.wrapping_add(offset);
     let r = if q & 1 != 0 {
         cos_kernel(y0, y1)
@@ -215,33 +216,42 @@ pub fn cos(x: f64) -> f64 {
 /// [`atan2_in_range`]); the same operations at every call, no branch.
 #[inline(always)]
 fn atan2_lane(y: f64, x: f64) -> f64 {
+    // The choices below are a minimum, a maximum and products with a 0-or-1 made from a
+    // comparison, rather than selects between computed values: x86-64 has no scalar
+    // select of doubles, so in the scalar call most selects become branches.
+    let one_if = |b: bool| f64::from(u8::from(b));
     let (ax, ay) = (x.abs(), y.abs());
-    let swap = ay > ax;
-    let (num, den) = (blend(swap, ax, ay), blend(swap, ay, ax));
-    // u = num/den ≤ 1, and its rounding error: num − u·den is exact (Dekker, Sterbenz).
-    let u = num / den;
-    let (ph, pl) = two_prod(u, den);
-    let u_lo = ((num - ph) - pl) / den;
-    // atan(u) = atan(c) + atan(t), |t| ≤ 7/16, c by fdlibm's breakpoints.
-    let (above_half, above_one) = (u >= 0.4375, u >= 0.6875);
-    let c = blend(above_one, 1.0, blend(above_half, 0.5, 0.0));
-    let t = (u - c) / (1.0 + c * u);
+    let (num, den) = (ax.min(ay), ax.max(ay));
+    // atan(num/den) = atan(c) + atan(t), t = (num − c·den)/(den + c·num), |t| ≤ 7/16,
+    // c by fdlibm's breakpoints on num/den (compared without dividing). The numerator is
+    // exact (c·den is, and Sterbenz), the denominator a double-double.
+    let (above_half, above_one) = (one_if(num >= 0.4375 * den), one_if(num >= 0.6875 * den));
+    let c = 0.5 * (above_half + above_one);
+    let n = num - c * den;
+    let (d_hi, d_lo) = two_sum(den, c * num);
+    let t = n / d_hi;
+    // t's rounding error: n − t·(d_hi + d_lo), Dekker's product exact, to first order.
+    let (ph, pl) = two_prod(t, d_hi);
+    let residual = ((n - ph) - pl) - t * d_lo;
     let z = t * t;
     let w = z * z;
     let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
     let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
-    // atan(u + u_lo) − atan(c) = t − m, with u_lo's first-order term in m.
-    let m = t * (s1 + s2) - u_lo / (1.0 + u * u);
-    // θ = K + σ·atan(u): K = π/2 when swapped, π for x < 0 unswapped; σ = −1 when
-    // exactly one of the two holds. S = K + σ·atan(c) as a double-double.
+    // atan(t_exact) = t − m, with t's error over 1 + t² in m (one division: the term is
+    // below t's last bit, so its own rounding is moot).
+    let m = t * (s1 + s2) - residual / (d_hi * (1.0 + z));
+    // θ = K + σ·atan(num/den): K = π/2 when swapped (|y| > |x|), π for x < 0 unswapped;
+    // σ = −1 when exactly one of the two holds. S = K + σ·atan(c) as a double-double
+    // (π = 2·π/2 exactly, high and low parts alike).
+    let swap = ay > ax;
     let negative_x = x.is_sign_negative();
-    let sigma = blend(swap ^ negative_x, -1.0, 1.0);
-    let k_hi = blend(swap, PIO2.0, blend(negative_x, PI.0, 0.0));
-    let k_lo = blend(swap, PIO2.1, blend(negative_x, PI.1, 0.0));
-    let a_hi = blend(above_one, ATAN_ONE.0, blend(above_half, ATAN_HALF.0, 0.0));
-    let a_lo = blend(above_one, ATAN_ONE.1, blend(above_half, ATAN_HALF.1, 0.0));
-    let (s_hi, e) = two_sum(k_hi, sigma * a_hi);
-    let s_lo = e + (k_lo + sigma * a_lo);
+    let sigma = 1.0 - 2.0 * one_if(swap ^ negative_x);
+    let k = one_if(swap) + 2.0 * one_if(!swap & negative_x);
+    let half_only = above_half - above_one;
+    let a_hi = ATAN_HALF.0 * half_only + ATAN_ONE.0 * above_one;
+    let a_lo = ATAN_HALF.1 * half_only + ATAN_ONE.1 * above_one;
+    let (s_hi, e) = two_sum(PIO2.0 * k, sigma * a_hi);
+    let s_lo = e + (PIO2.1 * k + sigma * a_lo);
     let theta = s_hi - ((sigma * m - s_lo) - sigma * t);
     flip_sign(theta, y.is_sign_negative())
 }

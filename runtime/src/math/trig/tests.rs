@@ -160,3 +160,19 @@ fn blocks_give_the_scalar_bits() {
         }
     }
 }
+
+/// The scalar path skips the reduction below 0.785 (n = 0 there), which is only sound if
+/// the reduction would give back the argument exactly.
+#[test]
+fn below_pi_over_4_the_reduction_is_the_identity() {
+    let mut xs: Vec<f64> = samples(3, 100_000, 0.785).map(f64::abs).collect();
+    xs.extend([0.0, f64::from_bits(1), 1e-300, 0.785f64.next_down()]);
+    for ax in xs {
+        let (y0, y1, n) = reduce(ax);
+        assert_eq!(
+            (y0.to_bits(), y1.to_bits(), n),
+            (ax.to_bits(), 0, 0),
+            "{ax:e}"
+        );
+    }
+}
