@@ -870,7 +870,7 @@ impl ForceElement {
             }
         };
         let pi = sys.marker(self.i).part;
-        let pj = sys.frame(self.j).part;
+        let pj = self.j.map_or(System::GROUND, |j| sys.marker(j).part);
         let at_j = if j_at_i { &fi } else { &fj };
         self.apply(sys, &slots, pi, &fi, &f_i, &t_i, out);
         self.apply(sys, &slots, pj, at_j, &f_j, &t_j, out);
