@@ -1,9 +1,11 @@
 //! The kernels: each node over every lane of a block. Loops run over the whole block
 //! (a partial last block computes lanes it then ignores), so their trip count is fixed
-//! and the compiler vectorises them: twice, for the baseline x86-64 (two lanes a vector
-//! instruction) and for AVX2 (four), picked once per call by what the processor has.
-//! Both do the same IEEE operations on the same numbers (no FMA is enabled, and Rust
-//! never fuses a multiply and an add by itself), so they give the same bits.
+//! and the compiler vectorises them: three times, for the baseline x86-64 (two lanes a
+//! vector instruction), AVX2 (four) and AVX-512 (eight; its masks, 64-bit shifts and
+//! conversions also shorten the trigonometric loops), picked once per call by what the
+//! processor has. All do the same IEEE operations on the same numbers (Rust never fuses
+//! a multiply and an add by itself, even where AVX-512 brings FMA), so they give the
+//! same bits.
 
 use super::build::{Arg, Bin, Code, Law, Node};
 use super::{Column, Lanes, Source, INPUT, LANES};
@@ -207,14 +209,22 @@ pub(super) enum Level {
     Baseline,
     #[cfg(target_arch = "x86_64")]
     Avx2,
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
 }
 
 impl Level {
-    /// AVX2 where the processor has it (std caches the answer).
+    /// The widest level the processor has (std caches the answers).
     fn detect() -> Level {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return Level::Avx2;
+        {
+            use std::arch::is_x86_feature_detected as has;
+            if has!("avx512f") && has!("avx512dq") && has!("avx512vl") {
+                return Level::Avx512;
+            }
+            if has!("avx2") {
+                return Level::Avx2;
+            }
         }
         Level::Baseline
     }
@@ -225,7 +235,9 @@ impl Level {
         match Level::detect() {
             Level::Baseline => vec![Level::Baseline],
             #[cfg(target_arch = "x86_64")]
-            best => vec![Level::Baseline, best],
+            Level::Avx2 => vec![Level::Baseline, Level::Avx2],
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 => vec![Level::Baseline, Level::Avx2, Level::Avx512],
         }
     }
 
@@ -236,6 +248,9 @@ impl Level {
             // SAFETY: `Avx2` is only made by `detect`, when the processor has AVX2.
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 => unsafe { run_code_avx2(code, slots, inputs) },
+            // SAFETY: `Avx512` is only made by `detect`, when the processor has these.
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 => unsafe { run_code_avx512(code, slots, inputs) },
         }
     }
 }
@@ -249,6 +264,16 @@ impl Level {
 #[target_feature(enable = "avx2")]
 unsafe fn run_code_avx2(code: &Code, slots: &mut [Lane], inputs: &Inputs) {
     run_code(Level::Avx2, code, slots, inputs)
+}
+
+/// [`run_code`] with AVX-512 instructions (F, DQ, VL), as [`run_code_avx2`].
+///
+/// # Safety
+/// The processor must have AVX-512 F, DQ and VL.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl")]
+unsafe fn run_code_avx512(code: &Code, slots: &mut [Lane], inputs: &Inputs) {
+    run_code(Level::Avx512, code, slots, inputs)
 }
 
 #[inline(always)]
