@@ -569,6 +569,12 @@ impl System {
             }
             Row::Measured { terms, drive } => {
                 for &(c, m) in terms {
+                    if !derivs {
+                        // The value alone: the same operations on plain numbers, not on
+                        // 7 KB dual frames (most rows a Newton iteration evaluates).
+                        out.value += c * self.measures.unwrapped_value(self, m);
+                        continue;
+                    }
                     let ev = self.measures.eval(self, m);
                     out.value += c * ev.value();
                     ev.scatter(
@@ -599,6 +605,10 @@ impl System {
                 sc.slots_to(slots.last().copied());
                 sc.evs.clear();
                 for (&m, &s) in map.iter().zip(slots) {
+                    if !derivs {
+                        sc.slots[s as usize] = self.measures.unwrapped_value(self, m);
+                        continue;
+                    }
                     let ev = self.measures.eval(self, m);
                     sc.slots[s as usize] = ev.value();
                     sc.evs.push(ev);

@@ -115,15 +115,10 @@ impl Scalar {
     }
 }
 
-/// Measure `m`'s value alone: the jet is a few scalars where the dual carries a gradient
-/// over four parts; only an unwrapped angle needs the dual's unwrapping.
+/// Measure `m`'s value alone, unwrapped as its dual would be: plain numbers where the
+/// dual carries a gradient over four parts (the same operations on the values).
 pub(crate) fn measure_value(sys: &System, m: usize) -> f64 {
-    let ms = &sys.measures;
-    if ms.list[m].unwrapped() {
-        ms.eval(sys, m).value()
-    } else {
-        ms.value(sys, m)
-    }
+    sys.measures.unwrapped_value(sys, m)
 }
 
 /// How an element turns its inputs into loads.

@@ -243,7 +243,7 @@ impl MeasureSet {
                         });
                     }
                 }
-                self.refs[n] = self.eval(sys, n).value();
+                self.refs[n] = self.unwrapped_value(sys, n);
             }
         }
     }
