@@ -131,6 +131,32 @@ pub(crate) fn dual_frame(sys: &System, mk: M, slots: &mut PartSlots) -> Option<D
     Some(fr)
 }
 
+/// Axes `cols` of marker `mk`'s frame as [`dual_frame`] builds them (the same values and
+/// derivatives), for formulas that read axes only.
+fn dual_axes<const K: usize>(
+    sys: &System,
+    mk: M,
+    cols: [usize; K],
+    slots: &mut PartSlots,
+) -> Option<[V<D>; K]> {
+    let f = sys.frame(mk);
+    let slot = slots.slot(sys, f.part).ok()?;
+    Some(cols.map(|c| {
+        let u = Vec3::from(f.rot.column(c));
+        let mut axis: V<D> = V::c(u);
+        if let Some(s) = slot {
+            let b = PER_PART * s;
+            for k in 0..3 {
+                let turned = e(k).cross(&u);
+                for x in 0..3 {
+                    axis.0[x].g[b + 3 + k] = turned[x];
+                }
+            }
+        }
+        axis
+    }))
+}
+
 /// The frame of marker `mk` (ground when None) as plain values.
 pub(crate) fn value_frame(sys: &System, mk: M) -> Frame<f64> {
     let v3 = |x: Vec3| V([x[0], x[1], x[2]]);
@@ -346,6 +372,34 @@ impl MeasureSet {
         if let Measure::Design { id } = m {
             return Some(D::c(self.design(id)));
         }
+        if let Measure::Angle { i, j, axis } = m {
+            // Axes alone (an angle reads three of the two frames' eighteen vectors): the
+            // same values and derivatives as through `raw` on whole frames.
+            let raw = match axis {
+                0 => {
+                    let ([zi], [yj, zj]) = (
+                        dual_axes(sys, i, [2], slots)?,
+                        dual_axes(sys, j, [1, 2], slots)?,
+                    );
+                    (-zi.dot(&yj)).atan2(zi.dot(&zj))
+                }
+                1 => {
+                    let ([zi], [xj, zj]) = (
+                        dual_axes(sys, i, [2], slots)?,
+                        dual_axes(sys, j, [0, 2], slots)?,
+                    );
+                    zi.dot(&xj).atan2(zi.dot(&zj))
+                }
+                _ => {
+                    let ([xi], [xj, yj]) = (
+                        dual_axes(sys, i, [0], slots)?,
+                        dual_axes(sys, j, [0, 1], slots)?,
+                    );
+                    xi.dot(&yj).atan2(xi.dot(&xj))
+                }
+            };
+            return Some(self.unwrap(n, &m, raw));
+        }
         let mk = m.markers();
         let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
         // Only the frames the formula reads, built in place: a dual frame is 7 KB, and
@@ -432,7 +486,11 @@ impl MeasureSet {
     }
 
     fn compute(&self, n: usize, m: &Measure, f: &[DFrame]) -> D {
-        let raw = self.raw(n, m, f);
+        self.unwrap(n, m, self.raw(n, m, f))
+    }
+
+    /// `raw` taken within π of measure `n`'s reference when the measure is unwrapped.
+    fn unwrap(&self, n: usize, m: &Measure, raw: D) -> D {
         let r = self.refs[n];
         if m.unwrapped() && r.is_finite() {
             let k = ((r - raw.v) / (2.0 * PI)).round();
