@@ -157,6 +157,26 @@ fn dual_axes<const K: usize>(
     }))
 }
 
+/// The origin of marker `mk` as [`dual_frame`] builds it (the same values and
+/// derivatives), for formulas that read origins only.
+fn dual_origin(sys: &System, mk: M, slots: &mut PartSlots) -> Option<V<D>> {
+    let (r, a, part) = sys.origin(mk);
+    let slot = slots.slot(sys, part).ok()?;
+    let mut origin: V<D> = V::c(r);
+    if let Some(s) = slot {
+        let b = PER_PART * s;
+        for c in 0..3 {
+            let ec = e(c);
+            let rot_a = ec.cross(&a);
+            for x in 0..3 {
+                origin.0[x].g[b + c] = ec[x];
+                origin.0[x].g[b + 3 + c] = rot_a[x];
+            }
+        }
+    }
+    Some(origin)
+}
+
 /// The frame of marker `mk` (ground when None) as plain values.
 pub(crate) fn value_frame(sys: &System, mk: M) -> Frame<f64> {
     let v3 = |x: Vec3| V([x[0], x[1], x[2]]);
@@ -372,43 +392,54 @@ impl MeasureSet {
         if let Measure::Design { id } = m {
             return Some(D::c(self.design(id)));
         }
-        if let Measure::Angle { i, j, axis } = m {
-            // Axes alone (an angle reads three of the two frames' eighteen vectors): the
-            // same values and derivatives as through `raw` on whole frames.
-            let raw = match axis {
+        // The measures that read only origins and axes get those alone (a whole dual frame
+        // is 7 KB, an angle reads three of its eighteen vectors): the same values and
+        // derivatives as through `raw` on whole frames, the markers taken in its order.
+        let raw = match m {
+            Measure::Angle { i, j, axis } => match axis {
                 0 => {
-                    let ([zi], [yj, zj]) = (
-                        dual_axes(sys, i, [2], slots)?,
-                        dual_axes(sys, j, [1, 2], slots)?,
-                    );
+                    let [zi] = dual_axes(sys, i, [2], slots)?;
+                    let [yj, zj] = dual_axes(sys, j, [1, 2], slots)?;
                     (-zi.dot(&yj)).atan2(zi.dot(&zj))
                 }
                 1 => {
-                    let ([zi], [xj, zj]) = (
-                        dual_axes(sys, i, [2], slots)?,
-                        dual_axes(sys, j, [0, 2], slots)?,
-                    );
+                    let [zi] = dual_axes(sys, i, [2], slots)?;
+                    let [xj, zj] = dual_axes(sys, j, [0, 2], slots)?;
                     zi.dot(&xj).atan2(zi.dot(&zj))
                 }
                 _ => {
-                    let ([xi], [xj, yj]) = (
-                        dual_axes(sys, i, [0], slots)?,
-                        dual_axes(sys, j, [0, 1], slots)?,
-                    );
+                    let [xi] = dual_axes(sys, i, [0], slots)?;
+                    let [xj, yj] = dual_axes(sys, j, [0, 1], slots)?;
                     xi.dot(&yj).atan2(xi.dot(&xj))
                 }
-            };
-            return Some(self.unwrap(n, &m, raw));
-        }
-        let mk = m.markers();
-        let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
-        // Only the frames the formula reads, built in place: a dual frame is 7 KB, and
-        // unread ground frames and copies through options cost more than the formula.
-        Some(match m.frames_read() {
-            2 => self.compute(n, &m, &[frame(0)?, frame(1)?]),
-            3 => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?]),
-            _ => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?, frame(3)?]),
-        })
+            },
+            Measure::Disp { i, j, k, comp } => {
+                let (ri, rj) = (dual_origin(sys, i, slots)?, dual_origin(sys, j, slots)?);
+                let [u] = dual_axes(sys, k, [comp as usize], slots)?;
+                ri.sub(&rj).dot(&u)
+            }
+            Measure::Dist { i, j } => {
+                let (ri, rj) = (dual_origin(sys, i, slots)?, dual_origin(sys, j, slots)?);
+                ri.sub(&rj).norm()
+            }
+            Measure::UnitVec { i, k, axis, comp } => {
+                let [a] = dual_axes(sys, i, [axis as usize], slots)?;
+                let [b] = dual_axes(sys, k, [comp as usize], slots)?;
+                a.dot(&b)
+            }
+            _ => {
+                let mk = m.markers();
+                let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
+                // Only the frames the formula reads, built in place: unread ground frames
+                // and copies through options cost more than the formula.
+                return Some(match m.frames_read() {
+                    2 => self.compute(n, &m, &[frame(0)?, frame(1)?]),
+                    3 => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?]),
+                    _ => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?, frame(3)?]),
+                });
+            }
+        };
+        Some(self.unwrap(n, &m, raw))
     }
 
     /// The raw (not unwrapped) value of measure `n` from its frames, in duals or jets.
