@@ -427,19 +427,30 @@ impl MeasureSet {
                 let [b] = dual_axes(sys, k, [comp as usize], slots)?;
                 a.dot(&b)
             }
-            _ => {
-                let mk = m.markers();
-                let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
-                // Only the frames the formula reads, built in place: unread ground frames
-                // and copies through options cost more than the formula.
-                return Some(match m.frames_read() {
-                    2 => self.compute(n, &m, &[frame(0)?, frame(1)?]),
-                    3 => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?]),
-                    _ => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?, frame(3)?]),
-                });
-            }
+            _ => return self.eval_by_frames(sys, n, slots),
         };
         Some(self.unwrap(n, &m, raw))
+    }
+
+    /// Measure `n` through whole dual frames, the formula of [`MeasureSet::raw`] for
+    /// every measure ([`MeasureSet::eval_in`] takes shortcuts for some; the tests hold
+    /// them to these bits).
+    pub(crate) fn eval_by_frames(
+        &self,
+        sys: &System,
+        n: usize,
+        slots: &mut PartSlots,
+    ) -> Option<D> {
+        let m = self.list[n];
+        let mk = m.markers();
+        let mut frame = |i: usize| dual_frame(sys, mk[i], slots);
+        // Only the frames the formula reads, built in place: unread ground frames and
+        // copies through options cost more than the formula.
+        Some(match m.frames_read() {
+            2 => self.compute(n, &m, &[frame(0)?, frame(1)?]),
+            3 => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?]),
+            _ => self.compute(n, &m, &[frame(0)?, frame(1)?, frame(2)?, frame(3)?]),
+        })
     }
 
     /// The raw (not unwrapped) value of measure `n` from its frames, in duals or jets.

@@ -256,3 +256,80 @@ fn acceleration_and_force_measures_wait_for_dynamics() {
     // A VARVAL left after inlining is a design variable's; the system gives its value.
     assert_eq!(resolve("VARVAL", 0), Measure::Design { id: 5 });
 }
+
+/// `eval_in` builds angles, displacements, distances and unit-vector products from the
+/// origins and axes they read; every value and derivative must be the bits of the whole
+/// dual frames' formula, and the part slots taken in the same order.
+#[test]
+fn shortcut_duals_give_the_whole_frames_bits() {
+    use crate::mbd::measures::PartSlots;
+    let mut sys = System::new();
+    let parts = [
+        sys.add_part(None, Vec3::new(0.3, -0.2, 0.1), rot(0.4, -0.7, 1.1)),
+        sys.add_part(None, Vec3::new(-1.1, 0.5, 0.9), rot(-0.2, 0.3, -2.5)),
+        sys.add_part(None, Vec3::new(2.0, 1.5, -0.4), rot(1.3, 0.1, 0.6)),
+    ];
+    for (k, &p) in parts.iter().enumerate() {
+        let f = k as f64 + 1.0;
+        sys.set_part_velocity(
+            p,
+            Vec3::new(0.2 * f, -0.1, 0.3),
+            Vec3::new(-0.4, 0.5 * f, 0.1),
+        );
+    }
+    let mut markers = vec![None];
+    for (k, &p) in parts.iter().enumerate() {
+        let s = Vec3::new(0.1 * k as f64, -0.3, 0.25);
+        markers.push(Some(sys.add_marker(
+            None,
+            p,
+            s,
+            rot(0.2, 0.9 - k as f64, 0.4),
+        )));
+    }
+    let g = sys.add_marker(
+        None,
+        System::GROUND,
+        Vec3::new(0.5, 0.2, -1.0),
+        rot(0.3, 0.2, 0.1),
+    );
+    markers.push(Some(g));
+    let mut list = Vec::new();
+    for &i in &markers[1..] {
+        for &j in &markers {
+            for axis in 0..3 {
+                list.push(Measure::Angle { i, j, axis });
+                list.push(Measure::UnitVec {
+                    i,
+                    k: j,
+                    axis,
+                    comp: (axis + 1) % 3,
+                });
+                for &k in &markers[..3] {
+                    list.push(Measure::Disp {
+                        i,
+                        j,
+                        k,
+                        comp: axis,
+                    });
+                }
+            }
+            list.push(Measure::Dist { i, j });
+        }
+    }
+    for m in list {
+        let n = sys.measures.add(m);
+        let (mut a, mut b) = (PartSlots::default(), PartSlots::default());
+        let fast = sys.measures.eval_in(&sys, n, &mut a).expect("slots");
+        let whole = sys.measures.eval_by_frames(&sys, n, &mut b).expect("slots");
+        assert_eq!(fast.v.to_bits(), whole.v.to_bits(), "{m:?}");
+        assert!(
+            fast.g
+                .iter()
+                .zip(&whole.g)
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{m:?}"
+        );
+        assert_eq!(a.parts, b.parts, "{m:?}");
+    }
+}
