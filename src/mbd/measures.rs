@@ -112,15 +112,14 @@ pub(crate) fn dual_frame(sys: &System, mk: M, slots: &mut PartSlots) -> Option<D
     };
     if let Some(s) = slot {
         let b = PER_PART * s;
+        origin_grad(&mut fr.r, b, &f.a);
+        for (dual, u) in fr.axes.iter_mut().zip(&axes) {
+            axis_grad(dual, b, u);
+        }
         for c in 0..3 {
             let ec = e(c);
             let rot_a = ec.cross(&f.a);
             for x in 0..3 {
-                fr.r.0[x].g[b + c] = ec[x];
-                fr.r.0[x].g[b + 3 + c] = rot_a[x];
-                for (ax, u) in axes.iter().enumerate() {
-                    fr.axes[ax].0[x].g[b + 3 + c] = ec.cross(u)[x];
-                }
                 fr.vel.0[x].g[b + 3 + c] = p.w.cross(&rot_a)[x];
                 fr.vel.0[x].g[b + 6 + c] = ec[x];
                 fr.vel.0[x].g[b + 9 + c] = rot_a[x];
@@ -145,13 +144,7 @@ fn dual_axes<const K: usize>(
         let u = Vec3::from(f.rot.column(c));
         let mut axis: V<D> = V::c(u);
         if let Some(s) = slot {
-            let b = PER_PART * s;
-            for k in 0..3 {
-                let turned = e(k).cross(&u);
-                for x in 0..3 {
-                    axis.0[x].g[b + 3 + k] = turned[x];
-                }
-            }
+            axis_grad(&mut axis, PER_PART * s, &u);
         }
         axis
     }))
@@ -164,17 +157,32 @@ fn dual_origin(sys: &System, mk: M, slots: &mut PartSlots) -> Option<V<D>> {
     let slot = slots.slot(sys, part).ok()?;
     let mut origin: V<D> = V::c(r);
     if let Some(s) = slot {
-        let b = PER_PART * s;
-        for c in 0..3 {
-            let ec = e(c);
-            let rot_a = ec.cross(&a);
-            for x in 0..3 {
-                origin.0[x].g[b + c] = ec[x];
-                origin.0[x].g[b + 3 + c] = rot_a[x];
-            }
-        }
+        origin_grad(&mut origin, PER_PART * s, &a);
     }
     Some(origin)
+}
+
+/// An origin's derivatives in the part block starting at `b`: δr along e_c moves it by
+/// e_c, δθ about e_c by e_c × a (`a` its offset from the part's reference point).
+fn origin_grad(origin: &mut V<D>, b: usize, a: &Vec3) {
+    for c in 0..3 {
+        let (ec, rot_a) = (e(c), e(c).cross(a));
+        for x in 0..3 {
+            origin.0[x].g[b + c] = ec[x];
+            origin.0[x].g[b + 3 + c] = rot_a[x];
+        }
+    }
+}
+
+/// An axis `u`'s derivatives in the part block starting at `b`: δθ about e_c turns it by
+/// e_c × u.
+fn axis_grad(axis: &mut V<D>, b: usize, u: &Vec3) {
+    for c in 0..3 {
+        let turned = e(c).cross(u);
+        for x in 0..3 {
+            axis.0[x].g[b + 3 + c] = turned[x];
+        }
+    }
 }
 
 /// The frame of marker `mk` (ground when None) as plain values.
