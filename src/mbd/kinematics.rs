@@ -9,20 +9,21 @@
 //! for a model without freedom.
 //!
 //! A model with degrees of freedom left is refused before anything runs
-//! ([`DynError::FreeDegrees`]), each free direction named with the element that leaves
+//! ([`RunError::FreeDegrees`]), each free direction named with the element that leaves
 //! it free ([`super::freedom`]).
 
 use super::dynamics::{DynError, Dynamics};
 use super::freedom::{describe_all, null_space};
+use super::run_error::RunError;
 
 /// Refuses a model with degrees of freedom left: their count and each named.
-pub fn check_driven(d: &mut Dynamics) -> Result<(), DynError> {
+pub fn check_driven(d: &mut Dynamics) -> Result<(), RunError> {
     if d.n <= d.m {
         return Ok(());
     }
     d.eval_constraints(true)?;
     let basis = null_space(d);
-    Err(DynError::FreeDegrees {
+    Err(RunError::FreeDegrees {
         count: d.n - d.m,
         free: describe_all(d, &basis),
     })

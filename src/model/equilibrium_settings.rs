@@ -4,13 +4,46 @@
 //! where it is written (`E0605` at the value). What Adams' static solver also takes and
 //! mbfx does not honour (PATTERN, the DYNAMIC method and its settings, METHOD) is a
 //! `W0602` warning at the argument. The static solver (`mbd::statics`) takes the
-//! values through [`EquilibriumStatement::settings`].
+//! values through [`EquilibriumStatement::settings`], as [`EquilibriumSettings`].
 
 use super::integrator_settings::{integer, real, single, Given};
 use super::statement::ItemKind;
 use super::stmt_args::Args;
 use crate::diag::{Code, Diagnostic};
-use crate::mbd::statics::Settings;
+
+/// EQUILIBRIUM's settings as the static solver takes them (`mbd::statics::Settings`): the
+/// values written, Adams Solver C++ defaults for the rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EquilibriumSettings {
+    /// ERROR: convergence needs every correction below it (translations relative to the
+    /// model length, rotations in radians) and every constraint residual (scaled alike).
+    pub error: f64,
+    /// IMBALANCE: convergence needs every force (and torque) imbalance below it, model
+    /// units.
+    pub imbalance: f64,
+    /// MAXIT: the most Newton iterations.
+    pub maxit: usize,
+    /// STABILITY: the fraction of the mass and damping matrices added to the Newton
+    /// matrix (it keeps a direction without stiffness factorable).
+    pub stability: f64,
+    /// TLIMIT: the largest translation of any part in one iteration, model length units.
+    pub tlimit: f64,
+    /// ALIMIT: the largest rotation of any part in one iteration, radians.
+    pub alimit: f64,
+}
+
+impl Default for EquilibriumSettings {
+    fn default() -> Self {
+        EquilibriumSettings {
+            error: 1e-4,
+            imbalance: 1e-4,
+            maxit: 25,
+            stability: 1e-5,
+            tlimit: 20.0,
+            alimit: 10f64.to_radians(),
+        }
+    }
+}
 
 /// An EQUILIBRIUM statement or command, typed. `None`: not written (Adams' default, or
 /// an earlier statement's value, applies).
@@ -129,10 +162,10 @@ impl EquilibriumStatement {
     }
 
     /// The solver's settings: the values written, Adams' defaults for the rest.
-    pub fn settings(&self) -> Settings {
-        let d = Settings::default();
+    pub fn settings(&self) -> EquilibriumSettings {
+        let d = EquilibriumSettings::default();
         let v = |g: &Option<Given<f64>>, x: f64| g.as_ref().map_or(x, |g| g.value);
-        Settings {
+        EquilibriumSettings {
             error: v(&self.error, d.error),
             imbalance: v(&self.imbalance, d.imbalance),
             maxit: self.maxit.as_ref().map_or(d.maxit, |m| m.value as usize),

@@ -16,6 +16,7 @@ use crate::mbd::dynamics::integrator::Interrupt;
 use crate::mbd::dynamics::integrator::OutputTimes;
 use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::kinematics;
+use crate::mbd::run_error::RunError;
 use crate::mbd::statics::{self, Report};
 use crate::model::commands::Analysis;
 
@@ -36,7 +37,7 @@ pub fn run(
     emit: &mut Emit<'_>,
     (reports, linear): Found<'_>,
     interrupt: Option<Interrupt<'_>>,
-) -> Result<(), DynError> {
+) -> Result<(), RunError> {
     match (seg.kind, &seg.linear) {
         (Analysis::Kinematics, _) => kinematics(d, seg, first_row, emit, interrupt),
         (Analysis::Linear, Some(command)) => {
@@ -63,7 +64,7 @@ pub fn statics(
     emit: &mut Emit<'_>,
     reports: &mut Vec<Report>,
     interrupt: Option<Interrupt<'_>>,
-) -> Result<(), DynError> {
+) -> Result<(), RunError> {
     let settings = seg
         .equilibrium
         .as_ref()
@@ -71,7 +72,7 @@ pub fn statics(
     if seg.output_step == 0.0 {
         reports.push(statics::equilibrium(d, &settings)?);
         return match first_row || last {
-            true => emit(d),
+            true => Ok(emit(d)?),
             false => Ok(()),
         };
     }
@@ -95,7 +96,7 @@ pub fn kinematics(
     first_row: bool,
     emit: &mut Emit<'_>,
     interrupt: Option<Interrupt<'_>>,
-) -> Result<(), DynError> {
+) -> Result<(), RunError> {
     kinematics::check_driven(d)?;
     let t0 = d.sys.time;
     if first_row {

@@ -45,6 +45,7 @@ pub mod prepared;
 pub mod report;
 pub mod request;
 pub mod run;
+pub mod stopped;
 
 use crate::diag::Diagnostic;
 use crate::mbd::assembly::{AssemblyError, AssemblyOptions, AssemblyReport};

@@ -2,6 +2,7 @@
 //! degrees of freedom, assembly, redundant constraints), and the diagnostics of a failed
 //! analysis or run, placed on the statement of the element at fault.
 
+use super::stopped::Stopped;
 use super::{Analysis, DimRequest, Failure};
 use crate::diag::{Code, Diagnostic, Span};
 use crate::mbd::assembly::AssemblyError;
@@ -9,6 +10,7 @@ use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;
 use crate::mbd::redundancy::AnalysisError;
+use crate::mbd::run_error::RunError;
 use crate::mbd::statics::Failure as StaticFailure;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
@@ -241,34 +243,36 @@ pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
 /// The diagnostic code of a dynamics failure: E0702 a dropped row violated, E0803 a
 /// non-finite force, E0802 the integration failed, E0804 the caller interrupted it, E0801
 /// anything else the model cannot be simulated for.
-pub fn code_of(e: &DynError) -> Code {
+pub fn code_of(e: &Stopped) -> Code {
     match e {
-        DynError::DroppedViolated { .. } => Code::Conflicting,
-        DynError::NotFinite { .. } => Code::NonFiniteForce,
-        DynError::Model(MbdError::Expression(_, ExprError::NotFinite { .. })) => {
-            Code::NonFiniteForce
-        }
-        DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {
-            Code::Integration
-        }
-        DynError::Interrupted { .. } => Code::Interrupted,
-        DynError::Statics(f) => match f.as_ref() {
+        Stopped::Run(RunError::Dynamics(e)) => match e {
+            DynError::DroppedViolated { .. } => Code::Conflicting,
+            DynError::NotFinite { .. } => Code::NonFiniteForce,
+            DynError::Model(MbdError::Expression(_, ExprError::NotFinite { .. })) => {
+                Code::NonFiniteForce
+            }
+            DynError::Newton { .. } | DynError::StepTooSmall { .. } | DynError::Singular { .. } => {
+                Code::Integration
+            }
+            DynError::Interrupted { .. } => Code::Interrupted,
+            DynError::Model(_)
+            | DynError::Massless { .. }
+            | DynError::Structure
+            | DynError::Output(_) => Code::CannotSimulate,
+        },
+        Stopped::Run(RunError::Statics(f)) => match f.as_ref() {
             StaticFailure::NoEquilibrium { .. } => Code::NoEquilibrium,
             StaticFailure::Unstable { .. } => Code::Unstable,
             StaticFailure::Limited { .. } => Code::StepLimit,
         },
-        DynError::FreeDegrees { .. } => Code::FreeDegrees,
-        DynError::Model(_)
-        | DynError::Massless { .. }
-        | DynError::Structure
-        | DynError::Change { .. }
-        | DynError::Output(_) => Code::CannotSimulate,
+        Stopped::Run(RunError::FreeDegrees { .. }) => Code::FreeDegrees,
+        Stopped::Change { .. } => Code::CannotSimulate,
     }
 }
 
 /// The statement span of the element or part a dynamics failure names (0..0 when it
 /// names none, or one `model` does not have).
-pub fn culprit_span(e: &DynError, model: &Model) -> Span {
+pub fn culprit_span(e: &Stopped, model: &Model) -> Span {
     match e.culprit() {
         Some(Culprit::Element(el)) => element_span(model, &el),
         Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
@@ -278,6 +282,6 @@ pub fn culprit_span(e: &DynError, model: &Model) -> Span {
 
 /// A dynamics failure as an error at the statement of the element (or part) it names,
 /// its message the failure's own wording (with the time, when it has one).
-pub fn failure_diagnostic(e: &DynError, model: &Model) -> Diagnostic {
+pub fn failure_diagnostic(e: &Stopped, model: &Model) -> Diagnostic {
     Diagnostic::error(code_of(e), culprit_span(e, model), e.to_string())
 }

@@ -40,6 +40,7 @@ use super::files::read_dataset;
 use super::prepared;
 use super::report;
 use super::run::{Engine, Method, RunFailure, RunSpec, Segment, Simulation, Summary, TableRow};
+use super::stopped::Stopped;
 use super::DimRequest;
 use crate::diag::{render, Code, Diagnostic, Severity, SourceFile};
 use crate::mbd::dynamics::integrator::Interrupt;
@@ -403,8 +404,9 @@ pub struct RunFailed {
     pub probe: Option<String>,
     /// The failure in words (its first error's message).
     pub cause: String,
-    /// The dynamics failure itself, when it is one (match [`DynError::Interrupted`]).
-    pub error: Option<DynError>,
+    /// The run's failure itself, when it is one (match [`DynError::Interrupted`] in
+    /// [`Stopped::dynamics`]).
+    pub error: Option<Stopped>,
 }
 
 impl RunFailed {
@@ -434,7 +436,7 @@ impl RunFailed {
     }
 
     /// A dynamics failure, at the element it names in `model` (read from `source`).
-    fn dynamics(e: DynError, source: SourceFile, model: &crate::model::Model) -> Box<RunFailed> {
+    fn dynamics(e: Stopped, source: SourceFile, model: &crate::model::Model) -> Box<RunFailed> {
         let mut f = RunFailed::new(source, vec![report::failure_diagnostic(&e, model)]);
         f.time = e.time();
         f.element = e.culprit().map(|c| c.to_string());
@@ -444,7 +446,7 @@ impl RunFailed {
 
     /// An observer's error: the run stopped because its output could not be written.
     fn output(e: io::Error) -> Box<RunFailed> {
-        let e = DynError::Output(e.to_string());
+        let e = Stopped::from(DynError::Output(e.to_string()));
         let d = Diagnostic::error(report::code_of(&e), 0..0, e.to_string());
         let mut f = RunFailed::new(SourceFile::textless(COMMAND_LINE), vec![d]);
         f.error = Some(e);
@@ -718,7 +720,7 @@ pub fn run(
         Some(e) => {
             let mut f = match (&e, &commands) {
                 // A change to the model that could not be made: at its commands.
-                (DynError::Change { at, .. }, Some(c)) => {
+                (Stopped::Change { at, .. }, Some(c)) => {
                     let d = Diagnostic::error(report::code_of(&e), at.clone(), e.to_string());
                     let mut f = RunFailed::new(copy(&c.source), vec![d]);
                     (f.time, f.error) = (e.time(), Some(e));
@@ -830,7 +832,7 @@ fn build(
         Err(RunFailure::Dynamics(e)) => {
             // Simulation::new kept its model to itself: read it again for the span.
             let model = crate::model::read_model(text).model;
-            Err(RunFailed::dynamics(e, copy(source), &model))
+            Err(RunFailed::dynamics(e.into(), copy(source), &model))
         }
     }
 }
@@ -838,7 +840,8 @@ fn build(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mbd::dynamics::integrator::{simulate, Attempt, Integrator, OutputTimes, Settings};
+    use crate::mbd::dynamics::integrator::{Attempt, Integrator, OutputTimes, Settings};
+    use crate::mbd::dynamics::simulate;
     use crate::mbd::dynamics::Dynamics;
     use crate::session::plan::Plan;
     use std::sync::atomic::{AtomicBool, Ordering};
@@ -1239,7 +1242,8 @@ mod tests {
             "stopped {took:?} after the flag"
         );
         assert_eq!(f.code, Code::Interrupted);
-        assert!(matches!(f.error, Some(DynError::Interrupted { .. })));
+        let stopped = f.error.as_ref().and_then(Stopped::dynamics);
+        assert!(matches!(stopped, Some(DynError::Interrupted { .. })));
         let t = f.time.expect("a time");
         assert!(t > 0.0 && t < 100.0, "stopped at {t}");
         // The row at t = 0 was delivered, the summary counts the steps taken.

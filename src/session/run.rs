@@ -8,12 +8,13 @@
 use super::lifted::Lifted;
 use super::plan::Plan;
 use super::plant::Plant;
+use super::stopped::Stopped;
 use super::{analyze_model_with, DimRequest, Failure};
 use crate::check::{Expect, Variables};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::Function;
-use crate::mbd::dynamics::integrator::{simulate, Interrupt, OutputTimes, RowState};
-use crate::mbd::dynamics::{DynError, Dynamics, Stats};
+use crate::mbd::dynamics::integrator::{Interrupt, OutputTimes, RowState};
+use crate::mbd::dynamics::{simulate, DynError, Dynamics, Stats};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprCompiler as _;
 use crate::mbd::expr::FusedFn;
@@ -819,7 +820,7 @@ impl Simulation {
     pub fn run(
         &mut self,
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
-    ) -> (Summary, Option<DynError>) {
+    ) -> (Summary, Option<Stopped>) {
         let segment = Segment::dynamic(
             self.spec.end,
             self.spec.output_step,
@@ -838,7 +839,7 @@ impl Simulation {
         segments: &[Segment],
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
         table: Option<&mut dyn FnMut(&TableRow)>,
-    ) -> (Summary, Option<DynError>) {
+    ) -> (Summary, Option<Stopped>) {
         self.run_interruptible(segments, out, table, None)
     }
 
@@ -852,7 +853,7 @@ impl Simulation {
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
         table: Option<&mut dyn FnMut(&TableRow)>,
         interrupt: Option<Interrupt<'_>>,
-    ) -> (Summary, Option<DynError>) {
+    ) -> (Summary, Option<Stopped>) {
         let error = self.start_trace(segments);
         let (mut summary, failed) = self.run_once(segments, out, table, interrupt);
         match (error, &failed) {
@@ -869,7 +870,7 @@ impl Simulation {
         out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
         mut table: Option<&mut dyn FnMut(&TableRow)>,
         interrupt: Option<Interrupt<'_>>,
-    ) -> (Summary, Option<DynError>) {
+    ) -> (Summary, Option<Stopped>) {
         let clock = Instant::now();
         // Energy is watched over runs of dynamics alone (an equilibrium changes it).
         // (A command file that changes the model changes its energy too.)
@@ -924,19 +925,22 @@ impl Simulation {
         // state, or the first equilibrium or kinematic solution. The command file's
         // changes before its first SIMULATE come before it.
         let mut first_row = true;
-        let mut result = match segments.first() {
+        let mut result: Result<(), Stopped> = match segments.first() {
             Some(s) => self.change_model(&s.changes),
             None => Ok(()),
         };
         if result.is_ok() && segments.first().is_none_or(|s| s.kind == Analysis::Dynamic) {
             let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
-            result = dynamics.solve_accelerations().and_then(|()| {
-                emit(
-                    outputs,
-                    dynamics,
-                    Some((segments.is_empty(), RowState::Stepped)),
-                )
-            });
+            result = dynamics
+                .solve_accelerations()
+                .and_then(|()| {
+                    emit(
+                        outputs,
+                        dynamics,
+                        Some((segments.is_empty(), RowState::Stepped)),
+                    )
+                })
+                .map_err(Stopped::from);
             first_row = false;
         }
         let mut after_solved = false;
@@ -965,14 +969,15 @@ impl Simulation {
                     &mut solved_emit,
                     (&mut equilibria, &mut linear),
                     interrupt,
-                );
+                )
+                .map_err(Stopped::from);
                 (first_row, after_solved) = (false, true);
                 continue;
             }
             // From an equilibrium (velocities zero), a kinematic state or a changed
             // model: velocities consistent with the constraints, then the accelerations.
             if after_solved {
-                result = dynamics.reconcile();
+                result = dynamics.reconcile().map_err(Stopped::from);
                 if result.is_err() {
                     break;
                 }
@@ -997,7 +1002,8 @@ impl Simulation {
                 &times,
                 &mut segment_emit,
                 interrupt,
-            );
+            )
+            .map_err(Stopped::from);
             if let Some(n) = integrator.formulation().filter(|n| !notes.contains(n)) {
                 notes.push(n);
             }
@@ -1051,11 +1057,11 @@ impl Simulation {
     /// a configuration where the kept constraints are nearly dependent becomes a
     /// lock-up naming the element whose equation depends on the others; any other
     /// failure is returned as it is.
-    fn diagnose_lock_up(&self, e: DynError) -> DynError {
+    fn diagnose_lock_up(&self, e: Stopped) -> Stopped {
         use crate::mbd::redundancy::{analyze, Options, Problem};
         use crate::vocab::elements::ElementKind;
-        let time = match e {
-            DynError::Newton { time, .. } | DynError::StepTooSmall { time, .. } => time,
+        let time = match e.dynamics() {
+            Some(DynError::Newton { time, .. } | DynError::StepTooSmall { time, .. }) => *time,
             _ => return e,
         };
         let sys = &self.dynamics.sys;
@@ -1102,13 +1108,13 @@ impl Simulation {
             .into_iter()
             .find(|&el| dependent(&|r| labels[r].element == el).is_none())
             .unwrap_or(labels[row].element);
-        DynError::Singular {
+        Stopped::from(DynError::Singular {
             time,
             why: crate::mbd::dynamics::Singularity::LockUp,
             culprit: Some(crate::mbd::dynamics::Culprit::Element(
                 elements[culprit].clone(),
             )),
-        }
+        })
     }
 }
 

@@ -38,15 +38,16 @@
 
 mod history;
 
-use super::dense::lagrange_weights;
-use super::dopri853::rotation_vector_rate;
+use super::blocks::Weights;
+use super::chart::rotation_vector_rate;
+use super::failure::DynError;
 use super::integrator::{Attempt, Integrator, Settings};
-use super::newmark::largest_magnitude;
 use super::reuse::{self, Reuse};
-use super::{copy_into, DynError, Dynamics, Snapshot, Weights};
+use super::setup::Dynamics;
+use super::state::{copy_into, largest_magnitude, Snapshot};
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
-use history::{lagrange, History};
+use history::{lagrange, lagrange_weights, History};
 
 /// How the formula's coefficients follow the steps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

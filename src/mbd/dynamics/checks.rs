@@ -1,32 +1,11 @@
-//! What the dynamics checks and what a failure points at ([`Culprit`]): a part free and
-//! massless at setup, a kept row whose Jacobian vanished, generalized forces that are
-//! not finite, dropped rows that drift; the row with the largest residual or the part
-//! of a column, to name in the error.
+//! What the dynamics checks: a part free and massless at setup, a kept row whose
+//! Jacobian vanished, generalized forces that are not finite, dropped rows that drift;
+//! and what a failure points at ([`Culprit`]): the row with the largest residual or the
+//! part of a column, to name in the error.
 
-use super::error::{DynError, NonFinite, Singularity};
-use super::mass::Mat3Block;
+use super::blocks::Mat3Block;
+use super::failure::{Culprit, DynError, NonFinite, Singularity};
 use super::setup::Dynamics;
-use crate::mbd::error::element_name;
-use crate::vocab::elements::ElementRef;
-use std::fmt;
-
-/// What a failure points at: an element, or a part (by Adams id).
-#[derive(Clone, Debug, PartialEq)]
-pub enum Culprit {
-    /// A constraint or force element.
-    Element(ElementRef),
-    /// A part, by Adams id.
-    Part(u32),
-}
-
-impl fmt::Display for Culprit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Culprit::Element(e) => write!(f, "{}", element_name(e)),
-            Culprit::Part(id) => write!(f, "PART/{id}"),
-        }
-    }
-}
 
 impl Dynamics {
     /// A part must not have a direction of motion that is massless and free: one along

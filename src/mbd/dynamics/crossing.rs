@@ -3,7 +3,7 @@
 //! last accepted state and a candidate that crossed a switch. [`super::events`] aims its
 //! next trial step there, so that a real step lands just short of the switch and the next
 //! one crosses it within the location tolerance, instead of narrowing a bracket with
-//! trial steps of the integrator.
+//! trial steps of the integrator. What counts as crossing a switch is [`switched`].
 //!
 //! Only switching functions are evaluated here, at interpolated states: a few dozen
 //! evaluations of a small program, against a dozen force and saddle-point solves for one
@@ -11,7 +11,11 @@
 //! fits two laws with one polynomial): the step control still checks every step it
 //! accepts, so a wrong guess costs trial steps, never accuracy.
 
-use super::events::switched;
+/// Whether a switching function went from `s0` to `s1` across a switch (both defined,
+/// on different branches).
+pub(super) fn switched(s0: f64, s1: f64) -> bool {
+    !(s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0))
+}
 
 /// Evenly spaced samples of the extension searched for the first sign change: a switch
 /// crossed and crossed back between two of them is not seen, as between two steps.

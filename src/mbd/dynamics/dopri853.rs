@@ -32,22 +32,30 @@
 //! tight ERROR, where it takes long steps at a dozen solves each; stiff springs, contact
 //! or high damping limit its step by stability instead, where the implicit methods are
 //! the choice.
+//!
+//! One job a file: this one the integrator and its Cartesian form; `tableau` (the
+//! coefficients), `estimate` (the combined error estimate), `extension` (the order-7
+//! continuous extension), `tree` (a planar tree's joint coordinates) and `joints` (the
+//! integrator on them, its joint-coordinate mode).
 
-mod dense;
+mod estimate;
+mod extension;
+mod joints;
 mod tableau;
+pub mod tree;
 
+use super::chart::rotation_vector_rate;
+use super::failure::DynError;
 use super::integrator::{Attempt, Integrator, Settings};
-use super::tree::JointTree;
-use super::{DynError, Dynamics, Snapshot};
+use super::setup::Dynamics;
+use super::state::Snapshot;
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
-use dense::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
-use tableau::{A, B, BHH, C, ER, STAGES};
-
-/// The weight of the third-order estimate in the combined one (the published value):
-/// small enough that e₅ decides once it is resolved, large enough to damp it when e₅ is
-/// accidentally small.
-const E3_WEIGHT: f64 = 0.01;
+use estimate::estimate;
+use extension::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
+use joints::Joints;
+use tableau::{A, B, C, STAGES};
+use tree::JointTree;
 
 /// The projection's target on the largest scaled position residual, in units of the
 /// coordinates' rounding (ε times their size over the model length): a few tens of
@@ -58,11 +66,6 @@ const PROJECTION_ULPS: f64 = 64.0;
 /// chart's inverse Jacobian is singular at 2π, and a step turning a part by half a turn is
 /// far too long for the error estimate to trust anyway.
 const LARGEST_TURN: f64 = std::f64::consts::PI;
-
-/// |θ|² below which the inverse Jacobian's coefficient is the series: the closed form
-/// loses digits to cancellation there (two and a half at the bound), and the series'
-/// first omitted term is below rounding.
-const SERIES_BELOW: f64 = 0.04;
 
 /// The explicit DOP853 integrator.
 pub struct Dopri853 {
@@ -87,32 +90,11 @@ pub struct Dopri853 {
     start_v: DVec,
     h: f64,
     /// The continuous extension of the last accepted step with an output inside it
-    /// ([`dense`]): of the chart increment, and of the velocities.
+    /// ([`extension`]): of the chart increment, and of the velocities.
     dense_x: Extension,
     dense_v: Extension,
     /// The joint-coordinate form, when the model is a planar tree ([`JointTree`]).
     joint: Option<Joints>,
-}
-
-/// DOP853 on the joint coordinates of a planar tree: the ODE y = (θ, θ̇), ẏ = (θ̇, θ̈).
-struct Joints {
-    tree: JointTree,
-    /// The accepted y and θ̈ there; the candidate's. (The Cartesian accelerations and
-    /// multipliers of `Dynamics` are solved before outputs only.)
-    y0: Vec<f64>,
-    a0: Vec<f64>,
-    y1: Vec<f64>,
-    a1: Vec<f64>,
-    /// The stages' slopes, a stage's y, and per-coordinate error scales.
-    k: Vec<Vec<f64>>,
-    y: Vec<f64>,
-    /// Per-coordinate error scales and the ERROR they are for.
-    tol: Vec<f64>,
-    tol_error: f64,
-    /// The continuous extension of the last step with an output inside it (or of the
-    /// last candidate across a switch), and the y it starts from.
-    dense: Extension,
-    dense_from: Vec<f64>,
 }
 
 impl Default for Dopri853 {
@@ -197,29 +179,6 @@ impl Dopri853 {
         );
         (err, worst % n)
     }
-}
-
-/// The coefficient c(φ) = (1 − (φ/2)·cot(φ/2))/φ² of \[θ\]×² in SO(3)'s inverse left
-/// Jacobian J_l(θ)⁻¹ = I − ½\[θ\]× + c(φ)·\[θ\]×², φ = |θ|, from `phi2` = φ². From the
-/// Bernoulli series of x·cot x, c = Σ |B₂ₖ|·φ²ᵏ⁻²/(2k)! = 1/12 + φ²/720 + φ⁴/30240 + …
-fn inverse_jacobian_coefficient(phi2: f64) -> f64 {
-    if phi2 < SERIES_BELOW {
-        // Through φ⁸; the next term, 691·φ¹⁰/(2730·12!), is below 6e-17 here.
-        1.0 / 12.0
-            + phi2
-                * (1.0 / 720.0
-                    + phi2 * (1.0 / 30240.0 + phi2 * (1.0 / 1209600.0 + phi2 / 47900160.0)))
-    } else {
-        let half = 0.5 * phi2.sqrt();
-        (1.0 - half / half.tan()) / phi2
-    }
-}
-
-/// θ̇ = J_l(θ)⁻¹·ω: the rate of the rotation vector θ of R = exp(\[θ\]×)·R₀ that turns with
-/// the global angular velocity ω (Ṙ·Rᵀ = \[ω\]×).
-pub(super) fn rotation_vector_rate(theta: Vec3, w: Vec3) -> Vec3 {
-    let tw = theta.cross(&w);
-    w - 0.5 * tw + inverse_jacobian_coefficient(theta.norm_squared()) * theta.cross(&tw)
 }
 
 impl Integrator for Dopri853 {
@@ -348,184 +307,6 @@ impl Integrator for Dopri853 {
         d.restore(base);
         d.a.clone_from(&self.a0);
         d.lambda.clone_from(&self.lambda0);
-    }
-}
-
-impl Joints {
-    /// The joint form of `tree` from `d`'s consistent state (at the tree's origin).
-    fn start(mut tree: JointTree, d: &mut Dynamics) -> Result<Joints, DynError> {
-        let f = tree.coordinates();
-        let mut y0 = vec![0.0; 2 * f];
-        let mut a0 = vec![0.0; f];
-        let (theta, rate) = y0.split_at_mut(f);
-        tree.rates_at_start(d, rate)?;
-        tree.accelerations(d, (theta, rate, d.sys.time), &mut a0, false)?;
-        // The Cartesian accelerations and multipliers at the start, for the outputs.
-        d.solve_accelerations()?;
-        Ok(Joints {
-            tree,
-            y1: y0.clone(),
-            a1: a0.clone(),
-            y0,
-            a0,
-            k: vec![vec![0.0; 2 * f]; EXTENDED],
-            y: vec![0.0; 2 * f],
-            tol: Vec::new(),
-            tol_error: f64::NAN,
-            dense: Extension::default(),
-            dense_from: Vec::new(),
-        })
-    }
-
-    /// The continuous extension of the step of `h` from `t0` just accepted (its start in
-    /// `y1` now, its end in `y0`): the end's slope, the three extra stages, the rows.
-    fn extend(&mut self, d: &mut Dynamics, h: f64, t0: f64) -> Result<(), DynError> {
-        let f = self.tree.coordinates();
-        let (dy, dv) = self.k[END].split_at_mut(f);
-        dy.copy_from_slice(&self.y0[f..]);
-        dv.copy_from_slice(&self.a0);
-        // The stages start from the step's start: y0 and y1 trade places meanwhile.
-        std::mem::swap(&mut self.y0, &mut self.y1);
-        let mut full = true;
-        let mut outcome = Ok(());
-        for (e, s) in (END + 1..EXTENDED).enumerate() {
-            if !self.combine(A_EXTRA[e], h) {
-                full = false;
-                break;
-            }
-            outcome = self.slope(d, s, t0 + C_EXTRA[e] * h);
-            if outcome.is_err() {
-                break;
-            }
-        }
-        std::mem::swap(&mut self.y0, &mut self.y1);
-        outcome?;
-        let (y0, y1, k) = (&self.y0, &self.y1, &self.k);
-        self.dense
-            .fill(2 * f, h, full, |i| y0[i] - y1[i], |j, i| k[j][i]);
-        self.dense_from.clone_from(&self.y1);
-        Ok(())
-    }
-
-    /// The continuous extension of the candidate just attempted, a step of `h` from `t0`
-    /// that error control accepted (its end in `y1`, θ̈ there in `a1`); false when a
-    /// stage could not be evaluated.
-    fn extend_candidate(&mut self, d: &mut Dynamics, h: f64, t0: f64) -> bool {
-        let f = self.tree.coordinates();
-        let (dy, dv) = self.k[END].split_at_mut(f);
-        dy.copy_from_slice(&self.y1[f..]);
-        dv.copy_from_slice(&self.a1);
-        for (e, s) in (END + 1..EXTENDED).enumerate() {
-            if !self.combine(A_EXTRA[e], h) || self.slope(d, s, t0 + C_EXTRA[e] * h).is_err() {
-                return false;
-            }
-        }
-        let (y0, y1, k) = (&self.y0, &self.y1, &self.k);
-        self.dense
-            .fill(2 * f, h, true, |i| y1[i] - y0[i], |j, i| k[j][i]);
-        self.dense_from.clone_from(&self.y0);
-        true
-    }
-
-    /// Places `d` at the continuous extension's state at `s` (of the step), time `t`.
-    fn dense_state(&mut self, d: &mut Dynamics, s: f64, t: f64) {
-        let f = self.tree.coordinates();
-        for i in 0..2 * f {
-            self.y[i] = self.dense_from[i] + self.dense.at(i, s);
-        }
-        let (theta, rate) = self.y.split_at(f);
-        self.tree.place(d, theta, rate, t);
-    }
-
-    /// Sets stage `s`'s slope from the state in `self.y` at time `t`.
-    fn slope(&mut self, d: &mut Dynamics, s: usize, t: f64) -> Result<(), DynError> {
-        let f = self.tree.coordinates();
-        let (theta, rate) = self.y.split_at(f);
-        let (dy, dv) = self.k[s].split_at_mut(f);
-        dy.copy_from_slice(rate);
-        self.tree.accelerations(d, (theta, rate, t), dv, true)
-    }
-
-    /// `self.y` = y₀ + h·Σⱼ wⱼ·kⱼ; false when it is not finite.
-    fn combine(&mut self, w: &[(usize, f64)], h: f64) -> bool {
-        for i in 0..self.y.len() {
-            let sum: f64 = w.iter().map(|&(j, a)| a * self.k[j][i]).sum();
-            self.y[i] = self.y0[i] + h * sum;
-        }
-        self.y.iter().all(|x| x.is_finite())
-    }
-
-    /// One step of `h` from the accepted state: the stages, the estimate, and θ̈ at a
-    /// candidate error control accepts (the next step's first stage). The Cartesian
-    /// accelerations and multipliers are not solved: an output row that reads them
-    /// reconciles, which solves them afresh (`session::run`'s `Outputs::row`).
-    fn attempt(&mut self, d: &mut Dynamics, h: f64, st: &Settings) -> Result<Attempt, DynError> {
-        let f = self.tree.coordinates();
-        if self.tol_error != st.error || self.tol.len() != 2 * f {
-            self.tol_error = st.error;
-            self.tol = (0..2 * f)
-                .map(|i| match self.tree.rotational(i % f) {
-                    true => st.error,
-                    false => st.error * d.sys.length,
-                })
-                .collect();
-        }
-        let t0 = d.sys.time;
-        let (dy, dv) = self.k[0].split_at_mut(f);
-        dy.copy_from_slice(&self.y0[f..]);
-        dv.copy_from_slice(&self.a0);
-        for s in 1..STAGES {
-            if !self.combine(A[s], h) {
-                return Ok(Attempt::Diverged);
-            }
-            self.slope(d, s, t0 + C[s] * h)?;
-        }
-        if !self.combine(&B, h) {
-            return Ok(Attempt::Diverged);
-        }
-        let (err, worst) = estimate(self.tol.len(), |i| self.tol[i], |j, i| self.k[j][i], h);
-        // The column of the part the worst coordinate moves, for a step-size failure.
-        let worst = 3 * self.tree.child(worst % f) + 2;
-        self.y1.copy_from_slice(&self.y);
-        let (theta, rate) = self.y1.split_at(f);
-        if err <= 1.0 || st.fixed_step.is_some() {
-            // θ̈ at the candidate: the next step's first stage.
-            self.tree
-                .accelerations(d, (theta, rate, t0 + h), &mut self.a1, false)?;
-        } else {
-            // The state alone, for the switches the driver reads.
-            self.tree.place(d, theta, rate, t0 + h);
-        }
-        Ok(Attempt::Converged { err, worst })
-    }
-}
-
-/// DOP853's combined error estimate of a step `h` over `components` components, from
-/// stage j's slope of component i, `slope(j, i)`, relative to the scales `scale(i)`;
-/// and the component where it is largest.
-fn estimate(
-    components: usize,
-    scale: impl Fn(usize) -> f64,
-    slope: impl Fn(usize, usize) -> f64,
-    h: f64,
-) -> (f64, usize) {
-    let (mut e5, mut e3, mut worst) = (0.0f64, 0.0f64, 0);
-    for i in 0..components {
-        let scale = scale(i);
-        let dot = |w: &[(usize, f64)]| w.iter().map(|&(j, x)| x * slope(j, i)).sum::<f64>();
-        let (s5, s3) = (
-            (dot(&ER) / scale).abs(),
-            ((dot(&B) - dot(&BHH)) / scale).abs(),
-        );
-        if s5 > e5 {
-            (e5, worst) = (s5, i);
-        }
-        e3 = e3.max(s3);
-    }
-    let denominator = (e5 * e5 + E3_WEIGHT * e3 * e3).sqrt();
-    match denominator > 0.0 {
-        true => (h.abs() * e5 * e5 / denominator, worst),
-        false => (0.0, worst),
     }
 }
 
@@ -671,57 +452,6 @@ impl Dopri853 {
             let theta = Vec3::new(x[3], x[4], x[5]);
             let w = Vec3::new(rate[3], rate[4], rate[5]);
             rate[3..6].copy_from_slice(rotation_vector_rate(theta, w).as_slice());
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::vocab::math::{Mat3, Quat};
-
-    #[test]
-    fn series_and_closed_form_of_the_coefficient_meet() {
-        let phi2 = SERIES_BELOW;
-        let half = 0.5 * phi2.sqrt();
-        let closed = (1.0 - half / half.tan()) / phi2;
-        let series = inverse_jacobian_coefficient(phi2 * (1.0 - 1e-15));
-        assert!((closed - series).abs() < 1e-14, "{closed} vs {series}");
-        assert_eq!(inverse_jacobian_coefficient(0.0), 1.0 / 12.0);
-    }
-
-    /// The global angular velocity of R(t) = exp([θ(t)]×)·R₀ by central differences.
-    fn omega_by_differences(theta: Vec3, rate: Vec3) -> Vec3 {
-        let r = |t: f64| -> Mat3 {
-            Quat::from_scaled_axis(theta + t * rate)
-                .to_rotation_matrix()
-                .into_inner()
-        };
-        let dt = 1e-5;
-        let dr = (r(dt) - r(-dt)) / (2.0 * dt);
-        let wx = dr * r(0.0).transpose();
-        Vec3::new(
-            wx[(2, 1)] - wx[(1, 2)],
-            wx[(0, 2)] - wx[(2, 0)],
-            wx[(1, 0)] - wx[(0, 1)],
-        ) / 2.0
-    }
-
-    #[test]
-    fn the_rate_turns_the_chart_with_the_angular_velocity() {
-        // θ̇ from the formula, fed back through R(t) = exp([θ(t)]×)·R₀, must give ω back:
-        // small angles (the series), large ones (the closed form), near half a turn.
-        let w = Vec3::new(0.3, -1.2, 0.7);
-        for theta in [
-            Vec3::new(1e-9, 0.0, 0.0),
-            Vec3::new(0.05, -0.02, 0.03),
-            Vec3::new(0.2, 0.3, -0.1),
-            Vec3::new(0.9, -0.4, 1.1),
-            Vec3::new(-2.0, 1.5, 1.2),
-        ] {
-            let rate = rotation_vector_rate(theta, w);
-            let back = omega_by_differences(theta, rate);
-            assert!((back - w).norm() < 1e-8, "θ = {theta:?}: ω back {back:?}");
         }
     }
 }

@@ -41,7 +41,8 @@
 //! within one step (two sign changes) is not seen; the contacts' own error control keeps
 //! steps in contact short enough for that.
 
-use super::{crossing, Dynamics};
+use super::crossing::{self, switched};
+use super::setup::Dynamics;
 
 /// A switch is located when it is bracketed within this fraction of the step that first
 /// found it: the step that crosses it is no longer than that.
@@ -115,12 +116,6 @@ impl Target {
         self.bisect = after > 0.5 * before;
         self.tries += 1;
     }
-}
-
-/// Whether a switching function went from `s0` to `s1` across a switch (both defined,
-/// on different branches).
-pub(super) fn switched(s0: f64, s1: f64) -> bool {
-    !(s0.is_nan() || s1.is_nan() || (s0 > 0.0) == (s1 > 0.0))
 }
 
 impl Events {

@@ -5,8 +5,9 @@
 //! directly. Searching the pattern for every entry at every factorization cost as much as
 //! factoring a pendulum's 5 × 5 matrix.
 
+use super::blocks::{Mat3Block, Weights};
 use super::jacobian::Jacobian;
-use super::{Factors, Mat3Block, Weights};
+use super::workspace::Factors;
 use crate::mbd::forces::Generalized;
 use crate::mbd::sparse::{FactorError, SparseLu};
 use crate::mbd::system::{Dimension, System};

@@ -17,7 +17,7 @@
 //! that is an error naming the element and the function, never a silently wrong γ. A VELOCITY
 //! or ACCELERATION MOTION's drive is the integral of its function, so its g̈ is ḟ or f.
 
-use super::Dynamics;
+use super::setup::Dynamics;
 use crate::mbd::constraints::Primitive;
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;

@@ -2,18 +2,10 @@
 //! or 2D (m, J about the normal), constant where it cannot change, and its products with
 //! vectors; with Φ_qᵀ·λ, the constraint forces.
 
+use super::blocks::Mat3Block;
 use super::setup::Dynamics;
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Mat3, Vec3};
-
-/// One part's mass block divided by UCF: 3D (m, R·J·Rᵀ) or 2D (m, J about the normal).
-#[derive(Clone, Copy, Debug)]
-pub enum Mat3Block {
-    /// 3D: mass and the inertia tensor in global axes.
-    Three(f64, Mat3),
-    /// 2D: mass and the inertia about the plane's normal.
-    Two(f64, f64),
-}
 
 impl Dynamics {
     /// R·J·Rᵀ of part `p` divided by UCF (1 in SI models: then not divided, nine

@@ -12,29 +12,48 @@
 //! drift), the Newton matrix on one sparse pattern with a sparse LU, and the state's
 //! accelerations and multipliers. Integrators ([`integrator`]) drive it.
 //!
-//! One job a file: `setup` (the struct and its construction), `eval` (Φ, Φ_q, Q and its
-//! Jacobians at a state), `mass` (the mass blocks), `newton` (the Newton matrix's factors
-//! and solves), `saddle` (consistent accelerations, reconciliation), `project` (positions
-//! back onto the constraints), `state` (snapshots and increments), `checks` (checks and
-//! failure culprits), `error` and `stats`; then the integrators and what they share.
+//! **Sublayers.** The files stand in sublayers, lowest first. A file refers only to
+//! files of its own sublayer and of lower ones: what [`Dynamics`] is built from sits
+//! below it and never names it, helpers several integrators share sit below the
+//! integrators, and nothing here names the analyses above (statics, kinematics, …).
+//!
+//! 1. kernel, the blocks the object is built from: `blocks` (mass blocks and Newton
+//!    weights), `jacobian`, `schur`, `workspace` (factors and scratch), `fill`,
+//!    `resolved` (the rows' primitives), `stats`, `failure` (the error and its culprit)
+//!    and `chart` (the rotation-vector chart's rates).
+//! 2. object, [`Dynamics`] and its `impl` blocks: `setup` (the struct and its
+//!    construction), `eval` (Φ, Φ_q, Q and its Jacobians), `mass`, `stiffness`, `gamma`,
+//!    `newton` (the Newton matrix's factors and solves), `saddle` (consistent
+//!    accelerations, reconciliation), `project`, `state` (snapshots, increments and the
+//!    vector helpers), `checks`, `outputs` and `interp` (continuous extensions inside a
+//!    step).
+//! 3. drive, what runs an integrator: `integrator` (the contract and its settings),
+//!    `reuse`, `crossing`, `events`, `inside_step` (output times inside a step) and
+//!    `driver` (the time loop, [`simulate`]).
+//! 4. methods, the integrators: `newmark`, `bdf` and `dopri853`.
 
 pub mod bdf;
+mod blocks;
+mod chart;
 mod checks;
 mod crossing;
-mod dense;
 pub mod dopri853;
-mod error;
+mod driver;
 mod eval;
 pub mod events;
+mod failure;
 mod fill;
 mod gamma;
+mod inside_step;
 pub mod integrator;
+mod interp;
 pub mod jacobian;
 mod mass;
 pub mod newmark;
 mod newton;
 pub mod outputs;
 mod project;
+mod resolved;
 mod reuse;
 mod saddle;
 pub mod schur;
@@ -42,14 +61,13 @@ mod setup;
 mod state;
 mod stats;
 mod stiffness;
-pub mod tree;
+mod workspace;
 
-pub use checks::Culprit;
-pub use error::{DynError, NonFinite, Singularity};
-pub use mass::Mat3Block;
-pub(crate) use newton::Factors;
-pub use newton::Weights;
+pub use blocks::{Mat3Block, Weights};
+pub use dopri853::tree;
+pub use driver::simulate;
+pub use failure::{Culprit, DynError, NonFinite, Singularity};
+pub use interp::{Hermite, Taylor};
 pub use setup::{row_parts, Dynamics};
-use state::copy_into;
 pub use state::Snapshot;
 pub use stats::Stats;

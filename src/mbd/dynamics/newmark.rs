@@ -29,10 +29,13 @@
 //! estimate is the Newmark position truncation error, (β − ⅙)·h²·(ã₁ − ã₀); while a
 //! contact is engaged the run's monitors also watch the velocity one, (γ − ½)·h·(ã₁ − ã₀).
 
-use super::dense::Hermite;
+use super::blocks::{Mat3Block, Weights};
+use super::failure::DynError;
 use super::integrator::{Attempt, Integrator, Settings};
+use super::interp::Hermite;
 use super::reuse::{self, Reuse};
-use super::{copy_into, DynError, Dynamics, Snapshot, Weights};
+use super::setup::Dynamics;
+use super::state::{copy_into, largest_magnitude, Snapshot};
 use crate::vocab::math::DVec;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
@@ -89,7 +92,7 @@ pub struct Newmark {
     /// The step of the current attempt.
     h1: f64,
     /// The mass blocks at the last accepted state.
-    m0: Vec<super::Mat3Block>,
+    m0: Vec<Mat3Block>,
     // The candidate.
     at1: DVec,
     /// Scratch of [`Newmark::place`]: the position increment and the velocities.
@@ -512,17 +515,4 @@ impl Integrator for Newmark {
         d.a = self.a0.clone();
         d.lambda = self.lambda0.clone();
     }
-}
-
-/// max |xₖ|, NaN entries skipped (a branch-free select; the corrections it measures are
-/// finite, as the solve rejects anything else).
-pub(super) fn largest_magnitude(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |m: f64, v| {
-        let a = v.abs();
-        if a > m {
-            a
-        } else {
-            m
-        }
-    })
 }

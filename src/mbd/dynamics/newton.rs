@@ -3,52 +3,17 @@
 //! when no force element couples two parts, else by the sparse LU, regularised near a
 //! dead centre ([`Factors`]); and its solves.
 
-use super::error::{DynError, NonFinite, Singularity};
-use super::mass::Mat3Block;
-use super::schur;
+use super::blocks::{Mat3Block, Weights};
+use super::failure::{DynError, NonFinite, Singularity};
 use super::setup::Dynamics;
-use crate::mbd::sparse::{FactorError, SparseLu};
+use super::workspace::Which;
+use crate::mbd::sparse::FactorError;
 use crate::vocab::math::DVec;
-
-/// Weights of the Newton matrix [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·Φ_qᵀ], [Φ_q, 0]].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Weights {
-    /// Weight of the mass matrix.
-    pub w_m: f64,
-    /// Weight of the stiffness ∂Q/∂q.
-    pub w_k: f64,
-    /// Weight of the damping ∂Q/∂v.
-    pub w_c: f64,
-    /// Weight of the constraint forces Φ_qᵀ.
-    pub w_l: f64,
-}
 
 /// The dense saddle-point matrix is factored without regularisation while its smallest
 /// pivot is at least this fraction of its largest; nearer singular (a dead centre), it
 /// is regularised and its solves refined ([`Dynamics::solve_saddle`]).
 pub(super) const EXACT_PIVOT_RATIO: f64 = 1e-8;
-
-/// Which factorization: the integrator's Newton matrix or the outputs' saddle point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Which {
-    Newton = 0,
-    Saddle = 1,
-}
-
-/// One factorization of the Newton matrix: the full LU on the pattern and, when no
-/// force element couples two parts, the Schur-complement solver; `via_schur` says which
-/// one holds the last factors.
-pub(crate) struct Factors {
-    pub(super) lu: SparseLu,
-    pub(super) values: Vec<f64>,
-    pub(super) schur: Option<schur::Schur>,
-    pub(super) via_schur: bool,
-    /// The factors are of the regularised matrix (a solve must refine).
-    pub(super) regularised: bool,
-    /// The Schur path declined a matrix that never changes (the saddle point's, with
-    /// constant mass blocks): it is not tried again.
-    pub(super) schur_declined: bool,
-}
 
 impl Dynamics {
     /// Fills and factors the Newton matrix with weights `w` from the last evaluations of

@@ -6,7 +6,7 @@
 //! resolves a model measure slot to either, and [`OutputSlot::value`] reads it from the
 //! state of a [`Dynamics`] at an output time (after [`Dynamics::refresh_outputs`]).
 
-use super::Dynamics;
+use super::setup::Dynamics;
 use crate::mbd::error::MbdError;
 use crate::mbd::measure_set::M;
 use crate::mbd::output_slot::OutputSlot;

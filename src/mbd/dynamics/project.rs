@@ -2,7 +2,7 @@
 //! ([`Dynamics::project_positions`]): the closest configuration in the mass metric, for
 //! output rows interpolated inside a step and for drift.
 
-use super::error::DynError;
+use super::failure::DynError;
 use super::setup::Dynamics;
 
 impl Dynamics {

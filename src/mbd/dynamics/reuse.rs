@@ -4,7 +4,10 @@
 //! made for (h for the Newmark family, g = h/Σ1/j for a BDF) and to the
 //! [`super::Dynamics::factor_generation`] it produced (someone else factoring replaces it).
 
-use super::{DynError, Dynamics, Weights};
+use super::blocks::Weights;
+use super::failure::DynError;
+use super::setup::Dynamics;
+use super::state::copy_into;
 use crate::vocab::math::DVec;
 
 /// The predicted size after two iterations (in tolerances) above which a step refactors
@@ -136,7 +139,7 @@ pub fn evaluate(
     d.eval_constraints(true)?;
     if d.forces.reads_solution() {
         accelerations(&mut d.a);
-        super::copy_into(&mut d.lambda, lambda.as_slice());
+        copy_into(&mut d.lambda, lambda.as_slice());
         d.store_accelerations();
     }
     d.eval_forces(refactor)?;

@@ -3,11 +3,12 @@
 //! regularised), swept until forces that read them settle; and the reconciliation of
 //! the velocities for output ([`Dynamics::reconcile`]).
 
-use super::error::DynError;
+use super::blocks::Weights;
+use super::failure::DynError;
 use super::gamma;
-use super::newton::{Weights, Which};
 use super::setup::Dynamics;
 use super::state::{copy_into, zero_into};
+use super::workspace::Which;
 use crate::mbd::error::MbdError;
 use crate::vocab::math::DVec;
 
@@ -16,19 +17,6 @@ use crate::vocab::math::DVec;
 pub(super) const SOLUTION_SWEEPS: usize = 200;
 
 pub(super) const SOLUTION_TOL: f64 = 1e-14;
-
-/// Reused buffers of the saddle-point solves.
-#[derive(Default)]
-pub(super) struct Scratch {
-    pub(super) rhs: Vec<f64>,
-    pub(super) residual: Vec<f64>,
-    /// M·a + Φ_qᵀ·λ, and Φ_q·a.
-    pub(super) product: DVec,
-    pub(super) row_product: Vec<f64>,
-    /// γ and the solution (a; λ) of [`Dynamics::accelerations_factored`].
-    pub(super) gamma: DVec,
-    pub(super) solution: Vec<f64>,
-}
 
 impl Dynamics {
     /// Consistent accelerations and multipliers at the current state (spec §6.1 phase

@@ -14,8 +14,8 @@
 //! is singular (a point mass has no rotational inertia) sends the factorization back
 //! to the full LU.
 
+use super::blocks::{Mat3Block, Weights};
 use super::jacobian::Jacobian;
-use super::Mat3Block;
 use crate::mbd::forces::Generalized;
 use crate::mbd::sparse::{FactorError, Pattern, SparseLlt, SparseLu};
 use nalgebra::Matrix6;
@@ -115,7 +115,7 @@ impl Schur {
         blocks: &[Mat3Block],
         gen: &Generalized,
         geo: &[(usize, usize, f64)],
-        w: super::Weights,
+        w: Weights,
         eps: f64,
     ) -> Result<bool, FactorError> {
         let bs = self.bs;

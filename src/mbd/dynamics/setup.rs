@@ -2,12 +2,12 @@
 //! constraint rows, the parts each row reads ([`row_parts`]), the Newton matrix's
 //! pattern and factors, the rows' resolved primitives, the constant mass blocks.
 
-use super::error::DynError;
-use super::mass::Mat3Block;
-use super::newton::Factors;
-use super::saddle::Scratch;
+use super::blocks::Mat3Block;
+use super::failure::DynError;
+use super::resolved::{self, ResolvedRow};
 use super::stats::Stats;
-use super::{fill, jacobian, schur, stiffness};
+use super::workspace::{Factors, Scratch};
+use super::{fill, jacobian, schur};
 use crate::mbd::constraints::Primitive;
 use crate::mbd::forces::{ForceSet, Generalized};
 use crate::mbd::rows::Row;
@@ -49,8 +49,8 @@ pub struct Dynamics {
     pub(crate) jac: jacobian::Jacobian,
     /// Per kept row, its primitive equation resolved, with the Jacobian slots of its I
     /// and J parts (None for ground): the rows evaluated without looking anything up.
-    pub(super) prims: Vec<stiffness::ResolvedRow>,
-    /// The geometric stiffness of the last Newton factorization ([`stiffness`]).
+    pub(super) prims: Vec<ResolvedRow>,
+    /// The geometric stiffness of the last Newton factorization ([`super::stiffness`]).
     pub(super) geo: Vec<(usize, usize, f64)>,
     /// Scratch of the geometric stiffness: one rotational block per moving part.
     pub(super) geo_blocks: Vec<Mat3>,
@@ -155,7 +155,7 @@ impl Dynamics {
             .collect();
         let pattern = Self::pattern(&sys, &forces, &row_parts);
         let jac = jacobian::Jacobian::new(sys.dim.cols(), &row_parts);
-        let mut prims: Vec<stiffness::ResolvedRow> = rows
+        let mut prims: Vec<ResolvedRow> = rows
             .iter()
             .enumerate()
             .map(|(r, &(e, q))| {
@@ -165,7 +165,7 @@ impl Dynamics {
                 Some((p, [slot(pi), slot(pj)]))
             })
             .collect();
-        stiffness::freeze_point_rows(&sys, &rows, &mut prims);
+        resolved::freeze_point_rows(&sys, &rows, &mut prims);
         let factors = |pattern: Pattern| -> Result<Factors, DynError> {
             Ok(Factors {
                 values: vec![0.0; pattern.nnz()],

@@ -1,9 +1,9 @@
 //! The state of the dynamics: saved and restored as a [`Snapshot`] (poses, velocities,
 //! time), moved by an increment in the velocity layout and measured back
 //! ([`Dynamics::increment`]), its scale for error control, and the accelerations stored
-//! into the parts.
+//! into the parts; with the vector helpers the integrators share ([`copy_into`],
+//! [`zero_into`], [`largest_magnitude`]).
 
-use super::newmark;
 use super::setup::Dynamics;
 use crate::mbd::system::{Dimension, PartHandle};
 use crate::vocab::math::{DVec, Quat, Vec3};
@@ -33,6 +33,19 @@ pub(super) fn zero_into(x: &mut DVec, n: usize) {
     } else {
         *x = DVec::zeros(n);
     }
+}
+
+/// max |xₖ|, NaN entries skipped (a branch-free select; the corrections it measures are
+/// finite, as the solve rejects anything else).
+pub(super) fn largest_magnitude(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |m: f64, v| {
+        let a = v.abs();
+        if a > m {
+            a
+        } else {
+            m
+        }
+    })
 }
 
 impl Dynamics {
@@ -86,7 +99,7 @@ impl Dynamics {
         self.sys
             .parts
             .iter()
-            .map(|p| newmark::largest_magnitude(p.r.as_slice()))
+            .map(|p| largest_magnitude(p.r.as_slice()))
             .fold(self.sys.length, f64::max)
     }
 

@@ -14,12 +14,13 @@
 
 use super::{reads_reconciled, shadow, Segment, Simulation};
 use crate::diag::Diagnostic;
-use crate::mbd::dynamics::{DynError, Dynamics};
+use crate::mbd::dynamics::Dynamics;
 use crate::mbd::output_slot::OutputSlot;
 use crate::mbd::{planar, AssemblyOptions, Dim, Dimension, PartHandle, System};
 use crate::model::command_changes::ModelChange;
 use crate::session::changes::{self, Applied};
 use crate::session::plant::Plant;
+use crate::session::stopped::Stopped;
 
 impl Simulation {
     /// Checks every segment's changes against the dataset, in order: the diagnostics
@@ -38,13 +39,13 @@ impl Simulation {
     /// Makes `changes` to the model and rebuilds the dynamics around the current state
     /// when any changed something. The state is assembled but its accelerations are not
     /// solved: the caller reconciles before the next stretch.
-    pub(super) fn change_model(&mut self, changes: &[ModelChange]) -> Result<(), DynError> {
+    pub(super) fn change_model(&mut self, changes: &[ModelChange]) -> Result<(), Stopped> {
         let time = self.dynamics.sys.time;
         let at = match (changes.first(), changes.last()) {
             (Some(a), Some(b)) => a.span.start..b.span.end,
             _ => 0..0,
         };
-        let fail = |why: String| DynError::Change {
+        let fail = |why: String| Stopped::Change {
             time,
             why,
             at: at.clone(),

@@ -8,8 +8,11 @@
 //! Right after a start or a restart there is one real point; the order-1 predictor then
 //! uses a seed point one step back, from the newest state's Taylor expansion
 //! (second order in the positions, first in the velocities, all that order 1 needs).
+//! The Lagrange weights of the interpolants through them ([`lagrange`],
+//! [`lagrange_weights`]).
 
-use super::super::{Dynamics, Snapshot};
+use crate::mbd::dynamics::setup::Dynamics;
+use crate::mbd::dynamics::state::{copy_into, Snapshot};
 use crate::vocab::math::DVec;
 use std::collections::VecDeque;
 
@@ -84,10 +87,10 @@ impl History {
             },
         };
         p.t = d.sys.time;
-        super::super::copy_into(&mut p.v, d.sys.v().as_slice());
-        super::super::copy_into(&mut p.lambda, d.lambda.as_slice());
+        copy_into(&mut p.v, d.sys.v().as_slice());
+        copy_into(&mut p.lambda, d.lambda.as_slice());
         self.points.push_front(p);
-        super::super::copy_into(&mut self.a, d.a.as_slice());
+        copy_into(&mut self.a, d.a.as_slice());
         self.seed = None;
         let (newest, rest) = self
             .points
@@ -158,5 +161,35 @@ pub fn lagrange(ts: &[f64], tau: f64, l: &mut [f64], dl: &mut [f64]) {
         }
         l[j] = w;
         dl[j] = w * s;
+    }
+}
+
+/// Lagrange weights at `tau` of the interpolant through the nodes `ts` (value only; `tau`
+/// may be a node).
+pub fn lagrange_weights(ts: &[f64], tau: f64, l: &mut [f64]) {
+    for j in 0..ts.len() {
+        l[j] = ts
+            .iter()
+            .enumerate()
+            .filter(|&(m, _)| m != j)
+            .map(|(_, &tm)| (tau - tm) / (ts[j] - tm))
+            .product();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lagrange_weights_reproduce_a_cubic_through_four_nodes() {
+        let p = |t: f64| 2.0 - t + 0.5 * t * t - 0.25 * t * t * t;
+        let ts = [0.0, -0.1, -0.25, -0.3];
+        let mut l = [0.0; 4];
+        for tau in [-0.05, -0.2, 0.0, -0.3] {
+            lagrange_weights(&ts, tau, &mut l);
+            let value: f64 = ts.iter().zip(&l).map(|(&t, w)| w * p(t)).sum();
+            assert!((value - p(tau)).abs() < 1e-14, "{tau}: {value}");
+        }
     }
 }

@@ -23,8 +23,11 @@
 //! joint coordinates give ([`Dynamics::set_state`]), so everything that reads the state
 //! (measures, contact switches, outputs, reactions) sees the same model.
 
-use super::{DynError, Dynamics, Mat3Block, Snapshot};
 use crate::mbd::dense::DenseLlt;
+use crate::mbd::dynamics::blocks::Mat3Block;
+use crate::mbd::dynamics::failure::{DynError, Singularity};
+use crate::mbd::dynamics::setup::Dynamics;
+use crate::mbd::dynamics::state::Snapshot;
 use crate::mbd::rows::Row;
 use crate::mbd::sparse::DENSE_MAX;
 use crate::mbd::system::Dimension;
@@ -383,7 +386,7 @@ impl JointTree {
         if self.llt.factor().is_err() {
             return Err(DynError::Singular {
                 time: t,
-                why: super::Singularity::Numerical,
+                why: Singularity::Numerical,
                 culprit: None,
             });
         }

@@ -15,10 +15,13 @@
 //! Convergence needs the force imbalance below IMBALANCE, and the correction and the
 //! constraint residual below ERROR; the last correction is applied.
 
-use super::{stability, tangent, Failure, Reaction, Report, Settings};
-use crate::mbd::dynamics::{DynError, Dynamics};
+use super::outcome::{Failure, Reaction, Report};
+use super::{stability, tangent};
+use crate::mbd::dynamics::{DynError, Dynamics, Singularity};
 use crate::mbd::error::element_name;
 use crate::mbd::freedom::{column_part, column_scale, coordinate_name};
+use crate::mbd::run_error::RunError;
+use crate::model::equilibrium_settings::EquilibriumSettings;
 use crate::vocab::math::{DMat, DVec};
 
 /// Halvings of the damping factor before a step is taken anyway.
@@ -36,10 +39,10 @@ struct Residual {
 
 /// Finds the static equilibrium of `d` at its current time from its current
 /// configuration, velocities set to zero; `d.lambda` starts the multipliers and holds
-/// the equilibrium's on return, `d.a` is zero. Fails with [`DynError::Statics`] naming
+/// the equilibrium's on return, `d.a` is zero. Fails with [`RunError::Statics`] naming
 /// what kept it from an equilibrium, or the direction along which the equilibrium found
 /// is not stable.
-pub fn equilibrium(d: &mut Dynamics, s: &Settings) -> Result<Report, DynError> {
+pub fn equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, RunError> {
     let (n, m) = (d.n, d.m);
     let zero = DVec::zeros(n);
     d.sys.set_v(&zero);
@@ -77,11 +80,11 @@ pub fn equilibrium(d: &mut Dynamics, s: &Settings) -> Result<Report, DynError> {
         if !lu.solve_mut(&mut delta) || delta.iter().any(|x| !x.is_finite()) {
             return Err(match stability::softest(d)? {
                 Some(mode) => unstable(d, mode, false),
-                None => DynError::Singular {
+                None => RunError::Dynamics(DynError::Singular {
                     time: d.sys.time,
-                    why: crate::mbd::dynamics::Singularity::Dependent,
+                    why: Singularity::Dependent,
                     culprit: d.singular_culprit(),
-                },
+                }),
             });
         }
         let correction = (0..n)
@@ -230,7 +233,7 @@ fn damped_step(
 
 /// The report of a converged iteration after `k` iterations: the state re-evaluated,
 /// its imbalance, the stability check, the reactions.
-fn finish(d: &mut Dynamics, k: usize, limited: usize) -> Result<Report, DynError> {
+fn finish(d: &mut Dynamics, k: usize, limited: usize) -> Result<Report, RunError> {
     d.eval_constraints(true)?;
     d.eval_forces(true)?;
     let holonomic: Vec<bool> = d
@@ -276,7 +279,7 @@ fn give_up(
     res: &Residual,
     limited_run: usize,
     (limit, value, col): (&'static str, f64, usize),
-) -> Result<DynError, DynError> {
+) -> Result<RunError, DynError> {
     if let Some(mode) = stability::softest(d)? {
         return Ok(unstable(d, mode, false));
     }
@@ -298,11 +301,11 @@ fn give_up(
             part: part_id(d, res.imbalance.1),
         },
     };
-    Ok(DynError::Statics(Box::new(failure)))
+    Ok(RunError::Statics(Box::new(failure)))
 }
 
-fn unstable(d: &Dynamics, mode: stability::Mode, converged: bool) -> DynError {
-    DynError::Statics(Box::new(Failure::Unstable {
+fn unstable(d: &Dynamics, mode: stability::Mode, converged: bool) -> RunError {
+    RunError::Statics(Box::new(Failure::Unstable {
         time: d.sys.time,
         neutral: mode.neutral,
         converged,

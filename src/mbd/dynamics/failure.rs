@@ -1,12 +1,30 @@
 //! Why the dynamics stops ([`DynError`]): a singular Newton matrix ([`Singularity`]),
 //! a value that is not finite ([`NonFinite`]), a dropped row violated, a part free and
-//! massless, a model error, a failed static or kinematic analysis; each with its time
-//! and what it points at, and its message.
+//! massless, a model error; each with its time and what it points at ([`Culprit`]), and
+//! its message. The analyses above wrap it with their own failures
+//! ([`crate::mbd::run_error::RunError`]).
 
-use super::checks::Culprit;
 use crate::mbd::error::{element_name, MbdError};
 use crate::vocab::elements::ElementRef;
 use std::fmt;
+
+/// What a failure points at: an element, or a part (by Adams id).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Culprit {
+    /// A constraint or force element.
+    Element(ElementRef),
+    /// A part, by Adams id.
+    Part(u32),
+}
+
+impl fmt::Display for Culprit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Culprit::Element(e) => write!(f, "{}", element_name(e)),
+            Culprit::Part(id) => write!(f, "PART/{id}"),
+        }
+    }
+}
 
 /// ", at X" when there is a culprit.
 fn at(c: &Option<Culprit>) -> String {
@@ -81,30 +99,10 @@ pub enum DynError {
     /// An output row could not be written (the I/O error, worded).
     Output(String),
     /// The caller's interrupt flag was set: the run stopped before its next step
-    /// ([`super::integrator::simulate`] asks before every step attempt).
+    /// ([`super::driver::simulate`] asks before every step attempt).
     Interrupted {
         /// Simulation time of the last accepted step.
         time: f64,
-    },
-    /// No static equilibrium came out ([`crate::mbd::statics`]).
-    Statics(Box<crate::mbd::statics::Failure>),
-    /// A command file's change to the model could not be made at `time` (the changed
-    /// model does not build or assemble), for the reason `why`.
-    Change {
-        /// Simulation time of the change.
-        time: f64,
-        /// What went wrong, in words.
-        why: String,
-        /// The changes' commands in the command file.
-        at: crate::diag::Span,
-    },
-    /// A kinematic analysis asked of a model with degrees of freedom left
-    /// ([`crate::mbd::kinematics`]): how many, and each named.
-    FreeDegrees {
-        /// The degrees of freedom.
-        count: usize,
-        /// Each one, named.
-        free: Vec<crate::mbd::freedom::Freedom>,
     },
 }
 
@@ -149,11 +147,8 @@ impl DynError {
             | DynError::Newton { time, .. }
             | DynError::StepTooSmall { time, .. }
             | DynError::DroppedViolated { time, .. }
-            | DynError::Interrupted { time }
-            | DynError::Change { time, .. } => Some(*time),
-            DynError::Statics(f) => Some(f.time()),
+            | DynError::Interrupted { time } => Some(*time),
             DynError::Model(_)
-            | DynError::FreeDegrees { .. }
             | DynError::Massless { .. }
             | DynError::Structure
             | DynError::Output(_) => None,
@@ -166,8 +161,6 @@ impl DynError {
             DynError::Singular { culprit, .. }
             | DynError::Newton { culprit, .. }
             | DynError::StepTooSmall { culprit, .. } => culprit.clone(),
-            DynError::Statics(f) => f.culprit(),
-            DynError::FreeDegrees { free, .. } => free.iter().find_map(|f| f.culprit.clone()),
             _ => self.element().cloned().map(Culprit::Element),
         }
     }
@@ -190,17 +183,6 @@ impl DynError {
                 ..
             } => Some(e),
             DynError::Model(m) => m.element(),
-            DynError::Statics(f) => match f.as_ref() {
-                crate::mbd::statics::Failure::Unstable { freedom, .. } => match &freedom.culprit {
-                    Some(Culprit::Element(e)) => Some(e),
-                    _ => None,
-                },
-                _ => None,
-            },
-            DynError::FreeDegrees { free, .. } => free.iter().find_map(|f| match &f.culprit {
-                Some(Culprit::Element(e)) => Some(e),
-                _ => None,
-            }),
             _ => None,
         }
     }
@@ -274,20 +256,8 @@ impl fmt::Display for DynError {
                 "{part} can move in {directions} direction(s) that have no mass or inertia and that no constraint holds: give it MASS and IP, or constrain it"
             ),
             DynError::Structure => f.write_str("the Newton matrix has no valid structure"),
-            DynError::Change { time, why, .. } => {
-                write!(f, "the command file's change to the model at t = {time}: {why}")
-            }
             DynError::Output(why) => write!(f, "the output could not be written: {why}"),
             DynError::Interrupted { time } => write!(f, "at time {time}: the run was interrupted"),
-            DynError::Statics(failure) => write!(f, "{failure}"),
-            DynError::FreeDegrees { count, free } => {
-                write!(
-                    f,
-                    "a kinematic analysis needs a model without degrees of freedom, and this one has {count}: "
-                )?;
-                let named: Vec<String> = free.iter().map(|x| x.to_string()).collect();
-                write!(f, "{} (drive each with a MOTION, or run SIMULATE/DYNAMIC)", named.join("; "))
-            }
         }
     }
 }

@@ -1,0 +1,260 @@
+//! The driver that runs an [`Integrator`] over a time span ([`simulate`]): step-size
+//! selection from the local error estimate (ERROR, HMAX, HINIT, HMIN), rejection and
+//! retry, landing exactly on output times, locating the force laws' switches
+//! ([`super::events`]), the check that dropped redundant rows stay satisfied, and the
+//! output callback. Fixed-step runs divide each output interval into equal steps no
+//! longer than the step asked for (and do not locate switches). With
+//! [`Settings::interpolate`] (INTERPOLATE = ON) the steps land on the last output time
+//! only, and every other output time inside an accepted step takes the method's
+//! continuous extension ([`super::inside_step`]). A caller's interrupt flag is read
+//! before every step attempt, so a run stops within one step of it being set however far
+//! apart its output times are.
+
+use super::events::{Events, Verdict};
+use super::failure::DynError;
+use super::inside_step::{self, Kept};
+use super::integrator::{Attempt, Integrator, Interrupt, OutputTimes, RowState, Settings};
+use super::interp::Taylor;
+use super::setup::Dynamics;
+
+/// Runs `integrator` on `d` from its current time through every time of `outputs`
+/// (increasing, the first at or after the current time), calling `output` at each with
+/// `d` at exactly that time. Stops at the first failure, after the outputs before it.
+/// When `interrupt` is given, it is asked before every step attempt: once it answers
+/// true, the run stops with [`DynError::Interrupted`] at the last accepted state.
+pub fn simulate(
+    d: &mut Dynamics,
+    integrator: &mut dyn Integrator,
+    s: &Settings,
+    outputs: &OutputTimes,
+    output: &mut dyn FnMut(&mut Dynamics, RowState) -> Result<(), DynError>,
+    interrupt: Option<Interrupt<'_>>,
+) -> Result<(), DynError> {
+    integrator.start(d)?;
+    // Fixed steps are the user's to choose: no switch moves them.
+    let mut events = match s.fixed_step {
+        None => Events::new(d),
+        Some(_) => Events::default(),
+    };
+    let drift_tol = (s.error * 10.0).max(1e-6);
+    let span = outputs.last().map_or(0.0, |t| t - d.sys.time);
+    // The step error control wants; the step taken may be shorter to land on an output.
+    let mut want = match s.fixed_step {
+        Some(h) => h.min(s.hmax),
+        None => {
+            let h0 = s.hinit.min(s.hmax);
+            integrator.first_step(d, h0, &s.for_step(h0, span))
+        }
+    };
+    // The last error rejection: time, step, estimate.
+    let mut last_rejection: Option<(f64, f64, f64)> = None;
+    // With INTERPOLATE the steps land on the last output time only; `pending` is the first
+    // output time not yet given from inside a step.
+    let interpolate = s.interpolate && integrator.dense();
+    let landings = match (interpolate, outputs.last()) {
+        (true, Some(_)) => 1,
+        (true, None) => 0,
+        (false, _) => outputs.len(),
+    };
+    let mut pending = 0;
+    for landing in 0..landings {
+        let t_out = match interpolate {
+            true => outputs.at(outputs.len() - 1),
+            false => outputs.at(landing),
+        };
+        while d.sys.time < t_out {
+            let t = d.sys.time;
+            if interrupt.is_some_and(|stop| stop()) {
+                return Err(DynError::Interrupted { time: t });
+            }
+            let left = t_out - t;
+            let mut h = want;
+            if let Some(fixed) = s.fixed_step {
+                let n = (left / fixed - 1e-9).ceil().max(1.0);
+                h = left / n;
+            } else if h >= left * (1.0 - 1e-9) {
+                // (Within rounding of the time left, the step lands rather than split.)
+                h = left;
+            } else if 2.0 * h > left {
+                // Two even steps rather than a long one and a sliver.
+                h = left / 2.0;
+            }
+            let mut end = if h == left { t_out } else { t + h };
+            // Aiming at a switch being located only ever shortens the step.
+            if let Some(aim) = events.aim(t).filter(|&a| a < h) {
+                (h, end) = (aim, t + aim);
+            }
+            let clipped = h < want;
+            let step_settings = Settings {
+                in_contact: events.engaged(),
+                ..s.for_step(end - t, span)
+            };
+            let attempt = integrator.attempt(d, end - t, &step_settings)?;
+            match attempt {
+                Attempt::Diverged => {
+                    d.stats.rejected += 1;
+                    if !(s.fixed_step.is_some() || h * 0.25 < s.hmin) {
+                        integrator.reject(d);
+                    }
+                    if s.fixed_step.is_some() || h * 0.25 < s.hmin {
+                        let culprit = d.worst_row();
+                        integrator.reject(d);
+                        return Err(DynError::Newton {
+                            time: t,
+                            step: h,
+                            culprit,
+                        });
+                    }
+                    want = h * 0.25;
+                }
+                Attempt::Converged { err, worst } if err > 1.0 && s.fixed_step.is_none() => {
+                    // A candidate over a force law's switch integrated two laws: its
+                    // error says nothing of either, and shrinking by it only creeps up
+                    // on the switch. Locate the switch instead (`events` aims at it).
+                    d.sys.time = end;
+                    if events.crosses(d) && events.judge(end, h, s.hmin) == Verdict::Locate {
+                        reject_locating(d, integrator, &mut events, (t, end), false);
+                        d.stats.rejected += 1;
+                        continue;
+                    }
+                    integrator.reject(d);
+                    d.stats.rejected += 1;
+                    // Where the solution is less smooth than the method's order assumes
+                    // (a contact's first instants: k·δ^1.5 has no second derivative at
+                    // δ = 0), the estimate falls slower with h than h^order, and shrinking
+                    // by that order creeps down in many rejections. A second rejection at
+                    // the same time measures the order the estimate shows and shrinks by
+                    // it (no more than the method's, no less than one).
+                    let order = match last_rejection {
+                        Some((t1, h1, e1)) if t1 == t && h1 > h && e1 > err => {
+                            ((e1 / err).ln() / (h1 / h).ln()).clamp(1.0, integrator.error_order())
+                        }
+                        _ => integrator.error_order(),
+                    };
+                    last_rejection = Some((t, h, err));
+                    let shrink = integrator
+                        .step_factor()
+                        .unwrap_or_else(|| (0.9 * err.powf(-1.0 / order)).clamp(0.1, 0.9));
+                    want = h * shrink;
+                    if want < s.hmin {
+                        return Err(DynError::StepTooSmall {
+                            time: t,
+                            step: want,
+                            hmin: s.hmin,
+                            culprit: d.part_of_column(worst),
+                        });
+                    }
+                }
+                Attempt::Converged { err, .. } => {
+                    d.sys.time = end;
+                    let verdict = events.check(d, h, s.hmin);
+                    if verdict == Verdict::Locate {
+                        reject_locating(d, integrator, &mut events, (t, end), true);
+                        d.stats.rejected += 1;
+                        continue;
+                    }
+                    events.accept();
+                    let event = verdict == Verdict::Accept { event: true };
+                    d.stats.events += event as usize;
+                    integrator.accept(d);
+                    // The extension of a step with an output time inside it is readied
+                    // before a restart forgets the step (the outputs come at its end).
+                    let inside =
+                        interpolate && pending + 1 < outputs.len() && outputs.at(pending) < end;
+                    if inside {
+                        let kept = Kept::of(d);
+                        integrator.extend(d)?;
+                        kept.restore(d);
+                    }
+                    if event {
+                        integrator.restart(d);
+                    }
+                    estimate_ahead(d, &mut events);
+                    d.stats.steps += 1;
+                    (d.stats.last_step, d.stats.order) = (h, integrator.order());
+                    if let Some(k) = d.stats.order {
+                        d.stats.steps_at_order[(k as usize).clamp(1, 6) - 1] += 1;
+                    }
+                    let watched = integrator.monitored_error(err);
+                    d.stats.error_sum += watched * step_settings.error / s.error;
+                    if watched > d.stats.worst_error {
+                        (d.stats.worst_error, d.stats.worst_error_time) = (watched, end);
+                    }
+                    d.check_dropped(drift_tol)?;
+                    d.commit_measures();
+                    if s.fixed_step.is_none() {
+                        let most = integrator.max_growth();
+                        let grow = if let Some(f) = integrator.step_factor() {
+                            f
+                        } else if err > 0.0 {
+                            (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.2, most)
+                        } else {
+                            most
+                        };
+                        // Not longer right after a rejection (Hairer & Wanner's rule): the
+                        // estimate that accepted this step just refused a longer one.
+                        let grow = match last_rejection {
+                            Some((t1, ..)) if t1 == t => grow.min(1.0),
+                            _ => grow,
+                        };
+                        let next = (h * grow).min(s.hmax);
+                        // A step cut short to land on an output says little about a longer
+                        // one unless its error was large. One across a switch starts a new
+                        // law, whose pace the steps before it do not know: its own
+                        // estimate sets the next.
+                        want = if clipped && err < 0.5 && !event {
+                            want.max(next)
+                        } else {
+                            next
+                        };
+                    }
+                    if interpolate {
+                        inside_step::emit(d, integrator, outputs, &mut pending, drift_tol, output)?;
+                    }
+                }
+            }
+        }
+        output(d, RowState::Stepped)?;
+    }
+    Ok(())
+}
+
+/// Rejects the candidate in `d` (a step over `span`, judged to cross a switch) after
+/// estimating where the switch lies: on the candidate's continuous extension when error
+/// control accepted the candidate (`trusted`) and the method has one; else, or when that
+/// shows no switch, on the accepted state's Taylor extension. A candidate the error
+/// estimate refuses has integrated a stiff contact with far too long a step, and its
+/// extension is no better than its end, while the Taylor extension follows the branch
+/// the switch ends (exactly, in free flight).
+fn reject_locating(
+    d: &mut Dynamics,
+    integrator: &mut dyn Integrator,
+    events: &mut Events,
+    span: (f64, f64),
+    trusted: bool,
+) {
+    if trusted && integrator.extend_candidate(d) {
+        events.estimate(span, |t, out| {
+            integrator.dense_state(d, t);
+            d.forces.switches(&d.sys, out);
+        });
+    }
+    integrator.reject(d);
+    estimate_ahead(d, events);
+}
+
+/// Estimates where the switch being located lies on the Taylor extension of the
+/// accepted state in `d` when there is no estimate ahead of it (none was made, or a
+/// step went past it without crossing: from closer by, the extension is closer to the
+/// truth).
+fn estimate_ahead(d: &mut Dynamics, events: &mut Events) {
+    let Some(span) = events.unestimated(d.sys.time) else {
+        return;
+    };
+    let mut taylor = Taylor::of(d);
+    events.estimate(span, |t, out| {
+        taylor.place(d, t);
+        d.forces.switches(&d.sys, out);
+    });
+    taylor.restore(d);
+}
