@@ -9,24 +9,91 @@
 //! for a model without freedom.
 //!
 //! A model with degrees of freedom left is refused before anything runs
-//! ([`RunError::FreeDegrees`]), each free direction named with the element that leaves
-//! it free ([`super::freedom`]).
+//! ([`KinematicsError::FreeDegrees`]), each free direction named with the element that
+//! leaves it free ([`super::freedom`]).
 
-use super::dynamics::{DynError, Dynamics};
-use super::freedom::{describe_all, null_space};
-use super::run_error::RunError;
+use super::dynamics::{Culprit, DynError, Dynamics};
+use super::error::MbdError;
+use super::freedom::{describe_all, null_space, Freedom};
+use std::fmt;
+
+/// The degrees of freedom a model has left, refused by a kinematic analysis: how many,
+/// and each named.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreeDegrees {
+    /// The degrees of freedom.
+    pub count: usize,
+    /// Each one, named.
+    pub free: Vec<Freedom>,
+}
+
+impl FreeDegrees {
+    /// The element or part the first named direction points at, when one does.
+    pub fn culprit(&self) -> Option<Culprit> {
+        self.free.iter().find_map(|f| f.culprit.clone())
+    }
+}
+
+impl fmt::Display for FreeDegrees {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (count, free) = (self.count, &self.free);
+        write!(
+            f,
+            "a kinematic analysis needs a model without degrees of freedom, and this one has {count}: "
+        )?;
+        let named: Vec<String> = free.iter().map(|x| x.to_string()).collect();
+        write!(
+            f,
+            "{} (drive each with a MOTION, or run SIMULATE/DYNAMIC)",
+            named.join("; ")
+        )
+    }
+}
+
+/// Why a kinematic analysis stopped: the dynamics failed under it, or the model has
+/// degrees of freedom left.
+#[derive(Clone, Debug, PartialEq)]
+pub enum KinematicsError {
+    /// The dynamics failed (an evaluation, a solve).
+    Dynamics(DynError),
+    /// The model has degrees of freedom left.
+    FreeDegrees(FreeDegrees),
+}
+
+impl From<DynError> for KinematicsError {
+    fn from(e: DynError) -> Self {
+        KinematicsError::Dynamics(e)
+    }
+}
+
+impl From<MbdError> for KinematicsError {
+    fn from(e: MbdError) -> Self {
+        KinematicsError::Dynamics(DynError::Model(e))
+    }
+}
+
+impl fmt::Display for KinematicsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            KinematicsError::Dynamics(e) => write!(f, "{e}"),
+            KinematicsError::FreeDegrees(free) => write!(f, "{free}"),
+        }
+    }
+}
+
+impl std::error::Error for KinematicsError {}
 
 /// Refuses a model with degrees of freedom left: their count and each named.
-pub fn check_driven(d: &mut Dynamics) -> Result<(), RunError> {
+pub fn check_driven(d: &mut Dynamics) -> Result<(), KinematicsError> {
     if d.n <= d.m {
         return Ok(());
     }
     d.eval_constraints(true)?;
     let basis = null_space(d);
-    Err(RunError::FreeDegrees {
+    Err(KinematicsError::FreeDegrees(FreeDegrees {
         count: d.n - d.m,
         free: describe_all(d, &basis),
-    })
+    }))
 }
 
 /// Solves positions, velocities, accelerations and multipliers of `d` at time `t` from

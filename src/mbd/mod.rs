@@ -72,7 +72,6 @@ pub mod planar;
 pub mod redundancy;
 pub mod rewind;
 pub mod rows;
-pub mod run_error;
 pub mod sparse;
 pub mod statics;
 pub mod system;

@@ -12,11 +12,11 @@
 use super::linear::{self, LinearReport};
 use super::plant::Plant;
 use super::run::Segment;
+use super::stopped::Stopped;
 use crate::mbd::dynamics::integrator::Interrupt;
 use crate::mbd::dynamics::integrator::OutputTimes;
 use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::kinematics;
-use crate::mbd::run_error::RunError;
 use crate::mbd::statics::{self, Report};
 use crate::model::commands::Analysis;
 
@@ -37,7 +37,7 @@ pub fn run(
     emit: &mut Emit<'_>,
     (reports, linear): Found<'_>,
     interrupt: Option<Interrupt<'_>>,
-) -> Result<(), RunError> {
+) -> Result<(), Stopped> {
     match (seg.kind, &seg.linear) {
         (Analysis::Kinematics, _) => kinematics(d, seg, first_row, emit, interrupt),
         (Analysis::Linear, Some(command)) => {
@@ -64,7 +64,7 @@ pub fn statics(
     emit: &mut Emit<'_>,
     reports: &mut Vec<Report>,
     interrupt: Option<Interrupt<'_>>,
-) -> Result<(), RunError> {
+) -> Result<(), Stopped> {
     let settings = seg
         .equilibrium
         .as_ref()
@@ -96,7 +96,7 @@ pub fn kinematics(
     first_row: bool,
     emit: &mut Emit<'_>,
     interrupt: Option<Interrupt<'_>>,
-) -> Result<(), RunError> {
+) -> Result<(), Stopped> {
     kinematics::check_driven(d)?;
     let t0 = d.sys.time;
     if first_row {

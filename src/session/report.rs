@@ -10,7 +10,6 @@ use crate::mbd::dynamics::{Culprit, DynError};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprError;
 use crate::mbd::redundancy::AnalysisError;
-use crate::mbd::run_error::RunError;
 use crate::mbd::statics::Failure as StaticFailure;
 use crate::mbd::system::{Dimension, System};
 use crate::model::elements::Model;
@@ -245,7 +244,7 @@ pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
 /// anything else the model cannot be simulated for.
 pub fn code_of(e: &Stopped) -> Code {
     match e {
-        Stopped::Run(RunError::Dynamics(e)) => match e {
+        Stopped::Dynamics(e) => match e {
             DynError::DroppedViolated { .. } => Code::Conflicting,
             DynError::NotFinite { .. } => Code::NonFiniteForce,
             DynError::Model(MbdError::Expression(_, ExprError::NotFinite { .. })) => {
@@ -260,12 +259,12 @@ pub fn code_of(e: &Stopped) -> Code {
             | DynError::Structure
             | DynError::Output(_) => Code::CannotSimulate,
         },
-        Stopped::Run(RunError::Statics(f)) => match f.as_ref() {
+        Stopped::Statics(f) => match f.as_ref() {
             StaticFailure::NoEquilibrium { .. } => Code::NoEquilibrium,
             StaticFailure::Unstable { .. } => Code::Unstable,
             StaticFailure::Limited { .. } => Code::StepLimit,
         },
-        Stopped::Run(RunError::FreeDegrees { .. }) => Code::FreeDegrees,
+        Stopped::FreeDegrees(_) => Code::FreeDegrees,
         Stopped::Change { .. } => Code::CannotSimulate,
     }
 }

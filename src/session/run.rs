@@ -969,8 +969,7 @@ impl Simulation {
                     &mut solved_emit,
                     (&mut equilibria, &mut linear),
                     interrupt,
-                )
-                .map_err(Stopped::from);
+                );
                 (first_row, after_solved) = (false, true);
                 continue;
             }

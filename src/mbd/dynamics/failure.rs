@@ -2,7 +2,7 @@
 //! a value that is not finite ([`NonFinite`]), a dropped row violated, a part free and
 //! massless, a model error; each with its time and what it points at ([`Culprit`]), and
 //! its message. The analyses above wrap it with their own failures
-//! ([`crate::mbd::run_error::RunError`]).
+//! ([`crate::mbd::statics::StaticsError`], [`crate::mbd::kinematics::KinematicsError`]).
 
 use crate::mbd::error::{element_name, MbdError};
 use crate::vocab::elements::ElementRef;

@@ -17,20 +17,19 @@
 //! below it and never names it, helpers several integrators share sit below the
 //! integrators, and nothing here names the analyses above (statics, kinematics, …).
 //!
-//! 1. kernel, the blocks the object is built from: `blocks` (mass blocks and Newton
-//!    weights), `jacobian`, `schur`, `workspace` (factors and scratch), `fill`,
-//!    `resolved` (the rows' primitives), `stats`, `failure` (the error and its culprit)
-//!    and `chart` (the rotation-vector chart's rates).
-//! 2. object, [`Dynamics`] and its `impl` blocks: `setup` (the struct and its
-//!    construction), `eval` (Φ, Φ_q, Q and its Jacobians), `mass`, `stiffness`, `gamma`,
-//!    `newton` (the Newton matrix's factors and solves), `saddle` (consistent
-//!    accelerations, reconciliation), `project`, `state` (snapshots, increments and the
-//!    vector helpers), `checks`, `outputs` and `interp` (continuous extensions inside a
-//!    step).
-//! 3. drive, what runs an integrator: `integrator` (the contract and its settings),
-//!    `reuse`, `crossing`, `events`, `inside_step` (output times inside a step) and
-//!    `driver` (the time loop, [`simulate`]).
-//! 4. methods, the integrators: `newmark`, `bdf` and `dopri853`.
+//! 1. kernel: `blocks` (mass blocks, Newton weights), `jacobian`, `schur`, `workspace`
+//!    (factors and scratch), `fill`, `resolved` (the rows' primitives), `stats`, `failure`
+//!    (the error and its culprit) and `chart` (the rotation-vector chart's rates): what
+//!    the object is built from.
+//! 2. object: `setup` (the struct and its construction), `eval` (Φ, Φ_q, Q and its
+//!    Jacobians), `mass`, `stiffness`, `gamma`, `newton` (the Newton matrix's factors and
+//!    solves), `saddle` (consistent accelerations, reconciliation), `project`, `state`
+//!    (snapshots, increments, the vector helpers), `checks`, `outputs` and `interp`
+//!    (continuous extensions inside a step): the struct and its impl blocks.
+//! 3. drive: `integrator` (the contract and its settings), `reuse`, `crossing`, `events`,
+//!    `inside_step` (output times inside a step) and `driver` (the time loop): what runs
+//!    an integrator.
+//! 4. methods: `newmark`, `bdf` and `dopri853`, the integrators.
 
 pub mod bdf;
 mod blocks;

@@ -23,5 +23,5 @@ pub mod stability;
 pub mod tangent;
 
 pub use crate::model::equilibrium_settings::EquilibriumSettings as Settings;
-pub use outcome::{Failure, Reaction, Report};
+pub use outcome::{Failure, Reaction, Report, StaticsError};
 pub use solve::equilibrium;

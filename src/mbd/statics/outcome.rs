@@ -1,7 +1,9 @@
 //! What one static equilibrium found ([`Report`], with every constraint element's
-//! [`Reaction`]) or why none came out ([`Failure`]), each with its message.
+//! [`Reaction`]) or why none came out ([`Failure`], and with the dynamics' own failures
+//! [`StaticsError`]), each with its message.
 
-use crate::mbd::dynamics::Culprit;
+use crate::mbd::dynamics::{Culprit, DynError};
+use crate::mbd::error::MbdError;
 use crate::mbd::freedom::Freedom;
 use crate::vocab::math::Vec3;
 use std::fmt;
@@ -174,3 +176,36 @@ impl fmt::Display for Failure {
         }
     }
 }
+
+/// Why an equilibrium run stopped: the dynamics failed under it (an evaluation, a
+/// singular Newton matrix), or no equilibrium came out.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StaticsError {
+    /// The dynamics failed.
+    Dynamics(DynError),
+    /// No static equilibrium came out.
+    Failed(Box<Failure>),
+}
+
+impl From<DynError> for StaticsError {
+    fn from(e: DynError) -> Self {
+        StaticsError::Dynamics(e)
+    }
+}
+
+impl From<MbdError> for StaticsError {
+    fn from(e: MbdError) -> Self {
+        StaticsError::Dynamics(DynError::Model(e))
+    }
+}
+
+impl fmt::Display for StaticsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StaticsError::Dynamics(e) => write!(f, "{e}"),
+            StaticsError::Failed(failure) => write!(f, "{failure}"),
+        }
+    }
+}
+
+impl std::error::Error for StaticsError {}

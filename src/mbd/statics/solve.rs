@@ -15,12 +15,11 @@
 //! Convergence needs the force imbalance below IMBALANCE, and the correction and the
 //! constraint residual below ERROR; the last correction is applied.
 
-use super::outcome::{Failure, Reaction, Report};
+use super::outcome::{Failure, Reaction, Report, StaticsError};
 use super::{stability, tangent};
 use crate::mbd::dynamics::{DynError, Dynamics, Singularity};
 use crate::mbd::error::element_name;
 use crate::mbd::freedom::{column_part, column_scale, coordinate_name};
-use crate::mbd::run_error::RunError;
 use crate::model::equilibrium_settings::EquilibriumSettings;
 use crate::vocab::math::{DMat, DVec};
 
@@ -39,10 +38,10 @@ struct Residual {
 
 /// Finds the static equilibrium of `d` at its current time from its current
 /// configuration, velocities set to zero; `d.lambda` starts the multipliers and holds
-/// the equilibrium's on return, `d.a` is zero. Fails with [`RunError::Statics`] naming
+/// the equilibrium's on return, `d.a` is zero. Fails with [`StaticsError::Failed`] naming
 /// what kept it from an equilibrium, or the direction along which the equilibrium found
 /// is not stable.
-pub fn equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, RunError> {
+pub fn equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, StaticsError> {
     let (n, m) = (d.n, d.m);
     let zero = DVec::zeros(n);
     d.sys.set_v(&zero);
@@ -80,7 +79,7 @@ pub fn equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, 
         if !lu.solve_mut(&mut delta) || delta.iter().any(|x| !x.is_finite()) {
             return Err(match stability::softest(d)? {
                 Some(mode) => unstable(d, mode, false),
-                None => RunError::Dynamics(DynError::Singular {
+                None => StaticsError::Dynamics(DynError::Singular {
                     time: d.sys.time,
                     why: Singularity::Dependent,
                     culprit: d.singular_culprit(),
@@ -233,7 +232,7 @@ fn damped_step(
 
 /// The report of a converged iteration after `k` iterations: the state re-evaluated,
 /// its imbalance, the stability check, the reactions.
-fn finish(d: &mut Dynamics, k: usize, limited: usize) -> Result<Report, RunError> {
+fn finish(d: &mut Dynamics, k: usize, limited: usize) -> Result<Report, StaticsError> {
     d.eval_constraints(true)?;
     d.eval_forces(true)?;
     let holonomic: Vec<bool> = d
@@ -279,7 +278,7 @@ fn give_up(
     res: &Residual,
     limited_run: usize,
     (limit, value, col): (&'static str, f64, usize),
-) -> Result<RunError, DynError> {
+) -> Result<StaticsError, DynError> {
     if let Some(mode) = stability::softest(d)? {
         return Ok(unstable(d, mode, false));
     }
@@ -301,11 +300,11 @@ fn give_up(
             part: part_id(d, res.imbalance.1),
         },
     };
-    Ok(RunError::Statics(Box::new(failure)))
+    Ok(StaticsError::Failed(Box::new(failure)))
 }
 
-fn unstable(d: &Dynamics, mode: stability::Mode, converged: bool) -> RunError {
-    RunError::Statics(Box::new(Failure::Unstable {
+fn unstable(d: &Dynamics, mode: stability::Mode, converged: bool) -> StaticsError {
+    StaticsError::Failed(Box::new(Failure::Unstable {
         time: d.sys.time,
         neutral: mode.neutral,
         converged,
