@@ -925,7 +925,7 @@ impl Simulation {
         // state, or the first equilibrium or kinematic solution. The command file's
         // changes before its first SIMULATE come before it.
         let mut first_row = true;
-        let mut result: Result<(), Stopped> = match segments.first() {
+        let mut result = match segments.first() {
             Some(s) => self.change_model(&s.changes),
             None => Ok(()),
         };

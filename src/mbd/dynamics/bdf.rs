@@ -39,10 +39,10 @@
 mod history;
 
 use super::blocks::Weights;
-use super::chart::rotation_vector_rate;
 use super::failure::DynError;
 use super::integrator::{Attempt, Integrator, Settings};
 use super::reuse::{self, Reuse};
+use super::rotation_chart::rotation_vector_rate;
 use super::setup::Dynamics;
 use super::state::{copy_into, largest_magnitude, Snapshot};
 use crate::mbd::system::Dimension;

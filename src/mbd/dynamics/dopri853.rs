@@ -34,25 +34,25 @@
 //! the choice.
 //!
 //! One job a file: this one the integrator and its Cartesian form; `tableau` (the
-//! coefficients), `estimate` (the combined error estimate), `extension` (the order-7
-//! continuous extension), `tree` (a planar tree's joint coordinates) and `joints` (the
-//! integrator on them, its joint-coordinate mode).
+//! coefficients), `error_estimate` (the combined error estimate), `dense_output` (the
+//! order-7 continuous extension), `tree` (a planar tree's joint coordinates) and
+//! `joints` (the integrator on them, its joint-coordinate mode).
 
-mod estimate;
-mod extension;
+mod dense_output;
+mod error_estimate;
 mod joints;
 mod tableau;
 pub mod tree;
 
-use super::chart::rotation_vector_rate;
 use super::failure::DynError;
 use super::integrator::{Attempt, Integrator, Settings};
+use super::rotation_chart::rotation_vector_rate;
 use super::setup::Dynamics;
 use super::state::Snapshot;
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
-use estimate::estimate;
-use extension::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
+use dense_output::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
+use error_estimate::estimate;
 use joints::Joints;
 use tableau::{A, B, C, STAGES};
 use tree::JointTree;
@@ -90,7 +90,7 @@ pub struct Dopri853 {
     start_v: DVec,
     h: f64,
     /// The continuous extension of the last accepted step with an output inside it
-    /// ([`extension`]): of the chart increment, and of the velocities.
+    /// ([`dense_output`]): of the chart increment, and of the velocities.
     dense_x: Extension,
     dense_v: Extension,
     /// The joint-coordinate form, when the model is a planar tree ([`JointTree`]).

@@ -99,7 +99,7 @@ pub enum DynError {
     /// An output row could not be written (the I/O error, worded).
     Output(String),
     /// The caller's interrupt flag was set: the run stopped before its next step
-    /// ([`super::driver::simulate`] asks before every step attempt).
+    /// ([`super::time_loop::simulate`] asks before every step attempt).
     Interrupted {
         /// Simulation time of the last accepted step.
         time: f64,

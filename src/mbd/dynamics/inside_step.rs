@@ -1,8 +1,8 @@
 //! Output times inside a step (INTERPOLATE = ON, `mbfx run --interpolate`): the driver
-//! ([`super::driver::simulate`]) steps over them by error control, and each one inside
+//! ([`super::time_loop::simulate`]) steps over them by error control, and each one inside
 //! an accepted step gets its state from the method's continuous extension
 //! ([`super::integrator::Integrator::dense_state`]: DOP853's order-7 extension, the BDF's
-//! interpolating polynomial, the Newmark family's [`super::interp::Hermite`] cubic).
+//! interpolating polynomial, the Newmark family's [`super::step_extension::Hermite`] cubic).
 //! [`emit`] makes that state what an output needs: positions back on the constraints
 //! when the extension left them further off than the run's drift tolerance (measured at
 //! every interpolated row, [`super::Stats::interpolation_residual`]); the outputs' own

@@ -1,5 +1,5 @@
 //! What every integrator implements ([`Integrator`]) and what the driver
-//! ([`super::driver::simulate`]) runs it with: its settings ([`Settings`], spec §6.2
+//! ([`super::time_loop::simulate`]) runs it with: its settings ([`Settings`], spec §6.2
 //! names), the outcome of one attempted step ([`Attempt`]), the output times of a stretch
 //! ([`OutputTimes`]), where an output row's state comes from ([`RowState`]), and the
 //! caller's interrupt flag ([`Interrupt`]).

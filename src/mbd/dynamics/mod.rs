@@ -18,26 +18,25 @@
 //! integrators, and nothing here names the analyses above (statics, kinematics, …).
 //!
 //! 1. kernel: `blocks` (mass blocks, Newton weights), `jacobian`, `schur`, `workspace`
-//!    (factors and scratch), `fill`, `resolved` (the rows' primitives), `stats`, `failure`
-//!    (the error and its culprit) and `chart` (the rotation-vector chart's rates): what
-//!    the object is built from.
+//!    (factors and scratch), `fill`, `resolved` (the rows' primitives), `stats`,
+//!    `failure` (the error and its culprit) and `rotation_chart` (the rotation-vector
+//!    chart's rates): what the object is built from.
 //! 2. object: `setup` (the struct and its construction), `eval` (Φ, Φ_q, Q and its
 //!    Jacobians), `mass`, `stiffness`, `gamma`, `newton` (the Newton matrix's factors and
 //!    solves), `saddle` (consistent accelerations, reconciliation), `project`, `state`
-//!    (snapshots, increments, the vector helpers), `checks`, `outputs` and `interp`
-//!    (continuous extensions inside a step): the struct and its impl blocks.
+//!    (snapshots, increments, the vector helpers), `checks`, `outputs` and
+//!    `step_extension` (continuous extensions inside a step): the struct and its impl
+//!    blocks.
 //! 3. drive: `integrator` (the contract and its settings), `reuse`, `crossing`, `events`,
-//!    `inside_step` (output times inside a step) and `driver` (the time loop): what runs
+//!    `inside_step` (output times inside a step) and `time_loop` (the driver): what runs
 //!    an integrator.
 //! 4. methods: `newmark`, `bdf` and `dopri853`, the integrators.
 
 pub mod bdf;
 mod blocks;
-mod chart;
 mod checks;
 mod crossing;
 pub mod dopri853;
-mod driver;
 mod eval;
 pub mod events;
 mod failure;
@@ -45,7 +44,6 @@ mod fill;
 mod gamma;
 mod inside_step;
 pub mod integrator;
-mod interp;
 pub mod jacobian;
 mod mass;
 pub mod newmark;
@@ -54,19 +52,22 @@ pub mod outputs;
 mod project;
 mod resolved;
 mod reuse;
+mod rotation_chart;
 mod saddle;
 pub mod schur;
 mod setup;
 mod state;
 mod stats;
+mod step_extension;
 mod stiffness;
+mod time_loop;
 mod workspace;
 
 pub use blocks::{Mat3Block, Weights};
 pub use dopri853::tree;
-pub use driver::simulate;
 pub use failure::{Culprit, DynError, NonFinite, Singularity};
-pub use interp::{Hermite, Taylor};
 pub use setup::{row_parts, Dynamics};
 pub use state::Snapshot;
 pub use stats::Stats;
+pub use step_extension::{Hermite, Taylor};
+pub use time_loop::simulate;

@@ -32,10 +32,10 @@
 use super::blocks::{Mat3Block, Weights};
 use super::failure::DynError;
 use super::integrator::{Attempt, Integrator, Settings};
-use super::interp::Hermite;
 use super::reuse::{self, Reuse};
 use super::setup::Dynamics;
 use super::state::{copy_into, largest_magnitude, Snapshot};
+use super::step_extension::Hermite;
 use crate::vocab::math::DVec;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at

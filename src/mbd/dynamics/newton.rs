@@ -1,7 +1,7 @@
 //! The Newton matrix [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·Φ_qᵀ], [Φ_q, 0]]
 //! ([`Weights`]): filled on its sparse pattern and factored, by the Schur complement
 //! when no force element couples two parts, else by the sparse LU, regularised near a
-//! dead centre ([`Factors`]); and its solves.
+//! dead centre (into [`super::workspace::Factors`]); and its solves.
 
 use super::blocks::{Mat3Block, Weights};
 use super::failure::{DynError, NonFinite, Singularity};

@@ -10,9 +10,10 @@
 //! Adams writes a point coincidence as d·e_J = 0 along J's turning axes, which couples
 //! J's rotation with everything. When every translational row of a marker pair is kept
 //! (3 in 3D, the 2 in-plane ones in 2D), the rows only say d = 0, in any basis: the
-//! dynamics then uses J's axes frozen at the start, d·e = 0 with e constant. Each row is
-//! a sum of one function of part I and one of part J, so its Hessian falls on each part
-//! alone: for a marker offset u = R·s and the rotation increment δθ (R → exp(\[δθ\]×)·R),
+//! dynamics then uses J's axes frozen at the start, d·e = 0 with e constant
+//! ([`super::resolved::freeze_point_rows`]). Each row is a sum of one function of part I
+//! and one of part J, so its Hessian falls on each part alone: for a marker offset
+//! u = R·s and the rotation increment δθ (R → exp(\[δθ\]×)·R),
 //! ∂²(u·e)/∂δθ² = ½(u·eᵀ + e·uᵀ) − (u·e)·I. The multipliers change basis with the
 //! rows, and the reactions (Φ_qᵀλ over an element's rows) do not.
 

@@ -4,8 +4,8 @@
 //! constraints by construction. [`super::Dopri853`] switches to it when the model is such
 //! a tree.
 
-use super::estimate::estimate;
-use super::extension::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
+use super::dense_output::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
+use super::error_estimate::estimate;
 use super::tableau::{A, B, C, STAGES};
 use super::tree::JointTree;
 use crate::mbd::dynamics::failure::DynError;

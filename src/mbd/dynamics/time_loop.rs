@@ -14,8 +14,8 @@ use super::events::{Events, Verdict};
 use super::failure::DynError;
 use super::inside_step::{self, Kept};
 use super::integrator::{Attempt, Integrator, Interrupt, OutputTimes, RowState, Settings};
-use super::interp::Taylor;
 use super::setup::Dynamics;
+use super::step_extension::Taylor;
 
 /// Runs `integrator` on `d` from its current time through every time of `outputs`
 /// (increasing, the first at or after the current time), calling `output` at each with

@@ -1,9 +1,9 @@
 //! The continuous extensions that place the dynamics inside a step: the Newmark family's
 //! cubic [`Hermite`] interpolant, and the quadratic [`Taylor`] extension of an accepted
 //! state the driver aims at a force law's switch with. Both move positions in the chart
-//! of the step's start ([`Dynamics::increment`], [`super::chart`]).
+//! of the step's start ([`Dynamics::increment`], [`super::rotation_chart`]).
 
-use super::chart::{angular_velocity, rotation_vector_rate};
+use super::rotation_chart::{angular_velocity, rotation_vector_rate};
 use super::setup::Dynamics;
 use super::state::Snapshot;
 use crate::mbd::system::Dimension;
