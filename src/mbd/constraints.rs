@@ -8,9 +8,10 @@
 use super::equations::{Equation, EquationLabel};
 use super::error::MbdError;
 use super::expr::ExprFn;
+use super::handles::{ElementHandle, MarkerHandle, PartHandle};
 use super::measure_set::Measure;
 use super::rows::{Element, Equ, Row};
-use super::system::{Dimension, ElementHandle, MarkerHandle, PartHandle, System};
+use super::system::{Dimension, System};
 use crate::vocab::elements::{ElementKind, ElementRef, JointType, JprimType};
 use crate::vocab::math::Vec3;
 use std::f64::consts::PI;

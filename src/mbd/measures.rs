@@ -11,8 +11,9 @@
 //! Acceleration and force measures need dynamics and are refused with a clear error.
 
 use super::dual::{Scalar, D, J2, N, PARTS, PER_PART, V};
+use super::handles::PartHandle;
 use super::measure_set::{Evaluated, Measure, MeasureSet, M};
-use super::system::{PartHandle, System};
+use super::system::System;
 use crate::vocab::math::Vec3;
 use std::f64::consts::PI;
 
