@@ -1,6 +1,6 @@
-//! The numbers a force element is evaluated in ([`Num`]): duals over its part slots when
-//! the Jacobians are asked for, plain values otherwise; each knows how to read a frame,
-//! a measure and an expression and how to add itself to Q.
+//! The number types a force law runs on, behind one trait ([`Num`]): each reads a frame,
+//! a measure and an expression, and adds itself to Q (the ∂Q/∂u one is in
+//! `input_partials`).
 
 use super::element::ForceElement;
 use super::generalized::Generalized;
