@@ -12,10 +12,11 @@
 
 use super::equations::Equation;
 use super::error::{element_name, MbdError};
+use super::handles::PartHandle;
 use super::normal::min_norm;
 use super::rows::Row;
 use super::sparse::Triplets;
-use super::system::{Dimension, PartHandle, System};
+use super::system::{Dimension, System};
 use crate::model::elements::Id;
 use crate::vocab::elements::ElementRef;
 use crate::vocab::math::{DVec, Quat, Vec3};

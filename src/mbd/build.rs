@@ -6,11 +6,12 @@
 use super::error::MbdError;
 use super::expr::{ExprCompiler, ExprError, ExprFn, Integrated, Integration::*};
 use super::forces::{angle_of, ForceElement, ForceLaw, ForceSet, Scalar, Source};
+use super::handles::{MarkerHandle, PartHandle};
 use super::inertia::mass_properties;
 use super::measure_set::Measure;
 use super::output_slot::OutputSlot;
 use super::planar::Dim;
-use super::system::{MarkerHandle, PartHandle, System};
+use super::system::System;
 use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
 use crate::vocab::elements::{ElementKind, ElementRef, ForceKind};
 use crate::vocab::math::Vec3;

@@ -4,7 +4,14 @@
 //! an allocation per factorization or solve costs as much as the arithmetic, so nothing
 //! here allocates after construction.
 
-use super::sparse::FactorError;
+/// Why a factorization (dense or sparse) failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FactorError {
+    /// No pivot could be found (structurally singular), or the factors are not finite.
+    Singular,
+    /// A value of the matrix is NaN or infinite.
+    NotFinite,
+}
 
 /// LU = P·A with partial pivoting, column-major, factored in place.
 #[derive(Clone, Debug)]

@@ -6,7 +6,7 @@
 
 use super::dual::{D, PARTS};
 use super::error::MbdError;
-use super::system::{MarkerHandle, PartHandle};
+use super::handles::{MarkerHandle, PartHandle};
 use crate::model::elements::MeasureSlot;
 use crate::vocab::math::Vec3;
 

@@ -12,13 +12,15 @@
 //! 1. Vocabulary, what the rest is written in: `dual` numbers, `dense` and `sparse`
 //!    matrices, the minimum-norm solve `normal`, `expr` (expressions and their
 //!    compiler) with `compiled` (the JIT's), `error`, `equations` (the Adams labels),
-//!    `inertia`, and `redundancy` (the analysis of a Jacobian's rows).
-//! 2. System: `system` (parts, markers, coordinates, handles) and the data it holds:
-//!    `rows` (constraint elements and their rows) and `measure_set`.
+//!    `inertia`, `handles` (what parts, markers and elements are addressed by), and
+//!    `redundancy` (the analysis of a Jacobian's rows).
+//! 2. System: `system` (parts, markers, coordinates) and the data it holds: `rows`
+//!    (constraint elements and their rows) and `measure_set`.
 //! 3. Measures: `measures` (values and derivatives from the state) and `output_slot`
 //!    (what an output expression reads).
 //! 4. Constraints and forces: `constraints` (JOINT, JPRIM, GCON and MOTION from primitive
-//!    equations, evaluated), `fused_rows`, `forces` and `force_order`.
+//!    equations, evaluated), `fused_rows` and `forces` (applied forces, evaluated in the
+//!    order of what they read).
 //! 5. Build: `build` (a Model into a System), `planar` (2D or 3D), `assembly` (positions
 //!    and velocities solved).
 //! 6. Dynamics: `dynamics` (equations of motion and integrators) and the analyses on it,
@@ -57,10 +59,10 @@ pub mod dynamics;
 pub mod equations;
 pub mod error;
 pub mod expr;
-mod force_order;
 pub mod forces;
 pub mod freedom;
 pub mod fused_rows;
+pub mod handles;
 pub mod inertia;
 pub mod kinematics;
 pub mod linear;
@@ -78,8 +80,9 @@ pub mod system;
 
 pub use assembly::{AssemblyError, AssemblyOptions, AssemblyReport};
 pub use error::MbdError;
+pub use handles::{ElementHandle, MarkerHandle, PartHandle};
 pub use planar::Dim;
-pub use system::{Dimension, ElementHandle, MarkerHandle, PartHandle, System};
+pub use system::{Dimension, System};
 
 #[cfg(test)]
 mod tests;

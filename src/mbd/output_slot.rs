@@ -6,8 +6,9 @@
 //! state of a dynamics (`OutputSlot::value` in `dynamics::outputs`).
 
 use super::error::MbdError;
+use super::handles::MarkerHandle;
 use super::measure_set::M;
-use super::system::{MarkerHandle, System};
+use super::system::System;
 use crate::model::elements::{MeasureSlot, Model};
 use crate::vocab::elements::{ElementKind, ForceKind};
 

@@ -15,10 +15,11 @@
 
 use super::error::{element_name, MbdError};
 use super::expr::ExprCompiler;
+use super::handles::MarkerHandle;
 use super::redundancy::{self, Problem};
 use super::rows::Row;
 use super::sparse::Triplets;
-use super::system::{Dimension, MarkerHandle, System};
+use super::system::{Dimension, System};
 use crate::model::elements::Model;
 
 /// Which dimension to build.
@@ -182,7 +183,7 @@ impl System {
         }
     }
 
-    fn part_word(&self, h: super::system::PartHandle) -> String {
+    fn part_word(&self, h: super::handles::PartHandle) -> String {
         match self.part(h).id {
             Some(id) => format!("PART/{id}"),
             None => format!("part #{}", h.0),
@@ -203,7 +204,7 @@ impl System {
             .enumerate()
             .filter(|(_, p)| p.index.is_some())
         {
-            let h = super::system::PartHandle(i as u32);
+            let h = super::handles::PartHandle(i as u32);
             // Some BCS axis along the normal (kinematics would not need it, but a body
             // turned obliquely would leave the plane under its own inertia).
             let r = p.rot.to_rotation_matrix().into_inner();

@@ -7,7 +7,7 @@
 
 use super::equations::Equation;
 use super::expr::{ExprFn, FusedFn};
-use super::system::MarkerHandle;
+use super::handles::MarkerHandle;
 use crate::vocab::elements::ElementRef;
 use crate::vocab::math::Vec3;
 use std::cell::{Cell, RefCell};

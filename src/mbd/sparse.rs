@@ -2,6 +2,8 @@
 //! Jacobians are built this way (each element touches at most two parts), and the
 //! redundancy analysis and solvers read them.
 
+// `FactorError` sits with the dense factorizations (below this file); its old path stays.
+pub use super::dense::FactorError;
 use super::dense::{DenseLlt, DenseLu};
 
 /// A matrix of `nrows` × `ncols` whose non-zeros are `entries`; repeated (row, column)
@@ -90,15 +92,6 @@ impl Pattern {
         let (a, b) = (self.col_ptr[col], self.col_ptr[col + 1]);
         self.row_idx[a..b].binary_search(&row).ok().map(|k| a + k)
     }
-}
-
-/// Why a sparse factorization failed.
-#[derive(Clone, Debug, PartialEq)]
-pub enum FactorError {
-    /// No pivot could be found (structurally singular), or the factors are not finite.
-    Singular,
-    /// A value of the matrix is NaN or infinite.
-    NotFinite,
 }
 
 /// Sparse LU with partial pivoting (faer): the symbolic analysis (fill-reducing column

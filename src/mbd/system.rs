@@ -18,21 +18,11 @@
 
 use super::measure_set::MeasureSet;
 use super::rows::Element;
+// The handles are vocabulary (rows and measures hold them too); their old path stays.
+pub use super::handles::{ElementHandle, MarkerHandle, PartHandle};
 use crate::model::elements::Id;
 use crate::vocab::math::{DVec, Mat3, Quat, Vec3};
 use std::collections::HashMap;
-
-/// A part: index into [`System::parts`]; ground is [`System::GROUND`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PartHandle(pub u32);
-
-/// A marker: index into [`System::markers`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct MarkerHandle(pub u32);
-
-/// A constraint element: index into [`System::elements`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct ElementHandle(pub u32);
 
 /// Whether the system runs in 2D or 3D.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,12 +7,17 @@
 //! only the derivative. Solution values an expression reads (another force, a
 //! reaction) are held fixed, as within any one evaluation.
 
-use super::{measure_value, ForceElement, ForceSet, Generalized, Inputs, Num, Scalar, Source};
+use super::element::ForceElement;
+use super::generalized::Generalized;
+use super::inputs::{measure_value, Inputs, Scalar, Source};
+use super::num::Num;
+use super::set::ForceSet;
 use crate::mbd::dual::{Scalar as _, J2, V};
 use crate::mbd::error::MbdError;
+use crate::mbd::handles::PartHandle;
 use crate::mbd::measure_set::{Measure, M};
 use crate::mbd::measures::{value_frame, Frame, PartSlots};
-use crate::mbd::system::{PartHandle, System};
+use crate::mbd::system::System;
 use crate::vocab::math::DVec;
 
 impl Num for J2 {

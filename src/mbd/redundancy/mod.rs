@@ -27,82 +27,20 @@ mod factor;
 #[cfg(test)]
 #[path = "../../../tests/common/redundancy_fixtures.rs"]
 mod fixtures;
+mod offer;
+mod problem;
 mod report;
 #[cfg(test)]
 mod tests;
 
 pub use catalogue::{element_name, element_title, older_phrase};
+pub use problem::{Options, Problem};
 pub use report::{Advice, AnalysisError, Conflict, Lighter, Redundant, Report};
 
-use crate::mbd::equations::EquationLabel;
 use crate::mbd::sparse::Triplets;
-use crate::vocab::elements::{ElementKind, ElementRef};
+use crate::vocab::elements::ElementKind;
 use factor::{Factor, Rows};
-
-/// What the analysis reads: the constraint Jacobian at the assembled configuration and
-/// what each row means.
-#[derive(Clone, Copy, Debug)]
-pub struct Problem<'a> {
-    /// Φ_q with velocity-level columns: per moving part 3 translational and 3 angular (3D)
-    /// or 2 translational and 1 angular (2D), ground axes.
-    pub jacobian: &'a Triplets,
-    /// One label per row.
-    pub labels: &'a [EquationLabel],
-    /// The elements the labels point into.
-    pub elements: &'a [ElementRef],
-    /// Moving parts (column blocks).
-    pub moving_parts: usize,
-    /// 2 or 3.
-    pub dim: usize,
-    /// Φ at the assembled configuration, one entry per row and scaled like the rows
-    /// (translational equations in model lengths); when given, redundant rows are checked
-    /// for conflicts.
-    pub residuals: Option<&'a [f64]>,
-    /// The velocity-level residuals Φ_q v + Φ_t, scaled the same way; when given,
-    /// redundant rows are checked for conflicts at velocities too (a GCON of time alone
-    /// has no position Jacobian, holds at t = 0, and asks 0 = 1 of the velocities).
-    pub velocity_residuals: Option<&'a [f64]>,
-}
-
-impl<'a> Problem<'a> {
-    /// A problem without residuals (no conflict check).
-    pub fn new(
-        jacobian: &'a Triplets,
-        labels: &'a [EquationLabel],
-        elements: &'a [ElementRef],
-        moving_parts: usize,
-        dim: usize,
-    ) -> Self {
-        Problem {
-            jacobian,
-            labels,
-            elements,
-            moving_parts,
-            dim,
-            residuals: None,
-            velocity_residuals: None,
-        }
-    }
-}
-
-/// Tolerances of the analysis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Options {
-    /// A row is redundant when its relative distance to the span of the kept rows (after
-    /// column equilibration) is at most this.
-    pub tolerance: f64,
-    /// A redundant row whose residual magnitude exceeds this is conflicting.
-    pub conflict_tolerance: f64,
-}
-
-impl Default for Options {
-    fn default() -> Self {
-        Options {
-            tolerance: 1e-8,
-            conflict_tolerance: 1e-6,
-        }
-    }
-}
+use offer::Offer;
 
 /// Finds the rank of the constraint Jacobian, the redundant equations and the advice; an
 /// error when the input is inconsistent or a redundant equation is violated (conflicting,
@@ -289,97 +227,4 @@ fn element_groups(p: &Problem) -> Vec<(usize, Vec<usize>)> {
         rows.sort_by_key(|&r| (catalogue::equation_order(p.labels[r].equation), r));
     }
     groups
-}
-
-/// Which rows of one element were kept, and the dropped ones with their residual norms.
-#[derive(Debug, Default)]
-struct Outcome {
-    kept: Vec<usize>,
-    dropped: Vec<(usize, f64)>,
-}
-
-/// Offers the rows of one element to the factor.
-struct Offer<'a> {
-    rows: &'a Rows,
-    labels: &'a [EquationLabel],
-    tol: f64,
-}
-
-impl Offer<'_> {
-    /// Greedy choice first; if it drops rows and what it keeps is no catalogue element,
-    /// tries the catalogue sets that fit inside the element.
-    fn element(
-        &self,
-        factor: &mut Factor,
-        kind: ElementKind,
-        dim: usize,
-        rows: &[usize],
-    ) -> Outcome {
-        let base = factor.len();
-        let greedy = self.greedy(factor, rows);
-        let eqs = |rs: &[usize]| {
-            rs.iter()
-                .map(|&r| self.labels[r].equation)
-                .collect::<Vec<_>>()
-        };
-        let all = eqs(rows);
-        let distinct = (1..all.len()).all(|i| !all[..i].contains(&all[i]));
-        if greedy.dropped.is_empty()
-            || greedy.kept.is_empty()
-            || !catalogue::is_lowerable(kind)
-            || !distinct
-            || !catalogue::elements_with(dim, kind, &eqs(&greedy.kept)).is_empty()
-        {
-            return greedy;
-        }
-        for set in catalogue::candidate_sets(dim, &all, greedy.kept.len()) {
-            factor.truncate(base);
-            let (keep, drop): (Vec<usize>, Vec<usize>) = rows
-                .iter()
-                .partition(|&&r| set.contains(&self.labels[r].equation));
-            if let Some(outcome) = self.exact(factor, &keep, &drop) {
-                return outcome;
-            }
-        }
-        factor.truncate(base);
-        self.greedy(factor, rows)
-    }
-
-    /// Keeps each row that is independent of the rows kept before it.
-    fn greedy(&self, factor: &mut Factor, rows: &[usize]) -> Outcome {
-        let mut out = Outcome::default();
-        for &r in rows {
-            let residual = factor.reduce(self.rows.row(r));
-            let norm = residual.norm();
-            if norm > self.tol {
-                factor.keep(residual);
-                out.kept.push(r);
-            } else {
-                out.dropped.push((r, norm));
-            }
-        }
-        out
-    }
-
-    /// Keeps `keep` and drops `drop`, if every kept row is independent and every dropped
-    /// row then dependent.
-    fn exact(&self, factor: &mut Factor, keep: &[usize], drop: &[usize]) -> Option<Outcome> {
-        let mut out = Outcome::default();
-        for &r in keep {
-            let residual = factor.reduce(self.rows.row(r));
-            if residual.norm() <= self.tol {
-                return None;
-            }
-            factor.keep(residual);
-            out.kept.push(r);
-        }
-        for &r in drop {
-            let norm = factor.reduce(self.rows.row(r)).norm();
-            if norm > self.tol {
-                return None;
-            }
-            out.dropped.push((r, norm));
-        }
-        Some(out)
-    }
 }

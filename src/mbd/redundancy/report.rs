@@ -7,7 +7,8 @@ use std::fmt;
 use super::catalogue::{
     element_name, element_title, elements_with, equation_order, is_lowerable, older_phrase,
 };
-use super::{Outcome, Problem};
+use super::offer::Outcome;
+use super::problem::{Options, Problem};
 use crate::mbd::equations::{Equation, EquationLabel};
 use crate::vocab::elements::{ElementKind, ElementRef};
 
@@ -94,7 +95,7 @@ pub struct Report {
 impl Report {
     pub(super) fn build(
         p: &Problem,
-        options: &super::Options,
+        options: &Options,
         rank: usize,
         factor_entries: usize,
         outcomes: Vec<(usize, Outcome)>,

@@ -7,7 +7,7 @@ use proptest::prelude::*;
 
 use super::fixtures::{bricard, n_four_bar, Mechanism};
 use super::*;
-use crate::mbd::equations::Equation;
+use crate::mbd::equations::{Equation, EquationLabel};
 use crate::vocab::elements::{ElementRef, JointType, JprimType};
 use crate::vocab::math::{DMat, Vec3};
 

@@ -18,6 +18,7 @@ const LAYERS: &[(&str, &[&str])] = &[
             "equations",
             "error",
             "expr",
+            "handles",
             "inertia",
             "normal",
             "redundancy",
@@ -28,7 +29,7 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("measures", &["measures", "output_slot"]),
     (
         "constraints and forces",
-        &["constraints", "force_order", "forces", "fused_rows"],
+        &["constraints", "forces", "fused_rows"],
     ),
     ("build", &["assembly", "build", "planar"]),
     (

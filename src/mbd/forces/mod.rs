@@ -1,0 +1,52 @@
+//! Applied forces (multibody spec §7): SFORCE (translational, rotational, ACTIONONLY),
+//! VFORCE, VTORQUE, GFORCE, SPRINGDAMPER, BUSHING, and ACCGRAV with the units-consistency
+//! factor. Each element is evaluated as duals (the `dual` module) over the local directions
+//! of the parts it reads (its markers and the markers of the measures its expressions
+//! read, one shared [`PartSlots`] table), so the generalized force Q and its exact
+//! Jacobians ∂Q/∂q and ∂Q/∂v come out of one evaluation. Expression magnitudes enter with
+//! their compiled gradient ∂f/∂measure chained with the measures' duals: no finite
+//! differences.
+//!
+//! Generalized forces are per moving part at its reference point (the CM): the force F
+//! and the moment about the CM, global axes; a force applied at a marker adds the moment
+//! of its arm.
+//!
+//! An expression that calls IMPACT or BISTOP also carries their switching functions
+//! ([`ContactProbe`]), which the step control watches ([`ForceSet::switches`]).
+//!
+//! An expression may also read what only the solution gives (Adams allows it): an
+//! acceleration, a reaction, another force's value ([`Source::Solution`]). Those values
+//! are filled in by the dynamics before each evaluation and held fixed within it (no
+//! derivative), so the equations of motion solve them by iteration; forces that read
+//! each other's values are evaluated in dependency order ([`ForceSet::order`]).
+//!
+//! The files, one job each: `inputs` (what an expression reads), `element` (an element
+//! as data), `expression` (an expression's value or dual), `num` (the numbers an
+//! element is evaluated in), `law` (loads by law into Q), `generalized` (Q and its
+//! Jacobians), `set` (the set: preparing, fusing, evaluating), `order` (the evaluation
+//! order), `input_partials` (∂Q/∂u) and [`contact`] (the switching functions of IMPACT
+//! and BISTOP).
+//!
+//! [`PartSlots`]: crate::mbd::measures::PartSlots
+//! [`ContactProbe`]: contact::ContactProbe
+
+pub mod contact;
+mod element;
+mod expression;
+mod generalized;
+mod input_partials;
+mod inputs;
+mod law;
+mod num;
+mod order;
+mod set;
+
+pub use element::{angle_of, ForceElement, ForceLaw};
+pub use generalized::Generalized;
+pub(crate) use inputs::measure_value;
+pub use inputs::{Scalar, Source};
+pub use law::Loads;
+pub use set::ForceSet;
+
+#[cfg(test)]
+mod tests;
