@@ -30,6 +30,10 @@ mod stack;
 pub mod syntax;
 pub mod vocab;
 
+/// The architecture's tests, read from the sources.
+#[cfg(test)]
+mod layering;
+
 /// The Rust examples of docs/library.md, compiled and run as doctests so they stay true.
 #[cfg(doctest)]
 #[doc = include_str!("../docs/library.md")]

@@ -6,8 +6,11 @@
 //! **Layers.** The files stand in layers, lowest first. A file may refer (`use`, or a
 //! path in code) to modules of its own layer and of lower ones, never to a higher one;
 //! what a lower layer owns but a higher one computes is data below (the [`System`] holds
-//! [`rows::Row`]s and a [`measure_set::MeasureSet`]) and `impl` blocks above. The test
-//! `mbd::tests::layers` holds the same table and fails on an edge upward.
+//! [`rows::Row`]s and a [`measure_set::MeasureSet`]) and `impl` blocks above. No two
+//! files refer to each other through a circle, except a parent module and its own child;
+//! inside `dynamics` the files stand in sublayers of their own (its module doc). The
+//! test `layering::mbd_layers` reads this list and fails on an edge upward or a circle,
+//! quoting the line.
 //!
 //! 1. Vocabulary, what the rest is written in: `dual` numbers, `dense` and `sparse`
 //!    matrices, the minimum-norm solve `normal`, `expr` (expressions and their
@@ -23,8 +26,11 @@
 //!    order of what they read).
 //! 5. Build: `build` (a Model into a System), `planar` (2D or 3D), `assembly` (positions
 //!    and velocities solved).
-//! 6. Dynamics: `dynamics` (equations of motion and integrators) and the analyses on it,
-//!    `freedom`, `kinematics`, `statics`, `linear` and `rewind`.
+//! 6. Dynamics: `dynamics` (equations of motion, the Newton matrix, integrators and the
+//!    time loop).
+//! 7. Analyses on the dynamics, which wrap its failures in their own: `freedom` (the
+//!    directions the constraints leave free), `statics`, `kinematics`, `linear` and
+//!    `rewind` (the start state kept for a rerun).
 //!
 //! The redundancy analysis reads [`System::jacobian`] (scaled) with [`System::labels`]
 //! and [`System::element_refs`], and hands the rows it drops back through

@@ -6,7 +6,6 @@
 
 mod from_model;
 mod jacobians;
-mod layers;
 mod measures;
 mod mechanisms;
 
