@@ -136,8 +136,9 @@ pub struct RunArgs {
     /// steps, Newton iterations, integration order, CPU time), as Adams does.
     #[arg(long, short)]
     verbose: bool,
-    /// Exit with code 3 when the run finishes with an accuracy warning (for scripts and
-    /// CI: a warned answer fails the job without being an error).
+    /// Exit with code 3 when the run finishes with an accuracy warning or leaves physics
+    /// of the dataset out (for scripts and CI: a warned answer fails the job without being
+    /// an error).
     #[arg(long)]
     strict: bool,
     /// Estimate the answer's error: run again from the start at ERROR/10, compare the
@@ -402,7 +403,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     Ok(if a.strict && warned { STRICT_WARNED } else { 0 })
 }
 
-/// `--strict`'s exit code for a run that finished with an accuracy warning.
+/// `--strict`'s exit code for a run that finished with a warning in its summary.
 const STRICT_WARNED: i32 = 3;
 
 /// The step table's header (`mbfx run --verbose`), Adams' columns without the function

@@ -618,6 +618,17 @@ pub fn run(
             dim_reason: &dim_reason,
         })
         .map_err(RunFailed::output)?;
+    // Physics the model leaves out (a CONTACT, a FRICTION): never silently. A kept
+    // simulation run again has shown them already.
+    let ignored: Vec<Diagnostic> = (sim.read.model.ignored.iter())
+        .filter(|i| i.physical && !reused)
+        .map(crate::model::report::ignored_warning)
+        .collect();
+    if !ignored.is_empty() {
+        observer
+            .warnings(&ignored, &source)
+            .map_err(RunFailed::output)?;
+    }
     let dataset_integrator = sim.read.model.integrator.clone();
     if let Some(i) = dataset_integrator
         .as_ref()
@@ -709,6 +720,9 @@ pub fn run(
         summary.notes.push(note);
     }
     summary.reused = reused;
+    if let Some(line) = crate::model::report::not_modelled(&sim.read.model.ignored) {
+        summary.warnings.insert(0, line);
+    }
     let result = match failed {
         None => Ok(RunDone {
             header,

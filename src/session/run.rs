@@ -255,8 +255,10 @@ pub struct Summary {
     /// Why the run was 2D or 3D, in words.
     pub dim: String,
     /// What the run's own monitors say went wrong although it reached its end (fixed
-    /// steps whose local error estimate left ERROR far behind, constraint drift): a
-    /// run that reports success on a wrong answer must at least say so.
+    /// steps whose local error estimate left ERROR far behind, constraint drift), after
+    /// the physics the model leaves out ([`crate::model::report::not_modelled`], added by
+    /// [`super::request::run`]): a run that reports success on a wrong answer must at
+    /// least say so.
     pub warnings: Vec<String>,
     /// The run reused the simulation of an earlier run on this thread (nothing was read,
     /// built or compiled: [`super::prepared`]).
