@@ -14,8 +14,9 @@ use super::output::{Named, Output, Stop};
 use super::progress::Progress;
 use super::Dim;
 use crate::diag::{render, Code, Diagnostic, SourceFile};
-use crate::model::integrator_settings::Formulation;
-use crate::session::request::{self, parse_probe, Built, RunObserver, RunRequest, Started};
+use crate::session::request::{
+    self, parse_probe, Built, Formulation, LinearRequest, RunObserver, RunRequest, Started,
+};
 use crate::session::run::{Method, TableRow};
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -191,10 +192,7 @@ impl RunArgs {
         r.probes = self.probes.iter().map(|p| parse_probe(p)).collect();
         r.set.clone_from(&self.set);
         (r.statics, r.kinematics) = (self.statics, self.kinematics);
-        r.linear = self
-            .linear
-            .clone()
-            .map(crate::model::linear_command::Linear::eigensol);
+        r.linear = self.linear.clone().map(LinearRequest::eigensol);
         r
     }
 }

@@ -33,11 +33,13 @@
 pub mod acf;
 pub mod analyses;
 pub mod changes;
+pub mod check;
 pub mod evaluate;
 pub mod expression;
 pub mod files;
 pub mod lifted;
 pub mod linear;
+pub mod linearization;
 pub mod loaded;
 pub mod plan;
 pub mod plant;

@@ -47,7 +47,7 @@ use crate::mbd::dynamics::DynError;
 use crate::mbd::system::Dimension;
 use crate::model::command_changes::ModelChange;
 use crate::model::commands::Step;
-use crate::model::integrator_settings::Formulation;
+use crate::model::linear_command::Linear;
 use crate::model::overrides::Settings;
 use std::cell::RefCell;
 use std::fmt;
@@ -134,7 +134,61 @@ pub struct RunRequest {
     /// A linear analysis where the run ends (`--linear[=FILE]`, as LINEAR/EIGENSOL): the
     /// modes printed, and written to FILE_modes.csv and FILE_shapes.csv when FILE is
     /// given. Without an end time (and no static equilibrium), at the assembled start.
-    pub linear: Option<crate::model::linear_command::Linear>,
+    pub linear: Option<LinearRequest>,
+}
+
+/// The linear analysis a [`RunRequest`] asks for where the run ends: LINEAR/EIGENSOL
+/// with every default but these.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearRequest {
+    /// The modes are also written to FILE_modes.csv and FILE_shapes.csv (`--linear=FILE`).
+    pub file: Option<String>,
+    /// The damping is kept (false: NODAMPIN).
+    pub damping: bool,
+}
+
+impl LinearRequest {
+    /// LINEAR/EIGENSOL with every default, written to `file` when given (`--linear`).
+    pub fn eigensol(file: Option<String>) -> LinearRequest {
+        LinearRequest {
+            file,
+            damping: true,
+        }
+    }
+
+    /// The LINEAR command it stands for.
+    fn command(&self) -> Linear {
+        let mut command = Linear::eigensol(self.file.clone());
+        command.damping = self.damping;
+        command
+    }
+}
+
+/// The BDF formulation a [`RunRequest`] asks for (`--formulation`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// Index 3 (Adams' I3).
+    I3,
+    /// Stabilized index 2 (Adams' SI2).
+    Si2,
+}
+
+impl From<Formulation> for crate::model::integrator_settings::Formulation {
+    fn from(f: Formulation) -> Self {
+        match f {
+            Formulation::I3 => Self::I3,
+            Formulation::Si2 => Self::Si2,
+        }
+    }
+}
+
+/// `text` with `values` (`KIND/ID.FIELD=VALUE`, as `--set` takes them) set in it; the
+/// refusal points into the values, one a line (the text returned with it).
+pub fn set_values(values: &[String], text: &str) -> Result<String, (String, Vec<Diagnostic>)> {
+    let settings = Settings::parse(values)?;
+    settings
+        .apply(text)
+        .map_err(|d| (settings.text().to_string(), d))
 }
 
 impl RunRequest {
@@ -257,7 +311,7 @@ impl RunRequest {
         spec.cartesian = self.cartesian;
         spec.interpolate = self.interpolate;
         spec.estimate_error = self.estimate_error;
-        spec.formulation = self.formulation;
+        spec.formulation = self.formulation.map(Into::into);
         (spec.error, spec.hmax, spec.hinit, spec.hmin) =
             (self.error, self.hmax, self.hinit, self.hmin);
         (spec.fixed_step, spec.alpha, spec.rho_inf) = (self.fixed_step, self.alpha, self.rho_inf);
@@ -289,7 +343,7 @@ fn asked_analyses(
     }
     if let Some(command) = &request.linear {
         let at = segments.last().map_or(0.0, |s| s.end);
-        segments.push(Segment::linear(at, command.clone()));
+        segments.push(Segment::linear(at, command.command()));
     }
     for s in segments.iter_mut() {
         if request.kinematics && s.kind == Analysis::Dynamic {
