@@ -5,7 +5,7 @@ use super::*;
 
 /// A 1 kg slider on a rail along global x, pulled by a SPRINGDAMPER (K = 100,
 /// C = 4, free length 1) to the ground origin, released at rest at x = 1.2.
-pub(in crate::session) const OSCILLATOR: &str = "oscillator\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+pub(super) const OSCILLATOR: &str = "oscillator\nPART/1, GROUND\nMARKER/10, PART = 1\n\
     MARKER/11, PART = 1, REULER = 90D, 90D, 0\n\
     PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 1.2, 0, 0\n\
     MARKER/20, PART = 2\nMARKER/21, PART = 2, REULER = 90D, 90D, 0\n\
