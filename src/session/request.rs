@@ -1,8 +1,8 @@
 //! One entry point for every shell that runs a dataset: a [`RunRequest`] (the input,
 //! the end time and output step, the integrator and its settings, the probes) goes into
 //! [`run`], which checks it, reads the command file ([`super::acf`]) and the dataset,
-//! builds the [`Simulation`], runs its segments and hands each output row to a
-//! [`RunObserver`]. Out comes a [`RunDone`] (the header, the [`Summary`], why 2D or 3D),
+//! builds the [`Simulation`](super::run::Simulation), runs its segments and hands each output row to a
+//! [`RunObserver`]. Out comes a [`RunDone`] (the header, the [`Summary`](super::run::Summary), why 2D or 3D),
 //! or a [`RunFailed`] that keeps what was computed before the failure (header and
 //! summary once integration had started) and the failure as diagnostics with their code,
 //! the source their spans point into, the time, the element and the cause; the rows
@@ -35,8 +35,8 @@
 //! assert!(rows[100][1] < 0.0);
 //! ```
 //!
-//! This module holds [`run`] itself; [`options`] the request and its checks,
-//! [`outcome`] what a run hands out and ends with, and [`prepare`] the simulation it
+//! This module holds [`run`] itself; `options` the request and its checks,
+//! `outcome` what a run hands out and ends with, and `prepare` the simulation it
 //! runs (a kept one reused, or one built).
 
 use super::acf::{self, Commands};

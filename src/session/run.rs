@@ -5,11 +5,11 @@
 //! expressions, then each REQUEST's components (`REQ<id>.F<k>`, k = 1..8), all compiled
 //! in one batch by the chosen engine; interpreter and JIT give the same bits.
 //!
-//! This module holds the [`Simulation`] every part works on; [`spec`] what a run is
-//! asked to do, [`simulation`] building one, [`columns`] its output columns, [`segments`]
-//! the run loop, [`summary`] what it ends with, [`warnings`] the lock-up diagnosis and
-//! the accuracy monitors, [`estimate`] the error estimate from a second run, and
-//! [`rebuild`] a command file's changes to the model during a run.
+//! This module holds the [`Simulation`] every part works on; `spec` what a run is
+//! asked to do, `simulation` building one, `columns` its output columns, `segments`
+//! the run loop, `summary` what it ends with, `warnings` the lock-up diagnosis and
+//! the accuracy monitors, `estimate` the error estimate from a second run, and
+//! `rebuild` a command file's changes to the model during a run.
 
 use super::plan::Plan;
 use super::plant::Plant;
@@ -64,7 +64,7 @@ pub struct Simulation {
     /// The dataset's plant inputs and outputs, for LINEAR/STATEMAT.
     plant: Plant,
     /// The parts' poses at each integrated row, while a run records them for its error
-    /// estimate ([`estimate`]).
+    /// estimate (`estimate`).
     trace: Option<Vec<Vec<f64>>>,
 }
 

@@ -57,7 +57,7 @@ pub struct RunRequest {
     /// INTEGRATOR/INTERPOLATE = ON); false leaves it to the statement.
     pub interpolate: bool,
     /// Estimate the answer's error from a second run at ERROR/10 and warn when it
-    /// exceeds 10·ERROR (`--estimate-error`, [`super::run::Estimate`]).
+    /// exceeds 10·ERROR (`--estimate-error`, [`crate::session::run::Estimate`]).
     pub estimate_error: bool,
     /// Fixed steps of at most this (`--fixed-step`): no error control.
     pub fixed_step: Option<f64>,
@@ -340,7 +340,7 @@ pub(super) const MAX_ROWS: f64 = 4_503_599_627_370_496.0;
 
 /// `NAME=EXPR` (`--probe`) as (name, expression): split at the first `=`, the name
 /// trimmed. Text without `=`, or with a blank name, comes back whole as ("", text), which
-/// [`run`] refuses with E0503 quoting it.
+/// [`run`](super::run) refuses with E0503 quoting it.
 pub fn parse_probe(text: &str) -> (String, String) {
     match text.split_once('=') {
         Some((n, e)) if !n.trim().is_empty() => (n.trim().to_string(), e.to_string()),

@@ -54,7 +54,7 @@ impl Simulation {
     /// [`Simulation::run_segments`], stopped with [`DynError::Interrupted`] before the
     /// first step attempt at which `interrupt` answers true. When the spec asks for an
     /// error estimate, a run that finished is made again at a looser ERROR afterwards
-    /// ([`Estimate`]); the simulation is then left at that run's end.
+    /// ([`super::Estimate`]); the simulation is then left at that run's end.
     pub fn run_interruptible(
         &mut self,
         segments: &[Segment],

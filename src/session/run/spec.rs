@@ -143,7 +143,7 @@ pub struct RunSpec {
     /// Which back end evaluates the expressions.
     pub engine: Engine,
     /// Estimate the answer's error from a second run at a looser ERROR
-    /// (`--estimate-error`, [`Estimate`]) and warn when it exceeds 10·ERROR.
+    /// (`--estimate-error`, [`super::Estimate`]) and warn when it exceeds 10·ERROR.
     pub estimate_error: bool,
 }
 
