@@ -16,8 +16,8 @@ use std::path::Path;
 pub struct LoadedModel {
     /// The dataset as read.
     pub read: ModelRead,
-    /// The assembled system and its analyses.
-    pub analysis: Analysis,
+    /// The assembled system and its analyses (the shells ask through the methods).
+    analysis: Analysis,
 }
 
 /// A part at the assembled configuration (the REPL's `:parts`).
