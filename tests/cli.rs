@@ -14,6 +14,10 @@ mod acf;
 #[path = "cli/accuracy.rs"]
 mod accuracy;
 
+/// Physics the model leaves out: named by every run, `--strict` exits 3.
+#[path = "cli/ignored.rs"]
+mod ignored;
+
 /// `mbfx run --linear` and LINEAR commands.
 #[path = "cli/linear.rs"]
 mod linear;

@@ -396,7 +396,7 @@ pub unsafe extern "C" fn mbfx_expr_entry(expr: *const Expr, entry: *mut EntryFn)
             // `void *` is passed as a `double *` is.
             let f = unsafe {
                 std::mem::transmute::<
-                    mbfx::jit::EntryFn,
+                    mbfx::session::expression::EntryFn,
                     unsafe extern "C" fn(c_int, *const f64, *mut c_void) -> f64,
                 >(f)
             };

@@ -62,7 +62,8 @@ class Run:
     them: `time`, the probes in the order given, then each REQUEST's components
     (`REQ<id>.F<k>`), as `mbfx run` writes them. `stats` holds the integrator's counters
     (steps, rejected, Newton iterations, factorizations, CPU seconds, ...), `warnings`
-    what the run's monitors found, and `summary` the text `mbfx run` prints at the end.
+    what the run's monitors found and the physics the model leaves out (`not modelled:
+    ...`), and `summary` the text `mbfx run` prints at the end.
     A run that failed is still a `Run`: its rows stop where the failure was.
     """
 

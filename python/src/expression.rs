@@ -7,9 +7,8 @@
 
 use crate::arrays::{Inputs, Point};
 use crate::errors::{check_error, guarded, plain_check_error};
-use mbfx::check::units::{names, parse, Dim};
 use mbfx::diag::SourceFile;
-use mbfx::session::expression::{ExprError, Expression};
+use mbfx::session::expression::{dims_of, ExprError, Expression, ENTRY_SIGNATURE};
 use mbfx::session::run::Engine;
 use numpy::PyArray1;
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -141,7 +140,7 @@ impl PyExpression {
     #[getter]
     fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for (name, unit) in self.unit_texts() {
+        for (name, unit) in self.inner.unit_texts() {
             d.set_item(name, unit)?;
         }
         Ok(d)
@@ -151,7 +150,7 @@ impl PyExpression {
     /// dimensions and the units check fixed one; None when it is free or was not checked.
     #[getter]
     fn dimension(&self) -> Option<String> {
-        self.inner.dim().map(|d| names::describe(d, None))
+        self.inner.dim_name()
     }
 
     /// The checker's warnings about the text.
@@ -179,7 +178,7 @@ impl PyExpression {
     /// It is the signature `scipy.LowLevelCallable` takes for `quad`.
     #[getter]
     fn signature(&self) -> &'static str {
-        mbfx::jit::ENTRY_SIGNATURE
+        ENTRY_SIGNATURE
     }
 
     fn __repr__(&self) -> String {
@@ -209,26 +208,10 @@ impl PyExpression {
             PyTuple::new(py, e.variables())?,
             engine_name(e.engine()),
             PyTuple::new(py, e.wrt())?,
-            self.unit_texts(),
+            self.inner.unit_texts(),
         )
             .into_pyobject(py)?;
         Ok((rebuild, args))
-    }
-}
-
-impl PyExpression {
-    /// (name, dimension as text) of each variable given a dimension; the text reads back
-    /// to the same dimension.
-    fn unit_texts(&self) -> Vec<(String, String)> {
-        let e = &self.inner;
-        let given = e.variables().iter().zip(e.dims());
-        given
-            .filter_map(|(n, d)| {
-                let unit = names::unit((*d)?, None);
-                let unit = if unit.is_empty() { "1".into() } else { unit };
-                Some((n.clone(), unit))
-            })
-            .collect()
     }
 }
 
@@ -279,18 +262,6 @@ fn bind_arguments<'py>(
         .collect()
 }
 
-/// The dimensions of `units` ({name: "velocity", ...}), read; ValueError for one that
-/// does not read.
-fn dims_of(units: &[(String, String)]) -> PyResult<Vec<(&str, Dim)>> {
-    units
-        .iter()
-        .map(|(name, text)| match parse::parse(text) {
-            Ok(d) => Ok((name.as_str(), d)),
-            Err(why) => Err(PyValueError::new_err(format!("units[{name:?}]: {why}"))),
-        })
-        .collect()
-}
-
 /// `mbfx.compile(text, variables=(), engine="jit", units=None)`.
 #[pyfunction]
 #[pyo3(signature = (text, variables = None, engine = "jit", units = None))]
@@ -306,7 +277,8 @@ pub fn compile(
         let variables = variables.unwrap_or_default();
         let names: Vec<&str> = variables.iter().map(String::as_str).collect();
         let units: Vec<(String, String)> = units.unwrap_or_default().into_iter().collect();
-        let dims = dims_of(&units)?;
+        let dims = dims_of(&units)
+            .map_err(|(name, why)| PyValueError::new_err(format!("units[{name:?}]: {why}")))?;
         let inner = py
             .detach(|| Expression::compile_with_dims(text, &names, &dims, engine))
             .map_err(|x| expr_error(py, text, x))?;

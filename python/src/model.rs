@@ -6,15 +6,11 @@
 use crate::errors::{check_error, diagnostic_list, guarded, plain_check_error};
 use crate::expression::engine_of;
 use crate::run;
-use mbfx::check::Expect;
-use mbfx::diag::{Diagnostic, SourceFile};
-use mbfx::mbd::system::Dimension;
-use mbfx::model::linear_command::Linear;
-use mbfx::model::overrides::Settings;
+use mbfx::diag::{has_errors, Diagnostic, SourceFile};
 use mbfx::session::evaluate::{EvalError, Evaluator};
 use mbfx::session::files::read_dataset;
 use mbfx::session::loaded::LoadedModel;
-use mbfx::session::request::RunRequest;
+use mbfx::session::request::{set_values, LinearRequest, RunRequest};
 use mbfx::session::{self, DimRequest};
 use numpy::PyArray1;
 use pyo3::exceptions::PyValueError;
@@ -80,18 +76,6 @@ impl PyReport {
             self.redundant.len()
         )
     }
-}
-
-/// The figures and words of an analysis, which (unlike the analysis) may cross threads.
-struct Analysed {
-    dimension: u8,
-    dimension_reason: String,
-    dof: usize,
-    gruebler: i64,
-    equations: usize,
-    redundant: Vec<String>,
-    advice: Vec<String>,
-    text: String,
 }
 
 /// A dataset (`.adm`), read and analysed. Build it with `mbfx.load`.
@@ -168,50 +152,24 @@ fn build(
 ) -> PyResult<PyModel> {
     let asked = dim_request(dim)?;
     let file = SourceFile::new(name.clone(), text.clone());
-    let read = mbfx::model::read_model(&text);
-    let mut diags = early;
-    diags.extend(read.diagnostics.iter().cloned());
-    if read.has_errors() {
-        return Err(check_error(py, &diags, &file));
-    }
     // The analysis holds compiled code that stays on its thread: only its figures and
     // words leave the GIL-free section.
-    let analysed = py.detach(|| {
-        let analysis = session::analyze_model(&read.model, asked).map_err(|f| {
-            let found = session::report::diagnostics(&f, &read.model);
-            (found, f.to_string())
-        })?;
-        let r = &analysis.redundancy;
-        let mut sections = vec![mbfx::model::report::summary(&read.model)];
-        sections.extend(session::report::sections(&analysis, asked));
-        Ok::<_, (Vec<Diagnostic>, String)>(Analysed {
-            dimension: match analysis.system.dim {
-                Dimension::Two => 2,
-                Dimension::Three => 3,
-            },
-            dimension_reason: analysis.system.dim_reason.clone(),
-            dof: r.dof(),
-            gruebler: r.grubler(),
-            equations: r.equations,
-            redundant: r
-                .adams_message(Some("model"))
-                .lines()
-                .filter_map(|l| l.strip_prefix(" -  "))
-                .map(|l| l.trim().to_string())
-                .collect(),
-            advice: r.advice_message().lines().map(str::to_string).collect(),
-            text: mbfx::model::report::format_report(&name, &sections),
-        })
-    });
-    let a = analysed.map_err(|(found, why)| {
-        let mut all = diags.clone();
-        all.extend(found);
-        if mbfx::diag::has_errors(&all) {
-            check_error(py, &all, &file)
-        } else {
-            plain_check_error(py, format!("{name}: {why}"))
+    let checked = py.detach(|| session::check::check(&name, &text, asked));
+    let mut diags = early;
+    diags.extend(checked.diagnostics);
+    let a = match checked.analysis {
+        None => return Err(check_error(py, &diags, &file)),
+        Some(Ok(figures)) => figures,
+        Some(Err(refused)) => {
+            let mut all = diags.clone();
+            all.extend(refused.diagnostics);
+            return Err(if has_errors(&all) {
+                check_error(py, &all, &file)
+            } else {
+                plain_check_error(py, format!("{name}: {}", refused.why))
+            });
         }
-    })?;
+    };
     let report = PyReport {
         dimension: a.dimension,
         dimension_reason: a.dimension_reason,
@@ -221,13 +179,12 @@ fn build(
         redundant: a.redundant,
         advice: a.advice,
         warnings: diagnostic_list(py, &diags, &file)?.unbind(),
-        text: a.text,
+        text: checked.report,
     };
-    let model = &read.model;
     Ok(PyModel {
-        title: model.title.clone(),
-        parts: model.parts.iter().map(|p| p.el.id).collect(),
-        markers: model.markers.iter().map(|m| (m.el.id, m.part)).collect(),
+        title: checked.title,
+        parts: checked.parts,
+        markers: checked.markers,
         report: Py::new(py, report)?,
         text,
         name,
@@ -293,7 +250,7 @@ impl PyModel {
                     LoadedModel::load(&self.text, asked).map_err(|f| Err(f.1.to_string()))?;
                 let mut ev = Evaluator::new(engine);
                 ev.set_model(Some(loaded));
-                ev.evaluate(expr, Expect::Any).map_err(Ok)
+                ev.evaluate_any(expr).map_err(Ok)
             });
             let file = SourceFile::new("expression", expr);
             match result {
@@ -390,9 +347,10 @@ impl PyModel {
             r.engine = engine_of(engine)?;
             r.dim = dim_request(self.dim)?;
             r.set = run::settings_of(set)?;
-            let mut command = Linear::eigensol(None);
-            command.damping = damping;
-            r.linear = Some(command);
+            r.linear = Some(LinearRequest {
+                file: None,
+                damping,
+            });
             crate::linear::linearize(py, &r)
         })
     }
@@ -403,11 +361,8 @@ impl PyModel {
     fn with_values(&self, py: Python<'_>, values: &Bound<'_, PyDict>) -> PyResult<PyModel> {
         guarded(|| {
             let written = run::settings_of(Some(values))?;
-            let settings = Settings::parse(&written)
+            let text = set_values(&written, &self.text)
                 .map_err(|(text, d)| check_error(py, &d, &SourceFile::new("values", text)))?;
-            let text = settings
-                .apply(&self.text)
-                .map_err(|d| check_error(py, &d, &SourceFile::new("values", settings.text())))?;
             build(py, text, self.name.clone(), Vec::new(), self.dim)
         })
     }

@@ -8,8 +8,7 @@
 //! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`.
 
 use crate::errors::{diagnostic_list, RunError};
-use mbfx::model::integrator_settings::Formulation;
-use mbfx::session::request::{run, RunFailed, RunRequest};
+use mbfx::session::request::{run, Formulation, RunFailed, RunRequest};
 use mbfx::session::run::{Method, Summary};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyTypeError, PyValueError};

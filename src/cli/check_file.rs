@@ -144,25 +144,15 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
     tally.count(&early);
     o.diagnostics(&early, &source)?;
     let summary = if dataset {
-        let read = crate::model::read_model(&source.text);
-        let mut diags = read.diagnostics;
-        let sections = if crate::diag::has_errors(&diags) {
-            Vec::new()
-        } else {
-            let asked = Dim::request(a.dim);
-            match session::analyze_model(&read.model, asked) {
-                Ok(analysis) => session::report::sections(&analysis, asked),
-                Err(f) => {
-                    diags.splice(0..0, session::report::diagnostics(&f, &read.model));
-                    session::report::failure_sections(&f, asked)
-                }
-            }
-        };
+        let checked = session::check::check(&source_name, &source.text, Dim::request(a.dim));
+        let mut diags = checked.diagnostics;
+        if let Some(Err(refused)) = checked.analysis {
+            diags.splice(0..0, refused.diagnostics);
+        }
         tally.count(&diags);
         o.diagnostics(&diags, &source)?;
-        let report = model_report(&source_name, &read.model, sections);
-        o.out().write_all(report.as_bytes())?;
-        format!("{} elements", count_elements(&read.model))
+        o.out().write_all(checked.report.as_bytes())?;
+        format!("{} elements", checked.elements)
     } else {
         let n = check_expressions(&source.text, scope, |diags| {
             tally.count(diags);
@@ -185,23 +175,6 @@ pub fn run(a: &CheckArgs, o: &mut Output) -> Result<i32, Stop> {
         "{source_name}: {summary}; {errors} errors, {warnings} warnings"
     )?;
     Ok(i32::from(errors > 0))
-}
-
-/// The report of a model: its summary, then the sections the multibody core adds
-/// (2D/3D, degrees of freedom, assembly, redundancy) when it analyses the model.
-pub fn model_report(
-    file: &str,
-    model: &crate::model::elements::Model,
-    multibody: Vec<crate::model::report::ReportSection>,
-) -> String {
-    let mut sections = vec![crate::model::report::summary(model)];
-    sections.extend(multibody);
-    crate::model::report::format_report(file, &sections)
-}
-
-/// Elements the model holds (markers and settings included).
-fn count_elements(m: &crate::model::elements::Model) -> usize {
-    m.element_counts().iter().map(|(_, n)| n).sum::<usize>() + m.settings.len()
 }
 
 #[cfg(test)]

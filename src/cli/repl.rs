@@ -272,14 +272,7 @@ impl Repl {
         }
         match super::eval::load_model(std::path::Path::new(path), DimRequest::Auto, false) {
             Ok(m) => {
-                let s = &m.analysis.system;
-                let line = format!(
-                    "loaded {path}: {} parts, {} markers, {} DOF; {}",
-                    s.parts.len(),
-                    s.markers.len(),
-                    m.analysis.redundancy.dof(),
-                    s.dim_reason
-                );
+                let line = format!("loaded {path}: {}", m.summary());
                 self.e.set_model(Some(m));
                 line
             }
@@ -417,18 +410,17 @@ fn parts_table(m: &LoadedModel) -> String {
         "{:<10} {:<12} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10}",
         "PART", "name", "x", "y", "z", "psi", "theta", "phi"
     );
-    for p in &m.analysis.system.parts {
-        let rot = p.rot.to_rotation_matrix().into_inner();
-        let [psi, theta, phi] = crate::model::frames::euler_313(&rot).map(f64::to_degrees);
-        let r = p.bcs_origin();
+    for p in m.part_poses() {
+        let [x, y, z] = p.origin;
+        let [psi, theta, phi] = p.euler_313_degrees;
         let _ = write!(
             out,
             "\n{:<10} {:<12} {:>12.6} {:>12.6} {:>12.6} {:>10.4} {:>10.4} {:>10.4}",
             p.id.map_or("-".into(), |id| id.to_string()),
             p.name.as_deref().unwrap_or(""),
-            r.x,
-            r.y,
-            r.z,
+            x,
+            y,
+            z,
             psi,
             theta,
             phi
@@ -443,22 +435,17 @@ fn markers_table(m: &LoadedModel) -> String {
         "{:<10} {:<10} {:<12} {:>12} {:>12} {:>12}",
         "MARKER", "PART", "name", "x", "y", "z"
     );
-    let system = &m.analysis.system;
-    for k in &system.markers {
-        let part = system.part(k.part);
-        let r = part.r + part.rot * k.s;
-        let name =
-            k.id.and_then(|id| m.read.model.marker(id))
-                .and_then(|mk| mk.el.name.as_deref());
+    for k in m.marker_places() {
+        let [x, y, z] = k.origin;
         let _ = write!(
             out,
             "\n{:<10} {:<10} {:<12} {:>12.6} {:>12.6} {:>12.6}",
             k.id.map_or("-".into(), |id| id.to_string()),
-            part.id.map_or("-".into(), |id| id.to_string()),
-            name.unwrap_or(""),
-            r.x,
-            r.y,
-            r.z
+            k.part.map_or("-".into(), |id| id.to_string()),
+            k.name.as_deref().unwrap_or(""),
+            x,
+            y,
+            z
         );
     }
     out

@@ -14,8 +14,9 @@ use super::output::{Named, Output, Stop};
 use super::progress::Progress;
 use super::Dim;
 use crate::diag::{render, Code, Diagnostic, SourceFile};
-use crate::model::integrator_settings::Formulation;
-use crate::session::request::{self, parse_probe, Built, RunObserver, RunRequest, Started};
+use crate::session::request::{
+    self, parse_probe, Built, Formulation, LinearRequest, RunObserver, RunRequest, Started,
+};
 use crate::session::run::{Method, TableRow};
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -136,8 +137,9 @@ pub struct RunArgs {
     /// steps, Newton iterations, integration order, CPU time), as Adams does.
     #[arg(long, short)]
     verbose: bool,
-    /// Exit with code 3 when the run finishes with an accuracy warning (for scripts and
-    /// CI: a warned answer fails the job without being an error).
+    /// Exit with code 3 when the run finishes with an accuracy warning or leaves physics
+    /// of the dataset out (for scripts and CI: a warned answer fails the job without being
+    /// an error).
     #[arg(long)]
     strict: bool,
     /// Estimate the answer's error: run again from the start at ERROR/10, compare the
@@ -190,10 +192,7 @@ impl RunArgs {
         r.probes = self.probes.iter().map(|p| parse_probe(p)).collect();
         r.set.clone_from(&self.set);
         (r.statics, r.kinematics) = (self.statics, self.kinematics);
-        r.linear = self
-            .linear
-            .clone()
-            .map(crate::model::linear_command::Linear::eigensol);
+        r.linear = self.linear.clone().map(LinearRequest::eigensol);
         r
     }
 }
@@ -402,7 +401,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     Ok(if a.strict && warned { STRICT_WARNED } else { 0 })
 }
 
-/// `--strict`'s exit code for a run that finished with an accuracy warning.
+/// `--strict`'s exit code for a run that finished with a warning in its summary.
 const STRICT_WARNED: i32 = 3;
 
 /// The step table's header (`mbfx run --verbose`), Adams' columns without the function

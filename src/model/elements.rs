@@ -76,6 +76,51 @@ pub struct Model {
     pub equilibrium: Option<super::equilibrium_settings::EquilibriumStatement>,
     /// The measure every expression slot reads (index = slot of [`crate::ir::Inst::Measure`]).
     pub measures: Vec<MeasureSlot>,
+    /// What the reader left out, one entry per kind in the order of their names: a run
+    /// must say what of the dataset's physics its results lack.
+    pub ignored: Vec<Ignored>,
+}
+
+/// Statements of one kind the model leaves out (see [`super::report::ignored_warning`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ignored {
+    /// The statement kind (`FRICTION`), or the keyword as written for one mbfx does not
+    /// know; for [`Omission::UserCall`], `USER`.
+    pub kind: String,
+    /// Why they are left out.
+    pub why: Omission,
+    /// Whether leaving them out can change the motion (see
+    /// [`super::reader::QUIET_STATEMENTS`]): a run warns about these only.
+    pub physical: bool,
+    /// Each statement's label (`FRICTION/3 (name)`) and 1-based line, in file order
+    /// (never empty).
+    pub statements: Vec<(String, usize)>,
+    /// Byte range of the first statement's keyword.
+    pub span: Span,
+}
+
+/// Why the reader left statements out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Omission {
+    /// A statement kind outside the mbfx subset (CONTACT, FRICTION, ...).
+    Unsupported,
+    /// A keyword mbfx does not know at all.
+    Unknown,
+    /// Elements of a modelled kind whose values a `USER(…)` subroutine computes, which
+    /// exists only compiled for Adams.
+    UserCall,
+}
+
+impl Ignored {
+    /// How many statements.
+    pub fn count(&self) -> usize {
+        self.statements.len()
+    }
+
+    /// The first statement's line.
+    pub fn line(&self) -> usize {
+        self.statements.first().map_or(0, |s| s.1)
+    }
 }
 
 /// UNITS and the units-consistency factor: Force·UCF = Mass·Acceleration (spec §2.1).

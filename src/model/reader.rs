@@ -11,7 +11,7 @@
 //! silently; errors point into the file. The model is built as far as the errors allow:
 //! it is meant for the multibody core only when the read has no errors.
 
-use super::elements::{Id, Model};
+use super::elements::{Id, Ignored, Model, Omission};
 use super::scope::ModelScope;
 use super::statement::{read_statements, title_span, ItemKind, Statement};
 use super::stmt_args::{statement_label, Args};
@@ -78,9 +78,21 @@ pub fn read_model(text: &str) -> ModelRead {
         diags,
         markers: HashMap::new(),
         unsupported: BTreeMap::new(),
+        unknown: BTreeMap::new(),
+        user_calls: Vec::new(),
         singletons: HashMap::new(),
     };
     r.model.title = text[title_span(text)].trim().to_string();
+    // Keywords mbfx does not know are warned about one by one as they are read; kept
+    // here so a run can say what it leaves out.
+    for s in stmts.iter().filter(|s| s.canonical.is_none()) {
+        if matches!(
+            super::keywords::lookup_statement(&s.keyword),
+            super::keywords::Lookup::Unknown
+        ) {
+            r.unknown.entry(s.keyword.clone()).or_default().push(s);
+        }
+    }
     let keep = r.collect_ids(&stmts);
     let kept: Vec<&Statement> = stmts
         .iter()
@@ -115,8 +127,47 @@ pub(super) struct Reader<'a> {
     pub(super) markers: HashMap<Id, usize>,
     /// Statements outside the subset, per keyword.
     unsupported: BTreeMap<&'static str, Vec<&'a Statement>>,
+    /// Statements whose keyword mbfx does not know, per keyword as written.
+    unknown: BTreeMap<String, Vec<&'a Statement>>,
+    /// Statements of a modelled kind with a `USER(…)` value that may move something.
+    user_calls: Vec<&'a Statement>,
     /// The first UNITS and ACCGRAV statement.
     singletons: HashMap<&'static str, &'a Statement>,
+}
+
+/// Statement kinds outside the subset whose absence cannot change the motion: a run
+/// leaves them out without a word (`check` still lists them). Any other kind the reader
+/// does not model, and any keyword it does not know, counts as physics left out.
+pub const QUIET_STATEMENTS: &[(&str, &str)] = &[
+    // Output and display.
+    ("DEBUG", "what the solver prints"),
+    (
+        "GRAPHICS",
+        "shapes to draw (a CONTACT's geometry is warned with the CONTACT)",
+    ),
+    ("MREQUEST", "output columns"),
+    (
+        "REQUEST",
+        "output columns (a USER one loses a column, not motion)",
+    ),
+    // How Adams solves, not what.
+    ("PREFERENCES", "solver and contact-library preferences"),
+    ("LSOLVER", "the linear-equation solver"),
+    // Data only other statements read: a reader mbfx leaves out is warned itself.
+    ("MATERIAL", "material data of flexible bodies and contacts"),
+    ("SECTION", "beam cross-sections"),
+    ("MATRIX", "data of LSE, GSE, FIELD and flexible bodies"),
+    (
+        "CURVE",
+        "data of PTCV and CVCV (the CURVE function is an error)",
+    ),
+    ("SURFACE", "contact geometry"),
+    ("STRING", "text passed to user subroutines"),
+];
+
+/// Whether leaving out statements of `kind` can change the motion.
+fn is_physical(kind: &str) -> bool {
+    !QUIET_STATEMENTS.iter().any(|(quiet, _)| *quiet == kind)
 }
 
 /// Markers not on a rigid PART (spec §2.3): arguments that put a marker elsewhere.
@@ -244,7 +295,14 @@ impl<'a> Reader<'a> {
                     self.unsupported.entry(kind).or_default().push(stmt);
                 }
                 self.check_only(&mut a);
+                let found = a.finish();
+                self.diags.extend(found);
+                return;
             }
+        }
+        // A USER value is warned at its argument and left out of the model.
+        if stmt.canonical.is_some_and(is_physical) && stmt.args.iter().any(|a| a.is_user_call) {
+            self.user_calls.push(stmt);
         }
         let found = a.finish();
         self.diags.extend(found);
@@ -289,6 +347,30 @@ impl<'a> Reader<'a> {
         self.scope.check_only.set(false);
     }
 
+    /// What the model leaves out: the kinds outside the subset by name, then the unknown
+    /// keywords by name, then the statements with a USER value.
+    fn ignored(&mut self) -> Vec<Ignored> {
+        let group = |kind: String, why, stmts: &[&Statement]| Ignored {
+            physical: why != Omission::Unsupported || is_physical(&kind),
+            kind,
+            why,
+            statements: (stmts.iter())
+                .map(|s| (statement_label(s), s.line))
+                .collect(),
+            span: stmts[0].keyword_span.clone(),
+        };
+        let unsupported = std::mem::take(&mut self.unsupported).into_iter();
+        let unknown = std::mem::take(&mut self.unknown).into_iter();
+        let mut ignored: Vec<Ignored> = unsupported
+            .map(|(kind, stmts)| group(kind.into(), Omission::Unsupported, &stmts))
+            .chain(unknown.map(|(kind, stmts)| group(kind, Omission::Unknown, &stmts)))
+            .collect();
+        if !self.user_calls.is_empty() {
+            ignored.push(group("USER".into(), Omission::UserCall, &self.user_calls));
+        }
+        ignored
+    }
+
     /// Whole-model checks, the unsupported-statement summary, and the measure slots.
     fn finish(mut self) -> ModelRead {
         let grounds: Vec<_> = self.model.parts.iter().filter(|p| p.ground).collect();
@@ -315,30 +397,12 @@ impl<'a> Reader<'a> {
                 }
             }
         }
-        for (kind, stmts) in std::mem::take(&mut self.unsupported) {
-            let listed: Vec<String> = stmts
-                .iter()
-                .take(8)
-                .map(|s| format!("{} (line {})", statement_label(s), s.line))
-                .collect();
-            let more = stmts.len().saturating_sub(listed.len());
-            let mut note = listed.join(", ");
-            if more > 0 {
-                note.push_str(&format!(" and {more} more"));
-            }
-            self.diags.push(
-                Diagnostic::warning(
-                    Code::UnsupportedStatement,
-                    stmts[0].keyword_span.clone(),
-                    format!(
-                        "{kind} is outside the mbfx subset: {} statement{} ignored",
-                        stmts.len(),
-                        if stmts.len() == 1 { "" } else { "s" }
-                    ),
-                )
-                .with_note(note),
-            );
-        }
+        self.model.ignored = self.ignored();
+        // The unknown keywords and USER values were warned one by one as they were read.
+        let summaries = (self.model.ignored.iter())
+            .filter(|i| i.why == Omission::Unsupported)
+            .map(super::report::ignored_warning);
+        self.diags.extend(summaries);
         self.model.measures = self.scope.slots();
         super::motion_time::check(&self.model, &mut self.diags);
         self.diags.sort_by_key(|d| d.span.start);
@@ -347,5 +411,49 @@ impl<'a> Reader<'a> {
             diagnostics: self.diags,
             scope: self.scope,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_quiet_statement_is_a_kind_the_reader_knows() {
+        for (kind, _) in QUIET_STATEMENTS {
+            assert!(
+                matches!(
+                    super::super::keywords::lookup_statement(kind),
+                    super::super::keywords::Lookup::Known(k) if k.keyword.name == *kind
+                ),
+                "{kind}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_model_carries_what_it_leaves_out_with_counts_and_lines() {
+        let read = read_model(
+            "t\nPART/1, GROUND\nMARKER/10, PART = 1\nGRAPHICS/1, CIRCLE, CM = 10, RADIUS = 1\n\
+             FRICTION/1, JOINT = 1\nFRICTION/2, JOINT = 1\nWIDGET/3\n\
+             SFORCE/4, I = 10, J = 10, FUNCTION = USER(1)\nEND\n",
+        );
+        let got: Vec<_> = (read.model.ignored.iter())
+            .map(|i| (i.kind.as_str(), i.why, i.physical, i.count(), i.line()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("FRICTION", Omission::Unsupported, true, 2, 5),
+                ("GRAPHICS", Omission::Unsupported, false, 1, 4),
+                ("WIDGET", Omission::Unknown, true, 1, 7),
+                ("USER", Omission::UserCall, true, 1, 8),
+            ]
+        );
+        let line = super::super::report::not_modelled(&read.model.ignored);
+        assert_eq!(
+            line.as_deref(),
+            Some("not modelled: 2 FRICTION, 1 WIDGET, 1 USER subroutine — the results leave out their physics")
+        );
     }
 }

@@ -2,7 +2,8 @@
 //! supplies the summary (element counts, units, gravity); the multibody core adds its
 //! own sections (degrees of freedom, redundant constraints, 2D/3D) through the same type.
 
-use super::elements::Model;
+use super::elements::{Ignored, Model, Omission};
+use crate::diag::{Code, Diagnostic};
 
 /// One titled block of the report.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,4 +77,60 @@ pub fn format_report(file: &str, sections: &[ReportSection]) -> String {
         }
     }
     out
+}
+
+/// The `W0602` warning about statements the model leaves out: `mbfx check` prints it for
+/// every kind outside the subset, a run for each [`Ignored::physical`] group.
+pub fn ignored_warning(ignored: &Ignored) -> Diagnostic {
+    let listed: Vec<String> = (ignored.statements.iter())
+        .take(8)
+        .map(|(label, line)| format!("{label} (line {line})"))
+        .collect();
+    let more = ignored.count().saturating_sub(listed.len());
+    let mut note = listed.join(", ");
+    if more > 0 {
+        note.push_str(&format!(" and {more} more"));
+    }
+    let (n, kind) = (ignored.count(), &ignored.kind);
+    let s = if n == 1 { "" } else { "s" };
+    let message = match ignored.why {
+        Omission::Unsupported => {
+            format!("{kind} is outside the mbfx subset: {n} statement{s} ignored")
+        }
+        Omission::Unknown => format!("unknown statement `{kind}`: {n} statement{s} ignored"),
+        Omission::UserCall => format!(
+            "{n} statement{s} with a USER subroutine, which mbfx cannot run: {} left out",
+            if n == 1 {
+                "its value is"
+            } else {
+                "their values are"
+            }
+        ),
+    };
+    Diagnostic::warning(Code::UnsupportedStatement, ignored.span.clone(), message).with_note(note)
+}
+
+/// The run summary's line about the physics the model leaves out ("not modelled: 12
+/// FRICTION, 1 CONTACT — ..."), the most numerous first; None when nothing physical is.
+pub fn not_modelled(ignored: &[Ignored]) -> Option<String> {
+    let mut physical: Vec<&Ignored> = ignored.iter().filter(|i| i.physical).collect();
+    physical.sort_by_key(|i| std::cmp::Reverse(i.count()));
+    let counts: Vec<String> = (physical.iter())
+        .map(|i| match i.why {
+            Omission::UserCall => {
+                format!(
+                    "{} USER subroutine{}",
+                    i.count(),
+                    if i.count() == 1 { "" } else { "s" }
+                )
+            }
+            _ => format!("{} {}", i.count(), i.kind),
+        })
+        .collect();
+    (!counts.is_empty()).then(|| {
+        format!(
+            "not modelled: {} — the results leave out their physics",
+            counts.join(", ")
+        )
+    })
 }

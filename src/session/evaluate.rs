@@ -187,6 +187,11 @@ impl Evaluator {
         Ok(run(&ctx))
     }
 
+    /// [`Evaluator::evaluate`] of an expression of any kind (scalar or vector).
+    pub fn evaluate_any(&mut self, text: &str) -> Result<Evaluation, EvalError> {
+        self.evaluate(text, Expect::Any)
+    }
+
     /// Compiles and evaluates `text` with the engine chosen; see the module's summary.
     pub fn evaluate(&mut self, text: &str, expect: Expect) -> Result<Evaluation, EvalError> {
         let checked = self.compile(text, expect).map_err(EvalError::Diagnostics)?;

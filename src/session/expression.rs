@@ -33,7 +33,7 @@ use crate::diag::{Code, Diagnostic};
 use crate::interp::Program;
 use crate::ir::deriv::{gradient, DerivError, Input};
 use crate::ir::Function;
-use crate::jit::{CompiledExpr, EntryFn, Jit, JitError};
+use crate::jit::{CompiledExpr, Jit, JitError};
 use crate::lanes::Lanes;
 use std::cell::RefCell;
 use std::fmt;
@@ -138,6 +138,22 @@ impl fmt::Display for ExprError {
 impl std::error::Error for ExprError {}
 
 pub use crate::lanes::Column;
+
+/// The C entry of an expression's machine code, and its signature in C words.
+pub use crate::jit::{EntryFn, ENTRY_SIGNATURE};
+
+/// The dimensions of `units` (name, dimension as text: `"velocity"`, `"m/s"`), read for
+/// [`Expression::compile_with_dims`]; the first that does not read, as (name, why).
+pub fn dims_of(units: &[(String, String)]) -> Result<Vec<(&str, Dim)>, (String, String)> {
+    (units.iter())
+        .map(
+            |(name, text)| match crate::check::units::parse::parse(text) {
+                Ok(d) => Ok((name.as_str(), d)),
+                Err(why) => Err((name.clone(), why)),
+            },
+        )
+        .collect()
+}
 
 /// The compiled code of one expression.
 #[derive(Clone)]
@@ -312,6 +328,25 @@ impl Expression {
     /// check fixed one (`None` when it is free or was not checked).
     pub fn dim(&self) -> Option<Dim> {
         self.dim
+    }
+
+    /// [`Expression::dim`] in words: "a velocity (length/time)".
+    pub fn dim_name(&self) -> Option<String> {
+        self.dim
+            .map(|d| crate::check::units::names::describe(d, None))
+    }
+
+    /// (name, dimension as text) of each variable given a dimension; the text reads back
+    /// to the same dimension with [`dims_of`] (`"1"` for a dimensionless one).
+    pub fn unit_texts(&self) -> Vec<(String, String)> {
+        let given = self.variables.iter().zip(self.dims());
+        given
+            .filter_map(|(n, d)| {
+                let unit = crate::check::units::names::unit((*d)?, None);
+                let unit = if unit.is_empty() { "1".into() } else { unit };
+                Some((n.clone(), unit))
+            })
+            .collect()
     }
 
     /// The expression's text.

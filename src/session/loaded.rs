@@ -16,8 +16,34 @@ use std::path::Path;
 pub struct LoadedModel {
     /// The dataset as read.
     pub read: ModelRead,
-    /// The assembled system and its analyses.
-    pub analysis: Analysis,
+    /// The assembled system and its analyses (the shells ask through the methods).
+    analysis: Analysis,
+}
+
+/// A part at the assembled configuration (the REPL's `:parts`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartPose {
+    /// The PART id (None for a part mbfx made).
+    pub id: Option<u32>,
+    /// The `adams_view_name`, when the dataset gives one.
+    pub name: Option<String>,
+    /// The origin of its body frame, global.
+    pub origin: [f64; 3],
+    /// Its orientation as 3-1-3 Euler angles (psi, theta, phi), degrees.
+    pub euler_313_degrees: [f64; 3],
+}
+
+/// A marker at the assembled configuration (the REPL's `:markers`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MarkerPlace {
+    /// The MARKER id (None for a marker mbfx made).
+    pub id: Option<u32>,
+    /// The id of the part it is on.
+    pub part: Option<u32>,
+    /// The `adams_view_name`, when the dataset gives one.
+    pub name: Option<String>,
+    /// Its origin, global.
+    pub origin: [f64; 3],
 }
 
 /// Why a dataset file could not be loaded, ready to be shown: diagnostics in the file, and
@@ -77,6 +103,55 @@ impl LoadedModel {
             Ok(analysis) => Ok(LoadedModel { read, analysis }),
             Err(f) => Err(Box::new((read, f))),
         }
+    }
+
+    /// What `:load` says of the model: its parts, markers and degrees of freedom, and why
+    /// it is 2D or 3D.
+    pub fn summary(&self) -> String {
+        let s = &self.analysis.system;
+        format!(
+            "{} parts, {} markers, {} DOF; {}",
+            s.parts.len(),
+            s.markers.len(),
+            self.analysis.redundancy.dof(),
+            s.dim_reason
+        )
+    }
+
+    /// Each part at the assembled configuration, in the system's order.
+    pub fn part_poses(&self) -> Vec<PartPose> {
+        (self.analysis.system.parts.iter())
+            .map(|p| {
+                let rot = p.rot.to_rotation_matrix().into_inner();
+                let euler = crate::model::frames::euler_313(&rot).map(f64::to_degrees);
+                let r = p.bcs_origin();
+                PartPose {
+                    id: p.id,
+                    name: p.name.clone(),
+                    origin: [r.x, r.y, r.z],
+                    euler_313_degrees: euler,
+                }
+            })
+            .collect()
+    }
+
+    /// Each marker at the assembled configuration, in the system's order.
+    pub fn marker_places(&self) -> Vec<MarkerPlace> {
+        let system = &self.analysis.system;
+        (system.markers.iter())
+            .map(|k| {
+                let part = system.part(k.part);
+                let r = part.r + part.rot * k.s;
+                let name = (k.id.and_then(|id| self.read.model.marker(id)))
+                    .and_then(|mk| mk.el.name.clone());
+                MarkerPlace {
+                    id: k.id,
+                    part: part.id,
+                    name,
+                    origin: [r.x, r.y, r.z],
+                }
+            })
+            .collect()
     }
 
     /// The dataset's splines, for the evaluation context of its expressions.

@@ -8,8 +8,8 @@
 //! constraint rows), and must agree to 12 significant digits. A command file's
 //! LINEAR/STATEMAT writes a state matrix whose entries the closed form gives.
 
-use mbfx::model::linear_command::Linear;
 use mbfx::session::linear::LinearReport;
+use mbfx::session::request::LinearRequest as Linear;
 use mbfx::session::request::{run, RunRequest};
 use mbfx::session::DimRequest;
 use nalgebra::{DMatrix, SymmetricEigen};

@@ -1,0 +1,275 @@
+//! The run loop: a simulation's segments one after the other (dynamics, equilibria,
+//! kinematics, linear analyses), each output row handed out, and the summary made.
+
+use super::{monitors, Outputs, Segment, Simulation, Summary, TableRow};
+use crate::mbd::dynamics::integrator::{Interrupt, OutputTimes, RowState};
+use crate::mbd::dynamics::{simulate, DynError, Dynamics};
+use crate::model::commands::Analysis;
+use crate::session::plan::Plan;
+use crate::session::stopped::Stopped;
+use std::time::Instant;
+
+impl Simulation {
+    /// Kinetic plus gravitational potential energy (model units, /UCF).
+    pub(super) fn energy(&self) -> f64 {
+        let sys = &self.dynamics.sys;
+        let g = sys.gravity;
+        let potential: f64 = sys
+            .parts
+            .iter()
+            .filter(|p| p.index.is_some())
+            .map(|p| -p.mass * g.dot(&p.r))
+            .sum();
+        kinetic(sys) + potential / sys.ucf
+    }
+
+    /// Runs to the end time, handing each output row to `out` (the first at t = 0). The
+    /// summary comes with the failure that stopped the run, if one did; the rows before
+    /// it have been handed out.
+    pub fn run(
+        &mut self,
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+    ) -> (Summary, Option<Stopped>) {
+        let segment = Segment::dynamic(
+            self.spec.end,
+            self.spec.output_step,
+            self.read.model.integrator.clone(),
+        );
+        self.run_segments(&[segment], out, None)
+    }
+
+    /// Runs the segments one after the other from t = 0, handing each output row to
+    /// `out` (the first at t = 0, none twice where two segments meet) and, when `table`
+    /// is given, a step-table line at each. The integrator starts afresh at each segment
+    /// from the reconciled state where the last one ended, as Adams restarts at each
+    /// SIMULATE command. The command line's `spec` overrides each segment's statement.
+    pub fn run_segments(
+        &mut self,
+        segments: &[Segment],
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+        table: Option<&mut dyn FnMut(&TableRow)>,
+    ) -> (Summary, Option<Stopped>) {
+        self.run_interruptible(segments, out, table, None)
+    }
+
+    /// [`Simulation::run_segments`], stopped with [`DynError::Interrupted`] before the
+    /// first step attempt at which `interrupt` answers true. When the spec asks for an
+    /// error estimate, a run that finished is made again at a looser ERROR afterwards
+    /// ([`super::Estimate`]); the simulation is then left at that run's end.
+    pub fn run_interruptible(
+        &mut self,
+        segments: &[Segment],
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+        table: Option<&mut dyn FnMut(&TableRow)>,
+        interrupt: Option<Interrupt<'_>>,
+    ) -> (Summary, Option<Stopped>) {
+        let error = self.start_trace(segments);
+        let (mut summary, failed) = self.run_once(segments, out, table, interrupt);
+        match (error, &failed) {
+            (Some(error), None) => self.add_estimate(segments, error, &mut summary, interrupt),
+            _ => self.trace = None,
+        }
+        (summary, failed)
+    }
+
+    /// One run of `segments` ([`Simulation::run_interruptible`] without the estimate).
+    pub(super) fn run_once(
+        &mut self,
+        segments: &[Segment],
+        out: &mut dyn FnMut(&[f64]) -> std::io::Result<()>,
+        mut table: Option<&mut dyn FnMut(&TableRow)>,
+        interrupt: Option<Interrupt<'_>>,
+    ) -> (Summary, Option<Stopped>) {
+        let clock = Instant::now();
+        // Energy is watched over runs of dynamics alone (an equilibrium changes it).
+        // (A command file that changes the model changes its energy too.)
+        let integrates_only = segments
+            .iter()
+            .all(|s| s.kind == Analysis::Dynamic && s.changes.is_empty());
+        let e0 = (self.conservative && integrates_only).then(|| self.energy());
+        let mut max_residual: f64 = 0.0;
+        let mut name = match segments.iter().find(|s| s.kind != Analysis::Dynamic) {
+            Some(s) if s.kind == Analysis::Kinematics => "kinematics",
+            Some(s) if s.kind == Analysis::Linear => "linear",
+            Some(_) => "statics",
+            None => "hht",
+        };
+        let mut error: f64 = 0.0;
+        let mut notes = self.notes.clone();
+        let mut equilibria = Vec::new();
+        let mut linear = Vec::new();
+        let conservative = self.conservative;
+        let mut kinetic_max: f64 = 0.0;
+        let mut trace = self.trace.take();
+        // A row of the integrated state (`Some((last, state))`: reconciled when the
+        // columns need it or it is a segment's last) or of a state solved already (None).
+        let mut emit = |outputs: &mut Outputs,
+                        d: &mut Dynamics,
+                        row: Option<(bool, RowState)>|
+         -> Result<(), DynError> {
+            if conservative {
+                kinetic_max = kinetic_max.max(kinetic(&d.sys));
+            }
+            let row = match row {
+                Some((last, state)) => outputs.row(d, last, state)?,
+                None => outputs.solved_row(d)?,
+            };
+            if let Some(t) = trace.as_mut() {
+                t.push(row.to_vec());
+            }
+            max_residual = max_residual.max(residual(d));
+            if let Some(table) = table.as_mut() {
+                table(&TableRow {
+                    time: d.sys.time,
+                    step: d.stats.last_step,
+                    steps: d.stats.steps,
+                    newton_iterations: d.stats.newton_iterations,
+                    order: d.stats.order,
+                    cpu_seconds: clock.elapsed().as_secs_f64(),
+                });
+            }
+            out(row).map_err(|e| DynError::Output(e.to_string()))
+        };
+        // The row at the start belongs to the first segment: the dynamics' consistent
+        // state, or the first equilibrium or kinematic solution. The command file's
+        // changes before its first SIMULATE come before it.
+        let mut first_row = true;
+        let mut result = match segments.first() {
+            Some(s) => self.change_model(&s.changes),
+            None => Ok(()),
+        };
+        if result.is_ok() && segments.first().is_none_or(|s| s.kind == Analysis::Dynamic) {
+            let (dynamics, outputs) = (&mut self.dynamics, &mut self.outputs);
+            result = dynamics
+                .solve_accelerations()
+                .and_then(|()| {
+                    emit(
+                        outputs,
+                        dynamics,
+                        Some((segments.is_empty(), RowState::Stepped)),
+                    )
+                })
+                .map_err(Stopped::from);
+            first_row = false;
+        }
+        let mut after_solved = false;
+        for (k, seg) in segments.iter().enumerate() {
+            if result.is_err() {
+                break;
+            }
+            if k > 0 && !seg.changes.is_empty() {
+                // The stretch starts from the changed model, assembled where the last
+                // one stopped: its velocities and accelerations are reconciled below.
+                result = self.change_model(&seg.changes);
+                if result.is_err() {
+                    break;
+                }
+                after_solved = true;
+            }
+            let last = k + 1 == segments.len();
+            let (dynamics, outputs, plant) = (&mut self.dynamics, &mut self.outputs, &self.plant);
+            if seg.kind != Analysis::Dynamic {
+                let mut solved_emit = |d: &mut Dynamics| emit(outputs, d, None);
+                result = crate::session::analyses::run(
+                    dynamics,
+                    plant,
+                    seg,
+                    (first_row, last),
+                    &mut solved_emit,
+                    (&mut equilibria, &mut linear),
+                    interrupt,
+                );
+                (first_row, after_solved) = (false, true);
+                continue;
+            }
+            // From an equilibrium (velocities zero), a kinematic state or a changed
+            // model: velocities consistent with the constraints, then the accelerations.
+            if after_solved {
+                result = dynamics.reconcile().map_err(Stopped::from);
+                if result.is_err() {
+                    break;
+                }
+            }
+            after_solved = false;
+            let plan = Plan::new(seg.integrator.as_ref(), &self.spec, seg.output_step);
+            let (mut integrator, note) = plan.integrator();
+            name = integrator.name();
+            error = error.max(plan.settings.error);
+            if let Some(n) = note.filter(|n| !notes.contains(n)) {
+                notes.push(n);
+            }
+            let (t0, dt, end) = (dynamics.sys.time, seg.output_step, seg.end);
+            let times = OutputTimes::new(t0, dt, end);
+            // Each segment's last row reconciles: the next segment starts from it.
+            let mut segment_emit =
+                |d: &mut Dynamics, state| emit(outputs, d, Some((d.sys.time >= end, state)));
+            result = simulate(
+                dynamics,
+                integrator.as_mut(),
+                &plan.settings,
+                &times,
+                &mut segment_emit,
+                interrupt,
+            )
+            .map_err(Stopped::from);
+            if let Some(n) = integrator.formulation().filter(|n| !notes.contains(n)) {
+                notes.push(n);
+            }
+        }
+        self.trace = trace;
+        // Notes the changes to the model added.
+        for n in &self.notes {
+            if !notes.contains(n) {
+                notes.push(n.clone());
+            }
+        }
+        let result = result.map_err(|e| self.diagnose_lock_up(e));
+        let summary = Summary {
+            integrator: name,
+            equilibria,
+            linear,
+            stats: self.dynamics.stats,
+            cpu_seconds: clock.elapsed().as_secs_f64(),
+            max_residual,
+            energy: e0.map(|e| (e, self.energy())),
+            notes,
+            dim: self.dynamics.sys.dim_reason.clone(),
+            warnings: Vec::new(),
+            estimate: None,
+            reused: false,
+        };
+        let summary = Summary {
+            warnings: monitors(
+                &summary,
+                (
+                    self.spec.fixed_step.is_some(),
+                    self.dynamics.m >= self.dynamics.n,
+                    self.trace.is_some(),
+                ),
+                error,
+                kinetic_max,
+            ),
+            ..summary
+        };
+        (summary, result.err())
+    }
+}
+
+/// Kinetic energy (model units, /UCF).
+pub(super) fn kinetic(sys: &crate::mbd::system::System) -> f64 {
+    sys.parts
+        .iter()
+        .filter(|p| p.index.is_some())
+        .map(|p| {
+            let w = p.w;
+            0.5 * p.mass * p.v.norm_squared() + 0.5 * w.dot(&(p.inertia_global() * w))
+        })
+        .sum::<f64>()
+        / sys.ucf
+}
+
+/// The largest scaled residual of the kept rows of `d` (translational rows over the
+/// model length), from its last constraint evaluation.
+pub(super) fn residual(d: &Dynamics) -> f64 {
+    (0..d.m).map(|r| d.scaled_residual(r)).fold(0.0, f64::max)
+}
