@@ -10,8 +10,8 @@
 
 use criterion::Criterion;
 use mbfx::mbd::compiled::CompiledExprs;
+use mbfx::mbd::pipeline::{analyze_model, redundancy_of, DimRequest};
 use mbfx::mbd::{AssemblyOptions, Dim, Dimension, System};
-use mbfx::session::{analyze_model, redundancy_of, DimRequest};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::{Duration, Instant};

@@ -10,9 +10,9 @@
 mod common;
 
 use common::adm_files;
+use mbfx::mbd::pipeline::{analyze_model, Analysis, DimRequest, Failure};
 use mbfx::mbd::{Dimension, System};
 use mbfx::model::Model;
-use mbfx::session::{analyze_model, Analysis, DimRequest, Failure};
 use mbfx::vocab::math::{Mat3, Quat, Vec3};
 use std::path::{Path, PathBuf};
 
@@ -523,7 +523,7 @@ const VARIABLE_PENDULUM: &str = "pendulum with variables\nPART/1, GROUND\nMARKER
 #[test]
 fn gcons_read_variables_through_their_expressions() {
     for dim in [DimRequest::Auto, DimRequest::Three] {
-        let a = mbfx::session::analyze_dataset(VARIABLE_PENDULUM, dim).unwrap();
+        let a = mbfx::mbd::pipeline::analyze_dataset(VARIABLE_PENDULUM, dim).unwrap();
         assert_eq!((a.redundancy.redundant.len(), a.redundancy.dof()), (0, 0));
         let p = a.system.frame(a.system.marker_by_id(20)).r;
         assert!(
@@ -533,7 +533,7 @@ fn gcons_read_variables_through_their_expressions() {
     }
     // VARIABLE/1 reading VARIABLE/2 closes a loop: named, not solved.
     let cyclic = VARIABLE_PENDULUM.replace("DX(20, 10)\n", "DX(20, 10) + VARVAL(2)\n");
-    let err = mbfx::session::analyze_dataset(&cyclic, DimRequest::Auto)
+    let err = mbfx::mbd::pipeline::analyze_dataset(&cyclic, DimRequest::Auto)
         .err()
         .unwrap()
         .to_string();
@@ -554,7 +554,7 @@ fn gcons_read_splines() {
         SPLINE/1, X = 0, 0.25, 0.5, 0.75, 1, Y = 0, 0.25, 0.5, 0.75, 1\n\
         GCON/1, FUNCTION = AKISPL(DX(20, 10), 0, 1) + CUBSPL(DX(20, 10), 0, 1) - 1.6\nEND\n";
     for dim in [DimRequest::Auto, DimRequest::Three] {
-        let a = mbfx::session::analyze_dataset(text, dim).unwrap();
+        let a = mbfx::mbd::pipeline::analyze_dataset(text, dim).unwrap();
         let p = a.system.frame(a.system.marker_by_id(20)).r;
         assert!(
             (p[0] - 0.8).abs() < 1e-9 && (p[1] - 0.6).abs() < 1e-9,
@@ -725,11 +725,11 @@ fn every_corpus_dataset_is_analysed_or_listed_with_its_reason() {
         let bytes = std::fs::read(path).unwrap();
         let (text, _) = mbfx::model::decode(&bytes);
         let listed = NOT_ANALYSED.iter().find(|(f, _)| ends_with(path, f));
-        let auto = mbfx::session::analyze_dataset(&text, DimRequest::Auto);
+        let auto = mbfx::mbd::pipeline::analyze_dataset(&text, DimRequest::Auto);
         // The 3D build of a scene built in 2D must assemble as well.
         if let Ok(a) = &auto {
             if a.system.dim == Dimension::Two {
-                if let Err(f) = mbfx::session::analyze_dataset(&text, DimRequest::Three) {
+                if let Err(f) = mbfx::mbd::pipeline::analyze_dataset(&text, DimRequest::Three) {
                     wrong.push(format!("{} in 3D: {f}", path.display()));
                 }
             }

@@ -18,7 +18,7 @@
 use crate::spans::check_spans;
 use mbfx::diag::{has_errors, render, Diagnostic, SourceFile};
 use mbfx::model::{decode, read_model};
-use mbfx::session::{self, report, DimRequest};
+use mbfx::session::{report, DimRequest};
 
 /// Runs every check on raw fuzzer bytes.
 pub fn check_bytes(data: &[u8]) {
@@ -30,7 +30,7 @@ pub fn check_bytes(data: &[u8]) {
     check_spans(text, &diags, "read");
     let mut sections = vec![mbfx::model::report::summary(&read.model)];
     if !has_errors(&read.diagnostics) {
-        match session::analyze_model(&read.model, DimRequest::Auto) {
+        match mbfx::mbd::pipeline::analyze_model(&read.model, DimRequest::Auto) {
             Ok(analysis) => sections.extend(report::sections(&analysis, DimRequest::Auto)),
             Err(failure) => {
                 let found = report::diagnostics(&failure, &read.model);

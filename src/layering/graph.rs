@@ -90,7 +90,7 @@ impl Crate {
             }
             cleaned.insert(module, (rel, text, code));
         }
-        let is_test = |m: &ModPath| (1..=m.len()).any(|n| tests.contains(&m[..n].to_vec()));
+        let is_test = |m: &ModPath| (1..=m.len()).any(|n| tests.contains(&m[..n]));
         let files: BTreeMap<ModPath, File> = cleaned
             .into_iter()
             .filter(|(m, _)| !is_test(m))
@@ -182,7 +182,7 @@ impl Crate {
     ) -> Option<ModPath> {
         let n = (0..=abs.len())
             .rev()
-            .find(|&n| self.files.contains_key(&abs[..n].to_vec()))?;
+            .find(|&n| self.files.contains_key(&abs[..n]))?;
         let module = abs[..n].to_vec();
         if let (Some(next), true) = (abs.get(n), depth < 16) {
             if let Some(target) = names.get(&module).and_then(|ns| ns.get(next)) {

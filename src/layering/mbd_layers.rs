@@ -30,7 +30,7 @@ const LAYERS: &[(&str, &[&str])] = &[
         "constraints and forces",
         &["constraints", "forces", "fused_rows"],
     ),
-    ("build", &["assembly", "build", "planar"]),
+    ("build", &["assembly", "build", "pipeline", "planar"]),
     ("dynamics", &["dynamics"]),
     (
         "analyses",

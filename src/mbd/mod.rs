@@ -25,7 +25,8 @@
 //!    equations, evaluated), `fused_rows` and `forces` (applied forces, evaluated in the
 //!    order of what they read).
 //! 5. Build: `build` (a Model into a System), `planar` (2D or 3D), `assembly` (positions
-//!    and velocities solved).
+//!    and velocities solved), and `pipeline` (the three, then the redundancy analysis:
+//!    what every session starts with).
 //! 6. Dynamics: `dynamics` (equations of motion, the Newton matrix, integrators and the
 //!    time loop).
 //! 7. Analyses on the dynamics, which wrap its failures in their own: `freedom` (the
@@ -76,6 +77,7 @@ pub mod measure_set;
 pub mod measures;
 mod normal;
 pub mod output_slot;
+pub mod pipeline;
 pub mod planar;
 pub mod redundancy;
 pub mod rewind;

@@ -51,7 +51,7 @@ impl Lifted {
             .map_err(|e| e.to_string())?;
         // The redundancy analysis at the 2D run's (assembled) state.
         copy_state(&two.sys, &mut sys);
-        let report = super::redundancy_of(&sys).map_err(|e| e.to_string())?;
+        let report = crate::mbd::pipeline::redundancy_of(&sys).map_err(|e| e.to_string())?;
         let dropped: Vec<usize> = report.redundant.iter().map(|r| r.row).collect();
         let start = sys.start_state();
         let three = Dynamics::new(sys, forces, &dropped).map_err(|e| e.to_string())?;

@@ -86,7 +86,7 @@ impl Simulation {
             false => dropped,
             true => {
                 let report =
-                    crate::session::redundancy_of(&sys).map_err(|e| fail(e.to_string()))?;
+                    crate::mbd::pipeline::redundancy_of(&sys).map_err(|e| fail(e.to_string()))?;
                 self.redundant = report.redundant.len();
                 match self.spec.keep_redundant {
                     true => Vec::new(),

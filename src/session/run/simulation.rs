@@ -11,11 +11,11 @@ use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::error::MbdError;
 use crate::mbd::expr::ExprCompiler as _;
 use crate::mbd::output_slot::OutputSlot;
+use crate::mbd::pipeline::{analyze_model_with, Failure};
 use crate::model::command_changes::ModelChange;
 use crate::model::elements::Expr;
 use crate::model::read_model;
 use crate::session::plant::Plant;
-use crate::session::{analyze_model_with, Failure};
 
 /// Where a run stopped before integrating.
 pub enum RunFailure {
