@@ -36,4 +36,4 @@ pub mod run;
 pub mod stopped;
 
 pub use crate::mbd::pipeline::DimRequest;
-use crate::mbd::pipeline::{analyze_model, analyze_model_with, Analysis, Failure};
+use crate::mbd::pipeline::{analyze_model, Analysis, Failure};
