@@ -74,6 +74,8 @@ pub struct Model {
     pub integrator: Option<super::integrator_settings::IntegratorStatement>,
     /// The EQUILIBRIUM statement, typed (several merge in file order).
     pub equilibrium: Option<super::equilibrium_settings::EquilibriumStatement>,
+    /// GRAPHICS statements of the kinds mbfx reads, in file order (shapes to draw only).
+    pub graphics: Vec<super::graphics::Graphic>,
     /// The measure every expression slot reads (index = slot of [`crate::ir::Inst::Measure`]).
     pub measures: Vec<MeasureSlot>,
     /// What the reader left out, one entry per kind in the order of their names: a run

@@ -6,7 +6,7 @@
 //! [`keywords`]; [`decode`] turns file bytes into the text these functions read.
 //!
 //! The model layer on top: [`read_model`] builds a [`elements::Model`] (parts, markers,
-//! constraints, forces, data, outputs) from the statements, checking references and
+//! constraints, forces, data, outputs, [`graphics`]) from the statements, checking references and
 //! lowering every expression with the model as its [`scope`]; [`report`] formats what
 //! `mbfx check` prints about a model.
 //!
@@ -24,6 +24,7 @@ pub mod equilibrium_settings;
 mod expected;
 pub mod expressions;
 pub mod frames;
+pub mod graphics;
 mod inertia;
 pub mod integrator_settings;
 pub mod keywords;
@@ -33,6 +34,7 @@ mod motion_time;
 pub mod overrides;
 mod read_bodies;
 mod read_data;
+mod read_graphics;
 mod read_links;
 pub mod reader;
 pub mod report;

@@ -15,10 +15,10 @@ use super::elements::{Id, Ignored, Model, Omission};
 use super::scope::ModelScope;
 use super::statement::{read_statements, title_span, ItemKind, Statement};
 use super::stmt_args::{statement_label, Args};
-use super::{read_bodies, read_data, read_links};
+use super::{read_bodies, read_data, read_graphics, read_links};
 use crate::check::Expect;
 use crate::diag::{has_errors, Code, Diagnostic};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 /// What [`read_model`] returns: the model and every diagnostic, in file order.
 #[derive(Debug)]
@@ -77,6 +77,7 @@ pub fn read_model(text: &str) -> ModelRead {
         scope: ModelScope::default(),
         diags,
         markers: HashMap::new(),
+        foreign_markers: HashSet::new(),
         unsupported: BTreeMap::new(),
         unknown: BTreeMap::new(),
         user_calls: Vec::new(),
@@ -125,6 +126,9 @@ pub(super) struct Reader<'a> {
     pub diags: Vec<Diagnostic>,
     /// Index in `model.markers` of each marker id.
     pub(super) markers: HashMap<Id, usize>,
+    /// MARKER ids on something other than a rigid PART (warned and left out): a graphic
+    /// may still name them.
+    pub(super) foreign_markers: HashSet<i64>,
     /// Statements outside the subset, per keyword.
     unsupported: BTreeMap<&'static str, Vec<&'a Statement>>,
     /// Statements whose keyword mbfx does not know, per keyword as written.
@@ -135,9 +139,11 @@ pub(super) struct Reader<'a> {
     singletons: HashMap<&'static str, &'a Statement>,
 }
 
-/// Statement kinds outside the subset whose absence cannot change the motion: a run
-/// leaves them out without a word (`check` still lists them). Any other kind the reader
-/// does not model, and any keyword it does not know, counts as physics left out.
+/// Statement kinds whose absence cannot change the motion: a run leaves them out without
+/// a word (`check` still lists those outside the subset). Any other kind the reader does
+/// not model, and any keyword it does not know, counts as physics left out. GRAPHICS is
+/// read into `Model::graphics` for the kinds `read_graphics` knows; the others (contact
+/// geometry such as POINT or PLANE) stay outside the subset, quiet like these.
 pub const QUIET_STATEMENTS: &[(&str, &str)] = &[
     // Output and display.
     ("DEBUG", "what the solver prints"),
@@ -228,6 +234,7 @@ impl<'a> Reader<'a> {
                         .any(|f| super::keywords::abbreviates(&a.name, f, 4))
                 });
             if foreign {
+                self.foreign_markers.insert(id);
                 self.diags.push(Diagnostic::warning(
                     Code::UnsupportedStatement,
                     s.keyword_span.clone(),
@@ -289,6 +296,7 @@ impl<'a> Reader<'a> {
             "INTEGRATOR" => read_data::integrator(self, &mut a),
             "EQUILIBRIUM" => read_data::equilibrium(self, &mut a),
             "OUTPUT" | "RESULTS" | "KINEMATICS" | "IC" => read_data::setting(self, &mut a),
+            "GRAPHICS" if read_graphics::is_read(stmt) => read_graphics::graphics(self, &mut a),
             "END" => {}
             _ => {
                 if let Some(kind) = stmt.canonical {
@@ -434,7 +442,7 @@ mod tests {
     #[test]
     fn the_model_carries_what_it_leaves_out_with_counts_and_lines() {
         let read = read_model(
-            "t\nPART/1, GROUND\nMARKER/10, PART = 1\nGRAPHICS/1, CIRCLE, CM = 10, RADIUS = 1\n\
+            "t\nPART/1, GROUND\nMARKER/10, PART = 1\nGRAPHICS/1, PLANE, RM = 10\n\
              FRICTION/1, JOINT = 1\nFRICTION/2, JOINT = 1\nWIDGET/3\n\
              SFORCE/4, I = 10, J = 10, FUNCTION = USER(1)\nEND\n",
         );

@@ -1,6 +1,7 @@
 //! The model report `mbfx check MODEL.adm` prints: titled sections of lines. The reader
-//! supplies the summary (element counts, units, gravity); the multibody core adds its
-//! own sections (degrees of freedom, redundant constraints, 2D/3D) through the same type.
+//! supplies the summary (element counts, graphics per kind, units, gravity); the
+//! multibody core adds its own sections (degrees of freedom, redundant constraints,
+//! 2D/3D) through the same type.
 
 use super::elements::{Ignored, Model, Omission};
 use crate::diag::{Code, Diagnostic};
@@ -53,6 +54,13 @@ pub fn summary(model: &Model) -> ReportSection {
         format!("gravity: ({}, {}, {})", g.x, g.y, g.z),
         format!("measures read by expressions: {}", model.measures.len()),
     ];
+    let graphics = super::graphics::counts_by_kind(&model.graphics);
+    if !graphics.is_empty() {
+        let listed: Vec<String> = (graphics.iter())
+            .map(|(kind, n)| format!("{n} {kind}"))
+            .collect();
+        lines.push(format!("graphics: {}", listed.join(", ")));
+    }
     if !model.settings.is_empty() {
         let names: Vec<&str> = model
             .settings

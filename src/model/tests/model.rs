@@ -428,7 +428,7 @@ const BAD: &[Bad] = &[
         at: "1E400",
     },
     Bad {
-        extra: "GRAPHICS/1, CYLINDER, CM = 21, RADIUS = 2E308",
+        extra: "GRAPHICS/1, CYLINDER, CM = 21, LENGTH = 1, RADIUS = 2E308",
         code: Code::NonFiniteNumber,
         at: "2E308",
     },
@@ -562,7 +562,7 @@ fn messages_name_elements_by_view_name() {
 fn unsupported_things_are_warnings_that_name_statement_id_and_line() {
     let text = with(
         "JOINT/1, REVOLUTE, I = 21, J = 11, MU_DYN_ROT = 0.1\n\
-         GRAPHICS/5, CYLINDER, CM = 21\n\
+         GRAPHICS/5, PLANE, RM = 21\n\
          SFORCE/2, I = 21, J = 11, FUNCTION = USER(1, 2)\n\
          DIFF/3, FUNCTION = TIME\n\
          VARIABLE/4, FUNCTION = DIF(3)\n\
