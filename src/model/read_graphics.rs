@@ -76,7 +76,7 @@ fn marker(r: &mut Reader, a: &mut Args, full: &str, min: usize) -> Option<Id> {
 
 /// Whether the dataset defines `kind`/`id` (any kind with ids, read or not).
 fn defined(r: &Reader, kind: &str, id: Id) -> bool {
-    (r.scope.ids.get(kind)).is_some_and(|ids| ids.contains(&i64::from(id)))
+    r.scope.has(kind, i64::from(id))
 }
 
 /// `E0311` at the reference to `kind`/`id`, which the dataset does not define.
@@ -86,21 +86,11 @@ fn undefined(a: &mut Args, kind: &str, id: Id, span: Span, note: String) {
         .push(Diagnostic::error(Code::UndefinedElement, span, msg).with_note(note));
 }
 
-/// A number the statement cannot do without (`E0604` when absent).
-fn required(a: &mut Args, full: &str, min: usize) -> Option<f64> {
-    let present = a.stmt.arg(full, min).is_some();
-    let v = a.number(full, min);
-    if !present {
-        a.missing(&format!("{full} = value"));
-    }
-    v
-}
-
 /// A radius, diameter or scale: `E0605` at the argument when negative.
 fn size(a: &mut Args, full: &str, min: usize, need: bool) -> Option<f64> {
     let arg = a.stmt.arg(full, min);
     let v = if need {
-        required(a, full, min)?
+        a.required_number(full, min)?
     } else {
         a.number(full, min)?
     };
@@ -154,9 +144,9 @@ fn radius(r: &mut Reader, a: &mut Args) -> Option<Radius> {
 
 fn box_shape(r: &mut Reader, a: &mut Args) -> Option<Shape> {
     let corner = marker(r, a, "CORNER", 3);
-    let x = required(a, "X", 1);
-    let y = required(a, "Y", 1);
-    let z = required(a, "Z", 1);
+    let x = a.required_number("X", 1);
+    let y = a.required_number("Y", 1);
+    let z = a.required_number("Z", 1);
     Some(Shape::Box {
         corner: corner?,
         extent: [x?, y?, z?],
@@ -165,7 +155,7 @@ fn box_shape(r: &mut Reader, a: &mut Args) -> Option<Shape> {
 
 fn cylinder(r: &mut Reader, a: &mut Args) -> Option<Shape> {
     let cm = marker(r, a, "CM", 2);
-    let length = required(a, "LENGTH", 3);
+    let length = a.required_number("LENGTH", 3);
     let radius = radius(r, a);
     let facets = facets(a);
     Some(Shape::Cylinder {
@@ -178,7 +168,7 @@ fn cylinder(r: &mut Reader, a: &mut Args) -> Option<Shape> {
 
 fn frustum(r: &mut Reader, a: &mut Args) -> Option<Shape> {
     let cm = marker(r, a, "CM", 2);
-    let length = required(a, "LENGTH", 3);
+    let length = a.required_number("LENGTH", 3);
     let top = size(a, "TOP", 2, true);
     let bottom = size(a, "BOTTOM", 2, true);
     let facets = facets(a);

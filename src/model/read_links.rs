@@ -67,13 +67,7 @@ pub fn joint(r: &mut Reader, a: &mut Args) {
     let el = r.named(a);
     let kind = type_flag(a, JointType::flags());
     let markers = fixed_pair(r, a);
-    let need = |a: &mut Args, key: &str| {
-        let v = a.number(key, 2);
-        if v.is_none() && a.stmt.arg(key, 2).is_none() {
-            a.missing(&format!("{key} = value"));
-        }
-        v
-    };
+    let need = |a: &mut Args, key: &str| a.required_number(key, 2);
     let pd = (kind == Some(JointType::Rackpin))
         .then(|| need(a, "PD"))
         .flatten();

@@ -221,6 +221,16 @@ impl<'s> Args<'s> {
         id
     }
 
+    /// A number the statement cannot do without (`E0604` at the keyword when absent).
+    pub fn required_number(&mut self, full: &str, min: usize) -> Option<f64> {
+        let found = self.find_untouched(full, min);
+        let v = self.number(full, min);
+        if !found {
+            self.missing(&format!("{full} = value"));
+        }
+        v
+    }
+
     fn find_untouched(&self, full: &str, min: usize) -> bool {
         self.stmt
             .args

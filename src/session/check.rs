@@ -1,5 +1,5 @@
 //! `mbfx check` of a dataset as one call, for the CLI and the Python module alike: read
-//! the text, analyse the model ([`super::analyze_model`]: 2D or 3D, assembly, degrees of
+//! the text, analyse the model ([`crate::mbd::pipeline::analyze_model`]: 2D or 3D, assembly, degrees of
 //! freedom, redundancy) and word the report. Out come plain figures and text: nothing of
 //! the model or the multibody core leaves, so the result may cross threads.
 
