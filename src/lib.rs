@@ -19,15 +19,18 @@ pub mod cli;
 pub mod context;
 pub mod diag;
 mod font;
+pub mod gltf;
 pub mod interp;
 pub mod ir;
 pub mod jit;
 pub mod lanes;
 pub mod mbd;
 pub mod model;
+pub mod scene;
 pub mod session;
 mod stack;
 pub mod syntax;
+pub mod viewer;
 pub mod vocab;
 
 /// The architecture's tests, read from the sources.
