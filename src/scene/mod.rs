@@ -9,6 +9,10 @@
 //! come from the session's run. The glTF writer is [`crate::gltf`], the HTML page
 //! [`crate::viewer`].
 
+mod build;
+
+pub use build::{build, Options, SceneError};
+
 /// A rigid transform: a translation, then a unit quaternion `[x, y, z, w]` (glTF's order).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
@@ -39,7 +43,7 @@ pub struct Scene {
     /// A characteristic size of the model at t = 0 (model units): the diagonal of what
     /// is drawn, for grids, glyph and arrow sizes. Never zero.
     pub extent: f64,
-    /// Ground first, then every moving part in the dataset's order.
+    /// Every part in the dataset's order (ground among them, [`PartNode::ground`]).
     pub parts: Vec<PartNode>,
     /// The meshes the items show (one mesh may be shown by several items).
     pub meshes: Vec<Mesh>,
