@@ -10,7 +10,8 @@ and a constrained-multibody core that runs `.adm` datasets.
 
 `compile` gives an `Expression` (call it with floats or numpy arrays, take its
 `gradient`, hand its `address` to scipy or ctypes); `load` gives a `Model` (`check`,
-`evaluate`, `run`); a run gives a `Run` (its columns as arrays, `to_pandas`, `plot`).
+`evaluate`, `run`, its `graphics`); a run gives a `Run` (its columns as arrays,
+`to_pandas`, `plot`).
 Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
 `mbfx.study` runs design studies of a model's variants on Dask.
 """
@@ -41,6 +42,7 @@ __all__ = [
     "CheckError",
     "Diagnostic",
     "Expression",
+    "Graphic",
     "InternalError",
     "Linearization",
     "MbfxError",
@@ -140,6 +142,33 @@ class Run:
         if names:
             ax.legend()
         return ax
+
+
+@dataclass(frozen=True, eq=False)
+class Graphic:
+    """One GRAPHICS statement of a dataset (`Model.graphics`; docs/models.md, GRAPHICS).
+
+    `kind` is Adams' word (`CYLINDER`, `BOX`, `FRUSTUM`, `ELLIPSOID`, `CIRCLE`, `ARC`,
+    `OUTLINE`, `SPDP`, `FORCE`, `CURVE`, `EXTERNAL`); `part` is the part of its first
+    marker, where it is drawn; `markers` the markers that place it (CORNER, CM, I and J,
+    EMARKER, CRM, RM, an OUTLINE's list). `values` holds the kind's arguments by their
+    lower-case names as the dataset writes them (`cm`, `length`, `radius`, `rm`, `sides`,
+    `seg`, `rangle`; `corner`, `x`, `y`, `z`; `xscale`...; `outline`; `i`, `j`, `coils`,
+    `da`...`ld`; `etype`, `eid`, `emarker`; `cid`, `crm`; `file`, `element`,
+    `faceting_tolerance`): marker and element ids and counts as int, lengths in model
+    units, angles in radians; an argument the dataset leaves out is None.
+    """
+
+    id: int
+    kind: str
+    view_name: Optional[str]
+    part: Optional[int]
+    markers: List[int]
+    values: Dict[str, Any]
+
+    def __repr__(self) -> str:
+        given = ", ".join(f"{k}={v!r}" for k, v in self.values.items() if v is not None)
+        return f"mbfx.Graphic({self.id}, {self.kind}, part={self.part}, {given})"
 
 
 @dataclass(frozen=True, eq=False)

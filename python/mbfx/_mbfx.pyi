@@ -6,7 +6,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, o
 import numpy as np
 import numpy.typing as npt
 
-from . import Linearization, Run
+from . import Graphic, Linearization, Run
 
 __version__: str
 
@@ -105,6 +105,9 @@ class Model:
     def parts(self) -> List[int]: ...
     @property
     def markers(self) -> Dict[int, int]: ...
+    @property
+    def graphics(self) -> List[Graphic]:
+        """The GRAPHICS statements in file order (a new list each time)."""
     def check(self) -> Report: ...
     def evaluate(self, expr: str, engine: str = "jit") -> Union[float, np.ndarray]: ...
     def run(

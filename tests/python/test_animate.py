@@ -1,0 +1,149 @@
+"""Seeing the mechanism move from Python: `Model.graphics` lists each GRAPHICS statement
+with the values its dataset text writes (the truth is that text, written here), and
+`Run.animate()` gives the run's glTF binary (read back with `struct` and `json` as the
+glTF 2.0 specification lays it out) and its self-contained page, inline in Jupyter
+through an iframe's `srcdoc`."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import mbfx
+
+# Ground, a moving part 2 and the markers every graphic below is placed by; SFORCE/5 is
+# the element a FORCE graphic draws, CURVE/7 the curve a CURVE graphic draws.
+BASE = """graphics of every kind (tests/python/test_animate.py)
+UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+ACCGRAV/JGRAV = -9.80665
+PART/1, GROUND
+MARKER/10, PART = 1
+MARKER/11, PART = 1, QP = 1, 0, 0
+PART/2, MASS = 1, CM = 20, IP = 0.1, 0.1, 0.1
+MARKER/20, PART = 2, QP = 0, -1, 0
+MARKER/21, PART = 2, QP = 0, -1.5, 0
+MARKER/22, PART = 2
+JOINT/1, REVOLUTE, I = 22, J = 10
+SFORCE/5, TRANSLATION, I = 20, J = 11, FUNCTION = 0
+CURVE/7, CURVE_POINTS, MATRIX = 70
+MATRIX/70, FULL = RORDER, ROWS = 4, COLUMNS = 3, VALUES = 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0
+"""
+
+D = math.pi / 180
+# Each statement as a dataset writes it, with the graphic that text describes: kind,
+# view name, part, placing markers, and the kind's arguments (None where not written).
+GRAPHICS = [
+    (
+        "!   adams_view_name='rod'\n"
+        "GRAPHICS/1, CYLINDER, CM = 20, LENGTH = -2.5, RADIUS = 0.25, SIDES = 12, SEG = 24, RANGLE = 90D",
+        ("CYLINDER", "rod", 2, [20]),
+        dict(cm=20, length=-2.5, radius=0.25, rm=None, sides=12, seg=24, rangle=90 * D),
+    ),
+    (
+        "GRAPHICS/2, CYL, CM = 21, LEN = 1, RM = 20",
+        ("CYLINDER", None, 2, [21]),
+        dict(cm=21, length=1.0, radius=None, rm=20, sides=None, seg=None, rangle=None),
+    ),
+    (
+        "GRAPHICS/3, BOX, CORNER = 10, X = 0.5, Y = -50, Z = 2E-1",
+        ("BOX", None, 1, [10]),
+        dict(corner=10, x=0.5, y=-50.0, z=0.2),
+    ),
+    (
+        "GRAPHICS/4, FRUSTUM, CM = 20, LENGTH = 3, TOP = 0.1, BOTTOM = 0.3, SIDES = 6",
+        ("FRUSTUM", None, 2, [20]),
+        dict(cm=20, length=3.0, top=0.1, bottom=0.3, sides=6, seg=None, rangle=None),
+    ),
+    (
+        "GRAPHICS/5, ELLIPSOID, CM = 22, XSCALE = 1, YSCALE = 2, ZSCALE = 0.5",
+        ("ELLIPSOID", None, 2, [22]),
+        dict(cm=22, xscale=1.0, yscale=2.0, zscale=0.5),
+    ),
+    (
+        "GRAPHICS/6, CIRCLE, CM = 11, RADIUS = 0.75, SEG = 40",
+        ("CIRCLE", None, 1, [11]),
+        dict(cm=11, radius=0.75, rm=None, seg=40),
+    ),
+    (
+        "GRAPHICS/7, ARC, CM = 20, RADIUS = 2, RANGLE = 45D",
+        ("ARC", None, 2, [20]),
+        dict(cm=20, radius=2.0, rm=None, rangle=45 * D, seg=None),
+    ),
+    (
+        "GRAPHICS/8, OUTLINE = 10, 20, 21, 10",
+        ("OUTLINE", None, 1, [10, 20, 21, 10]),
+        dict(outline=[10, 20, 21, 10]),
+    ),
+    (
+        "GRAPHICS/9\n, SPDP\n, I = 20\n, J = 11\n, COILS = 10\n, DA = 0.4",
+        ("SPDP", None, 2, [20, 11]),
+        dict(i=20, j=11, coils=10, da=0.4, db=None, dc=None, lc=None, ld=None),
+    ),
+    (
+        "GRAPHICS/10, FORCE, ETYPE = SFORCE, EID = 5, EMARKER = 20",
+        ("FORCE", None, 2, [20]),
+        dict(etype="SFORCE", eid=5, emarker=20),
+    ),
+    (
+        "GRAPHICS/11, CURVE, CID = 7, CRM = 11, SEG = 16",
+        ("CURVE", None, 1, [11]),
+        dict(cid=7, crm=11, seg=16),
+    ),
+    (
+        "!   adams_view_name='SHELL_12'\n"
+        "GRAPHICS/12\n, EXTERNAL\n, RM = 22\n, FILE = curved_beam.xmt_txt\n, ELEMENT = SHELL_12",
+        ("EXTERNAL", "SHELL_12", 2, [22]),
+        dict(rm=22, file="curved_beam.xmt_txt", element="SHELL_12", faceting_tolerance=None),
+    ),
+]
+
+
+def dataset(statements) -> str:
+    return BASE + "".join(s + "\n" for s in statements) + "END\n"
+
+
+# ---------------------------------------------------------------------- Model.graphics
+
+
+def test_model_graphics_lists_every_statement_with_the_values_its_text_writes():
+    model = mbfx.load(dataset(s for s, _, _ in GRAPHICS))
+    got = model.graphics
+    assert [g.id for g in got] == list(range(1, len(GRAPHICS) + 1))
+    for g, (text, (kind, view_name, part, markers), values) in zip(got, GRAPHICS):
+        assert isinstance(g, mbfx.Graphic)
+        assert (g.kind, g.view_name, g.part, g.markers) == (kind, view_name, part, markers), text
+        # The same names in the same order (docs/models.md's table), then the values.
+        assert list(g.values) == list(values), text
+        for name, want in values.items():
+            have = g.values[name]
+            if isinstance(want, float):
+                assert have == pytest.approx(want, rel=1e-15, abs=0), (text, name)
+            else:
+                assert have == want and type(have) is type(want), (text, name)
+    # Each part a graphic is drawn on is one of the model's, and so is every marker.
+    assert {g.part for g in got} <= set(model.parts)
+    assert {m for g in got for m in g.markers} <= set(model.markers)
+
+
+def test_model_graphics_is_empty_without_graphics_and_a_new_list_each_time():
+    model = mbfx.load(dataset([]))
+    assert model.graphics == []
+    model = mbfx.load(dataset([GRAPHICS[2][0]]))
+    first = model.graphics
+    first.clear()
+    assert len(model.graphics) == 1
+
+
+def test_model_graphics_repr_names_the_kind_and_what_is_written():
+    (g,) = mbfx.load(dataset([GRAPHICS[5][0]])).graphics
+    assert repr(g) == "mbfx.Graphic(6, CIRCLE, part=1, cm=11, radius=0.75, seg=40)"
+
+
+def test_a_graphic_on_an_unknown_marker_is_a_check_error_at_its_line():
+    text = dataset(["GRAPHICS/1, CYLINDER, CM = 99, LENGTH = 1, RADIUS = 1"])
+    with pytest.raises(mbfx.CheckError) as e:
+        mbfx.load(text)
+    (d,) = [d for d in e.value.diagnostics if d.severity == "error"]
+    assert d.code == "E0311"
+    assert d.line == text.splitlines().index("GRAPHICS/1, CYLINDER, CM = 99, LENGTH = 1, RADIUS = 1") + 1
