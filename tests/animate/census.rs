@@ -105,7 +105,7 @@ fn every_corpus_dataset_with_graphics_animates_validator_clean() {
                 let err = String::from_utf8_lossy(&out.stderr);
                 let why = err
                     .lines()
-                    .find(|l| l.contains("error"))
+                    .find(|l| l.contains("Error"))
                     .unwrap_or("")
                     .to_string();
                 refused.push((adm.clone(), why));
