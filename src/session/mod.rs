@@ -18,6 +18,7 @@
 
 pub mod acf;
 pub mod analyses;
+pub mod animation;
 pub mod changes;
 pub mod check;
 pub mod evaluate;
