@@ -282,6 +282,9 @@ impl PyModel {
     /// expressions; `set` maps `"KIND/ID.FIELD"` to a value for this run only (as
     /// `--set`). `estimate_error` runs the model again at ERROR/10 to estimate the
     /// answer's error (`stats["error_estimate"]`, in ERRORs), as `--estimate-error`.
+    /// The run records a frame of its animation at each output row for `Run.animate()`
+    /// (`animation=False`: none); `geometry` maps EXTERNAL GRAPHICS ids to mesh files
+    /// (STL, OBJ, glTF) drawn in their place, as `--geometry`.
     /// A failure raises `RunError` with the rows so far as `.run`; Ctrl-C raises
     /// `KeyboardInterrupt` with them.
     #[pyo3(signature = (
@@ -289,7 +292,7 @@ impl PyModel {
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
         cartesian = false, interpolate = false, engine = "jit", set = None,
-        estimate_error = false
+        estimate_error = false, animation = true, geometry = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -315,9 +318,14 @@ impl PyModel {
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
         estimate_error: bool,
+        animation: bool,
+        geometry: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
+            if animation {
+                r.animation = Some(crate::animation::request_of(geometry)?);
+            }
             (r.end, r.output_step, r.error) = (end, output_step, error);
             r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;

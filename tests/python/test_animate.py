@@ -6,8 +6,15 @@ through an iframe's `srcdoc`."""
 
 from __future__ import annotations
 
+import html
+import json
 import math
+import pickle
+import re
+import struct
+from typing import List
 
+import numpy as np
 import pytest
 
 import mbfx
@@ -147,3 +154,117 @@ def test_a_graphic_on_an_unknown_marker_is_a_check_error_at_its_line():
     (d,) = [d for d in e.value.diagnostics if d.severity == "error"]
     assert d.code == "E0311"
     assert d.line == text.splitlines().index("GRAPHICS/1, CYLINDER, CM = 99, LENGTH = 1, RADIUS = 1") + 1
+
+
+# ------------------------------------------------------------------------ Run.animate
+
+# A pendulum of length 1 swinging from horizontal about ground's z axis, a cylinder on it
+# and a box on ground; the rod part 3 hangs below it on a second pin (two moving parts).
+PENDULUM = """Double pendulum with graphics (tests/python/test_animate.py)
+UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+ACCGRAV/JGRAV = -9.80665
+PART/1, GROUND
+MARKER/10, PART = 1
+PART/2, MASS = 1, CM = 20, IP = 0.1, 0.1, 0.1
+MARKER/20, PART = 2, QP = 0.5, 0, 0
+MARKER/21, PART = 2
+MARKER/22, PART = 2, QP = 1, 0, 0
+MARKER/23, PART = 2, REULER = 90D, 90D, 0D
+PART/3, MASS = 1, CM = 30, IP = 0.1, 0.1, 0.1
+MARKER/30, PART = 3, QP = 1, -0.5, 0
+MARKER/31, PART = 3, QP = 1, 0, 0
+JOINT/1, REVOLUTE, I = 21, J = 10
+JOINT/2, REVOLUTE, I = 31, J = 22
+GRAPHICS/1, CYLINDER, CM = 23, LENGTH = 1, RADIUS = 0.05
+GRAPHICS/2, BOX, CORNER = 10, X = 0.1, Y = 0.1, Z = 0.1
+GRAPHICS/3, ELLIPSOID, CM = 30, XSCALE = 0.1, YSCALE = 0.5, ZSCALE = 0.1
+END
+"""
+
+GLB_MAGIC, JSON_CHUNK, BIN_CHUNK = 0x46546C67, 0x4E4F534A, 0x004E4942
+
+
+def gltf_json(glb: bytes) -> dict:
+    """The JSON chunk of a glTF binary, read as the glTF 2.0 specification lays it out
+    (section "Binary glTF Layout"): a 12-byte header (magic, version 2, total length),
+    then chunks of (length, type, data), the JSON chunk first and 4-byte aligned."""
+    magic, version, length = struct.unpack_from("<III", glb, 0)
+    assert (magic, version, length) == (GLB_MAGIC, 2, len(glb))
+    chunk_length, chunk_type = struct.unpack_from("<II", glb, 12)
+    assert chunk_type == JSON_CHUNK and chunk_length % 4 == 0
+    doc = json.loads(glb[20 : 20 + chunk_length].decode("utf-8"))
+    rest = 20 + chunk_length
+    if rest < len(glb):
+        bin_length, bin_type = struct.unpack_from("<II", glb, rest)
+        assert bin_type == BIN_CHUNK and rest + 8 + bin_length == len(glb)
+    return doc
+
+
+def key_times(doc: dict) -> List[int]:
+    """The input accessor count of every sampler of the animation named `run`."""
+    (anim,) = [a for a in doc["animations"] if a.get("name") == "run"]
+    return sorted({doc["accessors"][s["input"]]["count"] for s in anim["samplers"]})
+
+
+@pytest.fixture(scope="module")
+def pendulum_run():
+    return mbfx.load(PENDULUM).run(1.0, output_step=0.02)
+
+
+def test_animate_gives_a_glb_with_a_node_per_part_and_a_key_per_row(pendulum_run):
+    model = mbfx.load(PENDULUM)
+    anim = pendulum_run.animate()
+    assert isinstance(anim, mbfx.Animation)
+    glb = anim.glb()
+    assert glb[:4] == b"glTF"
+    doc = gltf_json(glb)
+    names = [n.get("name") for n in doc["nodes"]]
+    for part in model.parts:
+        assert names.count(f"PART/{part}") == 1, names
+    # A frame at each output row: 0 to 1 s every 0.02 s.
+    assert len(pendulum_run) == 51
+    assert anim.frames == 51
+    assert key_times(doc) == [51]
+
+
+def test_animate_at_a_frame_rate_runs_again_and_leaves_the_rows(pendulum_run):
+    rows = pendulum_run.data.copy()
+    anim = pendulum_run.animate(fps=30)
+    # 0 to 1 s at 1/30 s: 31 frames, whatever the output step.
+    assert (anim.frames, anim.fps) == (31, 30.0)
+    assert key_times(gltf_json(anim.glb())) == [31]
+    assert np.array_equal(pendulum_run.data, rows)
+    # The recorded animation is untouched.
+    assert pendulum_run.animate().frames == 51
+
+
+def test_repr_html_is_an_iframe_whose_srcdoc_unescapes_to_the_page(pendulum_run):
+    anim = pendulum_run.animate()
+    page = anim.html()
+    assert page.lstrip().lower().startswith("<!doctype html")
+    shown = anim._repr_html_()
+    m = re.fullmatch(r'<iframe srcdoc="([^"]*)"([^>]*)></iframe>', shown)
+    assert m, shown[:200]
+    assert html.unescape(m.group(1)) == page
+    # Nothing in the attribute could end it or open a tag of the notebook's page.
+    assert "<" not in m.group(1) and ">" not in m.group(1)
+    assert re.search(r"height: *\d+px", m.group(2))
+
+
+def test_save_writes_either_format_by_suffix_and_refuses_others(pendulum_run, tmp_path):
+    anim = pendulum_run.animate()
+    assert anim.save(tmp_path / "swing.glb").read_bytes() == anim.glb()
+    assert (tmp_path / "swing.html").exists() is False
+    anim.save(str(tmp_path / "swing.html"))
+    assert (tmp_path / "swing.html").read_text(encoding="utf-8") == anim.html()
+    for bad in ("swing.gltf", "swing.png", "swing"):
+        with pytest.raises(ValueError, match=r"\.html or \.glb"):
+            anim.save(tmp_path / bad)
+        assert not (tmp_path / bad).exists()
+
+
+def test_a_pickled_run_keeps_its_rows_and_says_its_animation_stayed_behind(pendulum_run):
+    back = pickle.loads(pickle.dumps(pendulum_run))
+    assert np.array_equal(back.data, pendulum_run.data)
+    with pytest.raises(mbfx.MbfxError, match="another process"):
+        back.animate()
