@@ -279,3 +279,49 @@ pub fn mechanism(animated: bool) -> Vec<u8> {
     });
     b.glb(nodes, Some(animation))
 }
+
+/// A chain of `parts` links (PART/2 …), each a box, swinging for `frames` key times at
+/// 100 per second: the load of the chain of 100 for the frame-rate hook.
+pub fn chain(parts: usize, frames: usize) -> Vec<u8> {
+    let mut b = Builder::default();
+    let link = b.cuboid([-0.01, -0.01, -0.045], [0.01, 0.01, 0.045], 4, RED);
+    let mut nodes = vec![
+        json!({"name": "mbfx", "rotation": ROOT_ROTATION, "children": (1..=parts).collect::<Vec<_>>()}),
+    ];
+    for k in 0..parts {
+        nodes.push(json!({"name": format!("PART/{}", k + 2), "children": [parts + 1 + k]}));
+    }
+    for k in 0..parts {
+        nodes.push(
+            json!({"name": format!("GRAPHICS/{}", k + 1), "mesh": link, "extras": role("graphic")}),
+        );
+    }
+    let times: Vec<f32> = (0..frames).map(|i| i as f32 / 100.0).collect();
+    let input = b.floats(&times, "SCALAR", None);
+    let (mut samplers, mut channels) = (Vec::new(), Vec::new());
+    for k in 0..parts {
+        let (mut tr, mut rot) = (Vec::new(), Vec::new());
+        for &t in &times {
+            // Each link hangs from the one above, turned about the model's x.
+            let (mut y, mut z, mut angle) = (0.0f64, 0.0f64, 0.0f64);
+            for j in 0..=k {
+                angle = 0.4 * (2.0 * t as f64 + j as f64 * 0.05).sin();
+                y += 0.1 * angle.sin();
+                z -= 0.1 * angle.cos();
+            }
+            tr.extend([0.0, y as f32, z as f32]);
+            let h = (angle / 2.0) as f32;
+            rot.extend([h.sin(), 0.0, 0.0, h.cos()]);
+        }
+        let (tr, rot) = (b.floats(&tr, "VEC3", None), b.floats(&rot, "VEC4", None));
+        for (output, path) in [(tr, "translation"), (rot, "rotation")] {
+            channels
+                .push(json!({"sampler": samplers.len(), "target": {"node": k + 1, "path": path}}));
+            samplers.push(json!({"input": input, "output": output, "interpolation": "LINEAR"}));
+        }
+    }
+    b.glb(
+        nodes,
+        Some(json!({"name": "run", "samplers": samplers, "channels": channels})),
+    )
+}

@@ -252,3 +252,35 @@ fn the_page_loads_nothing_from_the_network() {
     let size = mbfx::viewer::viewer_size();
     assert!(size < 60_000, "the viewer is {size} bytes of JS and CSS");
 }
+
+#[test]
+fn the_frame_rate_hook_measures_a_chain_of_100() {
+    let dir = scratch("fps");
+    let glb = glb::chain(100, 1000);
+    let file = dir.join("page.html");
+    std::fs::write(&file, page(&glb, &Chart::default(), "chain of 100", &[])).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/viewer/fps.js");
+    let out = std::process::Command::new("node")
+        .arg(script)
+        .arg(&file)
+        .output()
+        .expect("node runs (Node 20 is needed for the frame-rate test)");
+    assert!(
+        out.status.success(),
+        "fps.js failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let (fps, frames) = (
+        stats["fps"].as_f64().unwrap(),
+        stats["frames"].as_f64().unwrap(),
+    );
+    eprintln!(
+        "chain of 100, 1000 key times, .glb {} bytes: {fps:.1} frames/s, {:.2} ms JS per frame",
+        glb.len(),
+        stats["drawMs"]
+    );
+    // Over 2 s a page that draws at all shows several frames; the figure is reported, the
+    // machine's load decides the rest.
+    assert!(frames >= 4.0 && fps > 1.0, "{stats}");
+}

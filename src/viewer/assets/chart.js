@@ -24,20 +24,20 @@ function createChart(canvas, select, data, onPick) {
   let cursor = 0, frame = null;
   const chosen = () => Array.from(select.selectedOptions).map(o => +o.value);
 
-  function draw() {
-    const dpr = window.devicePixelRatio || 1, w = canvas.clientWidth, h = canvas.clientHeight;
-    if (canvas.width !== Math.round(w * dpr) || canvas.height !== Math.round(h * dpr)) {
-      canvas.width = Math.round(w * dpr); canvas.height = Math.round(h * dpr);
-    }
-    const g = canvas.getContext('2d');
+  // The curves are drawn once per choice and size into `base`; each time step only
+  // copies it and draws the cursor (a playing animation moves the cursor every frame).
+  const base = document.createElement('canvas');
+  let baseKey = '';
+  function drawBase(w, h, dpr) {
+    base.width = canvas.width; base.height = canvas.height;
+    const g = base.getContext('2d');
     g.setTransform(dpr, 0, 0, dpr, 0, 0);
-    g.clearRect(0, 0, w, h);
     g.font = '11px sans-serif';
     const picked = chosen();
+    frame = null;
     if (!time.length || !picked.length) {
       g.fillStyle = '#555';
       g.fillText(time.length ? 'choose a column on the left' : 'no columns recorded', 12, 20);
-      frame = null;
       return;
     }
     let t0 = Infinity, t1 = -Infinity, y0 = Infinity, y1 = -Infinity;
@@ -49,7 +49,7 @@ function createChart(canvas, select, data, onPick) {
     const pad = (y1 - y0) * 0.05; y0 -= pad; y1 += pad;
     const L = 62, R = 10, T = 18, B = 20;
     const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = v => T + (y1 - v) / (y1 - y0) * (h - T - B);
-    frame = { t0, t1, L, R, w };
+    frame = { t0, t1, L, R, T, B, w, h, X };
     g.strokeStyle = '#d8dde3'; g.fillStyle = '#444'; g.lineWidth = 1;
     const ys = niceStep(y1 - y0, 4);
     for (let v = Math.ceil(y0 / ys) * ys; v <= y1; v += ys) {
@@ -74,9 +74,23 @@ function createChart(canvas, select, data, onPick) {
       g.fillStyle = color; g.textAlign = 'left';
       g.fillText(names[c], L + 6 + k * 150, T - 5);
     });
+  }
+  function draw() {
+    const dpr = window.devicePixelRatio || 1, w = canvas.clientWidth, h = canvas.clientHeight;
+    if (canvas.width !== Math.round(w * dpr) || canvas.height !== Math.round(h * dpr)) {
+      canvas.width = Math.round(w * dpr); canvas.height = Math.round(h * dpr);
+    }
+    const key = [canvas.width, canvas.height, chosen().join()].join('/');
+    if (key !== baseKey) { drawBase(w, h, dpr); baseKey = key; }
+    const g = canvas.getContext('2d');
+    g.setTransform(1, 0, 0, 1, 0, 0);
+    g.clearRect(0, 0, canvas.width, canvas.height);
+    g.drawImage(base, 0, 0);
+    if (!frame) return;
+    g.setTransform(dpr, 0, 0, dpr, 0, 0);
     g.strokeStyle = '#d02020'; g.lineWidth = 1;
-    const cx = X(Math.min(Math.max(cursor, t0), t1));
-    g.beginPath(); g.moveTo(cx, T); g.lineTo(cx, h - B); g.stroke();
+    const cx = frame.X(Math.min(Math.max(cursor, frame.t0), frame.t1));
+    g.beginPath(); g.moveTo(cx, frame.T); g.lineTo(cx, frame.h - frame.B); g.stroke();
   }
   canvas.addEventListener('click', e => {
     if (!frame) return;

@@ -60,7 +60,7 @@ function upload(gl, prim) {
 }
 
 function createRenderer(canvas, asset) {
-  const gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true });
+  const gl = canvas.getContext('webgl2', { antialias: true });
   if (!gl) return null;
   const shade = compile(gl, VERTEX, SHADE), ids = compile(gl, VERTEX, ID);
   const meshes = asset.meshes.map(m => m.map(p => upload(gl, p)));
