@@ -23,12 +23,27 @@ impl Shot {
     }
 }
 
-/// A fresh directory under the system's temp dir, named for the test.
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("mbfx-viewer-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory under the system's temp dir, named for the test; removed when the
+/// test passes, kept (with its pages and screenshots) when it fails.
+pub struct Scratch(pub PathBuf);
+
+impl Scratch {
+    pub fn new(name: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("mbfx-viewer-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        Scratch(dir)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            eprintln!("pages and screenshots kept in {}", self.0.display());
+        } else {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
 }
 
 fn run(dir: &Path, extra: &[String], page: &Path, fragment: &str) -> String {
@@ -115,4 +130,25 @@ pub fn body_data(dom: &str, name: &str) -> Option<String> {
     let key = format!("data-{name}=\"");
     let at = tag.find(&key)? + key.len();
     Some(tag[at..at + tag[at..].find('"')?].to_string())
+}
+
+/// The string `expression` (a promise is awaited) gives in the page at `fragment`, in
+/// real time: through tests/viewer/cdp.js (Node) and Chromium's DevTools pipe.
+pub fn evaluate(page: &Path, fragment: &str, expression: &str) -> String {
+    if !Path::new(CHROMIUM).exists() {
+        panic!(
+            "{CHROMIUM} is missing: install it with `sudo apt-get install chromium-headless-shell`"
+        );
+    }
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/viewer/cdp.js");
+    let out = Command::new("node")
+        .args([script, &page.display().to_string(), fragment, expression])
+        .output()
+        .expect("node runs (Node 20: `sudo apt-get install nodejs`)");
+    assert!(
+        out.status.success(),
+        "cdp.js failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
 }

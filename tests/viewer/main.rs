@@ -4,7 +4,7 @@
 mod browser;
 mod glb;
 
-use browser::{body_data, dom, scratch, shot, Shot};
+use browser::{body_data, dom, evaluate, shot, Scratch, Shot};
 use mbfx::viewer::{page, Chart};
 use std::path::PathBuf;
 
@@ -25,8 +25,9 @@ fn chart() -> Chart {
     }
 }
 
-fn write_page(name: &str, animated: bool) -> PathBuf {
-    let dir = scratch(name);
+/// The page for the hand-made mechanism in a fresh directory (kept while the guard lives).
+fn write_page(name: &str, animated: bool) -> (Scratch, PathBuf) {
+    let dir = Scratch::new(name);
     let notes = vec!["1 EXTERNAL graphic drawn as a placeholder box".to_string()];
     let html = page(
         &glb::mechanism(animated),
@@ -34,9 +35,9 @@ fn write_page(name: &str, animated: bool) -> PathBuf {
         "viewer test mechanism",
         &notes,
     );
-    let file = dir.join("page.html");
+    let file = dir.0.join("page.html");
     std::fs::write(&file, html).unwrap();
-    file
+    (dir, file)
 }
 
 /// The 3D pane's rectangle (x, y, w, h) in CSS pixels, as the page reports it.
@@ -73,7 +74,7 @@ fn census(s: &Shot, r: [u32; 4], keep: impl Fn([u8; 3]) -> bool) -> (usize, f64,
 
 #[test]
 fn the_mechanism_is_drawn_and_moves() {
-    let file = write_page("moves", true);
+    let (_dir, file) = write_page("moves", true);
     let d = dom(&file, "t=0", 1500, &[]);
     assert_eq!(
         body_data(&d, "ready").as_deref(),
@@ -147,7 +148,7 @@ fn expected_part2(t: f64) -> [f64; 16] {
 
 #[test]
 fn a_fragment_time_opens_paused_there_with_poses_interpolated() {
-    let file = write_page("fragment", true);
+    let (_dir, file) = write_page("fragment", true);
     for t in [0.5, 1.25] {
         let d = dom(&file, &format!("t={t}&probe=PART/2"), 1000, &[]);
         assert_eq!(body_data(&d, "ready").as_deref(), Some("1"));
@@ -175,7 +176,7 @@ fn a_fragment_time_opens_paused_there_with_poses_interpolated() {
 
 #[test]
 fn a_page_without_animation_is_drawn() {
-    let file = write_page("static", false);
+    let (_dir, file) = write_page("static", false);
     let d = dom(&file, "", 1000, &[]);
     assert_eq!(body_data(&d, "ready").as_deref(), Some("1"));
     let r = pane(&d);
@@ -186,7 +187,7 @@ fn a_page_without_animation_is_drawn() {
 
 #[test]
 fn hovering_picks_the_node_under_the_pointer() {
-    let file = write_page("pick", true);
+    let (_dir, file) = write_page("pick", true);
     let d = dom(&file, "t=0", 1000, &[]);
     let r = pane(&d);
     let s = shot(&file, "t=0", "pick");
@@ -210,7 +211,7 @@ fn hovering_picks_the_node_under_the_pointer() {
 
 #[test]
 fn without_webgl_the_page_says_so() {
-    let file = write_page("nogl", true);
+    let (_dir, file) = write_page("nogl", true);
     for flag in ["--disable-webgl", "--disable-3d-apis"] {
         let d = dom(&file, "t=0.5", 1000, &[flag]);
         assert_eq!(body_data(&d, "webgl").as_deref(), Some("0"), "{flag}");
@@ -255,22 +256,14 @@ fn the_page_loads_nothing_from_the_network() {
 
 #[test]
 fn the_frame_rate_hook_measures_a_chain_of_100() {
-    let dir = scratch("fps");
+    let dir = Scratch::new("fps");
     let glb = glb::chain(100, 1000);
-    let file = dir.join("page.html");
+    let file = dir.0.join("page.html");
     std::fs::write(&file, page(&glb, &Chart::default(), "chain of 100", &[])).unwrap();
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/viewer/fps.js");
-    let out = std::process::Command::new("node")
-        .arg(script)
-        .arg(&file)
-        .output()
-        .expect("node runs (Node 20 is needed for the frame-rate test)");
-    assert!(
-        out.status.success(),
-        "fps.js failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let wait = "new Promise(done => { const look = () => window.mbfxViewer && window.mbfxViewer.stats.fps !== null \
+        ? done(JSON.stringify(window.mbfxViewer.stats)) : setTimeout(look, 100); look(); })";
+    let text = evaluate(&file, "fps", wait);
+    let stats: serde_json::Value = serde_json::from_str(&text).unwrap();
     let (fps, frames) = (
         stats["fps"].as_f64().unwrap(),
         stats["frames"].as_f64().unwrap(),
@@ -283,4 +276,111 @@ fn the_frame_rate_hook_measures_a_chain_of_100() {
     // Over 2 s a page that draws at all shows several frames; the figure is reported, the
     // machine's load decides the rest.
     assert!(frames >= 4.0 && fps > 1.0, "{stats}");
+}
+
+/// The controls, driven as a user would (events dispatched in the page, real time).
+const DRIVE: &str = r#"(async () => {
+  const v = window.mbfxViewer, sleep = ms => new Promise(r => setTimeout(r, ms)), out = {};
+  const key = k => document.dispatchEvent(new KeyboardEvent('keydown', { key: k, bubbles: true }));
+  while (document.body.dataset.ready !== '1') await sleep(50);
+  out.playingAtStart = v.state.playing;
+  await sleep(700);
+  out.playedTo = v.state.t;
+  key(' ');
+  out.pausedBySpace = !v.state.playing;
+  const slider = document.getElementById('slider');
+  slider.value = 0.5; slider.dispatchEvent(new Event('input'));
+  out.slider = v.state.t;
+  key('ArrowRight'); out.right1 = v.state.t;
+  key('ArrowRight'); out.right2 = v.state.t;
+  key('ArrowLeft'); out.left = v.state.t;
+  const c = document.getElementById('chart'), r = c.getBoundingClientRect();
+  const click = f => { key(' '); c.dispatchEvent(new MouseEvent('click', { clientX: r.left + f * r.width, clientY: r.top + r.height / 2 })); return v.state.t; };
+  out.chartA = click(0.4); out.chartPaused = !v.state.playing;
+  // The cursor is drawn where the click was: the chart's column there holds red pixels.
+  const g = c.getContext('2d'), x = Math.round(0.4 * c.width), col = g.getImageData(x - 1, 0, 3, c.height).data;
+  out.cursorRed = 0;
+  for (let i = 0; i < col.length; i += 4) if (col[i] > 150 && col[i + 1] < 90 && col[i + 2] < 90) out.cursorRed++;
+  out.chartB = click(0.8);
+  out.label = document.getElementById('time').textContent;
+  const speed = document.getElementById('speed'), loop = document.getElementById('loop');
+  speed.value = '4'; speed.dispatchEvent(new Event('change'));
+  loop.checked = false; loop.dispatchEvent(new Event('change'));
+  slider.value = 2.5; slider.dispatchEvent(new Event('input'));
+  key(' '); await sleep(900);
+  out.endT = v.state.t; out.endPlaying = v.state.playing;
+  loop.checked = true; loop.dispatchEvent(new Event('change'));
+  slider.value = 2.5; slider.dispatchEvent(new Event('input'));
+  key(' '); await sleep(500);
+  out.loopT = v.state.t; out.loopPlaying = v.state.playing;
+  return JSON.stringify(out);
+})()"#;
+
+#[test]
+fn the_controls_play_pause_step_and_follow_the_chart() {
+    let (_dir, file) = write_page("controls", true);
+    let out: serde_json::Value =
+        serde_json::from_str(&evaluate(&file, "t=0.5&play", DRIVE)).unwrap();
+    let num = |k: &str| out[k].as_f64().unwrap_or_else(|| panic!("{k}: {out}"));
+    let yes = |k: &str| out[k].as_bool().unwrap_or_else(|| panic!("{k}: {out}"));
+    assert!(yes("playingAtStart"), "#t=0.5&play plays: {out}");
+    assert!(num("playedTo") > 0.6, "time ran on from 0.5: {out}");
+    assert!(yes("pausedBySpace"), "{out}");
+    assert_eq!(num("slider"), 0.5);
+    // The key times: PART/2's 0, 1, 2, 3 and the arrow's 0, 1.5, 3 (glb.rs).
+    assert_eq!(
+        (num("right1"), num("right2"), num("left")),
+        (1.0, 1.5, 1.0),
+        "{out}"
+    );
+    // The chart spans the columns' time, 0 to 3 s: a click further right is later.
+    let (a, b) = (num("chartA"), num("chartB"));
+    assert!(
+        a > 0.3 && a < 1.5 && b > a + 0.6 && b < 3.0,
+        "chart clicks at 40 % and 80 %: {a}, {b}"
+    );
+    assert!(yes("chartPaused"));
+    assert!(
+        num("cursorRed") > 20.0,
+        "the cursor is drawn where the click was: {out}"
+    );
+    let label: f64 = out["label"]
+        .as_str()
+        .unwrap()
+        .trim_end_matches(" s")
+        .parse()
+        .unwrap();
+    assert!((label - b).abs() < 0.0006, "label {label} for t = {b}");
+    // 4× from 2.5 s without loop: the end (3 s) within 0.125 s of real time, then stop.
+    assert_eq!((num("endT"), yes("endPlaying")), (3.0, false), "{out}");
+    // With loop: past the end it starts again and plays on.
+    assert!(yes("loopPlaying") && num("loopT") < 2.5, "{out}");
+}
+
+#[test]
+fn glyphs_and_arrows_hide_by_role() {
+    let (_dir, file) = write_page("roles", true);
+    let d = dom(&file, "t=0", 1000, &[]);
+    let r = pane(&d);
+    // The glyph is green (0.1, 0.7, 0.2), the arrow orange (0.9, 0.5, 0.0) (glb.rs).
+    let green = |p: [u8; 3]| p[1] as i32 > p[0] as i32 + 50 && p[1] as i32 > p[2] as i32 + 50;
+    let orange = |p: [u8; 3]| {
+        p[0] > 120
+            && p[1] as i32 * 3 > p[0] as i32
+            && (p[1] as i32) < p[0] as i32 - 40
+            && (p[2] as i32) < p[1] as i32 - 30
+    };
+    let all = shot(&file, "t=0", "all");
+    let some = shot(&file, "t=0&hide=glyph,arrow", "hidden");
+    let (g, _, _) = census(&all, r, green);
+    let (o, _, _) = census(&all, r, orange);
+    assert!(
+        g > 10 && o > 10,
+        "glyph and arrow drawn: {g} green, {o} orange pixels"
+    );
+    let (g, _, _) = census(&some, r, green);
+    let (o, _, _) = census(&some, r, orange);
+    assert_eq!((g, o), (0, 0), "hidden: green and orange pixels left");
+    let (n, _, _) = census(&some, r, red);
+    assert!(n > 200, "the box (a graphic) stays");
 }

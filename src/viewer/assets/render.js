@@ -88,10 +88,11 @@ function createRenderer(canvas, asset) {
     gl.viewport(0, 0, w, h);
     if (pick) gl.clearColor(0, 0, 0, 0); else gl.clearColor(...BACKGROUND);
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-    // LEQUAL: lines lying on the grid's plane (outlines at ground level) win over it.
-    gl.enable(gl.DEPTH_TEST); gl.depthFunc(gl.LEQUAL);
+    gl.enable(gl.DEPTH_TEST);
     gl.useProgram(prog.p);
-    if (grid && !pick) drawItem(prog, grid, view, proj, grid.color, false);
+    // The grid first and without depth: lines lying in its plane (outlines at ground
+    // level) are drawn over it instead of fighting it for depth.
+    if (grid && !pick) { gl.depthMask(false); drawItem(prog, grid, view, proj, grid.color, false); gl.depthMask(true); }
     const late = [];
     for (const n of drawn) {
       if (!visible(n) || !n.world) continue;

@@ -97,7 +97,7 @@
     cam.target = [0, 1, 2].map(k => (b.lo[k] + b.hi[k]) / 2);
     cam.radius = Math.max(Math.hypot(b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]) / 2, 1e-6);
     const half = Math.min(cam.fov / 2, Math.atan(Math.tan(cam.fov / 2) * cv.clientWidth / Math.max(cv.clientHeight, 1)));
-    cam.dist = cam.radius / Math.sin(half) * 0.9;
+    cam.dist = cam.radius / Math.sin(half);
     dirty = true;
   }
   // The ground grid: a round spacing near a tenth of the scene's size, at its lowest point.

@@ -1,20 +1,21 @@
-// fps.js — opens a viewer page at `#fps` in headless Chromium in real time (no virtual
-// time: requestAnimationFrame must run at the browser's own pace) and prints what the
-// page's frame-rate hook measured, as JSON. Talks to Chromium over --remote-debugging-pipe
-// (fd 3 in, fd 4 out, NUL-terminated JSON), so it needs nothing beyond Node.
-// Usage: node fps.js PAGE.html [WIDTHxHEIGHT]
+// cdp.js — opens a page in headless Chromium in real time (no virtual time:
+// requestAnimationFrame runs at the browser's own pace, as for a user), evaluates a
+// JavaScript expression in it (a promise is awaited) and prints its string value. Talks
+// to Chromium over --remote-debugging-pipe (fd 3 in, fd 4 out, NUL-terminated JSON), so
+// it needs nothing beyond Node.
+// Usage: node cdp.js PAGE.html FRAGMENT EXPRESSION
 'use strict';
 const { spawn } = require('child_process');
 const fs = require('fs'), os = require('os'), path = require('path');
 
 const page = path.resolve(process.argv[2]);
-const size = (process.argv[3] || '800x600').replace('x', ',');
+const [fragment, expression] = [process.argv[3], process.argv[4]];
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'mbfx-fps-'));
 const chrome = spawn('/usr/bin/chromium-headless-shell', [
   '--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
   '--disable-background-networking', '--disable-component-update', '--disable-sync', '--no-first-run',
-  '--user-data-dir=' + profile, '--window-size=' + size, '--remote-debugging-pipe',
-  'file://' + page + '#fps',
+  '--user-data-dir=' + profile, '--window-size=800,600', '--remote-debugging-pipe',
+  'file://' + page + '#' + fragment,
 ], { stdio: ['ignore', 'ignore', 'ignore', 'pipe', 'pipe'] });
 
 let next = 1, buffer = '';
@@ -44,8 +45,6 @@ async function main() {
   }
   if (!target) throw new Error('no page target');
   const { result } = await send('Target.attachToTarget', { targetId: target.targetId, flatten: true });
-  const expression = `new Promise(done => { const look = () => window.mbfxViewer && window.mbfxViewer.stats.fps !== null
-    ? done(JSON.stringify(window.mbfxViewer.stats)) : setTimeout(look, 100); look(); })`;
   // The first evaluation may meet the page still navigating from about:blank: try again.
   let r = null;
   for (let k = 0; k < 20 && !(r && r.result && r.result.result && r.result.result.type === 'string'); k++) {
