@@ -18,6 +18,7 @@ Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Dict, Iterator, List, Optional, Sequence
 
@@ -119,6 +120,8 @@ class Run:
         glyphs = rec.glyphs if glyphs is None else bool(glyphs)
         if fps is not None:
             fps = float(fps)
+            if not (fps > 0 and math.isfinite(fps)):
+                raise ValueError(f"fps must be a positive number of frames per second, not {fps}")
         if fps != rec.fps or glyphs != rec.glyphs:
             rec = rec.again(fps, glyphs)
         return Animation(rec, self.columns, self.data)

@@ -1,8 +1,9 @@
 """Seeing the mechanism move from Python: `Model.graphics` lists each GRAPHICS statement
 with the values its dataset text writes (the truth is that text, written here), and
 `Run.animate()` gives the run's glTF binary (read back with `struct` and `json` as the
-glTF 2.0 specification lays it out) and its self-contained page, inline in Jupyter
-through an iframe's `srcdoc`."""
+glTF 2.0 specification lays it out; equal to `mbfx run --animate`'s) and its
+self-contained page, inline in Jupyter through an iframe's `srcdoc` (drawn in headless
+Chromium as the page itself is)."""
 
 from __future__ import annotations
 
@@ -12,12 +13,17 @@ import math
 import pickle
 import re
 import struct
+import subprocess
+from pathlib import Path
 from typing import List
 
 import numpy as np
 import pytest
 
 import mbfx
+from conftest import ROOT, run_cli
+
+FAILURES = ROOT / "tests" / "models" / "failures"
 
 # Ground, a moving part 2 and the markers every graphic below is placed by; SFORCE/5 is
 # the element a FORCE graphic draws, CURVE/7 the curve a CURVE graphic draws.
@@ -268,3 +274,103 @@ def test_a_pickled_run_keeps_its_rows_and_says_its_animation_stayed_behind(pendu
     assert np.array_equal(back.data, pendulum_run.data)
     with pytest.raises(mbfx.MbfxError, match="another process"):
         back.animate()
+
+
+def test_a_failed_run_animates_the_rows_it_kept():
+    with pytest.raises(mbfx.RunError) as caught:
+        mbfx.load(FAILURES / "nan_in_force.adm", dim=3).run(1.0, output_step=0.01, fixed_step=1e-3)
+    partial = caught.value.run
+    # 0 to 0.5 s every 0.01 s before the force turns NaN (test_model.py's figures).
+    assert len(partial) == 51
+    anim = partial.animate()
+    assert anim.frames == 51 and key_times(gltf_json(anim.glb())) == [51]
+
+
+def test_animation_false_records_nothing_and_animate_says_so():
+    run = mbfx.load(PENDULUM).run(0.1, animation=False)
+    assert len(run) == 101
+    with pytest.raises(mbfx.MbfxError, match=r"animation=False"):
+        run.animate()
+
+
+@pytest.mark.parametrize("glyphs", [False, True])
+def test_the_glb_is_the_command_lines_byte_for_byte(cli, tmp_path, glyphs):
+    # The same run through `mbfx run --animate` (with `--glyphs`): the same scene, the
+    # same frames, so the same file; animate(glyphs=) redraws the recorded frames.
+    path = tmp_path / "pendulum.adm"
+    path.write_text(PENDULUM, encoding="utf-8")
+    out = tmp_path / "cli.glb"
+    args = ["run", str(path), "--end", "1", "--output-step", "0.02", "--animate", str(out)]
+    done = run_cli(*args, *(["--glyphs"] if glyphs else []))
+    assert done.returncode == 0, done.stderr
+    anim = mbfx.load(path).run(1.0, output_step=0.02).animate(glyphs=glyphs)
+    assert anim.glyphs is glyphs
+    assert anim.glb() == out.read_bytes()
+
+
+def test_geometry_that_cannot_be_read_fails_the_run_naming_the_file(tmp_path):
+    model = mbfx.load(dataset([GRAPHICS[11][0]]))
+    missing = tmp_path / "no_such_body.stl"
+    with pytest.raises(mbfx.RunError) as caught:
+        model.run(0.1, geometry={12: missing})
+    assert caught.value.code == "E0501" and str(missing) in str(caught.value)
+    with pytest.raises(ValueError, match="GRAPHICS id"):
+        model.run(0.1, geometry={"GRAPHICS/12": str(missing)})
+
+
+def test_a_study_records_no_animation():
+    # The study's runs are reduced to responses in its workers: recording would be waste.
+    from mbfx.study import execute
+
+    job = execute.Job(0.1, {}, {}, {})
+    run = execute.simulate(mbfx.load(PENDULUM), job, {})
+    assert run._recording is None
+
+
+@pytest.mark.parametrize("fps", [0, -30, math.inf, math.nan])
+def test_a_frame_rate_that_is_not_positive_is_a_value_error(pendulum_run, fps):
+    with pytest.raises(ValueError, match="fps must be a positive"):
+        pendulum_run.animate(fps=fps)
+
+
+# ------------------------------------------------- the iframe in a real browser
+
+CHROMIUM = Path("/usr/bin/chromium-headless-shell")
+# The notebook cell's size: the iframe's width, and its fixed height.
+VIEW = (900, mbfx.animation.HEIGHT)
+
+
+def screenshot(page: Path) -> np.ndarray:
+    """`page` as headless Chromium draws it in a window of VIEW (RGB in [0, 1]); WebGL
+    through SwiftShader, as the viewer's own tests run it."""
+    if not CHROMIUM.exists():
+        pytest.fail(f"{CHROMIUM} is missing: sudo apt-get install chromium-headless-shell")
+    import matplotlib.image
+
+    png = page.with_suffix(".png")
+    subprocess.run(
+        [str(CHROMIUM), "--no-sandbox", "--enable-unsafe-swiftshader", "--use-angle=swiftshader",
+         "--hide-scrollbars", f"--window-size={VIEW[0]},{VIEW[1]}", "--virtual-time-budget=5000",
+         f"--screenshot={png}", page.as_uri()],
+        capture_output=True, timeout=120, check=True,
+    )
+    return matplotlib.image.imread(png)[:, :, :3]
+
+
+def differing(a: np.ndarray, b: np.ndarray) -> float:
+    """The fraction of pixels whose colours differ by more than 2 % in a channel."""
+    return float((np.abs(a - b).max(axis=2) > 0.02).mean())
+
+
+def test_the_iframe_in_a_notebook_draws_what_the_page_draws_with_its_scripts(tmp_path):
+    anim = mbfx.load(ROOT / "examples" / "slider.adm").run(2.0, output_step=0.01).animate()
+    page = anim.save(tmp_path / "page.html")
+    # A notebook's output: the cell's HTML inside another page, the iframe at its corner.
+    cell = tmp_path / "cell.html"
+    cell.write_text(f'<!doctype html><body style="margin: 0">{anim._repr_html_()}</body>', encoding="utf-8")
+    # The page with its scripts cut out: what the iframe would show if they did not run.
+    inert = tmp_path / "inert.html"
+    inert.write_text(re.sub(r"<script\b.*?</script\s*>", "", anim.html(), flags=re.S | re.I), encoding="utf-8")
+    shots = {p.stem: screenshot(p) for p in (page, cell, inert)}
+    assert differing(shots["page"], shots["inert"]) > 0.01
+    assert differing(shots["cell"], shots["page"]) < 0.001
