@@ -10,13 +10,15 @@ and a constrained-multibody core that runs `.adm` datasets.
 
 `compile` gives an `Expression` (call it with floats or numpy arrays, take its
 `gradient`, hand its `address` to scipy or ctypes); `load` gives a `Model` (`check`,
-`evaluate`, `run`); a run gives a `Run` (its columns as arrays, `to_pandas`, `plot`).
+`evaluate`, `run`, its `graphics`); a run gives a `Run` (its columns as arrays,
+`to_pandas`, `plot`, `animate`).
 Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
 `mbfx.study` runs design studies of a model's variants on Dask.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Dict, Iterator, List, Optional, Sequence
 
@@ -36,11 +38,14 @@ from ._mbfx import (  # noqa: F401  (re-exported)
     load,
 )
 from . import study  # noqa: F401  (mbfx.study; it imports dask and pandas only when used)
+from .animation import Animation
 
 __all__ = [
+    "Animation",
     "CheckError",
     "Diagnostic",
     "Expression",
+    "Graphic",
     "InternalError",
     "Linearization",
     "MbfxError",
@@ -63,7 +68,8 @@ class Run:
     (`REQ<id>.F<k>`), as `mbfx run` writes them. `stats` holds the integrator's counters
     (steps, rejected, Newton iterations, factorizations, CPU seconds, ...), `warnings`
     what the run's monitors found and the physics the model leaves out (`not modelled:
-    ...`), and `summary` the text `mbfx run` prints at the end.
+    ...`), and `summary` the text `mbfx run` prints at the end. `animate()` shows the
+    mechanism moving.
     A run that failed is still a `Run`: its rows stop where the failure was.
     """
 
@@ -77,6 +83,7 @@ class Run:
         summary: str = "",
         integrator: str = "",
         dimension: str = "",
+        _recording: Any = None,
     ) -> None:
         self.columns: List[str] = list(columns)
         self.data: np.ndarray = np.asarray(data, dtype=np.float64).reshape(-1, len(self.columns))
@@ -86,6 +93,38 @@ class Run:
         self.summary: str = summary
         self.integrator: str = integrator
         self.dimension: str = dimension
+        # The animation the run recorded (mbfx._mbfx.Recording); it stays in this process.
+        self._recording = _recording
+
+    def __getstate__(self) -> Dict[str, Any]:
+        # A run pickles as its arrays and figures: the recording stays behind.
+        state = dict(self.__dict__)
+        state["_recording"] = None
+        return state
+
+    def animate(self, fps: Optional[float] = None, glyphs: Optional[bool] = None) -> Animation:
+        """The mechanism moving through this run, as an `mbfx.Animation` (shown inline
+        in Jupyter; `.save("x.html")`, `.save("x.glb")`). With `fps=None` the frames are
+        the run's output rows, recorded as it ran; with `fps`, the same run runs again
+        to record frames at that rate from the integrator's continuous extension (its
+        rows are the same). `glyphs=True` draws inertia ellipsoids, links and joint
+        symbols on every part (by default only parts with nothing else to draw get
+        them). A run of `Model.run(animation=False)`, or one unpickled in another
+        process, has no recording."""
+        rec = self._recording
+        if rec is None:
+            raise MbfxError(
+                "this run has no animation: Model.run(animation=False) records none, and a "
+                "run unpickled in another process leaves its recording behind"
+            )
+        glyphs = rec.glyphs if glyphs is None else bool(glyphs)
+        if fps is not None:
+            fps = float(fps)
+            if not (fps > 0 and math.isfinite(fps)):
+                raise ValueError(f"fps must be a positive number of frames per second, not {fps}")
+        if fps != rec.fps or glyphs != rec.glyphs:
+            rec = rec.again(fps, glyphs)
+        return Animation(rec, self.columns, self.data)
 
     @property
     def time(self) -> np.ndarray:
@@ -140,6 +179,33 @@ class Run:
         if names:
             ax.legend()
         return ax
+
+
+@dataclass(frozen=True, eq=False)
+class Graphic:
+    """One GRAPHICS statement of a dataset (`Model.graphics`; docs/models.md, GRAPHICS).
+
+    `kind` is Adams' word (`CYLINDER`, `BOX`, `FRUSTUM`, `ELLIPSOID`, `CIRCLE`, `ARC`,
+    `OUTLINE`, `SPDP`, `FORCE`, `CURVE`, `EXTERNAL`); `part` is the part of its first
+    marker, where it is drawn; `markers` the markers that place it (CORNER, CM, I and J,
+    EMARKER, CRM, RM, an OUTLINE's list). `values` holds the kind's arguments by their
+    lower-case names as the dataset writes them (`cm`, `length`, `radius`, `rm`, `sides`,
+    `seg`, `rangle`; `corner`, `x`, `y`, `z`; `xscale`...; `outline`; `i`, `j`, `coils`,
+    `da`...`ld`; `etype`, `eid`, `emarker`; `cid`, `crm`; `file`, `element`,
+    `faceting_tolerance`): marker and element ids and counts as int, lengths in model
+    units, angles in radians; an argument the dataset leaves out is None.
+    """
+
+    id: int
+    kind: str
+    view_name: Optional[str]
+    part: Optional[int]
+    markers: List[int]
+    values: Dict[str, Any]
+
+    def __repr__(self) -> str:
+        given = ", ".join(f"{k}={v!r}" for k, v in self.values.items() if v is not None)
+        return f"mbfx.Graphic({self.id}, {self.kind}, part={self.part}, {given})"
 
 
 @dataclass(frozen=True, eq=False)

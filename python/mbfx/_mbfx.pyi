@@ -6,7 +6,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, o
 import numpy as np
 import numpy.typing as npt
 
-from . import Linearization, Run
+from . import Graphic, Linearization, Run
 
 __version__: str
 
@@ -105,6 +105,9 @@ class Model:
     def parts(self) -> List[int]: ...
     @property
     def markers(self) -> Dict[int, int]: ...
+    @property
+    def graphics(self) -> List[Graphic]:
+        """The GRAPHICS statements in file order (a new list each time)."""
     def check(self) -> Report: ...
     def evaluate(self, expr: str, engine: str = "jit") -> Union[float, np.ndarray]: ...
     def run(
@@ -130,7 +133,13 @@ class Model:
         engine: str = "jit",
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
         estimate_error: bool = False,
-    ) -> Run: ...
+        animation: bool = True,
+        geometry: Optional[Mapping[int, Union[str, PathLike[str]]]] = None,
+    ) -> Run:
+        """Simulates the model to `end` as `mbfx run` does; the run records a frame of its
+        animation at each output row for `Run.animate()` (unless `animation=False`),
+        EXTERNAL graphics drawn from the mesh files of `geometry` ({GRAPHICS id: STL, OBJ
+        or glTF file})."""
     def linearize(
         self,
         statics: bool = True,
@@ -143,6 +152,24 @@ class Model:
         """The model linearized at its static equilibrium (or after a run to `end`)."""
     def with_values(self, values: Mapping[str, Union[float, int, str]]) -> Model:
         """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
+
+class Recording:
+    """The animation a run recorded, with the request that ran it (`mbfx.Animation`
+    wraps it; it does not pickle)."""
+
+    @property
+    def frames(self) -> int: ...
+    @property
+    def notes(self) -> List[str]: ...
+    @property
+    def fps(self) -> Optional[float]: ...
+    @property
+    def glyphs(self) -> bool: ...
+    def glb(self) -> bytes: ...
+    def html(self, columns: Sequence[str], rows: np.ndarray) -> str: ...
+    def again(self, fps: Optional[float], glyphs: bool) -> Recording:
+        """The same run at `fps` with `glyphs`: redrawn from these frames when the rate
+        is the same, else recorded by running the request again."""
 
 def compile(
     text: str,

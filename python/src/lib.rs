@@ -1,13 +1,15 @@
 //! The native part of the Python module `mbfx` (`mbfx._mbfx`): expressions compiled
 //! over named variables (`expression`) and evaluated over numpy arrays (`arrays`),
-//! datasets loaded and checked (`model`) and run (`run`), and the
-//! exceptions (`errors`). It is a thin layer over `mbfx::session`: every decision is
-//! the library's, so Python gives the command line's results bit for bit. The
-//! pure-Python part (`python/mbfx/`) adds the `Run` object, pandas and plotting.
+//! datasets loaded and checked (`model`, their GRAPHICS listed by `graphics`) and run
+//! (`run`, their animation kept by `animation`), and the exceptions (`errors`). It is a thin layer over `mbfx::session`:
+//! every decision is the library's, so Python gives the command line's results bit for
+//! bit. The pure-Python part (`python/mbfx/`) adds the `Run` object, pandas and plotting.
 
+mod animation;
 mod arrays;
 mod errors;
 mod expression;
+mod graphics;
 mod linear;
 mod model;
 mod run;
@@ -27,6 +29,7 @@ fn _mbfx(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<expression::PyExpression>()?;
     m.add_class::<model::PyModel>()?;
     m.add_class::<model::PyReport>()?;
+    m.add_class::<animation::PyRecording>()?;
     m.add_function(wrap_pyfunction!(expression::compile, m)?)?;
     m.add_function(wrap_pyfunction!(expression::_rebuild_expression, m)?)?;
     m.add_function(wrap_pyfunction!(model::load, m)?)?;

@@ -1,6 +1,6 @@
 //! `mbfx.load` and `Model`: a dataset read, built, assembled and analysed as `mbfx check`
-//! does, its `Report`, expressions evaluated at the assembled configuration, and runs
-//! ([`crate::run`]). A model keeps its dataset text: it pickles as that text and rebuilds
+//! does, its `Report` and its GRAPHICS ([`crate::graphics`]), expressions evaluated at
+//! the assembled configuration, and runs ([`crate::run`]). A model keeps its dataset text: it pickles as that text and rebuilds
 //! itself in a worker process.
 
 use crate::errors::{check_error, diagnostic_list, guarded, plain_check_error};
@@ -9,6 +9,7 @@ use crate::run;
 use mbfx::diag::{has_errors, Diagnostic, SourceFile};
 use mbfx::session::evaluate::{EvalError, Evaluator};
 use mbfx::session::files::read_dataset;
+use mbfx::session::graphics::Listed;
 use mbfx::session::loaded::LoadedModel;
 use mbfx::session::request::{set_values, LinearRequest, RunRequest};
 use mbfx::session::{self, DimRequest};
@@ -90,6 +91,7 @@ pub struct PyModel {
     title: String,
     parts: Vec<u32>,
     markers: Vec<(u32, u32)>,
+    graphics: Vec<Listed>,
     report: Py<PyReport>,
 }
 
@@ -185,6 +187,7 @@ fn build(
         title: checked.title,
         parts: checked.parts,
         markers: checked.markers,
+        graphics: checked.graphics,
         report: Py::new(py, report)?,
         text,
         name,
@@ -226,6 +229,13 @@ impl PyModel {
             d.set_item(m, p)?;
         }
         Ok(d)
+    }
+
+    /// The GRAPHICS statements in file order, as `mbfx.Graphic` (id, kind, view name,
+    /// part, markers and the kind's arguments as written).
+    #[getter]
+    fn graphics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        crate::graphics::graphics(py, &self.graphics)
     }
 
     /// The analysis `mbfx check` prints: dimension, degrees of freedom, redundancy.
@@ -272,6 +282,9 @@ impl PyModel {
     /// expressions; `set` maps `"KIND/ID.FIELD"` to a value for this run only (as
     /// `--set`). `estimate_error` runs the model again at ERROR/10 to estimate the
     /// answer's error (`stats["error_estimate"]`, in ERRORs), as `--estimate-error`.
+    /// The run records a frame of its animation at each output row for `Run.animate()`
+    /// (`animation=False`: none); `geometry` maps EXTERNAL GRAPHICS ids to mesh files
+    /// (STL, OBJ, glTF) drawn in their place, as `--geometry`.
     /// A failure raises `RunError` with the rows so far as `.run`; Ctrl-C raises
     /// `KeyboardInterrupt` with them.
     #[pyo3(signature = (
@@ -279,7 +292,7 @@ impl PyModel {
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
         cartesian = false, interpolate = false, engine = "jit", set = None,
-        estimate_error = false
+        estimate_error = false, animation = true, geometry = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -305,9 +318,14 @@ impl PyModel {
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
         estimate_error: bool,
+        animation: bool,
+        geometry: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
+            if animation {
+                r.animation = Some(crate::animation::request_of(geometry)?);
+            }
             (r.end, r.output_step, r.error) = (end, output_step, error);
             r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;

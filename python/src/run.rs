@@ -5,9 +5,12 @@
 //! signal handler's exception stops the run within a step, and on `KeyboardInterrupt` the
 //! rows so far come back as `.run`. (Runs went to a pooled thread before: the two
 //! handoffs cost 0.03 to 0.3 ms a run here, a tenth of a short variant.)
-//! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`.
+//! Rows cross as one flat vector; the `Run` object is the pure-Python `mbfx.Run`, which
+//! keeps the animation the run recorded ([`crate::animation`]).
 
+use crate::animation::PyRecording;
 use crate::errors::{diagnostic_list, RunError};
+use mbfx::session::animation::Animation;
 use mbfx::session::request::{run, Formulation, RunFailed, RunRequest};
 use mbfx::session::run::{Method, Summary};
 use numpy::{PyArray1, PyArrayMethods};
@@ -174,7 +177,16 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
     match result {
         // Ctrl-C as the run ended: Python still hears it, with the whole run.
         Ok(done) if stopped_by_user => {
-            let run = run_object(py, &done.header, rows, Some(&done.summary), seconds, "")?;
+            let recording = recording_of(request, done.animation);
+            let run = run_object(
+                py,
+                &done.header,
+                rows,
+                Some(&done.summary),
+                seconds,
+                "",
+                recording,
+            )?;
             let e = PyKeyboardInterrupt::new_err("the run was interrupted as it ended");
             e.value(py).setattr("run", run)?;
             Err(e)
@@ -186,9 +198,11 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
             Some(&done.summary),
             seconds,
             &done.dim_reason,
+            recording_of(request, done.animation),
         ),
-        Err(failed) => {
+        Err(mut failed) => {
             let header = failed.header.clone().unwrap_or_else(|| vec!["time".into()]);
+            let recording = recording_of(request, failed.animation.take());
             let partial = match failed.header {
                 Some(_) => Some(run_object(
                     py,
@@ -197,6 +211,7 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
                     failed.summary.as_ref(),
                     seconds,
                     "",
+                    recording,
                 )?),
                 None => None,
             };
@@ -234,7 +249,12 @@ pub fn run_error(
     Ok(e)
 }
 
-/// An `mbfx.Run` of `rows` (flat, `header.len()` a row).
+/// The recording of a run of `request`, when it recorded one.
+fn recording_of(request: &RunRequest, animation: Option<Animation>) -> Option<PyRecording> {
+    animation.map(|a| PyRecording::new(request, a))
+}
+
+/// An `mbfx.Run` of `rows` (flat, `header.len()` a row), with the animation it recorded.
 fn run_object(
     py: Python<'_>,
     header: &[String],
@@ -242,6 +262,7 @@ fn run_object(
     summary: Option<&Summary>,
     session_seconds: f64,
     dim_reason: &str,
+    recording: Option<PyRecording>,
 ) -> PyResult<Py<PyAny>> {
     let width = header.len().max(1);
     let n = rows.len() / width;
@@ -282,6 +303,9 @@ fn run_object(
     kwargs.set_item(intern!(py, "summary"), text)?;
     kwargs.set_item(intern!(py, "integrator"), integrator)?;
     kwargs.set_item(intern!(py, "dimension"), dim_reason)?;
+    if let Some(r) = recording {
+        kwargs.set_item(intern!(py, "_recording"), Py::new(py, r)?)?;
+    }
     // Looked up once: a run's Python share is a few microseconds, and a lookup by name
     // is one of them.
     static RUN: PyOnceLock<Py<PyAny>> = PyOnceLock::new();

@@ -7,6 +7,7 @@
 //! outcome becomes the exit code in one place ([`output::finish`]), so no write can
 //! panic and a closed pipe ends the program quietly.
 
+mod animate;
 mod bench;
 mod check_file;
 mod eval;

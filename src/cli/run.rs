@@ -97,8 +97,11 @@ pub struct RunArgs {
     cartesian: bool,
     /// Output rows from each method's continuous extension instead of steps landed on
     /// every output time (INTEGRATOR/INTERPOLATE = ON): many rows cost about what few do.
-    #[arg(long)]
-    interpolate: bool,
+    /// With --animate it is the animation's instead: frames at FPS per second of model
+    /// time (default 60, at most 10,000 frames) from the continuous extension, the rows
+    /// left as without it.
+    #[arg(long, value_name = "FPS", num_args = 0..=1, require_equals = true)]
+    interpolate: Option<Option<f64>>,
     /// Fixed steps of at most H (no error control; each output interval is split evenly).
     #[arg(long = "fixed-step", value_name = "H")]
     fixed_step: Option<f64>,
@@ -161,6 +164,8 @@ pub struct RunArgs {
     /// FILE_shapes.csv. Without --end, at the start (after --statics: at equilibrium).
     #[arg(long, value_name = "FILE", num_args = 0..=1, require_equals = true)]
     linear: Option<Option<String>>,
+    #[command(flatten)]
+    animate: super::animate::AnimateArgs,
 }
 
 impl RunArgs {
@@ -179,7 +184,8 @@ impl RunArgs {
         (r.error, r.hmax, r.hinit, r.hmin) = (self.error, self.hmax, self.hinit, self.hmin);
         r.error_per_run = self.error_per == ErrorPer::Run;
         r.cartesian = self.cartesian;
-        r.interpolate = self.interpolate;
+        // With --animate, --interpolate is the animation's frame rate.
+        r.interpolate = self.interpolate.is_some() && self.animate.animate.is_none();
         r.estimate_error = self.estimate_error;
         (r.fixed_step, r.alpha, r.rho_inf) = (self.fixed_step, self.alpha, self.rho_inf);
         r.formulation = self.formulation.map(|f| match f {
@@ -322,7 +328,7 @@ impl RunObserver for Printer<'_> {
         if let Some(p) = &self.progress {
             p.at(row[0]);
         }
-        if self.args.plot.is_some() {
+        if self.args.plot.is_some() || self.args.animate.animate.is_some() {
             self.rows.push(row.to_vec());
         }
         let Some(csv) = &mut self.csv else {
@@ -350,7 +356,12 @@ impl RunObserver for Printer<'_> {
 }
 
 pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
-    let req = a.request();
+    let mut req = a.request();
+    let animate = match a.animate.request(a.interpolate) {
+        Ok(x) => x,
+        Err(msg) => return command_line_error(msg, o),
+    };
+    req.animation = animate.as_ref().map(|(_, r)| r.clone());
     let color = o.color;
     let (stdout, err) = o.both();
     let mut printer = Printer {
@@ -374,14 +385,25 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
     if let Some(e) = io_error {
         return Err(Stop::Io(e));
     }
-    let (summary, header, failure) = match result {
-        Ok(done) => (Some(done.summary), done.header, None),
+    let (summary, header, animation, failure) = match result {
+        Ok(done) => (Some(done.summary), done.header, done.animation, None),
         Err(mut f) => (
             f.summary.take(),
             f.header.take().unwrap_or_default(),
+            f.animation.take(),
             Some(f),
         ),
     };
+    // The animation (of what was recorded up to a failure, too, as the CSV keeps its
+    // rows), its notes once.
+    if let (Some((kind, _)), Some(anim), Some(path)) = (animate, animation, &a.animate.animate) {
+        for n in anim.notes() {
+            writeln!(o.err(), "note: {n}")?;
+        }
+        if let Err(e) = super::animate::write(path, kind, &anim, &header, &rows) {
+            return command_line_error(format!("cannot write {}: {e}", path.display()), o);
+        }
+    }
     let warned = summary.as_ref().is_some_and(|s| !s.warnings.is_empty());
     if let Some(s) = summary {
         write!(o.err(), "{}", s.text())?;

@@ -24,6 +24,8 @@ pub struct Checked {
     pub markers: Vec<(u32, u32)>,
     /// Elements the model holds (markers and settings included).
     pub elements: usize,
+    /// The GRAPHICS statements, listed ([`super::graphics`]).
+    pub graphics: Vec<super::graphics::Listed>,
 }
 
 /// The figures of an analysis, in numbers and Adams' words.
@@ -98,6 +100,7 @@ pub fn check(name: &str, text: &str, asked: DimRequest) -> Checked {
         title: model.title.clone(),
         parts: model.parts.iter().map(|p| p.el.id).collect(),
         markers: model.markers.iter().map(|m| (m.el.id, m.part)).collect(),
+        graphics: super::graphics::list(model),
         elements: model.element_counts().iter().map(|(_, n)| n).sum::<usize>()
             + model.settings.len(),
         analysis,

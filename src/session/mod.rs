@@ -12,17 +12,19 @@
 //! nothing (static equilibria, kinematic analysis). [`request`] is the one call every shell runs a
 //! dataset with (a request in; the rows out as they come, then a result or a failure that
 //! keeps what it computed), reading command files with [`acf`]. [`check`] reads, analyses
-//! and words a dataset as `mbfx check` prints it, and [`linearization`] gives a linear
-//! analysis as plain numbers: with them, the Python module and the C API need nothing
-//! beyond `session` and `diag`.
+//! and words a dataset as `mbfx check` prints it, [`linearization`] gives a linear
+//! analysis as plain numbers and [`graphics`] lists a model's GRAPHICS statements: with
+//! them, the Python module and the C API need nothing beyond `session` and `diag`.
 
 pub mod acf;
 pub mod analyses;
+pub mod animation;
 pub mod changes;
 pub mod check;
 pub mod evaluate;
 pub mod expression;
 pub mod files;
+pub mod graphics;
 pub mod lifted;
 pub mod linear;
 pub mod linearization;

@@ -29,6 +29,8 @@ pub fn key(request: &RunRequest, name: &str, text: &str) -> RunRequest {
             text: text.to_string(),
         },
         set: Vec::new(),
+        // What a run records for its animation does not change the simulation.
+        animation: None,
         ..request.clone()
     }
 }

@@ -40,6 +40,7 @@
 //! runs (a kept one reused, or one built).
 
 use super::acf::{self, Commands};
+use super::animation;
 use super::prepared;
 use super::report;
 use super::run::{Segment, TableRow};
@@ -141,6 +142,14 @@ pub fn run(
     });
     let (mut sim, source, keepable, reused) =
         simulation_for(request, key.as_ref(), name, text, &initial)?;
+    // The scene is drawn before anything runs: a mesh file that cannot be read fails
+    // the run at once.
+    let drawn = request
+        .animation
+        .as_ref()
+        .map(|a| animation::scene_of(a, &sim.read.model))
+        .transpose()
+        .map_err(RunFailed::command_line)?;
     let header = sim.header();
     let dim_reason = sim.dynamics.sys.dim_reason.clone();
     observer
@@ -229,6 +238,9 @@ pub fn run(
         }
     }
     let end = segments.last().map_or(0.0, |s| s.end);
+    if let (Some(a), Some((_, scene))) = (&request.animation, &drawn) {
+        sim.recorder = Some(animation::recorder(a, scene, &mut sim, end));
+    }
     let started = Started {
         header: &header,
         segments: &segments,
@@ -255,11 +267,15 @@ pub fn run(
     if let Some(line) = crate::model::report::not_modelled(&sim.read.model.ignored) {
         summary.warnings.insert(0, line);
     }
+    let recorded = (sim.recorder.take())
+        .zip(drawn)
+        .map(|(r, (options, scene))| animation::finish(r, options, scene, &sim.read.model));
     let result = match failed {
         None => Ok(RunDone {
             header,
             summary,
             dim_reason,
+            animation: recorded,
         }),
         Some(e) => {
             let mut f = match (&e, &commands) {
@@ -273,6 +289,7 @@ pub fn run(
                 _ => RunFailed::dynamics(e, source, &sim.read.model),
             };
             (f.header, f.summary) = (Some(header), Some(summary));
+            f.animation = recorded;
             Err(f)
         }
     };

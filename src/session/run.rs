@@ -66,6 +66,9 @@ pub struct Simulation {
     /// The parts' poses at each integrated row, while a run records them for its error
     /// estimate (`estimate`).
     trace: Option<Vec<Vec<f64>>>,
+    /// What records the run's animation frames, while a run is asked for one
+    /// ([`super::animation`]).
+    pub(crate) recorder: Option<super::animation::Recorder>,
 }
 
 #[cfg(test)]

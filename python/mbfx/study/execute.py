@@ -77,7 +77,9 @@ def run_variant(model: "Model", job: Job, variant: int, settings: Mapping[str, A
 def simulate(model: "Model", job: Job, settings: Mapping[str, Any]) -> "Run":
     """One run of `model` with `settings`. The single place a worker turns settings into
     a run: a per-process cache of compiled models (keyed by the model's text) goes here."""
-    return model.run(job.end, probes=job.probes, set=dict(settings), **job.run_args)
+    # A variant's run is reduced to its responses here: no animation is recorded.
+    args = {"animation": False, **job.run_args}
+    return model.run(job.end, probes=job.probes, set=dict(settings), **args)
 
 
 def responses_of(run: "Run", responses: Mapping[str, Response]) -> Dict[str, float]:

@@ -79,6 +79,49 @@ pub(super) fn emit(
     Ok(())
 }
 
+/// Times a caller records the state at, apart from the output times (an animation's
+/// frames): `record` gets `d` at each, moved to the continuous extension inside a step
+/// (positions, velocities and time; nothing projected or solved) or at the step's end.
+pub struct FrameTimes<'a> {
+    /// The times.
+    pub times: OutputTimes,
+    /// The first not recorded yet.
+    pub next: usize,
+    /// What records one.
+    pub record: &'a mut dyn FnMut(&mut Dynamics) -> Result<(), DynError>,
+}
+
+impl FrameTimes<'_> {
+    /// Whether a time not recorded yet lies before `end` (the step needs its extension).
+    pub(super) fn inside(&self, end: f64) -> bool {
+        self.next < self.times.len() && self.times.at(self.next) < end
+    }
+}
+
+/// Records the frame times the step just accepted reaches: those inside it from the
+/// continuous extension, the accepted state put back after them; one at its end from it.
+pub(super) fn frames(
+    d: &mut Dynamics,
+    integrator: &mut dyn Integrator,
+    f: &mut FrameTimes<'_>,
+) -> Result<(), DynError> {
+    let end = d.sys.time;
+    if f.inside(end) {
+        let kept = Kept::of(d);
+        while f.inside(end) {
+            integrator.dense_state(d, f.times.at(f.next));
+            (f.record)(d)?;
+            f.next += 1;
+        }
+        kept.restore(d);
+    }
+    while f.next < f.times.len() && f.times.at(f.next) <= end {
+        (f.record)(d)?;
+        f.next += 1;
+    }
+    Ok(())
+}
+
 /// Measures the position constraints' residual at an interpolated state (into the run's
 /// counters) and projects the positions back when it exceeds `drift_tol`: what a step's
 /// end would hold them to. Velocities, accelerations and multipliers are the outputs'.

@@ -12,7 +12,7 @@
 
 use super::events::{Events, Verdict};
 use super::failure::DynError;
-use super::inside_step::{self, Kept};
+use super::inside_step::{self, FrameTimes, Kept};
 use super::integrator::{Attempt, Integrator, Interrupt, OutputTimes, RowState, Settings};
 use super::setup::Dynamics;
 use super::step_extension::Taylor;
@@ -28,6 +28,21 @@ pub fn simulate(
     s: &Settings,
     outputs: &OutputTimes,
     output: &mut dyn FnMut(&mut Dynamics, RowState) -> Result<(), DynError>,
+    interrupt: Option<Interrupt<'_>>,
+) -> Result<(), DynError> {
+    simulate_framed(d, integrator, s, outputs, output, None, interrupt)
+}
+
+/// [`simulate`], also handing `frames`' recorder the state at each of its times (an
+/// animation's frames): from the continuous extension inside a step, or the step's end.
+/// The steps, and so the outputs, are the same with or without them.
+pub fn simulate_framed(
+    d: &mut Dynamics,
+    integrator: &mut dyn Integrator,
+    s: &Settings,
+    outputs: &OutputTimes,
+    output: &mut dyn FnMut(&mut Dynamics, RowState) -> Result<(), DynError>,
+    mut frames: Option<&mut FrameTimes<'_>>,
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), DynError> {
     integrator.start(d)?;
@@ -161,7 +176,8 @@ pub fn simulate(
                     // before a restart forgets the step (the outputs come at its end).
                     let inside =
                         interpolate && pending + 1 < outputs.len() && outputs.at(pending) < end;
-                    if inside {
+                    let framed = frames.as_ref().is_some_and(|f| f.inside(end));
+                    if inside || framed {
                         let kept = Kept::of(d);
                         integrator.extend(d)?;
                         kept.restore(d);
@@ -210,6 +226,9 @@ pub fn simulate(
                     }
                     if interpolate {
                         inside_step::emit(d, integrator, outputs, &mut pending, drift_tol, output)?;
+                    }
+                    if let Some(f) = frames.as_deref_mut() {
+                        inside_step::frames(d, integrator, f)?;
                     }
                 }
             }

@@ -89,6 +89,9 @@ pub struct RunRequest {
     /// modes printed, and written to FILE_modes.csv and FILE_shapes.csv when FILE is
     /// given. Without an end time (and no static equilibrium), at the assembled start.
     pub linear: Option<LinearRequest>,
+    /// Record the run's animation (`--animate`): frames, glyphs, meshes for EXTERNAL
+    /// graphics ([`crate::session::animation`]); the rows are the same with or without.
+    pub animation: Option<crate::session::animation::AnimationRequest>,
 }
 
 /// The linear analysis a [`RunRequest`] asks for where the run ends: LINEAR/EIGENSOL
@@ -165,6 +168,7 @@ impl RunRequest {
             statics: false,
             kinematics: false,
             linear: None,
+            animation: None,
         }
     }
 
@@ -203,6 +207,7 @@ impl RunRequest {
             ("--hinit", self.hinit),
             ("--hmin", self.hmin),
             ("--fixed-step", self.fixed_step),
+            ("--interpolate", self.animation.as_ref().and_then(|a| a.fps)),
         ] {
             if let Some(x) = x {
                 if !(x.is_finite() && x > 0.0) {

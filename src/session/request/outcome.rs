@@ -6,6 +6,7 @@ use super::COMMAND_LINE;
 use crate::diag::{render, Code, Diagnostic, SourceFile};
 use crate::mbd::dynamics::DynError;
 use crate::mbd::system::Dimension;
+use crate::session::animation::Animation;
 use crate::session::report;
 use crate::session::run::{Segment, Summary, TableRow};
 use crate::session::stopped::Stopped;
@@ -76,6 +77,8 @@ pub struct RunDone {
     pub summary: Summary,
     /// Why the run was 2D or 3D, in words.
     pub dim_reason: String,
+    /// The animation, when the request asked for one ([`RunRequest::animation`](super::RunRequest::animation)).
+    pub animation: Option<Animation>,
 }
 
 /// A run that failed: what it had computed, and why it stopped.
@@ -103,6 +106,9 @@ pub struct RunFailed {
     /// The run's failure itself, when it is one (match [`DynError::Interrupted`] in
     /// [`Stopped::dynamics`]).
     pub error: Option<Stopped>,
+    /// The animation recorded up to the failure, when the request asked for one and
+    /// integration had started.
+    pub animation: Option<Animation>,
 }
 
 impl RunFailed {
@@ -123,6 +129,7 @@ impl RunFailed {
             element: None,
             probe: None,
             error: None,
+            animation: None,
         })
     }
 

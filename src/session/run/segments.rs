@@ -3,7 +3,7 @@
 
 use super::{monitors, Outputs, Segment, Simulation, Summary, TableRow};
 use crate::mbd::dynamics::integrator::{Interrupt, OutputTimes, RowState};
-use crate::mbd::dynamics::{simulate, DynError, Dynamics};
+use crate::mbd::dynamics::{simulate_framed, DynError, Dynamics, FrameTimes};
 use crate::model::commands::Analysis;
 use crate::session::plan::Plan;
 use crate::session::stopped::Stopped;
@@ -101,6 +101,10 @@ impl Simulation {
         let conservative = self.conservative;
         let mut kinetic_max: f64 = 0.0;
         let mut trace = self.trace.take();
+        // The animation's frames: at each row, or (at a frame rate) at the first row,
+        // each solved one, and the frame times inside the steps.
+        let recorder = std::cell::RefCell::new(self.recorder.take());
+        let step = recorder.borrow().as_ref().and_then(|r| r.step);
         // A row of the integrated state (`Some((last, state))`: reconciled when the
         // columns need it or it is a segment's last) or of a state solved already (None).
         let mut emit = |outputs: &mut Outputs,
@@ -110,12 +114,18 @@ impl Simulation {
             if conservative {
                 kinetic_max = kinetic_max.max(kinetic(&d.sys));
             }
+            let solved = row.is_none();
             let row = match row {
                 Some((last, state)) => outputs.row(d, last, state)?,
                 None => outputs.solved_row(d)?,
             };
             if let Some(t) = trace.as_mut() {
                 t.push(row.to_vec());
+            }
+            if let Some(r) = recorder.borrow_mut().as_mut() {
+                if step.is_none() || r.frames.times.is_empty() || solved {
+                    r.record(d);
+                }
             }
             max_residual = max_residual.max(residual(d));
             if let Some(table) = table.as_mut() {
@@ -203,12 +213,24 @@ impl Simulation {
             // Each segment's last row reconciles: the next segment starts from it.
             let mut segment_emit =
                 |d: &mut Dynamics, state| emit(outputs, d, Some((d.sys.time >= end, state)));
-            result = simulate(
+            let mut record = |d: &mut Dynamics| {
+                if let Some(r) = recorder.borrow_mut().as_mut() {
+                    r.record(d);
+                }
+                Ok(())
+            };
+            let mut frames = step.map(|dt| FrameTimes {
+                times: OutputTimes::new(t0, dt, end),
+                next: 0,
+                record: &mut record,
+            });
+            result = simulate_framed(
                 dynamics,
                 integrator.as_mut(),
                 &plan.settings,
                 &times,
                 &mut segment_emit,
+                frames.as_mut(),
                 interrupt,
             )
             .map_err(Stopped::from);
@@ -217,6 +239,7 @@ impl Simulation {
             }
         }
         self.trace = trace;
+        self.recorder = recorder.into_inner();
         // Notes the changes to the model added.
         for n in &self.notes {
             if !notes.contains(n) {

@@ -284,6 +284,7 @@ impl Simulation {
             inactive,
             changed: false,
             trace: None,
+            recorder: None,
         })
     }
 
