@@ -78,6 +78,8 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
                         (a, world(&pose(k, to.part), to) - a)
                     })
                     .collect(),
+                // A force never known (no force function): no track, a still arrow.
+                Motion::Arrow { arrow, .. } if !known(frames, &kept, *arrow) => return None,
                 Motion::Arrow { at, arrow } => (kept.iter())
                     .map(|&k| {
                         let f = (frames.arrows.get(k).and_then(|a| a.get(*arrow)))
@@ -95,6 +97,13 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
         parts,
         items,
     }
+}
+
+/// Whether arrow `a` has a finite force at some kept frame.
+fn known(frames: &Frames, kept: &[usize], a: usize) -> bool {
+    (kept.iter())
+        .filter_map(|&k| frames.arrows.get(k).and_then(|f| f.get(a)))
+        .any(|f| f.iter().all(|x| x.is_finite()))
 }
 
 /// The world point of `anchor` with its part at `pose`.
