@@ -24,6 +24,9 @@ pub(super) struct Tracks {
     pub(super) times: Vec<f32>,
     /// Per part (index into [`Scene::parts`]): its track, or None when it never moves.
     pub(super) parts: Vec<Option<Track>>,
+    /// Per part: its pose at the first kept frame (None without frames), where a part
+    /// that never moves stays (assembled, it may stand elsewhere than its input pose).
+    pub(super) first: Vec<Option<Pose>>,
     /// Per item: the track of a stretching item or an arrow, None for a rigid one.
     pub(super) items: Vec<Option<Track>>,
 }
@@ -66,6 +69,9 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
             (!scene.parts[p].ground && moves).then(|| part_track(&poses))
         })
         .collect();
+    let first = (0..scene.parts.len())
+        .map(|p| kept.first().map(|&k| pose(k, p)))
+        .collect();
     let scale = arrow_scale(scene, frames, &kept);
     let tiny = TINY * scene.extent.max(f64::MIN_POSITIVE);
     let items = (scene.items.iter())
@@ -95,6 +101,7 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
     Tracks {
         times,
         parts,
+        first,
         items,
     }
 }

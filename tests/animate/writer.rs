@@ -64,6 +64,13 @@ fn scene_and_frames(up: [f64; 3]) -> (Scene, Frames) {
             ground: false,
             input: Pose::IDENTITY,
         },
+        // Still, but assembled away from its input pose.
+        PartNode {
+            id: 3,
+            view_name: None,
+            ground: false,
+            input: Pose::IDENTITY,
+        },
     ];
     let item = |name: &str, mesh, role, motion| Item {
         name: name.into(),
@@ -179,6 +186,10 @@ fn scene_and_frames(up: [f64; 3]) -> (Scene, Frames) {
                 translation: [t, 0.0, 0.0],
                 rotation: quat_z(t),
             },
+            Pose {
+                translation: [0.0, 5.0, 0.0],
+                rotation: quat_z(1.0),
+            },
         ]);
         // Zero at the start: the arrow has no length then.
         frames
@@ -292,7 +303,14 @@ fn a_hand_made_scene_reads_back_as_the_conventions_say() {
         .collect();
     assert_eq!(
         under_root,
-        ["PART/1", "PART/2", "GRAPHICS/2", "GRAPHICS/3", "GRAPHICS/8"]
+        [
+            "PART/1",
+            "PART/2",
+            "PART/3",
+            "GRAPHICS/2",
+            "GRAPHICS/3",
+            "GRAPHICS/8"
+        ]
     );
     for (name, role) in [
         ("GRAPHICS/1", "graphic"),
@@ -371,6 +389,12 @@ fn a_hand_made_scene_reads_back_as_the_conventions_say() {
         }
         assert_eq!(apply(&trs, [0.0; 3]), [0.0; 3]);
     }
+    // A part that never moves: no track, its node where the frames hold it.
+    let still = node(&doc, "PART/3");
+    assert!(!ch.keys().any(|(n, _)| *n == still.index()));
+    let (t, r, _) = still.transform().decomposed();
+    assert_eq!(t, [0.0, 5.0, 0.0]);
+    assert!((r[2] as f64 - 0.5f64.sin()).abs() < 1e-7, "{r:?}");
     // The force never known has no track.
     let unknown = node(&doc, "GRAPHICS/8").index();
     assert!(!ch.keys().any(|(n, _)| *n == unknown));
