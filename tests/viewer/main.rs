@@ -207,6 +207,41 @@ fn hovering_picks_the_node_under_the_pointer() {
         Some("none"),
         "nothing at the pane's corner"
     );
+    // Two pixels off a dark grey line (the circle or the zigzag, one pixel wide) still
+    // picks it: picking looks a few pixels around the pointer.
+    let grey = |p: [u8; 3]| p[0] < 110 && p[0].abs_diff(p[1]) < 12 && p[0].abs_diff(p[2]) < 12;
+    let (gx, gy) = (r[0]..r[0] + r[2])
+        .flat_map(|x| (r[1]..r[1] + r[3]).map(move |y| (x, y)))
+        .find(|&(x, y)| x > r[0] + 3 && y > r[1] + 3 && grey(s.pixel(x, y)))
+        .expect("a grey line is drawn");
+    let d = dom(
+        &file,
+        &format!("t=0&pick={},{}", gx - r[0] - 2, gy - r[1] - 2),
+        1000,
+        &[],
+    );
+    let name = body_data(&d, "pick").unwrap();
+    assert!(
+        name == "GRAPHICS/4" || name == "GRAPHICS/5",
+        "picked {name:?} near a line at ({gx}, {gy})"
+    );
+    // The pointer over the box: the tip names it and its part, with their view names.
+    let hover = format!(
+        r#"(async () => {{
+  const sleep = ms => new Promise(r => setTimeout(r, ms));
+  while (document.body.dataset.ready !== '1') await sleep(50);
+  const c = document.getElementById('gl'), r = c.getBoundingClientRect(), tip = document.getElementById('tip');
+  c.dispatchEvent(new PointerEvent('pointermove', {{ clientX: r.left + {x}, clientY: r.top + {y}, bubbles: true }}));
+  for (let k = 0; k < 40 && tip.hidden; k++) await sleep(50);
+  return tip.hidden ? 'hidden' : tip.textContent;
+}})()"#,
+        x = x as u32 - r[0],
+        y = y as u32 - r[1]
+    );
+    assert_eq!(
+        evaluate(&file, "t=0", &hover),
+        "GRAPHICS/1 “crank_box” — PART/2 “crank”"
+    );
 }
 
 #[test]

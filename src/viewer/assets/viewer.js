@@ -5,7 +5,7 @@
   const $ = id => document.getElementById(id), body = document.body;
   const hook = parseHash(location.hash);
   const state = { t: 0, playing: false, speed: 1, loop: true, show: { glyph: true, arrow: true } };
-  const stats = { fps: null, frames: 0, ms: 0, drawMs: 0 };
+  const stats = { fps: null, frames: 0, ms: 0, drawMs: 0, readyMs: null };
   window.mbfxViewer = { state, stats };
 
   let asset = null, renderer = null;
@@ -179,6 +179,7 @@
     }
     const r = $('gl').getBoundingClientRect();
     body.dataset.pane = [r.left, r.top, r.width, r.height].map(Math.round).join(',');
+    stats.readyMs = performance.now();
     body.dataset.ready = '1';
   }
   if (!renderer) { chart.draw(); body.dataset.ready = '1'; }
