@@ -161,5 +161,9 @@ fn a_failed_run_keeps_the_frames_before_the_failure() {
     let failed = run(&request, &mut sink, None).expect_err("the force fails");
     let a = failed.animation.expect("what was recorded");
     let last = *a.frames().times.last().expect("frames before the failure");
-    assert!(a.frame_count() > 1 && last <= 0.05, "{} frames to {last}", a.frame_count());
+    assert!(
+        a.frame_count() > 1 && last <= 0.05,
+        "{} frames to {last}",
+        a.frame_count()
+    );
 }
