@@ -148,3 +148,22 @@ fn glyphs_or_not_the_same_frames() {
     assert_eq!(b.scene().parts, a.scene().parts);
     assert_eq!(&b.glb()[0..4], b"glTF");
 }
+
+#[test]
+fn a_failed_run_keeps_the_frames_before_the_failure() {
+    use crate::session::request::{run, RunRequest};
+    // The force turns not-a-number at t = 0.05 (a square root of a negative number).
+    let adm = SLIDER.replace("VARVAL(1)", "SQRT(0.05 - TIME)");
+    let mut request = RunRequest::dataset("slider.adm", adm);
+    request.end = Some(0.1);
+    request.animation = Some(AnimationRequest::default());
+    let mut sink = |_: &[f64]| -> std::io::Result<()> { Ok(()) };
+    let failed = run(&request, &mut sink, None).expect_err("the force fails");
+    let a = failed.animation.expect("what was recorded");
+    let last = *a.frames().times.last().expect("frames before the failure");
+    assert!(
+        a.frame_count() > 1 && last <= 0.05,
+        "{} frames to {last}",
+        a.frame_count()
+    );
+}
