@@ -13,7 +13,6 @@ use serde_json::{json, Map, Value};
 /// times or nothing moves), its binary data appended to `buffers`.
 pub(super) fn document(scene: &Scene, tracks: &Tracks, buffers: &mut Buffers) -> Value {
     let (meshes, mesh_list, materials) = meshes(scene, buffers);
-    let first = |t: &Option<Track>| t.as_ref().filter(|t| !t.translation.is_empty()).cloned();
     // Node 0 is the root, then the parts, then the items.
     let part_node = |p: usize| 1 + p;
     let item_node = |i: usize| 1 + scene.parts.len() + i;
@@ -22,7 +21,7 @@ pub(super) fn document(scene: &Scene, tracks: &Tracks, buffers: &mut Buffers) ->
     for (p, part) in scene.parts.iter().enumerate() {
         let mut node = match first(&tracks.parts[p]) {
             Some(t) => trs(t.translation[0], t.rotation[0], None),
-            None => pose_trs(&part.input),
+            None => pose_trs(tracks.first[p].as_ref().unwrap_or(&part.input)),
         };
         node["name"] = json!(format!("PART/{}", part.id));
         if let Some(v) = &part.view_name {
@@ -221,4 +220,9 @@ fn animation<'a>(
         }
     }
     json!({"name": "run", "samplers": samplers, "channels": channels})
+}
+
+/// A track's first key, if it has one.
+fn first(t: &Option<Track>) -> Option<&Track> {
+    t.as_ref().filter(|t| !t.translation.is_empty())
 }

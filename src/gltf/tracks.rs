@@ -24,6 +24,9 @@ pub(super) struct Tracks {
     pub(super) times: Vec<f32>,
     /// Per part (index into [`Scene::parts`]): its track, or None when it never moves.
     pub(super) parts: Vec<Option<Track>>,
+    /// Per part: its pose at the first kept frame (None without frames), where a part
+    /// that never moves stays (assembled, it may stand elsewhere than its input pose).
+    pub(super) first: Vec<Option<Pose>>,
     /// Per item: the track of a stretching item or an arrow, None for a rigid one.
     pub(super) items: Vec<Option<Track>>,
 }
@@ -66,6 +69,9 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
             (!scene.parts[p].ground && moves).then(|| part_track(&poses))
         })
         .collect();
+    let first = (0..scene.parts.len())
+        .map(|p| kept.first().map(|&k| pose(k, p)))
+        .collect();
     let scale = arrow_scale(scene, frames, &kept);
     let tiny = TINY * scene.extent.max(f64::MIN_POSITIVE);
     let items = (scene.items.iter())
@@ -78,6 +84,8 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
                         (a, world(&pose(k, to.part), to) - a)
                     })
                     .collect(),
+                // A force never known (no force function): no track, a still arrow.
+                Motion::Arrow { arrow, .. } if !known(frames, &kept, *arrow) => return None,
                 Motion::Arrow { at, arrow } => (kept.iter())
                     .map(|&k| {
                         let f = (frames.arrows.get(k).and_then(|a| a.get(*arrow)))
@@ -93,8 +101,16 @@ pub(super) fn tracks(scene: &Scene, frames: &Frames) -> Tracks {
     Tracks {
         times,
         parts,
+        first,
         items,
     }
+}
+
+/// Whether arrow `a` has a finite force at some kept frame.
+fn known(frames: &Frames, kept: &[usize], a: usize) -> bool {
+    (kept.iter())
+        .filter_map(|&k| frames.arrows.get(k).and_then(|f| f.get(a)))
+        .any(|f| f.iter().all(|x| x.is_finite()))
 }
 
 /// The world point of `anchor` with its part at `pose`.

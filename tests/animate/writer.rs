@@ -64,6 +64,13 @@ fn scene_and_frames(up: [f64; 3]) -> (Scene, Frames) {
             ground: false,
             input: Pose::IDENTITY,
         },
+        // Still, but assembled away from its input pose.
+        PartNode {
+            id: 3,
+            view_name: None,
+            ground: false,
+            input: Pose::IDENTITY,
+        },
     ];
     let item = |name: &str, mesh, role, motion| Item {
         name: name.into(),
@@ -113,14 +120,54 @@ fn scene_and_frames(up: [f64; 3]) -> (Scene, Frames) {
             )
         },
         item("glyph PART/2 inertia", 0, Role::Glyph, Motion::Rigid),
+        item(
+            "placeholder GRAPHICS/5",
+            0,
+            Role::Placeholder,
+            Motion::Rigid,
+        ),
+        item("GRAPHICS/6", 2, Role::Graphic, Motion::Rigid),
+        item("GRAPHICS/7", 3, Role::Graphic, Motion::Rigid),
+        // A force with no function to read (every frame NaN): no track.
+        Item {
+            local: Pose::IDENTITY,
+            ..item(
+                "GRAPHICS/8",
+                1,
+                Role::Arrow,
+                Motion::Arrow {
+                    at: Anchor {
+                        part: 1,
+                        point: [0.0, 0.0, 0.0],
+                    },
+                    arrow: 1,
+                },
+            )
+        },
     ];
+    let strip = Mesh {
+        topology: Topology::LineStrip,
+        positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+        indices: vec![0, 1, 2],
+        // See-through: blended.
+        ..line([0.1, 0.7, 0.1, 0.5])
+    };
+    let lines_loop = Mesh {
+        topology: Topology::LineLoop,
+        ..strip.clone()
+    };
     let scene = Scene {
         title: "by hand".into(),
         meters_per_length: 0.001,
         up,
         extent: 2.0,
         parts,
-        meshes: vec![cube([0.8, 0.2, 0.2, 1.0]), line([0.2, 0.2, 0.8, 1.0])],
+        meshes: vec![
+            cube([0.8, 0.2, 0.2, 1.0]),
+            line([0.2, 0.2, 0.8, 1.0]),
+            strip,
+            lines_loop,
+        ],
         items,
         arrows: vec![ArrowSource {
             etype: "SFORCE",
@@ -139,9 +186,15 @@ fn scene_and_frames(up: [f64; 3]) -> (Scene, Frames) {
                 translation: [t, 0.0, 0.0],
                 rotation: quat_z(t),
             },
+            Pose {
+                translation: [0.0, 5.0, 0.0],
+                rotation: quat_z(1.0),
+            },
         ]);
         // Zero at the start: the arrow has no length then.
-        frames.arrows.push(vec![[t * 10.0, -t * 5.0, 0.0]]);
+        frames
+            .arrows
+            .push(vec![[t * 10.0, -t * 5.0, 0.0], [f64::NAN; 3]]);
     }
     (scene, frames)
 }
@@ -234,24 +287,45 @@ fn a_hand_made_scene_reads_back_as_the_conventions_say() {
         .children()
         .filter_map(|c| c.name().map(String::from))
         .collect();
-    assert_eq!(under_crank, ["GRAPHICS/1", "glyph PART/2 inertia"]);
+    assert_eq!(
+        under_crank,
+        [
+            "GRAPHICS/1",
+            "glyph PART/2 inertia",
+            "placeholder GRAPHICS/5",
+            "GRAPHICS/6",
+            "GRAPHICS/7"
+        ]
+    );
     let under_root: Vec<_> = root
         .children()
         .filter_map(|c| c.name().map(String::from))
         .collect();
-    assert_eq!(under_root, ["PART/1", "PART/2", "GRAPHICS/2", "GRAPHICS/3"]);
+    assert_eq!(
+        under_root,
+        [
+            "PART/1",
+            "PART/2",
+            "PART/3",
+            "GRAPHICS/2",
+            "GRAPHICS/3",
+            "GRAPHICS/8"
+        ]
+    );
     for (name, role) in [
         ("GRAPHICS/1", "graphic"),
         ("GRAPHICS/2", "graphic"),
         ("GRAPHICS/3", "arrow"),
         ("glyph PART/2 inertia", "glyph"),
+        ("placeholder GRAPHICS/5", "placeholder"),
+        ("GRAPHICS/8", "arrow"),
     ] {
         let e: serde_json::Value =
             serde_json::from_str(node(&doc, name).extras().as_ref().unwrap().get()).unwrap();
         assert_eq!(e["mbfx"]["role"], role, "{name}");
     }
     // One material per colour; triangles with normals, lines without.
-    assert_eq!(doc.materials().count(), 2);
+    assert_eq!(doc.materials().count(), 3);
     let modes: Vec<_> = doc
         .meshes()
         .map(|m| {
@@ -263,7 +337,9 @@ fn a_hand_made_scene_reads_back_as_the_conventions_say() {
         modes,
         [
             (gltf::mesh::Mode::Triangles, true),
-            (gltf::mesh::Mode::Lines, false)
+            (gltf::mesh::Mode::Lines, false),
+            (gltf::mesh::Mode::LineStrip, false),
+            (gltf::mesh::Mode::LineLoop, false),
         ]
     );
     // Tracks: ground has none; the crank's translation and rotation at every key are
@@ -313,6 +389,15 @@ fn a_hand_made_scene_reads_back_as_the_conventions_say() {
         }
         assert_eq!(apply(&trs, [0.0; 3]), [0.0; 3]);
     }
+    // A part that never moves: no track, its node where the frames hold it.
+    let still = node(&doc, "PART/3");
+    assert!(!ch.keys().any(|(n, _)| *n == still.index()));
+    let (t, r, _) = still.transform().decomposed();
+    assert_eq!(t, [0.0, 5.0, 0.0]);
+    assert!((r[2] as f64 - 0.5f64.sin()).abs() < 1e-7, "{r:?}");
+    // The force never known has no track.
+    let unknown = node(&doc, "GRAPHICS/8").index();
+    assert!(!ch.keys().any(|(n, _)| *n == unknown));
     // The arrow: along the force, its largest a quarter of the extent (0.5).
     let arrow = node(&doc, "GRAPHICS/3").index();
     let az = &ch[&(arrow, "Scale".to_string())].1;
@@ -374,4 +459,16 @@ fn up_along_minus_y_is_a_half_turn_about_x() {
         (r[0].abs() - 1.0).abs() < 1e-7 && r[3].abs() < 1e-7,
         "{r:?}"
     );
+}
+
+#[test]
+fn the_validator_does_report_errors() {
+    // A file whose header's length lies: the validator must say so, or its 0 errors
+    // elsewhere mean nothing.
+    let (scene, frames) = scene_and_frames([0.0, 0.0, 1.0]);
+    let mut bytes = mbfx::gltf::glb(&scene, &frames);
+    bytes[8] ^= 0x10;
+    let path = write("broken.glb", &bytes);
+    let reports = validate(&[path.as_path()]);
+    assert!(reports[0].errors > 0, "{reports:?}");
 }

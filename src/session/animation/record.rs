@@ -128,7 +128,9 @@ impl Recorder {
         for a in &self.arrows {
             arrows.push(match a {
                 Some(s) if fresh => [s[0].value(d), s[1].value(d), s[2].value(d)],
-                _ => [0.0; 3],
+                Some(_) => [0.0; 3],
+                // No force function: not a number, which the writer draws as no track.
+                None => [f64::NAN; 3],
             });
         }
         self.frames.times.push(t);
