@@ -9,9 +9,25 @@
 //! come from the session's run. The glTF writer is [`crate::gltf`], the HTML page
 //! [`crate::viewer`].
 
+mod arrow;
 mod build;
+mod canvas;
+mod colors;
+mod curves;
+mod geometry_map;
+mod glyphs;
+mod items;
+mod mass;
+mod mesh_files;
+mod placeholder;
+mod solids;
+mod spring;
+mod tessellate;
+#[cfg(test)]
+mod tests;
 
 pub use build::{build, Options, SceneError};
+pub use geometry_map::{geometry_arg, read_map};
 
 /// A rigid transform: a translation, then a unit quaternion `[x, y, z, w]` (glTF's order).
 #[derive(Clone, Copy, Debug, PartialEq)]
