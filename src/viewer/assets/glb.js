@@ -29,6 +29,9 @@ function accessor(json, bin, index) {
   const v = json.bufferViews[a.bufferView], size = T.BYTES_PER_ELEMENT;
   const start = (v.byteOffset || 0) + (a.byteOffset || 0), stride = v.byteStride || n * size;
   if (start + stride * (a.count - 1) + n * size > bin.length) throw new Error('accessor ' + index + ' runs past the binary chunk');
+  // Tightly packed and aligned (what mbfx writes): one copy of the bytes.
+  if (stride === n * size && (bin.byteOffset + start) % size === 0)
+    return new T(bin.buffer.slice(bin.byteOffset + start, bin.byteOffset + start + a.count * n * size));
   const src = new DataView(bin.buffer, bin.byteOffset);
   const get = { 1: 'getInt8', 2: 'getInt16', 4: 'getUint32' };
   for (let i = 0; i < a.count; i++)

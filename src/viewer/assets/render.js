@@ -124,11 +124,19 @@ function createRenderer(canvas, asset) {
       pickSize = [w, h];
     }
     draw(view, proj, visible, true);
-    const px = new Uint8Array(4);
-    gl.readPixels(Math.floor(x), Math.floor(h - 1 - y), 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    // A few pixels around the pointer, the nearest id winning: lines are one pixel wide.
+    const R = 3, x0 = Math.max(0, Math.floor(x) - R), y0 = Math.max(0, Math.floor(h - 1 - y) - R);
+    const rw = Math.min(w - x0, 2 * R + 1), rh = Math.min(h - y0, 2 * R + 1), px = new Uint8Array(4 * rw * rh);
+    if (rw > 0 && rh > 0) gl.readPixels(x0, y0, rw, rh, gl.RGBA, gl.UNSIGNED_BYTE, px);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    const id = px[0] + (px[1] << 8) + (px[2] << 16);
-    return id ? asset.nodes[id - 1] || null : null;
+    let best = 0, bestD = Infinity;
+    for (let j = 0; j < rh; j++)
+      for (let i = 0; i < rw; i++) {
+        const k = 4 * (j * rw + i), id = px[k] + (px[k + 1] << 8) + (px[k + 2] << 16);
+        const d = (x0 + i - Math.floor(x)) ** 2 + (y0 + j - Math.floor(h - 1 - y)) ** 2;
+        if (id && d < bestD) { best = id; bestD = d; }
+      }
+    return best ? asset.nodes[best - 1] || null : null;
   }
   return { gl, draw, pickAt, setGrid, drawn, background: BACKGROUND };
 }

@@ -5,7 +5,7 @@
   const $ = id => document.getElementById(id), body = document.body;
   const hook = parseHash(location.hash);
   const state = { t: 0, playing: false, speed: 1, loop: true, show: { glyph: true, arrow: true } };
-  const stats = { fps: null, frames: 0, ms: 0, drawMs: 0 };
+  const stats = { fps: null, frames: 0, ms: 0, drawMs: 0, readyMs: null };
   window.mbfxViewer = { state, stats };
 
   let asset = null, renderer = null;
@@ -179,6 +179,7 @@
     }
     const r = $('gl').getBoundingClientRect();
     body.dataset.pane = [r.left, r.top, r.width, r.height].map(Math.round).join(',');
+    stats.readyMs = performance.now();
     body.dataset.ready = '1';
   }
   if (!renderer) { chart.draw(); body.dataset.ready = '1'; }
@@ -235,6 +236,7 @@ function parseHash(hash) {
     out[decodeURIComponent(k)] = v === undefined ? true : decodeURIComponent(v);
   }
   if (out.t !== undefined) { out.t = parseFloat(out.t); if (!isFinite(out.t)) delete out.t; }
+  for (const k of ['probe', 'pick', 'hide']) if (out[k] === true) delete out[k];
   return out;
 }
 function base64Bytes(text) {
