@@ -126,6 +126,8 @@ impl PyRecording {
                     .map_err(PyValueError::new_err)?;
                 return Py::new(py, PyRecording { request, animation });
             }
+            // Only the frames are wanted: no second run for an error estimate.
+            request.estimate_error = false;
             let run = crate::run::run_model(py, &request, false)?;
             Ok(run.getattr(py, "_recording")?.extract(py)?)
         })

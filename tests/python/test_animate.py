@@ -15,7 +15,7 @@ import re
 import struct
 import subprocess
 from pathlib import Path
-from typing import List
+from typing import Dict, List
 
 import numpy as np
 import pytest
@@ -316,6 +316,39 @@ def test_geometry_that_cannot_be_read_fails_the_run_naming_the_file(tmp_path):
     assert caught.value.code == "E0501" and str(missing) in str(caught.value)
     with pytest.raises(ValueError, match="GRAPHICS id"):
         model.run(0.1, geometry={"GRAPHICS/12": str(missing)})
+
+
+def roles(anim: "mbfx.Animation") -> Dict[str, str]:
+    """Each named node's role (`extras.mbfx.role`) in the animation's .glb."""
+    doc = gltf_json(anim.glb())
+    return {n["name"]: n["extras"]["mbfx"]["role"] for n in doc["nodes"] if "mbfx" in n.get("extras", {})}
+
+
+def test_glyphs_are_drawn_on_every_part_only_when_asked_for(pendulum_run):
+    plain, glyphs = roles(pendulum_run.animate()), roles(pendulum_run.animate(glyphs=True))
+    # Every part of the pendulum has a GRAPHICS statement: no part needs glyphs.
+    assert sorted(n for n, r in plain.items() if r == "graphic") == ["GRAPHICS/1", "GRAPHICS/2", "GRAPHICS/3"]
+    assert "glyph" not in plain.values()
+    assert {n: r for n, r in glyphs.items() if r == "graphic"} == {n: r for n, r in plain.items() if r == "graphic"}
+    assert "glyph" in glyphs.values()
+
+
+def test_an_external_graphic_is_drawn_from_the_mesh_given_else_as_a_placeholder(tmp_path):
+    model = mbfx.load(dataset([GRAPHICS[11][0]]))
+    # One triangle, (0, 0, 0), (2, 0, 0), (0, 3, 0), in the frame of RM (MARKER/22).
+    obj = tmp_path / "shell.obj"
+    obj.write_text("v 0 0 0\nv 2 0 0\nv 0 3 0\nf 1 2 3\n", encoding="utf-8")
+    drawn = model.run(0.1, geometry={12: obj}).animate()
+    assert roles(drawn)["GRAPHICS/12"] == "graphic"
+    assert not any("placeholder" in n for n in drawn.notes)
+    doc = gltf_json(drawn.glb())
+    (node,) = [n for n in doc["nodes"] if n.get("name") == "GRAPHICS/12"]
+    (prim,) = doc["meshes"][node["mesh"]]["primitives"]
+    position = doc["accessors"][prim["attributes"]["POSITION"]]
+    assert (position["min"], position["max"]) == ([0, 0, 0], [2, 3, 0])
+    stand_in = model.run(0.1).animate()
+    assert roles(stand_in)["GRAPHICS/12"] == "placeholder"
+    assert any("placeholder" in n for n in stand_in.notes)
 
 
 def test_a_study_records_no_animation():

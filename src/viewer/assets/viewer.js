@@ -236,6 +236,7 @@ function parseHash(hash) {
     out[decodeURIComponent(k)] = v === undefined ? true : decodeURIComponent(v);
   }
   if (out.t !== undefined) { out.t = parseFloat(out.t); if (!isFinite(out.t)) delete out.t; }
+  for (const k of ['probe', 'pick', 'hide']) if (out[k] === true) delete out[k];
   return out;
 }
 function base64Bytes(text) {
