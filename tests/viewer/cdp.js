@@ -45,7 +45,13 @@ async function main() {
   }
   if (!target) throw new Error('no page target');
   const { result } = await send('Target.attachToTarget', { targetId: target.targetId, flatten: true });
-  // The first evaluation may meet the page still navigating from about:blank: try again.
+  // Wait for the page itself (the target starts on about:blank) to finish loading.
+  for (let k = 0; k < 100; k++) {
+    const q = await send('Runtime.evaluate', { expression: 'location.protocol + document.readyState', returnByValue: true }, result.sessionId);
+    if (q.result && q.result.result && q.result.result.value === 'file:complete') break;
+    await sleep(50);
+  }
+  // An evaluation may still meet a context being replaced: try again.
   let r = null;
   for (let k = 0; k < 20 && !(r && r.result && r.result.result && r.result.result.type === 'string'); k++) {
     if (r) await sleep(200);
@@ -54,9 +60,18 @@ async function main() {
   if (!r.result || !r.result.result || r.result.result.type !== 'string') throw new Error(JSON.stringify(r));
   console.log(r.result.result.value);
 }
-const timer = setTimeout(() => { console.error('timed out'); chrome.kill(); process.exit(1); }, 30000);
-main().then(() => 0, e => { console.error(e.message); return 1; }).then(code => {
-  clearTimeout(timer);
+const timer = setTimeout(() => {
+  console.error('timed out');
   chrome.kill();
-  chrome.on('exit', () => { fs.rmSync(profile, { recursive: true, force: true }); process.exit(code); });
+  setTimeout(() => { fs.rmSync(profile, { recursive: true, force: true, maxRetries: 5 }); process.exit(1); }, 1000);
+}, 30000);
+main().then(() => 0, e => { console.error(e.message); return 1; }).then(async code => {
+  clearTimeout(timer);
+  // Close the browser and wait for it, so that no child still writes into the profile.
+  const closed = new Promise(r => chrome.on('exit', r));
+  send('Browser.close');
+  await Promise.race([closed, sleep(3000)]);
+  if (chrome.exitCode === null) { chrome.kill(); await Promise.race([closed, sleep(2000)]); }
+  fs.rmSync(profile, { recursive: true, force: true, maxRetries: 5, retryDelay: 100 });
+  process.exit(code);
 });

@@ -467,3 +467,62 @@ fn an_unreadable_file_is_said_in_words() {
         "the clock runs over the chart's times"
     );
 }
+
+/// The camera, driven by pointer and wheel events in the page (real time).
+const CAMERA: &str = r#"
+(async () => {
+  const v = window.mbfxViewer, sleep = ms => new Promise(r => setTimeout(r, ms)), out = {};
+  while (document.body.dataset.ready !== '1') await sleep(50);
+  const c = document.getElementById('gl'), r = c.getBoundingClientRect(), cam = v.camera;
+  const at = (dx, dy) => ({ clientX: r.left + r.width / 2 + dx, clientY: r.top + r.height / 2 + dy, bubbles: true, pointerId: 1 });
+  const snap = () => JSON.parse(JSON.stringify({ dist: cam.dist, yaw: cam.yaw, pitch: cam.pitch, target: cam.target }));
+  out.start = snap();
+  c.dispatchEvent(new WheelEvent('wheel', { deltaY: -300, bubbles: true, cancelable: true }));
+  out.zoomIn = cam.dist;
+  c.dispatchEvent(new WheelEvent('wheel', { deltaY: 600, bubbles: true, cancelable: true }));
+  out.zoomOut = cam.dist;
+  const drag = (button, shift) => {
+    c.dispatchEvent(new PointerEvent('pointerdown', { ...at(0, 0), button, shiftKey: shift }));
+    c.dispatchEvent(new PointerEvent('pointermove', { ...at(40, 20), button, shiftKey: shift }));
+    c.dispatchEvent(new PointerEvent('pointerup', { ...at(40, 20), button, shiftKey: shift }));
+  };
+  drag(0, false); out.orbit = snap();
+  drag(2, false); out.panRight = snap();
+  drag(0, true); out.panShift = snap();
+  document.getElementById('fit').click(); out.fit = snap();
+  return JSON.stringify(out);
+})()
+"#;
+
+#[test]
+fn orbit_pan_zoom_and_fit_move_the_camera() {
+    let (_dir, file) = write_page("camera", true);
+    let out: serde_json::Value = serde_json::from_str(&evaluate(&file, "t=0", CAMERA)).unwrap();
+    let f = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("{out}"));
+    let (start, orbit, fit) = (&out["start"], &out["orbit"], &out["fit"]);
+    assert!(
+        f(&out["zoomIn"]) < f(&start["dist"]) && f(&start["dist"]) < f(&out["zoomOut"]),
+        "wheel zooms: {out}"
+    );
+    assert!(
+        f(&orbit["yaw"]) != f(&start["yaw"]) && f(&orbit["pitch"]) != f(&start["pitch"]),
+        "drag orbits: {out}"
+    );
+    assert_eq!(
+        orbit["target"], start["target"],
+        "orbiting keeps the target"
+    );
+    for pan in ["panRight", "panShift"] {
+        assert_ne!(
+            out[pan]["target"], orbit["target"],
+            "{pan} moves the target: {out}"
+        );
+        assert_eq!(out[pan]["yaw"], orbit["yaw"], "{pan} does not turn");
+    }
+    assert_ne!(out["panRight"]["target"], out["panShift"]["target"]);
+    // Fit: back to the scene's bounds, whatever the view turned to.
+    assert!(
+        (f(&fit["dist"]) - f(&start["dist"])).abs() < 1e-9 && fit["target"] == start["target"],
+        "{out}"
+    );
+}

@@ -67,6 +67,7 @@
 
   // Camera: orbit about a target, y up; fitted to what is drawn.
   const cam = { target: [0, 0, 0], dist: 1, yaw: 0.6, pitch: 0.45, fov: 0.8, radius: 1 };
+  window.mbfxViewer.camera = cam;
   function eye() {
     const c = Math.cos(cam.pitch);
     return [cam.target[0] + cam.dist * c * Math.sin(cam.yaw), cam.target[1] + cam.dist * Math.sin(cam.pitch), cam.target[2] + cam.dist * c * Math.cos(cam.yaw)];
