@@ -11,7 +11,7 @@ use super::mass::principal;
 use super::placeholder::thick;
 use super::solids::{centred_cuboid, ellipsoid, frustum};
 use super::tessellate::Builder;
-use super::{Pose, Role};
+use super::{Item, Motion, Pose, Role};
 use crate::vocab::elements::JointType;
 use crate::vocab::math::Vec3;
 use std::f64::consts::TAU;
@@ -112,8 +112,9 @@ pub fn symbol(kind: Option<JointType>, size: f64) -> Builder {
 }
 
 /// The joint symbols of every joint and JPRIM touching a part in `parts`, at its I
-/// marker, `size` across.
+/// marker, `size` across (one mesh per joint type, shown by all its joints).
 pub fn joint_symbols(c: &mut Canvas, parts: &[usize], size: f64) {
+    let mut meshes: Vec<(Option<JointType>, usize)> = Vec::new();
     for (i, j, kind) in joints(c) {
         let touches = [i, j]
             .iter()
@@ -121,13 +122,28 @@ pub fn joint_symbols(c: &mut Canvas, parts: &[usize], size: f64) {
         let Some((part, local)) = c.marker_pose(i).filter(|_| touches) else {
             continue;
         };
-        let mesh = symbol(kind, size).triangles(GLYPH);
+        let mesh = match meshes.iter().find(|(k, _)| *k == kind) {
+            Some((_, mesh)) => *mesh,
+            None => {
+                let mesh = c.mesh(symbol(kind, size).triangles(GLYPH));
+                meshes.push((kind, mesh));
+                mesh
+            }
+        };
         let what = match kind {
             Some(k) => format!("{k:?}").to_lowercase(),
             None => "jprim".to_string(),
         };
         let name = format!("glyph {what} at MARKER/{i}");
-        c.rigid(name, None, part, local, mesh, Role::Glyph);
+        c.item(Item {
+            name,
+            view_name: None,
+            part,
+            local,
+            mesh,
+            role: Role::Glyph,
+            motion: Motion::Rigid,
+        });
     }
 }
 

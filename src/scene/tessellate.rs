@@ -103,12 +103,33 @@ impl Builder {
         self.indices.is_empty()
     }
 
+    /// The vertices with equal position and normal merged into one (the builder adds
+    /// three per triangle): a smooth surface's vertices are shared by up to six
+    /// triangles, a flat polygon's by its fan, so a file holds several times fewer.
+    fn welded(self) -> Self {
+        let mut index = std::collections::HashMap::new();
+        let mut out = Builder::default();
+        for &i in &self.indices {
+            let p = self.positions[i as usize];
+            let n = self.normals.get(i as usize).copied();
+            let key = (p.map(f32::to_bits), n.map(|n| n.map(f32::to_bits)));
+            let k = *index.entry(key).or_insert_with(|| {
+                out.positions.push(p);
+                out.normals.extend(n);
+                out.positions.len() as u32 - 1
+            });
+            out.indices.push(k);
+        }
+        out
+    }
+
     /// The triangles as a mesh.
     pub fn triangles(self, color: [f32; 4]) -> Mesh {
+        let welded = self.welded();
         Mesh {
-            positions: self.positions,
-            normals: self.normals,
-            indices: self.indices,
+            positions: welded.positions,
+            normals: welded.normals,
+            indices: welded.indices,
             topology: Topology::Triangles,
             color,
         }
@@ -116,10 +137,11 @@ impl Builder {
 
     /// The segments as a mesh of lines.
     pub fn lines(self, color: [f32; 4]) -> Mesh {
+        let welded = self.welded();
         Mesh {
-            positions: self.positions,
+            positions: welded.positions,
             normals: Vec::new(),
-            indices: self.indices,
+            indices: welded.indices,
             topology: Topology::Lines,
             color,
         }

@@ -91,6 +91,7 @@ fn every_corpus_dataset_is_drawn_and_the_counts_match_a_text_scan() {
     let (mut scanned, mut graphic_ids, mut placeholders, mut arrows) = (BTreeMap::new(), 0, 0, 0);
     let mut with_graphics = 0;
     let mut notes = Vec::new();
+    let mut vertices = 0;
     for path in &files {
         let text = decode(&std::fs::read(path).expect("corpus file"))
             .0
@@ -130,8 +131,10 @@ fn every_corpus_dataset_is_drawn_and_the_counts_match_a_text_scan() {
             s.extent
         );
         notes.extend(s.notes.iter().map(|n| format!("{rel}: {n}")));
+        vertices += s.meshes.iter().map(|m| m.positions.len()).sum::<usize>();
     }
     println!("notes:\n{}", notes.join("\n"));
+    println!("{vertices} vertices in all");
     let scanned_of = |k: &str| scanned.get(k).copied().unwrap_or(0);
     let drawable: usize = DRAWN.iter().map(|k| scanned_of(k)).sum();
     let not_drawn = |kinds: &[&str]| {

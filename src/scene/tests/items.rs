@@ -23,10 +23,11 @@ fn an_outline_is_rigid_on_one_part_and_stretches_across_two() {
     assert_eq!((one.part, &one.motion), (0, &Motion::Rigid));
     assert_eq!(s.meshes[one.mesh].topology, Topology::Lines);
     let on_2 = item(&s, "GRAPHICS/6 on PART/2");
-    let seg: Vec<Vec3> = s.meshes[on_2.mesh]
-        .positions
+    let m = &s.meshes[on_2.mesh];
+    let seg: Vec<Vec3> = m
+        .indices
         .iter()
-        .map(|p| v(*p))
+        .map(|&i| v(m.positions[i as usize]))
         .collect();
     assert_eq!(seg, [Vec3::zeros(), Vec3::x()]);
     let across = item(&s, "GRAPHICS/6 segment 2 (MARKER/22 to MARKER/31)");
@@ -226,10 +227,11 @@ fn glyphs_go_to_parts_with_nothing_drawn_and_to_all_with_the_option() {
         item(&all, name);
     }
     let links = item(&all, "glyph PART/2 links");
-    let ends: Vec<Vec3> = all.meshes[links.mesh]
-        .positions
+    let m = &all.meshes[links.mesh];
+    let ends: Vec<Vec3> = m
+        .indices
         .iter()
-        .map(|p| v(*p))
+        .map(|&i| v(m.positions[i as usize]))
         .collect();
     assert_eq!(
         ends,
