@@ -424,3 +424,46 @@ fn glyphs_and_arrows_hide_by_role() {
     let (n, _, _) = census(&some, r, red);
     assert!(n > 200, "the box (a graphic) stays");
 }
+
+#[test]
+fn the_hand_made_files_are_gltf() {
+    // Read back by an independent reader (the `gltf` crate); the Khronos validator gave
+    // them 0 errors and 0 warnings too (docs/viewer.md).
+    for (bytes, animations) in [
+        (glb::mechanism(true), 1),
+        (glb::mechanism(false), 0),
+        (glb::chain(3, 10), 1),
+    ] {
+        let g = gltf::Gltf::from_slice(&bytes).expect("a valid glTF binary");
+        assert_eq!(
+            g.nodes()
+                .next()
+                .and_then(|n| n.name().map(String::from))
+                .as_deref(),
+            Some("mbfx")
+        );
+        assert_eq!(g.animations().count(), animations);
+        assert!(g.blob.as_ref().is_some_and(|b| !b.is_empty()));
+    }
+}
+
+#[test]
+fn an_unreadable_file_is_said_in_words() {
+    let dir = Scratch::new("broken");
+    let file = dir.0.join("page.html");
+    std::fs::write(&file, page(b"not a glTF file", &chart(), "broken", &[])).unwrap();
+    let d = dom(&file, "t=1", 1000, &[]);
+    assert!(
+        d.contains("The animation cannot be shown: not a glTF binary"),
+        "{d}"
+    );
+    assert_eq!(
+        body_data(&d, "ready").as_deref(),
+        Some("1"),
+        "the chart is still shown"
+    );
+    assert!(
+        d.contains("1.000 s"),
+        "the clock runs over the chart's times"
+    );
+}
