@@ -46,6 +46,11 @@ function createChart(canvas, select, data, onPick) {
     if (!(t1 > t0)) t1 = t0 + 1;
     if (!(y1 >= y0)) { y0 = 0; y1 = 1; }
     if (y1 === y0) { y0 -= Math.abs(y0) * 0.5 || 0.5; y1 += Math.abs(y1) * 0.5 || 0.5; }
+    // A column that varies only in its last digits (a constant with rounding noise) is
+    // drawn on a span of a millionth of its size, not zoomed into the noise, so its
+    // tick labels stay short enough to read.
+    const least = 1e-6 * Math.max(Math.abs(y0), Math.abs(y1));
+    if (y1 - y0 < least) { const mid = (y0 + y1) / 2; y0 = mid - least / 2; y1 = mid + least / 2; }
     const pad = (y1 - y0) * 0.05; y0 -= pad; y1 += pad;
     const L = 62, R = 10, T = 18, B = 20;
     const X = t => L + (t - t0) / (t1 - t0) * (w - L - R), Y = v => T + (y1 - v) / (y1 - y0) * (h - T - B);
