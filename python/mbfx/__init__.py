@@ -105,9 +105,10 @@ class Run:
     def animate(self, fps: Optional[float] = None, glyphs: Optional[bool] = None) -> Animation:
         """The mechanism moving through this run, as an `mbfx.Animation` (shown inline
         in Jupyter; `.save("x.html")`, `.save("x.glb")`). With `fps=None` the frames are
-        the run's output rows, recorded as it ran; with `fps`, the same run runs again
-        to record frames at that rate from the integrator's continuous extension (its
-        rows are the same). `glyphs=True` draws inertia ellipsoids, links and joint
+        the run's output rows: recorded as it ran under `Model.run(animation=True)`, else
+        by running the same request again (its rows come out the same); with `fps`, the
+        same run runs again to record frames at that rate from the integrator's
+        continuous extension. `glyphs=True` draws inertia ellipsoids, links and joint
         symbols on every part (by default only parts with nothing else to draw get
         them). A run of `Model.run(animation=False)`, or one unpickled in another
         process, has no recording."""
@@ -122,7 +123,7 @@ class Run:
             fps = float(fps)
             if not (fps > 0 and math.isfinite(fps)):
                 raise ValueError(f"fps must be a positive number of frames per second, not {fps}")
-        if fps != rec.fps or glyphs != rec.glyphs:
+        if not rec.recorded_frames or fps != rec.fps or glyphs != rec.glyphs:
             rec = rec.again(fps, glyphs)
         return Animation(rec, self.columns, self.data)
 

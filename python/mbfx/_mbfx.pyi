@@ -133,13 +133,14 @@ class Model:
         engine: str = "jit",
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
         estimate_error: bool = False,
-        animation: bool = True,
+        animation: Optional[bool] = None,
         geometry: Optional[Mapping[int, Union[str, PathLike[str]]]] = None,
     ) -> Run:
-        """Simulates the model to `end` as `mbfx run` does; the run records a frame of its
-        animation at each output row for `Run.animate()` (unless `animation=False`),
-        EXTERNAL graphics drawn from the mesh files of `geometry` ({GRAPHICS id: STL, OBJ
-        or glTF file})."""
+        """Simulates the model to `end` as `mbfx run` does. `Run.animate()` runs it again
+        to record its frames; `animation=True` records a frame at each output row as it
+        runs (no second run), `animation=False` keeps nothing to animate. EXTERNAL
+        graphics are drawn from the mesh files of `geometry` ({GRAPHICS id: STL, OBJ or
+        glTF file}), which records as it runs."""
     def linearize(
         self,
         statics: bool = True,
@@ -154,8 +155,8 @@ class Model:
         """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
 
 class Recording:
-    """The animation a run recorded, with the request that ran it (`mbfx.Animation`
-    wraps it; it does not pickle)."""
+    """The animation a run recorded (or none yet), with the request that ran it
+    (`mbfx.Animation` wraps it; it does not pickle)."""
 
     @property
     def frames(self) -> int: ...
@@ -165,6 +166,9 @@ class Recording:
     def fps(self) -> Optional[float]: ...
     @property
     def glyphs(self) -> bool: ...
+    @property
+    def recorded_frames(self) -> bool:
+        """Whether the run recorded its frames as it ran (else `again` runs it)."""
     def glb(self) -> bytes: ...
     def html(self, columns: Sequence[str], rows: np.ndarray) -> str: ...
     def again(self, fps: Optional[float], glyphs: bool) -> Recording:

@@ -39,12 +39,13 @@ pub fn request_of(geometry: Option<&Bound<'_, PyDict>>) -> PyResult<AnimationReq
 pub struct PyRecording {
     /// The run as asked (its `animation` set), for a run at another frame rate.
     request: RunRequest,
-    animation: Animation,
+    /// None: the run recorded nothing; `again` runs it with recording on.
+    animation: Option<Animation>,
 }
 
 impl PyRecording {
     /// The recording `animation` of a run of `request`.
-    pub fn new(request: &RunRequest, animation: Animation) -> PyRecording {
+    pub fn new(request: &RunRequest, animation: Option<Animation>) -> PyRecording {
         PyRecording {
             request: request.clone(),
             animation,
@@ -54,6 +55,13 @@ impl PyRecording {
     fn asked(&self) -> AnimationRequest {
         self.request.animation.clone().unwrap_or_default()
     }
+
+    /// The animation recorded, or the error saying there is none.
+    fn recorded(&self) -> PyResult<&Animation> {
+        self.animation.as_ref().ok_or_else(|| {
+            PyValueError::new_err("this run recorded no animation: call Run.animate()")
+        })
+    }
 }
 
 #[pymethods]
@@ -61,7 +69,8 @@ impl PyRecording {
     /// The glTF 2.0 binary (`.glb`).
     fn glb<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         guarded(|| {
-            let bytes = py.detach(|| self.animation.glb());
+            let animation = self.recorded()?;
+            let bytes = py.detach(|| animation.glb());
             Ok(PyBytes::new(py, &bytes))
         })
     }
@@ -82,20 +91,29 @@ impl PyRecording {
                 )));
             }
             let table: Vec<Vec<f64>> = rows.as_array().outer_iter().map(|r| r.to_vec()).collect();
-            Ok(py.detach(|| self.animation.html(&columns, &table)))
+            let animation = self.recorded()?;
+            Ok(py.detach(|| animation.html(&columns, &table)))
         })
     }
 
     /// What the user should hear once (placeholders, glyphs, a coarsened frame rate).
     #[getter]
     fn notes(&self) -> Vec<String> {
-        self.animation.notes().to_vec()
+        self.animation
+            .as_ref()
+            .map_or_else(Vec::new, |a| a.notes().to_vec())
     }
 
     /// How many frames were recorded.
     #[getter]
     fn frames(&self) -> usize {
-        self.animation.frame_count()
+        self.animation.as_ref().map_or(0, Animation::frame_count)
+    }
+
+    /// Whether the run recorded its animation as it ran (else `again` runs it).
+    #[getter]
+    fn recorded_frames(&self) -> bool {
+        self.animation.is_some()
     }
 
     /// The frame rate asked for (None: a frame at each output row).
@@ -120,15 +138,21 @@ impl PyRecording {
             let same_frames = fps == asked.fps;
             (asked.fps, asked.glyphs) = (fps, glyphs);
             request.animation = Some(asked);
-            if same_frames {
+            if let (true, Some(recorded)) = (same_frames, &self.animation) {
                 let animation = py
-                    .detach(|| self.animation.with_glyphs(glyphs))
+                    .detach(|| recorded.with_glyphs(glyphs))
                     .map_err(PyValueError::new_err)?;
-                return Py::new(py, PyRecording { request, animation });
+                return Py::new(
+                    py,
+                    PyRecording {
+                        request,
+                        animation: Some(animation),
+                    },
+                );
             }
             // Only the frames are wanted: no second run for an error estimate.
             request.estimate_error = false;
-            let run = crate::run::run_model(py, &request, false)?;
+            let run = crate::run::run_model(py, &request, false, true)?;
             Ok(run.getattr(py, "_recording")?.extract(py)?)
         })
     }

@@ -282,9 +282,11 @@ impl PyModel {
     /// expressions; `set` maps `"KIND/ID.FIELD"` to a value for this run only (as
     /// `--set`). `estimate_error` runs the model again at ERROR/10 to estimate the
     /// answer's error (`stats["error_estimate"]`, in ERRORs), as `--estimate-error`.
-    /// The run records a frame of its animation at each output row for `Run.animate()`
-    /// (`animation=False`: none); `geometry` maps EXTERNAL GRAPHICS ids to mesh files
-    /// (STL, OBJ, glTF) drawn in their place, as `--geometry`.
+    /// `Run.animate()` runs the model again to record its frames; `animation=True`
+    /// records a frame at each output row as it runs (no second run; a small model's
+    /// run costs a third more), `animation=False` keeps nothing to animate. `geometry`
+    /// maps EXTERNAL GRAPHICS ids to mesh files (STL, OBJ, glTF) drawn in their place,
+    /// as `--geometry`, and records as it runs.
     /// A failure raises `RunError` with the rows so far as `.run`; Ctrl-C raises
     /// `KeyboardInterrupt` with them.
     #[pyo3(signature = (
@@ -292,7 +294,7 @@ impl PyModel {
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
         cartesian = false, interpolate = false, engine = "jit", set = None,
-        estimate_error = false, animation = true, geometry = None
+        estimate_error = false, animation = None, geometry = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -318,12 +320,16 @@ impl PyModel {
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
         estimate_error: bool,
-        animation: bool,
+        animation: Option<bool>,
         geometry: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
-            if animation {
+            // Recording costs a small model's run a third (the scene is drawn before it
+            // starts): by default a run records nothing and `Run.animate()` runs it
+            // again; `animation=True` (or meshes given) records as it runs, `False`
+            // keeps nothing to animate.
+            if animation == Some(true) || geometry.is_some() {
                 r.animation = Some(crate::animation::request_of(geometry)?);
             }
             (r.end, r.output_step, r.error) = (end, output_step, error);
@@ -339,7 +345,7 @@ impl PyModel {
             r.dim = dim_request(self.dim)?;
             r.probes = run::probes_of(probes)?;
             r.set = run::settings_of(set)?;
-            run::run_model(py, &r, progress)
+            run::run_model(py, &r, progress, animation != Some(false))
         })
     }
 

@@ -115,7 +115,14 @@ const STEPS_PER_CLOCK: u32 = 8;
 /// Runs `request` on the calling thread without the GIL (see the module docs) and
 /// returns an `mbfx.Run`, or raises `RunError` / `KeyboardInterrupt` carrying the rows so
 /// far as `.run`.
-pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResult<Py<PyAny>> {
+/// `animate_later`: a run that records no animation still keeps its request, so that
+/// `Run.animate()` can run it again with recording on.
+pub fn run_model(
+    py: Python<'_>,
+    request: &RunRequest,
+    progress: bool,
+    animate_later: bool,
+) -> PyResult<Py<PyAny>> {
     let bar: Option<Py<PyAny>> = match progress {
         true => Some(
             py.import("mbfx")?
@@ -177,7 +184,7 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
     match result {
         // Ctrl-C as the run ended: Python still hears it, with the whole run.
         Ok(done) if stopped_by_user => {
-            let recording = recording_of(request, done.animation);
+            let recording = recording_of(request, done.animation, animate_later);
             let run = run_object(
                 py,
                 &done.header,
@@ -198,11 +205,11 @@ pub fn run_model(py: Python<'_>, request: &RunRequest, progress: bool) -> PyResu
             Some(&done.summary),
             seconds,
             &done.dim_reason,
-            recording_of(request, done.animation),
+            recording_of(request, done.animation, animate_later),
         ),
         Err(mut failed) => {
             let header = failed.header.clone().unwrap_or_else(|| vec!["time".into()]);
-            let recording = recording_of(request, failed.animation.take());
+            let recording = recording_of(request, failed.animation.take(), animate_later);
             let partial = match failed.header {
                 Some(_) => Some(run_object(
                     py,
@@ -249,9 +256,14 @@ pub fn run_error(
     Ok(e)
 }
 
-/// The recording of a run of `request`, when it recorded one.
-fn recording_of(request: &RunRequest, animation: Option<Animation>) -> Option<PyRecording> {
-    animation.map(|a| PyRecording::new(request, a))
+/// The recording of a run of `request`: the animation it recorded, or none but the
+/// request to record one by running it again (`animate_later`), or nothing.
+fn recording_of(
+    request: &RunRequest,
+    animation: Option<Animation>,
+    animate_later: bool,
+) -> Option<PyRecording> {
+    (animation.is_some() || animate_later).then(|| PyRecording::new(request, animation))
 }
 
 /// An `mbfx.Run` of `rows` (flat, `header.len()` a row), with the animation it recorded.

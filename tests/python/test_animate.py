@@ -278,7 +278,9 @@ def test_a_pickled_run_keeps_its_rows_and_says_its_animation_stayed_behind(pendu
 
 def test_a_failed_run_animates_the_rows_it_kept():
     with pytest.raises(mbfx.RunError) as caught:
-        mbfx.load(FAILURES / "nan_in_force.adm", dim=3).run(1.0, output_step=0.01, fixed_step=1e-3)
+        mbfx.load(FAILURES / "nan_in_force.adm", dim=3).run(
+            1.0, output_step=0.01, fixed_step=1e-3, animation=True
+        )
     partial = caught.value.run
     # 0 to 0.5 s every 0.01 s before the force turns NaN (test_model.py's figures).
     assert len(partial) == 51
@@ -407,3 +409,14 @@ def test_the_iframe_in_a_notebook_draws_what_the_page_draws_with_its_scripts(tmp
     shots = {p.stem: screenshot(p) for p in (page, cell, inert)}
     assert differing(shots["page"], shots["inert"]) > 0.01
     assert differing(shots["cell"], shots["page"]) < 0.001
+
+
+def test_a_plain_run_records_nothing_and_animate_runs_it_again():
+    # Recording costs a small model's run a third: only animation=True records as it
+    # runs. animate() on a plain run runs it again, and the frames come out the same.
+    model = mbfx.load(PENDULUM)
+    plain = model.run(1.0, output_step=0.02)
+    recorded = model.run(1.0, output_step=0.02, animation=True)
+    assert not plain._recording.recorded_frames
+    assert recorded._recording.recorded_frames
+    assert plain.animate().glb() == recorded.animate().glb()

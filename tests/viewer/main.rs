@@ -1,8 +1,10 @@
 //! The HTML viewer in a real browser: pages written by `mbfx::viewer::page` for glTF
-//! binaries built by hand (glb.rs), screenshotted and dumped by headless Chromium.
+//! binaries built by hand (glb.rs) and by `mbfx run --animate` (runs.rs), screenshotted
+//! and dumped by headless Chromium.
 
 mod browser;
 mod glb;
+mod runs;
 
 use browser::{body_data, dom, evaluate, shot, Scratch, Shot};
 use mbfx::viewer::{page, Chart};
@@ -11,7 +13,7 @@ use std::sync::OnceLock;
 
 /// The page's background, as docs/viewer.md gives it (linear 0.80, 0.84, 0.89 written to
 /// an 8-bit canvas).
-const BACKGROUND: [u8; 3] = [204, 214, 227];
+pub(crate) const BACKGROUND: [u8; 3] = [204, 214, 227];
 
 fn chart() -> Chart {
     let rows = (0..=30)

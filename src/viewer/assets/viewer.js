@@ -31,6 +31,12 @@
   const slider = $('slider');
   slider.min = t0; slider.max = t1; slider.step = 'any';
   const chart = createChart($('chart'), $('columns'), data, t => { pause(); setTime(t); });
+  // `#col=REQ1.F2,REQ1.F3`: the chart opens on these columns (a link to a curve).
+  if (hook.col) {
+    const want = hook.col.split(',');
+    for (const o of $('columns').options) o.selected = want.includes(o.textContent);
+    $('columns').dispatchEvent(new Event('change'));
+  }
 
   let dirty = true;
   function setTime(t) {
@@ -228,7 +234,7 @@
   cv.addEventListener('wheel', e => { e.preventDefault(); cam.dist *= Math.exp(e.deltaY * 0.0015); dirty = true; }, { passive: false });
 })();
 
-// `#t=0.5&play&fps&probe=PART/2&pick=x,y&hide=glyph` as an object.
+// `#t=0.5&play&fps&probe=PART/2&pick=x,y&hide=glyph&col=REQ1.F2` as an object.
 function parseHash(hash) {
   const out = {};
   for (const part of hash.replace(/^#/, '').split('&')) {
@@ -237,7 +243,7 @@ function parseHash(hash) {
     out[decodeURIComponent(k)] = v === undefined ? true : decodeURIComponent(v);
   }
   if (out.t !== undefined) { out.t = parseFloat(out.t); if (!isFinite(out.t)) delete out.t; }
-  for (const k of ['probe', 'pick', 'hide']) if (out[k] === true) delete out[k];
+  for (const k of ['probe', 'pick', 'hide', 'col']) if (out[k] === true) delete out[k];
   return out;
 }
 function base64Bytes(text) {
