@@ -18,7 +18,6 @@ const LAYERS: &[(&str, &[&str])] = &[
             "error",
             "expr",
             "handles",
-            "inertia",
             "normal",
             "redundancy",
             "sparse",

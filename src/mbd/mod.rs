@@ -15,7 +15,7 @@
 //! 1. Vocabulary, what the rest is written in: `dual` numbers, `dense` and `sparse`
 //!    matrices, the minimum-norm solve `normal`, `expr` (expressions and their
 //!    compiler) with `compiled` (the JIT's), `error`, `equations` (the Adams labels),
-//!    `inertia`, `handles` (what parts, markers and elements are addressed by), and
+//!    `handles` (what parts, markers and elements are addressed by), and
 //!    `redundancy` (the analysis of a Jacobian's rows).
 //! 2. System: `system` (parts, markers, coordinates) and the data it holds: `rows`
 //!    (constraint elements and their rows) and `measure_set`.
@@ -70,7 +70,6 @@ pub mod forces;
 pub mod freedom;
 pub mod fused_rows;
 pub mod handles;
-pub mod inertia;
 pub mod kinematics;
 pub mod linear;
 pub mod measure_set;

@@ -25,7 +25,7 @@ mod expected;
 pub mod expressions;
 pub mod frames;
 pub mod graphics;
-mod inertia;
+pub mod inertia;
 pub mod integrator_settings;
 pub mod keywords;
 pub mod linear_command;

@@ -1,10 +1,11 @@
 //! A part's mass properties as the glyphs and placeholders need them: the CM in the
 //! BCS and the principal moments and axes of the inertia about it. IP is given about
 //! the IM origin in IM axes (CM's when IM is absent, spec §2.2); it is moved to the CM
-//! by the parallel-axis theorem and turned into BCS axes, as the core does in
-//! `src/mbd/inertia.rs` (not imported: the scene reads the model alone).
+//! by the parallel-axis theorem and turned into BCS axes by
+//! [`crate::model::inertia::mass_properties`], the core's own.
 
 use crate::model::elements::{Model, Part};
+use crate::model::inertia::{mass_properties, MassProperties};
 use crate::vocab::math::{Mat3, Vec3};
 
 /// The principal frame and moments of a part's inertia about its CM.
@@ -22,15 +23,11 @@ pub struct Principal {
 
 /// The mass properties of `part` in its principal frame.
 pub fn principal(model: &Model, part: &Part) -> Principal {
-    let marker = |id| model.marker(id).map(|m| (m.position, m.orientation));
-    let (cm, cm_axes) = (part.cm)
-        .and_then(marker)
-        .unwrap_or((Vec3::zeros(), Mat3::identity()));
-    let mass = part.mass.unwrap_or(0.0);
-    let (im, im_axes) = part.im.and_then(marker).unwrap_or((cm, cm_axes));
-    let d = im_axes.transpose() * (cm - im);
-    let j_cm = part.inertia() - (Mat3::identity() * d.norm_squared() - d * d.transpose()) * mass;
-    let j = im_axes * j_cm * im_axes.transpose();
+    let MassProperties {
+        mass,
+        cm,
+        inertia: j,
+    } = mass_properties(model, part);
     if !j.iter().all(|v| v.is_finite()) {
         return Principal {
             mass,
