@@ -134,7 +134,10 @@ fn every_corpus_dataset_with_graphics_animates_validator_clean() {
         }
     }
     for (adm, why) in &refused {
-        println!("{} | not run (its scene at the input poses): {why}", rel(adm));
+        println!(
+            "{} | not run (its scene at the input poses): {why}",
+            rel(adm)
+        );
     }
     println!(
         "{with_graphics} datasets with GRAPHICS: {} .glb files, {} of them animated, {} \
