@@ -1,11 +1,12 @@
 //! Unit tests of the scene, one file per topic: the solids' geometry against formulas
 //! (`shapes`), the items a dataset gets (`items`), mesh files and the geometry map
-//! (`files`), and the whole corpus drawn (`corpus`). Shared: reading a small dataset
-//! and measuring a mesh.
+//! (`files`), the whole corpus drawn (`corpus`), and what the scene may import
+//! (`layering`). Shared: reading a small dataset and measuring a mesh.
 
 mod corpus;
 mod files;
 mod items;
+mod layering;
 mod shapes;
 
 use super::{build, Item, Mesh, Options, Role, Scene};

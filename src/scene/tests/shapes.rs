@@ -215,3 +215,39 @@ fn a_cylinder_of_no_length_is_a_disc() {
     };
     assert!((area(1.0) - 2.0).abs() < 1e-6 && (area(-1.0) - 2.0).abs() < 1e-6);
 }
+
+#[test]
+fn a_circle_by_rm_takes_the_distance_from_cms_z_axis_and_an_arc_sweeps_rangle() {
+    // CM at (1,2,3) with z turned by REULER; RM on another part, placed 3 along CM's x
+    // and 4 along CM's z: 3 from the axis (the 4 along it does not count).
+    let read = crate::model::read_model(&format!("t\n{GROUND}\nEND\n"));
+    let (o, axes) = read.model.marker_pose(11).expect("marker 11");
+    let rm = o + axes.column(0) * 3.0 + axes.column(2) * 4.0;
+    let s = scene_of(
+        &format!(
+            "{GROUND}\nPART/2, MASS = 1, CM = 21, IP = 1, 1, 1\nMARKER/21, PART = 2, QP = {}, {}, {}\n\
+             GRAPHICS/5, CIRCLE, CM = 11, RM = 21, SEG = 8\n\
+             GRAPHICS/6, ARC, CM = 11, RADIUS = 2, RANGLE = 90D, SEG = 6",
+            rm.x, rm.y, rm.z
+        ),
+        &Options::default(),
+    );
+    let circle = &s.meshes[item(&s, "GRAPHICS/5").mesh];
+    assert_eq!(
+        (circle.topology, circle.positions.len()),
+        (crate::scene::Topology::LineLoop, 8)
+    );
+    for p in &circle.positions {
+        let p = v(*p);
+        assert!((p.xy().norm() - 3.0).abs() < 1e-5 && p.z == 0.0, "{p}");
+    }
+    let arc = &s.meshes[item(&s, "GRAPHICS/6").mesh];
+    assert_eq!(
+        (arc.topology, arc.positions.len()),
+        (crate::scene::Topology::LineStrip, 7)
+    );
+    let first = v(arc.positions[0]);
+    let last = v(arc.positions[6]);
+    assert!((first - Vec3::new(2.0, 0.0, 0.0)).norm() < 1e-6, "{first}");
+    assert!((last - Vec3::new(0.0, 2.0, 0.0)).norm() < 1e-6, "{last}");
+}
