@@ -1,12 +1,11 @@
 //! Unit tests of the scene, one file per topic: the solids' geometry against formulas
 //! (`shapes`), the items a dataset gets (`items`), mesh files and the geometry map
-//! (`files`), the whole corpus drawn (`corpus`), and what the scene may import
-//! (`layering`). Shared: reading a small dataset and measuring a mesh.
+//! (`files`), and the whole corpus drawn (`corpus`); what the scene may import is the
+//! crate's `layering` test's. Shared: reading a small dataset and measuring a mesh.
 
 mod corpus;
 mod files;
 mod items;
-mod layering;
 mod shapes;
 
 use super::{build, Item, Mesh, Options, Role, Scene};
