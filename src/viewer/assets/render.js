@@ -65,6 +65,9 @@ function softwareRenderer() {
   const gl = document.createElement('canvas').getContext('webgl2');
   const info = gl && gl.getExtension('WEBGL_debug_renderer_info');
   const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : '';
+  // Let the throwaway context go now rather than at the page's end.
+  const lose = gl && gl.getExtension('WEBGL_lose_context');
+  if (lose) lose.loseContext();
   return /swiftshader|llvmpipe|software/i.test(name);
 }
 
