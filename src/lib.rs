@@ -16,6 +16,7 @@ extern crate self as mbfx;
 pub mod bench;
 pub mod check;
 pub mod cli;
+pub mod collide;
 pub mod context;
 pub mod diag;
 mod font;

@@ -34,8 +34,9 @@ fn the_model_never_refers_to_the_core() {
 /// What the animation's layers may read: the scene is drawn from the model alone, the
 /// glTF writer from the scene, and the page from nothing of the crate; the session
 /// records the poses and hands them down.
-const DRAWING: [(&str, &[&str]); 3] = [
+const DRAWING: [(&str, &[&str]); 4] = [
     ("scene", &["model", "vocab"]),
+    ("collide", &["model", "vocab", "diag"]),
     ("gltf", &["scene"]),
     ("viewer", &[]),
 ];
