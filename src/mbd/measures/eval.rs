@@ -283,9 +283,15 @@ impl MeasureSet {
             }
             Euler313 { which, .. } => {
                 let r = |a, b| rel(&f[0], &f[1], a, b);
+                // At θ = 0 or π only ψ ± φ is defined: φ = 0 and ψ carries the whole turn,
+                // as the reader's inverse of REULER (`model::frames::euler_313`). Without
+                // this, identity frames gave ψ = atan2(0, −0) = π.
+                let singular = r(0, 2).val().hypot(r(1, 2).val()) < 1e-12;
                 match which {
+                    0 if singular => r(1, 0).atan2(r(0, 0)),
                     0 => r(0, 2).atan2(-r(1, 2)),
                     1 => r(2, 2).acos(),
+                    _ if singular => T::c(0.0),
                     _ => r(2, 0).atan2(r(2, 1)),
                 }
             }

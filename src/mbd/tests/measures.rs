@@ -76,6 +76,19 @@ fn angles_and_unit_vectors_on_known_rotations() {
         });
         assert!((sys.measures.eval(&sys, n).value() - want).abs() < 1e-14);
     }
+    // θ = 0: only ψ + φ is defined; ψ carries the whole turn and φ = 0 (as the reader's
+    // REULER inverse). An identity marker reads 0, 0, 0 (it read ψ = π once).
+    for turn in [0.0, 0.7] {
+        let m = Some(sys.add_marker(None, System::GROUND, Vec3::zeros(), rz(turn)));
+        for (which, want) in [(0, turn), (1, 0.0), (2, 0.0)] {
+            let n = sys.measures.add(Measure::Euler313 {
+                i: m,
+                j: None,
+                which,
+            });
+            assert!((sys.measures.eval(&sys, n).value() - want).abs() < 1e-14);
+        }
+    }
     // YAW, PITCH, ROLL: Rz(yaw)·Ry(−pitch)·Rx(roll).
     let (y, pt, rl) = (0.3, 0.2, -0.4);
     let r321 = rz(y) * rot(0.0, -pt, 0.0) * rot(rl, 0.0, 0.0);
