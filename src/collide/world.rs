@@ -197,11 +197,15 @@ impl World {
         out
     }
 
-    /// The penetrating points between `i` and `j`.
+    /// The penetrating points between `i` and `j`. A depth within round-off of the
+    /// pair's size (10⁻¹² of its bounding box) is no penetration: coplanar faces of two
+    /// meshes (walls of stacked parts) touch there with arbitrary normals.
     fn touches(&self, i: usize, j: usize, prediction: f64) -> Vec<Touch> {
+        let size = self.boxes[i].merged(&self.boxes[j]).extents().length();
+        let noise = 1e-12 * size;
         self.points(i, j, prediction)
             .into_iter()
-            .filter(|p| p.dist < 0.0)
+            .filter(|p| p.dist < -noise)
             .map(|p| Touch {
                 point: p.at,
                 normal: p.normal,
