@@ -32,6 +32,7 @@
 mod convert;
 mod error;
 mod geometry;
+mod planar;
 mod regions;
 mod world;
 

@@ -3,6 +3,7 @@
 //! narrow phase that gives one pair's separation and incidents.
 
 use super::convert::{compose, from_parry, pose_to_parry};
+use super::planar::{self, Plane, Section};
 use super::regions::{self, Touch};
 use super::{Geometry, Incident, Pose, Space};
 use crate::model::elements::Id;
@@ -29,6 +30,11 @@ pub struct World {
     pairs_of: HashMap<(usize, usize), Vec<usize>>,
     /// Whether `update` has run since the geometries were placed.
     placed: bool,
+    /// The plane of a planar world.
+    plane: Option<Plane>,
+    /// Each geometry's section by the plane (taken at the first update), and its 2D
+    /// pose: `None` for a geometry queried in 3D.
+    sections: Vec<Option<(Section, planar::Pose2)>>,
 }
 
 impl World {
@@ -50,6 +56,11 @@ impl World {
             workspace: BvhWorkspace::default(),
             pairs_of,
             placed: false,
+            plane: match space {
+                Space::Three => None,
+                Space::Plane { origin, a, b } => Some(Plane { origin, a, b }),
+            },
+            sections: vec![None; n],
         }
     }
 
@@ -71,10 +82,21 @@ impl World {
     /// Places every geometry from the global pose of its part's BCS, and rebuilds the
     /// broad phase.
     pub fn update(&mut self, part_pose: &dyn Fn(Id) -> Pose) {
+        let first = !self.placed;
         for (k, g) in self.geometries.iter().enumerate() {
-            let global = compose(&part_pose(g.part), &compose(&g.frame, &g.fix));
-            self.poses[k] = pose_to_parry(&global);
+            let frame = compose(&part_pose(g.part), &g.frame);
+            self.poses[k] = pose_to_parry(&compose(&frame, &g.fix));
             self.boxes[k] = g.shape.compute_aabb(&self.poses[k]);
+            let Some(plane) = &self.plane else {
+                continue;
+            };
+            if first {
+                self.sections[k] =
+                    Section::of(g, &frame, plane).map(|s| (s, planar::Pose2::IDENTITY));
+            }
+            if let Some((section, pose)) = &mut self.sections[k] {
+                *pose = section.pose(&frame, plane);
+            }
         }
         // A rebuild is O(N log N) and keeps the tree tight however far the parts moved
         // (a refit would keep the old topology).
@@ -102,6 +124,13 @@ impl World {
         out.dedup();
     }
 
+    /// Whether the pair is queried in the plane (parry2d on the sections) rather than
+    /// in 3D: in a planar world once updated, when both sections are simple shapes.
+    pub fn in_plane(&self, pair: usize) -> bool {
+        self.pair(pair)
+            .is_some_and(|(i, j)| self.sections_of(i, j).is_some())
+    }
+
     /// The pair's geometries, or `None` for a pair that names none.
     fn pair(&self, pair: usize) -> Option<(usize, usize)> {
         let &(i, j) = self.pairs.get(pair)?;
@@ -118,7 +147,10 @@ impl World {
         if !self.placed || !self.boxes[i].intersects(&self.boxes[j]) {
             return;
         }
-        let touches = self.touches(i, j, 0.0);
+        let touches = match self.sections_of(i, j) {
+            Some((si, sj, plane)) => planar::touches(si, sj, plane, self.noise(i, j)),
+            None => self.touches(i, j, 0.0),
+        };
         let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
         regions::incidents(&touches, &gi.triangles, &gj.triangles, out);
     }
@@ -130,6 +162,12 @@ impl World {
         let Some((i, j)) = self.pair(pair) else {
             return f64::INFINITY;
         };
+        if let Some((si, sj, _)) = self.sections_of(i, j) {
+            let d = planar::distance(si, sj);
+            if d > 0.0 {
+                return d;
+            }
+        }
         let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
         let pos12 = self.poses[i].inv_mul(&self.poses[j]);
         match DefaultQueryDispatcher.distance(&pos12, &*gi.shape, &*gj.shape) {
@@ -152,6 +190,28 @@ impl World {
         let mut found = Vec::new();
         self.incidents(pair, &mut found);
         -found.iter().map(|c| c.depth).fold(0.0, f64::max)
+    }
+
+    /// Round-off of a depth between `i` and `j`: 10⁻¹² of their bounding box.
+    fn noise(&self, i: usize, j: usize) -> f64 {
+        1e-12 * self.boxes[i].merged(&self.boxes[j]).extents().length()
+    }
+
+    /// The two sections of a pair queried in the plane, with the plane.
+    #[allow(clippy::type_complexity)]
+    fn sections_of(
+        &self,
+        i: usize,
+        j: usize,
+    ) -> Option<(
+        (&Section, &planar::Pose2),
+        (&Section, &planar::Pose2),
+        &Plane,
+    )> {
+        let plane = self.plane.as_ref()?;
+        let (si, pi) = self.sections[i].as_ref()?;
+        let (sj, pj) = self.sections[j].as_ref()?;
+        Some(((si, pi), (sj, pj), plane))
     }
 
     /// The narrow phase's points between geometries `i` and `j` closer than
@@ -201,8 +261,7 @@ impl World {
     /// pair's size (10⁻¹² of its bounding box) is no penetration: coplanar faces of two
     /// meshes (walls of stacked parts) touch there with arbitrary normals.
     fn touches(&self, i: usize, j: usize, prediction: f64) -> Vec<Touch> {
-        let size = self.boxes[i].merged(&self.boxes[j]).extents().length();
-        let noise = 1e-12 * size;
+        let noise = self.noise(i, j);
         self.points(i, j, prediction)
             .into_iter()
             .filter(|p| p.dist < -noise)

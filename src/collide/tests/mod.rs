@@ -5,6 +5,7 @@ mod broad;
 mod convex;
 mod errors;
 mod mesh;
+mod planar;
 
 use crate::collide::{Geometry, Incident, Pose, Space, TriMesh, World};
 use crate::model::elements::Id;
