@@ -176,7 +176,18 @@ impl Simulation {
             m
         });
         let model = switched_off.as_ref().unwrap_or(&read.model);
-        let forces = system.forces_from_model(model, &exprs)?;
+        let (meshes, contact_warnings) =
+            super::contact_meshes::contact_meshes(model, &spec.geometry);
+        if contact_warnings
+            .iter()
+            .any(|d| d.severity == crate::diag::Severity::Error)
+        {
+            return Err(RunFailure::Diagnostics {
+                probe: None,
+                diagnostics: contact_warnings,
+            });
+        }
+        let forces = system.forces_with_meshes(model, &exprs, &meshes)?;
         // Energy is conserved only without force elements and without rows that move
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
@@ -280,6 +291,7 @@ impl Simulation {
             start,
             constraint_designs,
             probe_warnings,
+            contact_warnings,
             plant,
             inactive,
             changed: false,
