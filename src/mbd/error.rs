@@ -189,7 +189,8 @@ impl fmt::Display for MbdError {
                 write!(f, "{name} needs a marker i other than ground")
             }
             MbdError::ForceComponent { name, id, comp } => {
-                write!(f, "{name}({id}, …): component {comp} is not 1..8")
+                let top = if name == "CONTACT" { 12 } else { 8 };
+                write!(f, "{name}({id}, …): component {comp} is not 1..{top}")
             }
             MbdError::UnknownForceElement { name, id } => {
                 write!(f, "{name}({id}, …): no such element in the model")

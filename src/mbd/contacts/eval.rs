@@ -134,6 +134,7 @@ impl ContactSet {
                 last.slip = last.slip.max(load.slip);
                 last.force += load.force;
                 last.torque += ai.cross(&load.force);
+                last.torque_j -= aj.cross(&load.force);
                 let sides = [(pair.i, ai, 1.0), (pair.j, aj, -1.0)];
                 for (part, a, sign) in sides {
                     let f = load.force * sign;

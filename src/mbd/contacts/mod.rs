@@ -72,6 +72,8 @@ pub struct ContactValues {
     pub force: crate::vocab::math::Vec3,
     /// The total moment on I's part about its reference point, global axes.
     pub torque: crate::vocab::math::Vec3,
+    /// The total moment on J's part about its reference point, global axes.
+    pub torque_j: crate::vocab::math::Vec3,
 }
 
 /// A watched pair: the CONTACT it belongs to and the system parts of its I and J sides.
