@@ -212,6 +212,7 @@ impl Simulation {
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
         let conservative = forces.elements.is_empty()
+            && forces.contacts.is_empty()
             && system
                 .rows()
                 .all(|(e, q)| !system.row_reads_time(e, q) && !system.row_reads_velocity(e, q));
