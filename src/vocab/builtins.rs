@@ -147,6 +147,9 @@ const ID3: &[Param] = &[Id, Id, Id];
 const ID4: &[Param] = &[Id, Id, Id, Id];
 const ELEMENT: &[Param] = &[Id, Code(0, 1), Code(1, 8), Id];
 const NFORCE: &[Param] = &[Id, Id, Code(1, 8), Id];
+/// CONTACT(id, jflag, comp, rm): comps 9..12 are mbfx's normal force, friction force,
+/// penetration and slip speed.
+const CONTACT: &[Param] = &[Id, Code(0, 1), Code(1, 12), Id];
 const SPLINE: &[Param] = &[S, S, Id, Code(0, 2)];
 const ID_SEQ: &[Param] = &[Id, Code(1, i64::MAX)];
 
@@ -247,7 +250,7 @@ pub static BUILTINS: &[Builtin] = &[
     m("DIF1", ID1, 1, Sc, St, "DIF1(id): time derivative of the state of DIFF/id"),
     f("DIM", S2, Func::Dim, "DIM(a1, a2): positive difference, a1 - a2 if a1 > a2 else 0"),
     m("DM", ID2, 1, Sc, P, "DM(i[,j]): distance between markers i and j"),
-    m("CONTACT", ELEMENT, 4, Sc, F, "CONTACT(id, jflag, comp, rm): force component of CONTACT/id (9..12: normal force, friction force, penetration, slip speed)"),
+    m("CONTACT", CONTACT, 4, Sc, F, "CONTACT(id, jflag, comp, rm): force component of CONTACT/id (9..12: normal force, friction force, penetration, slip speed)"),
     c("DTOR", Role::Constant(std::f64::consts::PI / 180.0), "DTOR: degrees to radians, pi/180"),
     m("DX", ID3, 1, Sc, P, "DX(i[,j][,k]): x component in k of the position of i relative to j"),
     m("DXYZ", ID3, 1, Ve, P, "DXYZ(i[,j][,k]): position of i relative to j, as a vector in k"),

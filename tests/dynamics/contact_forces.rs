@@ -148,3 +148,55 @@ fn the_corpus_contact_runs_with_its_contact_modelled() {
     let csv = Csv::parse(&String::from_utf8_lossy(&out.stdout));
     assert!(csv.col("CONTACT1.FN").iter().all(|f| f.is_finite() && *f >= 0.0));
 }
+
+/// N spheres in a square grid 0.5 m apart, 5 cm above a floor, each its own part and its
+/// own CONTACT with the floor (IMPACT k = 1E5, e = 1.5).
+fn spheres(n: usize) -> String {
+    let side = (n as f64).sqrt().ceil() as usize;
+    let half = 0.25 * side as f64 + 1.0;
+    let mut s = format!(
+        "{n} spheres falling onto a floor\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         ACCGRAV/JGRAV = -9.80665\nPART/1, GROUND\nMARKER/1, PART = 1, QP = {lo}, -0.2, {lo}\n\
+         GRAPHICS/1, BOX, CORNER = 1, X = {w}, Y = 0.2, Z = {w}\n",
+        lo = -half,
+        w = 2.0 * half
+    );
+    for k in 0..n {
+        let (x, z) = (0.5 * (k % side) as f64, 0.5 * (k / side) as f64);
+        let id = k + 2;
+        s += &format!(
+            "PART/{id}, MASS = 1, CM = {id}, IP = 0.004, 0.004, 0.004, QG = {x}, 0.15, {z}\n\
+             MARKER/{id}, PART = {id}\n\
+             GRAPHICS/{id}, ELLIPSOID, CM = {id}, XSCALE = 0.2, YSCALE = 0.2, ZSCALE = 0.2\n\
+             CONTACT/{id}, IGEOM = {id}, JGEOM = 1, IMPACT, STIFFNESS = 1E5, DAMPING = 100, DMAX = 1E-3, EXPONENT = 1.5\n"
+        );
+    }
+    s + "END\n"
+}
+
+#[test]
+fn the_cost_per_step_of_n_falling_spheres_grows_about_linearly() {
+    // Figures of issue 40: CPU per step against N, and the log-log slope from N = 10 to
+    // 1000 (N log N would be about 1.1 here; N² would be 2).
+    let mut cost = Vec::new();
+    for n in [10usize, 100, 1000] {
+        let path = std::env::temp_dir().join(format!("mbfx_contact_spheres_{n}.adm"));
+        std::fs::write(&path, spheres(n)).unwrap();
+        let out = run_raw(&path, &["--end", "0.3", "--output-step", "0.05"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "N = {n}: {stderr}");
+        let (steps, cpu) = steps_and_cpu(&stderr);
+        eprintln!("N = {n}: {steps} steps, {cpu} s CPU, {:.3e} s a step", cpu / steps as f64);
+        cost.push((n as f64, cpu / steps as f64));
+        // Every sphere has landed and rests: its contact carries its weight.
+        let csv = Csv::parse(&String::from_utf8_lossy(&out.stdout));
+        for k in 0..n {
+            let f = last(&csv.col(&format!("CONTACT{}.FN", k + 2)));
+            assert!((f - G).abs() < 5e-2 * G, "N = {n}, sphere {k}: {f}");
+        }
+    }
+    let slope = (cost[2].1 / cost[0].1).ln() / (cost[2].0 / cost[0].0).ln();
+    eprintln!("log-log slope of the cost per step, N = 10 to 1000: {slope:.2}");
+    assert!(slope < 1.5, "{slope}");
+}

@@ -10,6 +10,11 @@ use crate::model::contact::FrictionMode;
 use crate::vocab::math::{DVec, Mat3, Vec3};
 use nalgebra::SMatrix;
 
+/// The switching value of a pair the broad phase finds apart: negative (not touching);
+/// its size only steers the first trial step toward a switch, which the steps taken
+/// then locate.
+pub const APART: f64 = -1.0;
+
 /// Jacobian entries (row, column, value); repeats add up.
 pub type Entries = Vec<(usize, usize, f64)>;
 
@@ -155,15 +160,23 @@ impl ContactSet {
     }
 
     /// Appends two switching values per watched pair at the state of `sys`: the
-    /// penetration −separation (positive in contact), and in contact the smallest
-    /// unclamped normal force of its incidents (positive where the law pushes; NaN apart,
-    /// or where the law has no clamp).
+    /// penetration −separation (positive in contact; [`APART`] for a pair whose bounding
+    /// boxes do not overlap, which the broad phase spares a query), and in contact the
+    /// smallest unclamped normal force of its incidents (positive where the law pushes;
+    /// NaN apart, or where the law has no clamp).
     pub fn switches(&self, sys: &System, out: &mut Vec<f64>) {
         let Some(world) = &self.world else { return };
         self.place(sys);
+        let mut candidates = self.candidates.take();
+        world.borrow_mut().candidates(&mut candidates);
+        candidates.sort_unstable();
         let world = world.borrow();
         let mut incidents = self.incidents.take();
         for (k, pair) in self.pairs.iter().enumerate() {
+            if candidates.binary_search(&k).is_err() {
+                out.extend([APART, f64::NAN]);
+                continue;
+            }
             let depth = -world.separation(k);
             out.push(depth);
             let mut clamp = f64::NAN;
@@ -180,6 +193,7 @@ impl ContactSet {
             out.push(clamp);
         }
         self.incidents.replace(incidents);
+        self.candidates.replace(candidates);
     }
 }
 
