@@ -29,6 +29,19 @@
 //! - Nothing here computes a force, a velocity or a derivative: the core linearizes an
 //!   incident as a fixed normal and fixed material points for the Jacobians.
 
+mod convert;
+mod error;
+mod geometry;
+mod regions;
+mod world;
+
+#[cfg(test)]
+mod tests;
+
+pub use error::CollideError;
+pub use geometry::Geometry;
+pub use world::World;
+
 use crate::vocab::math::{Mat3, Vec3};
 
 /// A triangle mesh read from a file (`--geometry` for EXTERNAL), in the coordinates of

@@ -1,0 +1,1 @@
+//! The broad phase: only pairs whose bounding boxes overlap are candidates.

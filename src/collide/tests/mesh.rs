@@ -1,0 +1,1 @@
+//! Meshes (EXTERNAL): one incident per connected region.

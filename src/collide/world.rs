@@ -1,0 +1,225 @@
+//! The contact world: every geometry placed at a state, a broad phase (parry's BVH,
+//! rebuilt at each update) that finds the pairs whose bounding boxes overlap, and the
+//! narrow phase that gives one pair's separation and incidents.
+
+use super::convert::{compose, from_parry, pose_to_parry};
+use super::regions::{self, Touch};
+use super::{Geometry, Incident, Pose, Space};
+use crate::model::elements::Id;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Pose as Pose3;
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
+use parry3d_f64::query::{
+    ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher, QueryDispatcher,
+};
+use std::collections::HashMap;
+
+/// The geometries of a model's contacts, the pairs to watch, and where they are.
+pub struct World {
+    geometries: Vec<Geometry>,
+    pairs: Vec<(usize, usize)>,
+    space: Space,
+    /// Global pose of each geometry's parry shape (after [`World::update`]).
+    poses: Vec<Pose3>,
+    /// Global bounding box of each geometry.
+    boxes: Vec<Aabb>,
+    bvh: Bvh,
+    workspace: BvhWorkspace,
+    /// The pairs (their indices) watched between two geometries, keyed (low, high).
+    pairs_of: HashMap<(usize, usize), Vec<usize>>,
+    /// Whether `update` has run since the geometries were placed.
+    placed: bool,
+}
+
+impl World {
+    /// A world of `geometries` watching `pairs` (indices into `geometries`: I, J) in
+    /// `space`. A pair naming a geometry past the list is kept and never touches.
+    pub fn new(geometries: Vec<Geometry>, pairs: Vec<(usize, usize)>, space: Space) -> World {
+        let mut pairs_of: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+        for (k, &(i, j)) in pairs.iter().enumerate() {
+            pairs_of.entry((i.min(j), i.max(j))).or_default().push(k);
+        }
+        let n = geometries.len();
+        World {
+            geometries,
+            pairs,
+            space,
+            poses: vec![Pose3::IDENTITY; n],
+            boxes: vec![Aabb::new_invalid(); n],
+            bvh: Bvh::new(),
+            workspace: BvhWorkspace::default(),
+            pairs_of,
+            placed: false,
+        }
+    }
+
+    /// The geometries, in the order `new` took them.
+    pub fn geometries(&self) -> &[Geometry] {
+        &self.geometries
+    }
+
+    /// The pairs watched (I, J geometry indices), in the order `new` took them.
+    pub fn pairs(&self) -> &[(usize, usize)] {
+        &self.pairs
+    }
+
+    /// The space the queries run in.
+    pub fn space(&self) -> Space {
+        self.space
+    }
+
+    /// Places every geometry from the global pose of its part's BCS, and rebuilds the
+    /// broad phase.
+    pub fn update(&mut self, part_pose: &dyn Fn(Id) -> Pose) {
+        for (k, g) in self.geometries.iter().enumerate() {
+            let global = compose(&part_pose(g.part), &compose(&g.frame, &g.fix));
+            self.poses[k] = pose_to_parry(&global);
+            self.boxes[k] = g.shape.compute_aabb(&self.poses[k]);
+        }
+        // A rebuild is O(N log N) and keeps the tree tight however far the parts moved
+        // (a refit would keep the old topology).
+        self.bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &self.boxes);
+        self.placed = true;
+    }
+
+    /// Cleared, then filled with the indices of the pairs whose bounding boxes overlap
+    /// (ascending): the only pairs that can touch. Empty before the first `update`.
+    pub fn candidates(&mut self, out: &mut Vec<usize>) {
+        out.clear();
+        if !self.placed {
+            return;
+        }
+        let pairs_of = &self.pairs_of;
+        self.bvh
+            .traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |a, b| {
+                let (a, b) = (a as usize, b as usize);
+                if let Some(ks) = pairs_of.get(&(a.min(b), a.max(b))) {
+                    out.extend_from_slice(ks);
+                }
+            });
+        // A pair of one geometry with itself never overlaps anything but itself.
+        out.sort_unstable();
+        out.dedup();
+    }
+
+    /// The pair's geometries, or `None` for a pair that names none.
+    fn pair(&self, pair: usize) -> Option<(usize, usize)> {
+        let &(i, j) = self.pairs.get(pair)?;
+        (i < self.geometries.len() && j < self.geometries.len() && i != j).then_some((i, j))
+    }
+
+    /// Cleared, then filled with one incident per connected intersection region of the
+    /// pair's two geometries (none when they are apart).
+    pub fn incidents(&self, pair: usize, out: &mut Vec<Incident>) {
+        out.clear();
+        let Some((i, j)) = self.pair(pair) else {
+            return;
+        };
+        if !self.placed || !self.boxes[i].intersects(&self.boxes[j]) {
+            return;
+        }
+        let touches = self.touches(i, j, 0.0);
+        let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+        regions::incidents(&touches, &gi.triangles, &gj.triangles, out);
+    }
+
+    /// The distance between the pair's geometries when apart (> 0), minus their deepest
+    /// penetration when they overlap (< 0): the switching function whose sign change is
+    /// contact onset or separation.
+    pub fn separation(&self, pair: usize) -> f64 {
+        let Some((i, j)) = self.pair(pair) else {
+            return f64::INFINITY;
+        };
+        let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+        let pos12 = self.poses[i].inv_mul(&self.poses[j]);
+        match DefaultQueryDispatcher.distance(&pos12, &*gi.shape, &*gj.shape) {
+            Ok(d) if d.distance > 0.0 => return d.distance,
+            Ok(_) => {}
+            Err(_) => {
+                // Mesh against mesh: parry has no distance query, but its manifolds
+                // with a prediction as wide as both boxes reach the closest triangles.
+                let reach = self.boxes[i].merged(&self.boxes[j]).extents().length();
+                let nearest = self
+                    .points(i, j, reach)
+                    .into_iter()
+                    .map(|p| p.dist)
+                    .fold(f64::INFINITY, f64::min);
+                if nearest > 0.0 {
+                    return nearest;
+                }
+            }
+        }
+        let mut found = Vec::new();
+        self.incidents(pair, &mut found);
+        -found.iter().map(|c| c.depth).fold(0.0, f64::max)
+    }
+
+    /// The narrow phase's points between geometries `i` and `j` closer than
+    /// `prediction` (negative `dist`: penetrating), global.
+    fn points(&self, i: usize, j: usize, prediction: f64) -> Vec<Point> {
+        let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+        let (pi, pj) = (&self.poses[i], &self.poses[j]);
+        let pos12 = pi.inv_mul(pj);
+        let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+        let mut workspace = None;
+        // Every pair of this layer's shapes has a manifold generator; an unsupported
+        // pair would give no points (no contact), never a panic.
+        let _ = DefaultQueryDispatcher.contact_manifolds(
+            &pos12,
+            &*gi.shape,
+            &*gj.shape,
+            prediction,
+            &mut manifolds,
+            &mut workspace,
+        );
+        let mut out = Vec::new();
+        for (m, manifold) in manifolds.iter().enumerate() {
+            let sub = manifold.subshape_poses.as_deref();
+            let sub1 = sub.and_then(|s| s.pos1).unwrap_or(Pose3::IDENTITY);
+            let sub2 = sub.and_then(|s| s.pos2).unwrap_or(Pose3::IDENTITY);
+            let (frame1, frame2) = (*pi * sub1, *pj * sub2);
+            let n1 = frame1.rotation * manifold.local_n1;
+            for c in &manifold.points {
+                let p1 = frame1.transform_point(c.local_p1);
+                let p2 = frame2.transform_point(c.local_p2);
+                out.push(Point {
+                    at: from_parry((p1 + p2) * 0.5),
+                    // parry's normal points out of shape 1 (I) towards J: the force on
+                    // I pushes the other way.
+                    normal: -from_parry(n1),
+                    dist: c.dist,
+                    manifold: m,
+                    sub1: gi.is_mesh().then_some(manifold.subshape1),
+                    sub2: gj.is_mesh().then_some(manifold.subshape2),
+                });
+            }
+        }
+        out
+    }
+
+    /// The penetrating points between `i` and `j`.
+    fn touches(&self, i: usize, j: usize, prediction: f64) -> Vec<Touch> {
+        self.points(i, j, prediction)
+            .into_iter()
+            .filter(|p| p.dist < 0.0)
+            .map(|p| Touch {
+                point: p.at,
+                normal: p.normal,
+                depth: -p.dist,
+                manifold: p.manifold,
+                triangle_i: p.sub1,
+                triangle_j: p.sub2,
+            })
+            .collect()
+    }
+}
+
+/// One point of a manifold, global.
+struct Point {
+    at: crate::vocab::math::Vec3,
+    normal: crate::vocab::math::Vec3,
+    dist: f64,
+    manifold: usize,
+    sub1: Option<u32>,
+    sub2: Option<u32>,
+}
