@@ -78,7 +78,11 @@ fn a_modelled_contact_is_not_named_as_left_out() {
     let plain = run_text("contact.adm", CONTACT, &[]);
     assert_eq!(plain.code, 0, "{}", plain.describe());
     assert!(!plain.stderr.contains("W0602"), "{}", plain.describe());
-    assert!(!plain.stderr.contains("not modelled"), "{}", plain.describe());
+    assert!(
+        !plain.stderr.contains("not modelled"),
+        "{}",
+        plain.describe()
+    );
 }
 
 #[test]
@@ -165,7 +169,9 @@ fn the_corpus_frictions_and_contact_are_named() {
     // Its CONTACT is modelled (issue 40 §1): not named as left out.
     assert_eq!(contact.code, 0, "{}", contact.describe());
     assert!(
-        !contact.stderr.contains("CONTACT is outside the mbfx subset"),
+        !contact
+            .stderr
+            .contains("CONTACT is outside the mbfx subset"),
         "{}",
         contact.describe()
     );

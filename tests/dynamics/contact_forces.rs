@@ -59,7 +59,12 @@ fn a_lying_cylinder_rests_at_the_static_depth_as_one_incident() {
     // of the weight (Adams' semantics); were each contact point its own incident, the
     // depth would be smaller.
     let want = (2.0 * G / 1e6).powf(1.0 / 1.2);
-    let csv = run("contact_cylinder_rest.adm", "1", "0.01", &["--error", "1e-5"]);
+    let csv = run(
+        "contact_cylinder_rest.adm",
+        "1",
+        "0.01",
+        &["--error", "1e-5"],
+    );
     let depth = 0.05 - last(&csv.col("y"));
     assert!((depth - want).abs() < 2e-2 * want, "{depth} {want}");
     assert!((last(&csv.col("CONTACT1.FN")) - 2.0 * G).abs() < 1e-3 * 2.0 * G);
@@ -68,12 +73,21 @@ fn a_lying_cylinder_rests_at_the_static_depth_as_one_incident() {
 #[test]
 fn a_poisson_contact_returns_the_drop_times_the_restitution_squared() {
     // Dropped from 0.5 m (the sphere's bottom), ε = 0.8: the rebound's apex is ε²·h.
-    let csv = run("contact_poisson_drop.adm", "1", "0.001", &["--error", "1e-6"]);
+    let csv = run(
+        "contact_poisson_drop.adm",
+        "1",
+        "0.001",
+        &["--error", "1e-6"],
+    );
     let (t, y) = (csv.time(), csv.col("y"));
     let hit = (y.iter()).position(|&y| y < 0.1).expect("it lands");
     let apex = y[hit..].iter().copied().fold(f64::MIN, f64::max) - 0.1;
     let want = 0.8f64.powi(2) * 0.5;
-    assert!((apex - want).abs() < 2e-2 * want, "apex {apex} at t ≤ {}", t[t.len() - 1]);
+    assert!(
+        (apex - want).abs() < 2e-2 * want,
+        "apex {apex} at t ≤ {}",
+        t[t.len() - 1]
+    );
 }
 
 /// The distance a block sliding at 2 m/s with μ = 0.3 takes to stop: v0²/(2 μ g).
@@ -85,7 +99,10 @@ fn stopping_distance() -> f64 {
 fn a_sliding_block_stops_after_v0_squared_over_2_mu_g_in_3d() {
     let csv = run("contact_block_slide_3d.adm", "1", "0.01", &["--dim", "3"]);
     let x = last(&csv.col("x"));
-    assert!((x - stopping_distance()).abs() < 1e-2 * stopping_distance(), "{x}");
+    assert!(
+        (x - stopping_distance()).abs() < 1e-2 * stopping_distance(),
+        "{x}"
+    );
     assert!(last(&csv.col("vx")).abs() < 1e-3);
 }
 
@@ -93,7 +110,10 @@ fn a_sliding_block_stops_after_v0_squared_over_2_mu_g_in_3d() {
 fn a_sliding_block_stops_after_v0_squared_over_2_mu_g_in_the_plane() {
     let csv = run("contact_block_slide_2d.adm", "1", "0.01", &["--dim", "2"]);
     let x = last(&csv.col("x"));
-    assert!((x - stopping_distance()).abs() < 1e-2 * stopping_distance(), "{x}");
+    assert!(
+        (x - stopping_distance()).abs() < 1e-2 * stopping_distance(),
+        "{x}"
+    );
 }
 
 #[test]
@@ -102,7 +122,11 @@ fn a_block_sticks_below_the_static_angle_and_slides_above() {
     // Adams' friction has no true stiction); tan 30° = 0.577 does not, and the block
     // accelerates at g (sin θ − μd cos θ) with μd = 0.4.
     let csv = run("contact_incline_20.adm", "1", "0.01", &[]);
-    assert!(last(&csv.col("vx")).abs() < 1e-3, "{}", last(&csv.col("vx")));
+    assert!(
+        last(&csv.col("vx")).abs() < 1e-3,
+        "{}",
+        last(&csv.col("vx"))
+    );
     assert!(last(&csv.col("x")).abs() < 1e-3);
     let csv = run("contact_incline_30.adm", "1", "0.01", &[]);
     let th = 30f64.to_radians();
@@ -119,19 +143,31 @@ fn a_ball_in_free_flight_takes_large_steps() {
     let path = data("contact_ball_drop.adm");
     let args = ["--end", "1", "--output-step", "0.1"];
     let out = run_raw(&path, &args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let (free, cpu) = steps_and_cpu(&String::from_utf8_lossy(&out.stderr));
     let out = run_raw(&path, &[&args[..], &["--hmax", "1e-4"]].concat());
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let (fine, fine_cpu) = steps_and_cpu(&String::from_utf8_lossy(&out.stderr));
-    eprintln!("ball drop: {free} steps, {cpu} s CPU; with HMAX 1E-4: {fine} steps, {fine_cpu} s CPU");
+    eprintln!(
+        "ball drop: {free} steps, {cpu} s CPU; with HMAX 1E-4: {fine} steps, {fine_cpu} s CPU"
+    );
     assert!(fine >= 10_000, "{fine}");
     assert!(free * 10 < fine, "{free} steps against {fine}");
 }
 
 /// The corpus dataset `rel`.
 fn corpus(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/adams").join(rel)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/corpus/adams")
+        .join(rel)
 }
 
 #[test]
@@ -146,7 +182,10 @@ fn the_corpus_contact_runs_with_its_contact_modelled() {
     let placeholder = "EXTERNAL GRAPHICS/1 is a CONTACT geometry without a mesh";
     assert_eq!(stderr.matches(placeholder).count(), 1, "{stderr}");
     let csv = Csv::parse(&String::from_utf8_lossy(&out.stdout));
-    assert!(csv.col("CONTACT1.FN").iter().all(|f| f.is_finite() && *f >= 0.0));
+    assert!(csv
+        .col("CONTACT1.FN")
+        .iter()
+        .all(|f| f.is_finite() && *f >= 0.0));
 }
 
 /// N spheres in a square grid 0.5 m apart, 5 cm above a floor, each its own part and its
@@ -187,7 +226,10 @@ fn the_cost_per_step_of_n_falling_spheres_grows_about_linearly() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "N = {n}: {stderr}");
         let (steps, cpu) = steps_and_cpu(&stderr);
-        eprintln!("N = {n}: {steps} steps, {cpu} s CPU, {:.3e} s a step", cpu / steps as f64);
+        eprintln!(
+            "N = {n}: {steps} steps, {cpu} s CPU, {:.3e} s a step",
+            cpu / steps as f64
+        );
         cost.push((n as f64, cpu / steps as f64));
         // Every sphere has landed and rests: its contact carries its weight.
         let csv = Csv::parse(&String::from_utf8_lossy(&out.stdout));
