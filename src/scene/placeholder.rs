@@ -35,7 +35,7 @@ pub fn inertia_box(c: &mut Canvas, part: usize, name: String, view_name: Option<
 }
 
 /// The placeholder box of `part`: its centre (the CM) and axes (principal, columns) in
-/// BCS coordinates, and its sides (none thinner than [`THINNEST`] of the longest); None
+/// BCS coordinates, and its sides (none thinner than 1 % of the longest); None
 /// when the part's inertia gives no box. The contacts of a run stand the same box in
 /// for an EXTERNAL geometry without a mesh.
 pub fn inertia_box_of(

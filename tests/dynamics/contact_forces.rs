@@ -192,14 +192,13 @@ fn the_corpus_contact_runs_with_its_contact_modelled() {
 /// own CONTACT with the floor (IMPACT k = 1E5, e = 1.5).
 fn spheres(n: usize) -> String {
     let side = (n as f64).sqrt().ceil() as usize;
-    let half = 0.25 * side as f64 + 1.0;
+    // The floor reaches 1 m past the grid on every side.
+    let width = 0.5 * side as f64 + 2.0;
     let mut s = format!(
         "{n} spheres falling onto a floor\n\
          UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
-         ACCGRAV/JGRAV = -9.80665\nPART/1, GROUND\nMARKER/1, PART = 1, QP = {lo}, -0.2, {lo}\n\
-         GRAPHICS/1, BOX, CORNER = 1, X = {w}, Y = 0.2, Z = {w}\n",
-        lo = -half,
-        w = 2.0 * half
+         ACCGRAV/JGRAV = -9.80665\nPART/1, GROUND\nMARKER/1, PART = 1, QP = -1, -0.2, -1\n\
+         GRAPHICS/1, BOX, CORNER = 1, X = {width}, Y = 0.2, Z = {width}\n"
     );
     for k in 0..n {
         let (x, z) = (0.5 * (k % side) as f64, 0.5 * (k / side) as f64);

@@ -160,7 +160,7 @@ impl ContactSet {
     }
 
     /// Appends two switching values per watched pair at the state of `sys`: the
-    /// penetration −separation (positive in contact; [`APART`] for a pair whose bounding
+    /// penetration −separation (positive in contact; `APART`, −1, for a pair whose bounding
     /// boxes do not overlap, which the broad phase spares a query), and in contact the
     /// smallest unclamped normal force of its incidents (positive where the law pushes;
     /// NaN apart, or where the law has no clamp).

@@ -40,6 +40,9 @@ pub struct ContactSet {
     /// Scratch: one pair's incidents, and the pairs that may touch.
     incidents: RefCell<Vec<Incident>>,
     candidates: RefCell<Vec<usize>>,
+    /// The CONTACTs left out of the set (their ids) and why (`GRAPHICS/10 cannot be a
+    /// contact geometry: …`), for the run to warn about.
+    pub left_out: Vec<(Id, String)>,
     /// Set while statics runs: a DYNAMICS_ONLY contact then has no friction.
     pub statics: bool,
 }

@@ -96,6 +96,23 @@ pub fn contact_meshes(
     (meshes, diags)
 }
 
+/// A W0602 at each CONTACT the core left out of `set`, saying why.
+pub(super) fn left_out<'a>(
+    model: &'a Model,
+    set: &'a crate::mbd::contacts::ContactSet,
+) -> impl Iterator<Item = Diagnostic> + 'a {
+    set.left_out.iter().map(|(id, why)| {
+        let span = (model.contacts.iter())
+            .find(|c| c.el.id == *id)
+            .map_or(0..0, |c| c.el.span.clone());
+        Diagnostic::warning(
+            Code::UnsupportedStatement,
+            span,
+            format!("CONTACT/{id} is left out: {why}"),
+        )
+    })
+}
+
 /// The placeholder box of the part marker `rm` is on, in `rm`'s coordinates.
 fn placeholder(model: &Model, rm: Id) -> Option<TriMesh> {
     let marker = model.marker(rm)?;
