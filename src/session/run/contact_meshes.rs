@@ -39,9 +39,11 @@ pub fn contact_meshes(
 ) -> (HashMap<Id, TriMesh>, Vec<Diagnostic>) {
     let mut meshes = HashMap::new();
     let mut diags = Vec::new();
+    let mut seen = std::collections::HashSet::new();
     let named = (model.contacts.iter()).flat_map(|c| c.igeom.iter().chain(&c.jgeom));
     for &id in named {
-        if meshes.contains_key(&id) {
+        // Each geometry once, however many CONTACTs name it.
+        if !seen.insert(id) {
             continue;
         }
         let Some(g) = model.graphics.iter().find(|g| g.el.id == id) else {
