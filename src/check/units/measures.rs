@@ -90,7 +90,11 @@ mod tests {
         assert_eq!(component(4), Some(Dim::FORCE));
         assert_eq!(component(5), Some(Dim::TORQUE));
         assert_eq!(component(8), Some(Dim::TORQUE));
-        assert_eq!(component(9), None);
+        // CONTACT's own components: normal and friction force, penetration, slip speed.
+        assert_eq!(component(9), Some(Dim::FORCE));
+        assert_eq!(component(11), Some(Dim::LENGTH));
+        assert_eq!(component(12), Some(Dim::VELOCITY));
+        assert_eq!(component(13), None);
         assert_eq!(of("JOINT"), Kind::Component);
         assert_eq!(of("DZ"), Kind::Fixed(Dim::LENGTH));
         assert_eq!(of("VARVAL"), Kind::Variable);
