@@ -73,6 +73,9 @@ pub fn incidents(
 #[derive(Default)]
 struct Region {
     points: Vec<Vec3>,
+    /// Σ point·depth and Σ depth: the depth-weighted mean point.
+    weighted: Vec3,
+    depth_sum: f64,
     normal_sum: Vec3,
     deepest: Option<Touch>,
 }
@@ -80,6 +83,8 @@ struct Region {
 impl Region {
     fn add(&mut self, t: &Touch) {
         self.points.push(t.point);
+        self.weighted += t.point * t.depth;
+        self.depth_sum += t.depth;
         self.normal_sum += t.normal * t.depth;
         if self.deepest.is_none_or(|d| t.depth > d.depth) {
             self.deepest = Some(*t);
@@ -96,10 +101,19 @@ impl Region {
         } else {
             deepest.normal
         };
+        // A patch tilted against its solid is deeper on one side, as the intersection's
+        // volume is: the point moves that way by the depth-weighted mean's offset from
+        // the plain mean (zero on a level patch), so a block tilting on a face meets a
+        // restoring moment at once rather than when a corner lifts.
+        let mean = self.points.iter().sum::<Vec3>() / self.points.len() as f64;
+        let tilt = match self.depth_sum > 0.0 {
+            true => self.weighted / self.depth_sum - mean,
+            false => Vec3::zeros(),
+        };
         Incident {
             depth: deepest.depth,
             normal,
-            point: area_centroid(&self.points, normal),
+            point: area_centroid(&self.points, normal) + tilt,
         }
     }
 }

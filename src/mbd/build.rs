@@ -228,6 +228,17 @@ impl System {
         model: &Model,
         exprs: &dyn ExprCompiler,
     ) -> Result<ForceSet, MbdError> {
+        self.forces_with_meshes(model, exprs, &HashMap::new())
+    }
+
+    /// [`System::forces_from_model`] with the CONTACTs' EXTERNAL geometries given their
+    /// meshes (keyed by GRAPHICS id; the session reads the files).
+    pub fn forces_with_meshes(
+        &mut self,
+        model: &Model,
+        exprs: &dyn ExprCompiler,
+        meshes: &HashMap<Id, crate::collide::TriMesh>,
+    ) -> Result<ForceSet, MbdError> {
         use crate::model::elements::VectorForceKind;
         let marker = |sys: &System, id: Id| {
             sys.marker_by_id(id)
@@ -326,6 +337,7 @@ impl System {
             set.elements.push(ForceElement::new(r, i, Some(j), law));
         }
         set.fuse(exprs);
+        set.contacts = super::contacts::ContactSet::from_model(self, model, meshes)?;
         Ok(set)
     }
 

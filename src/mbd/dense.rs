@@ -96,6 +96,10 @@ impl DenseLu {
     /// Solves A·x = b in place with the factors.
     pub fn solve(&self, b: &mut [f64]) {
         let n = self.n;
+        if n == 0 {
+            // Nothing to solve (a system without constraint rows).
+            return;
+        }
         for (k, &p) in self.piv.iter().enumerate() {
             b.swap(k, p);
         }

@@ -17,6 +17,8 @@ pub enum MbdError {
     UnknownMarker(i64),
     /// A part id that names no part.
     UnknownPart(u32),
+    /// A CONTACT that cannot be built (its geometry, or I and J on one part): why.
+    Contact(String),
     /// A joint, primitive or motion whose I and J markers are on one part.
     SamePart(ElementRef),
     /// A floating marker used where a fixed one is needed.
@@ -148,6 +150,7 @@ impl fmt::Display for MbdError {
             },
             MbdError::UnknownMarker(id) => write!(f, "MARKER/{id} does not exist"),
             MbdError::UnknownPart(id) => write!(f, "PART/{id} does not exist"),
+            MbdError::Contact(why) => f.write_str(why),
             MbdError::SamePart(e) => write!(
                 f,
                 "{}: its I and J markers are on the same part; put them on different parts",
@@ -186,7 +189,8 @@ impl fmt::Display for MbdError {
                 write!(f, "{name} needs a marker i other than ground")
             }
             MbdError::ForceComponent { name, id, comp } => {
-                write!(f, "{name}({id}, …): component {comp} is not 1..8")
+                let top = if name == "CONTACT" { 12 } else { 8 };
+                write!(f, "{name}({id}, …): component {comp} is not 1..{top}")
             }
             MbdError::UnknownForceElement { name, id } => {
                 write!(f, "{name}({id}, …): no such element in the model")

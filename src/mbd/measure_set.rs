@@ -290,7 +290,7 @@ impl Measure {
             }
             "FX" | "FY" | "FZ" | "FM" | "TX" | "TY" | "TZ" | "TM" | "FXYZ" | "TXYZ" | "SFORCE"
             | "VFORCE" | "VTORQ" | "GFORCE" | "BUSH" | "BEAM" | "FIELD" | "FRICTION" | "SPDP"
-            | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" => {
+            | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" | "CONTACT" => {
                 return Err(MbdError::NeedsDynamics(slot.name.clone(), "forces"))
             }
             // VARIABLEs are inlined before measures resolve, except design variables: the

@@ -22,8 +22,8 @@
 //! 3. Measures: `measures` (values and derivatives from the state) and `output_slot`
 //!    (what an output expression reads).
 //! 4. Constraints and forces: `constraints` (JOINT, JPRIM, GCON and MOTION from primitive
-//!    equations, evaluated), `fused_rows` and `forces` (applied forces, evaluated in the
-//!    order of what they read).
+//!    equations, evaluated), `fused_rows`, `forces` (applied forces, evaluated in the
+//!    order of what they read) and `contacts` (CONTACT forces between geometries).
 //! 5. Build: `build` (a Model into a System), `planar` (2D or 3D), `assembly` (positions
 //!    and velocities solved), and `pipeline` (the three, then the redundancy analysis:
 //!    what every session starts with).
@@ -60,6 +60,7 @@ pub mod assembly;
 pub mod build;
 pub mod compiled;
 pub mod constraints;
+pub mod contacts;
 mod dense;
 mod dual;
 pub mod dynamics;

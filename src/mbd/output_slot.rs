@@ -58,6 +58,19 @@ pub enum OutputSlot {
         /// The marker the components are resolved in.
         rm: M,
     },
+    /// CONTACT(id, jflag, comp, rm): contact `contact` (index in the model's CONTACTs);
+    /// comp 1..8 as a force function, 9..12 its normal force, friction force,
+    /// penetration and slip speed.
+    Contact {
+        /// Index into the model's CONTACTs (and the contact set's).
+        contact: usize,
+        /// The load on J's part instead of I's.
+        jflag: bool,
+        /// Component 1..12.
+        comp: u8,
+        /// The marker the components are resolved in.
+        rm: M,
+    },
     /// FX…TZ (comp 0..6), FM (6), TM (7): net load on i from elements between i and j,
     /// resolved in k.
     MarkerForce {
@@ -109,6 +122,7 @@ impl OutputSlot {
         match self {
             OutputSlot::Kinematic(_)
             | OutputSlot::EulerParameter { .. }
+            | OutputSlot::Contact { .. }
             | OutputSlot::ElementForce {
                 constraint: false, ..
             } => false,
@@ -193,6 +207,28 @@ impl OutputSlot {
                     n => comp(n),
                 };
                 OutputSlot::MarkerForce { i, j, k, comp: c }
+            }
+            "CONTACT" => {
+                let id = ids.first().copied().unwrap_or(0);
+                let c = ids.get(2).copied().unwrap_or(1);
+                if !(1..=12).contains(&c) {
+                    return Err(MbdError::ForceComponent {
+                        name: name.to_string(),
+                        id,
+                        comp: c,
+                    });
+                }
+                let contact = (model.contacts.iter().position(|k| i64::from(k.el.id) == id))
+                    .ok_or_else(|| MbdError::UnknownForceElement {
+                        name: name.to_string(),
+                        id,
+                    })?;
+                OutputSlot::Contact {
+                    contact,
+                    jflag: ids.get(1).copied().unwrap_or(0) != 0,
+                    comp: c as u8,
+                    rm: marker(3)?,
+                }
             }
             "JOINT" | "JPRIM" | "MOTION" | "SFORCE" | "VFORCE" | "VTORQ" | "GFORCE" | "BUSH"
             | "SPDP" => {

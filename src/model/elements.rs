@@ -56,6 +56,8 @@ pub struct Model {
     pub spring_dampers: Vec<SpringDamper>,
     /// BUSHING statements.
     pub bushings: Vec<Bushing>,
+    /// CONTACT statements (issue 40 §1).
+    pub contacts: Vec<super::contact::Contact>,
     /// VARIABLE statements (read by `VARVAL`).
     pub variables: Vec<Variable>,
     /// PINPUT and POUTPUT statements.

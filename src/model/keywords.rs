@@ -68,6 +68,15 @@ pub const EXPRESSION_ARGUMENTS: &[ExpressionArgument] = &[
     any("TZ", 2),
     any("FXYZ", 4),
     any("TXYZ", 4),
+    // CONTACT's user-subroutine arguments (`NORMAL_FUNCTION = USER(…)`), refused by name.
+    ExpressionArgument {
+        statement: Some("CONTACT"),
+        keyword: Keyword::new("NORMAL_FUNCTION", 8),
+    },
+    ExpressionArgument {
+        statement: Some("CONTACT"),
+        keyword: Keyword::new("FRICTION_FUNCTION", 10),
+    },
     // BEAM has a numeric CRATIO (`CRATIO = 0.01` followed by `, FORMULATION = …`).
     ExpressionArgument {
         statement: Some("FLEX_BODY"),

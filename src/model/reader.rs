@@ -15,7 +15,7 @@ use super::elements::{Id, Ignored, Model, Omission};
 use super::scope::ModelScope;
 use super::statement::{read_statements, title_span, ItemKind, Statement};
 use super::stmt_args::{statement_label, Args};
-use super::{read_bodies, read_data, read_graphics, read_links};
+use super::{read_bodies, read_contact, read_data, read_graphics, read_links};
 use crate::check::Expect;
 use crate::diag::{has_errors, Code, Diagnostic};
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -287,6 +287,7 @@ impl<'a> Reader<'a> {
             "VFORCE" | "VTORQUE" | "GFORCE" => read_links::vector_force(self, &mut a),
             "SPRINGDAMPER" => read_links::spring_damper(self, &mut a),
             "BUSHING" => read_links::bushing(self, &mut a),
+            "CONTACT" => read_contact::contact(self, &mut a),
             "VARIABLE" => read_data::variable(self, &mut a),
             "SPLINE" => read_data::spline(self, &mut a),
             "ARRAY" => read_data::array(self, &mut a),

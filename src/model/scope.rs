@@ -20,6 +20,7 @@ pub fn element_statement(function: &str) -> Option<(&'static str, bool)> {
         "VTORQ" => ("VTORQUE", true),
         "GFORCE" => ("GFORCE", true),
         "BUSH" => ("BUSHING", true),
+        "CONTACT" => ("CONTACT", true),
         "SPDP" => ("SPRINGDAMPER", true),
         "JOINT" => ("JOINT", true),
         "JPRIM" => ("JPRIM", true),

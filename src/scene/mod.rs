@@ -28,6 +28,8 @@ mod tests;
 
 pub use build::{build, Options, SceneError};
 pub use geometry_map::{geometry_arg, read_map};
+pub use mesh_files::read as read_mesh_file;
+pub use placeholder::inertia_box_of;
 
 /// A rigid transform: a translation, then a unit quaternion `[x, y, z, w]` (glTF's order).
 #[derive(Clone, Copy, Debug, PartialEq)]

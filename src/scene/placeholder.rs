@@ -16,24 +16,34 @@ pub const THINNEST: f64 = 0.01;
 /// A box placeholder for EXTERNAL `name` on the part at `part`; `false` when the part's
 /// inertia gives no box (the caller draws a cube once the extent is known).
 pub fn inertia_box(c: &mut Canvas, part: usize, name: String, view_name: Option<String>) -> bool {
-    let Some(p) = (c.model.parts.get(part)).map(|p| principal(c.model, p)) else {
+    let Some((cm, axes, sides)) =
+        (c.model.parts.get(part)).and_then(|p| inertia_box_of(c.model, p))
+    else {
         return false;
     };
-    let Some(sides) = p.box_sides() else {
-        return false;
-    };
-    let sides = thick(sides);
     let h = Vec3::from(sides) / 2.0;
     let mesh = centred_cuboid(-h, h).triangles(c.color(part));
     c.rigid(
         name,
         view_name,
         part,
-        pose(p.cm, &p.axes),
+        pose(cm, &axes),
         mesh,
         Role::Placeholder,
     );
     true
+}
+
+/// The placeholder box of `part`: its centre (the CM) and axes (principal, columns) in
+/// BCS coordinates, and its sides (none thinner than 1 % of the longest); None
+/// when the part's inertia gives no box. The contacts of a run stand the same box in
+/// for an EXTERNAL geometry without a mesh.
+pub fn inertia_box_of(
+    model: &crate::model::Model,
+    part: &crate::model::elements::Part,
+) -> Option<(Vec3, crate::vocab::math::Mat3, [f64; 3])> {
+    let p = principal(model, part);
+    Some((p.cm, p.axes, thick(p.box_sides()?)))
 }
 
 /// A cube of side `side` at the CM of the part at `part` (BCS axes).

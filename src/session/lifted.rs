@@ -41,8 +41,11 @@ impl Lifted {
         if sys.parts.len() != two.sys.parts.len() {
             return Err("the 3D build has other parts".into());
         }
+        // The contacts' EXTERNAL geometries as the run has them (their warnings are the
+        // run's).
+        let (meshes, _) = crate::session::run::contact_meshes(model, &[]);
         let forces = sys
-            .forces_from_model(model, exprs)
+            .forces_with_meshes(model, exprs, &meshes)
             .map_err(|e| e.to_string())?;
         let slots = reactions
             .iter()

@@ -165,6 +165,9 @@ pub fn run(
         .filter(|i| i.physical && !reused)
         .map(crate::model::report::ignored_warning)
         .collect();
+    let ignored: Vec<Diagnostic> = (ignored.into_iter())
+        .chain(sim.contact_warnings.iter().filter(|_| !reused).cloned())
+        .collect();
     if !ignored.is_empty() {
         observer
             .warnings(&ignored, &source)

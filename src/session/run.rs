@@ -19,6 +19,7 @@ use crate::mbd::rewind::StartState;
 use crate::model::ModelRead;
 
 mod columns;
+mod contact_meshes;
 mod estimate;
 mod rebuild;
 mod segments;
@@ -28,6 +29,7 @@ mod summary;
 mod warnings;
 
 use columns::{reads_reconciled, shadow, standard_component, Column, Outputs};
+pub use contact_meshes::contact_meshes;
 pub use estimate::Estimate;
 pub use simulation::{RewindError, RunFailure};
 pub use spec::{Engine, Method, RunSpec, Segment, TableRow};
@@ -61,6 +63,8 @@ pub struct Simulation {
     /// The checker's warnings about each probe that has some (units of measure, ...):
     /// (name, expression, warnings with spans into the expression).
     pub probe_warnings: Vec<(String, String, Vec<Diagnostic>)>,
+    /// The CONTACT geometries' warnings (an EXTERNAL without a mesh: its placeholder).
+    pub contact_warnings: Vec<Diagnostic>,
     /// The dataset's plant inputs and outputs, for LINEAR/STATEMAT.
     plant: Plant,
     /// The parts' poses at each integrated row, while a run records them for its error

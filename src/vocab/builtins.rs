@@ -147,6 +147,9 @@ const ID3: &[Param] = &[Id, Id, Id];
 const ID4: &[Param] = &[Id, Id, Id, Id];
 const ELEMENT: &[Param] = &[Id, Code(0, 1), Code(1, 8), Id];
 const NFORCE: &[Param] = &[Id, Id, Code(1, 8), Id];
+/// CONTACT(id, jflag, comp, rm): comps 9..12 are mbfx's normal force, friction force,
+/// penetration and slip speed.
+const CONTACT: &[Param] = &[Id, Code(0, 1), Code(1, 12), Id];
 const SPLINE: &[Param] = &[S, S, Id, Code(0, 2)];
 const ID_SEQ: &[Param] = &[Id, Code(1, i64::MAX)];
 
@@ -237,6 +240,7 @@ pub static BUILTINS: &[Builtin] = &[
     f("BISTOP", S8, Func::Bistop, "BISTOP(x, dx, x1, x2, k, e, cmax, d): two-sided contact force outside [x1, x2]"),
     m("BUSH", ELEMENT, 4, Sc, F, "BUSH(id, jflag, comp, rm): force component of BUSHING/id"),
     series("CHEBY", S2, Func::Cheby, "CHEBY(x, x0, a0, ..., a30): Chebyshev series sum a_j T_j(x - x0)"),
+    m("CONTACT", CONTACT, 4, Sc, F, "CONTACT(id, jflag, comp, rm): force component of CONTACT/id (9..12: normal force, friction force, penetration, slip speed)"),
     f("COS", S1, Func::Cos, "COS(a): cosine (radians)"),
     f("COSH", S1, Func::Cosh, "COSH(a): hyperbolic cosine"),
     b("CUBSPL", SPLINE, 3, Sc, Role::Spline(SplineKind::Cubic), "CUBSPL(x, z, id[, iord]): cubic-spline interpolation of SPLINE/id (z = 0 for a curve; iord = derivative order 0..2)"),

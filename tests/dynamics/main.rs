@@ -13,6 +13,7 @@ mod adams;
 mod andrews;
 mod bdf;
 mod contact;
+mod contact_forces;
 mod dense;
 mod exact;
 mod explicit;

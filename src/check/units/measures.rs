@@ -43,6 +43,10 @@ pub fn component(comp: i64) -> Option<Dim> {
     match comp {
         1..=4 => Some(Dim::FORCE),
         5..=8 => Some(Dim::TORQUE),
+        // CONTACT's own: normal and friction force, penetration, slip speed.
+        9 | 10 => Some(Dim::FORCE),
+        11 => Some(Dim::LENGTH),
+        12 => Some(Dim::VELOCITY),
         _ => None,
     }
 }
@@ -63,7 +67,7 @@ fn kind_of(name: &str) -> Kind {
         "FX" | "FY" | "FZ" | "FM" | "FXYZ" => Dim::FORCE,
         "TX" | "TY" | "TZ" | "TM" | "TXYZ" => Dim::TORQUE,
         "SFORCE" | "VFORCE" | "VTORQ" | "GFORCE" | "BUSH" | "BEAM" | "FIELD" | "FRICTION"
-        | "SPDP" | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" => {
+        | "SPDP" | "NFORCE" | "JOINT" | "JPRIM" | "MOTION" | "CVCV" | "PTCV" | "CONTACT" => {
             return Kind::Component;
         }
         "VARVAL" => return Kind::Variable,
@@ -86,7 +90,11 @@ mod tests {
         assert_eq!(component(4), Some(Dim::FORCE));
         assert_eq!(component(5), Some(Dim::TORQUE));
         assert_eq!(component(8), Some(Dim::TORQUE));
-        assert_eq!(component(9), None);
+        // CONTACT's own components: normal and friction force, penetration, slip speed.
+        assert_eq!(component(9), Some(Dim::FORCE));
+        assert_eq!(component(11), Some(Dim::LENGTH));
+        assert_eq!(component(12), Some(Dim::VELOCITY));
+        assert_eq!(component(13), None);
         assert_eq!(of("JOINT"), Kind::Component);
         assert_eq!(of("DZ"), Kind::Fixed(Dim::LENGTH));
         assert_eq!(of("VARVAL"), Kind::Variable);

@@ -123,6 +123,8 @@ impl Dynamics {
                 }
             }
         }
+        let gen = &mut self.gen;
+        (self.forces.contacts).eval(&self.sys, &mut gen.q, &mut gen.dq, &mut gen.dv, jacobians);
         self.stats.expression_evaluations += self.forces.expression_count();
         if !self.forces.reads_solution() {
             return self.forces.eval(&self.sys, &mut self.gen, jacobians);

@@ -54,6 +54,27 @@ impl OutputSlot {
                     c => resolve(sys, v, rm, c - if c <= 4 { 2 } else { 6 }),
                 }
             }
+            OutputSlot::Contact {
+                contact,
+                jflag,
+                comp,
+                rm,
+            } => {
+                let last = &d.forces.contacts.contacts[contact].last;
+                let (f, t) = match jflag {
+                    false => (last.force, last.torque),
+                    true => (-last.force, last.torque_j),
+                };
+                let v = if comp <= 4 { f } else { t };
+                match comp {
+                    9 => last.normal,
+                    10 => last.friction,
+                    11 => last.penetration,
+                    12 => last.slip,
+                    1 | 5 => v.norm(),
+                    c => resolve(sys, v, rm, c - if c <= 4 { 2 } else { 6 }),
+                }
+            }
             OutputSlot::EulerParameter { i, j, comp } => {
                 let (ri, rj) = (sys.frame(i).rot, sys.frame(j).rot);
                 let rel = nalgebra::Rotation3::from_matrix_unchecked(rj.transpose() * ri);

@@ -290,6 +290,13 @@ impl Dynamics {
                 }
             }
         }
+        for (i, j) in forces.contacts.coupled_parts() {
+            for p in [i, j].into_iter().filter_map(block) {
+                for q in [i, j].into_iter().filter_map(block) {
+                    dense(&mut pos, p, bs, q);
+                }
+            }
+        }
         for (r, parts) in row_parts.iter().enumerate() {
             // The multiplier's diagonal holds the regularisation (Dynamics::factor).
             pos.push((n + r, n + r));
@@ -318,6 +325,10 @@ impl Dynamics {
             if touched.any(|i| Some(i) != first) {
                 return None;
             }
+        }
+        let both_move = |(i, j): (PartHandle, PartHandle)| index(i).is_some() && index(j).is_some();
+        if self.forces.contacts.coupled_parts().any(both_move) {
+            return None;
         }
         Some(schur::Schur::new(&self.jac, sys.moving_parts()))
     }

@@ -31,6 +31,8 @@ pub struct ForceSet {
     pub reads: Vec<Vec<usize>>,
     /// The order of evaluation: an element reading another's force comes after it.
     pub order: Vec<usize>,
+    /// The CONTACT forces (issue 40), evaluated by the dynamics after the elements.
+    pub contacts: crate::mbd::contacts::ContactSet,
     /// Every expression's value in one call, when the compiler fuses and no expression
     /// reads the solution ([`ForceSet::fuse`]).
     fused: Option<Fused>,
@@ -132,6 +134,7 @@ impl ForceSet {
                 s.switches(sys, &self.solved, out);
             }
         }
+        self.contacts.switches(sys, out);
     }
 
     /// Whether an expression reads the solution (accelerations, reactions, forces).

@@ -42,6 +42,15 @@ struct Residual {
 /// what kept it from an equilibrium, or the direction along which the equilibrium found
 /// is not stable.
 pub fn equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, StaticsError> {
+    // A CONTACT with COULOMB_FRICTION = DYNAMICS_ONLY has no friction here.
+    d.forces.contacts.statics = true;
+    let found = solve(d, s);
+    d.forces.contacts.statics = false;
+    found
+}
+
+/// [`equilibrium`] with the contacts told it is statics.
+fn solve(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, StaticsError> {
     let (n, m) = (d.n, d.m);
     let zero = DVec::zeros(n);
     d.sys.set_v(&zero);

@@ -295,6 +295,7 @@ impl RunRequest {
         spec.cartesian = self.cartesian;
         spec.interpolate = self.interpolate;
         spec.estimate_error = self.estimate_error;
+        spec.geometry = (self.animation.as_ref()).map_or_else(Vec::new, |a| a.geometry.clone());
         spec.formulation = self.formulation.map(Into::into);
         (spec.error, spec.hmax, spec.hinit, spec.hmin) =
             (self.error, self.hmax, self.hinit, self.hmin);

@@ -94,8 +94,9 @@ impl Simulation {
                 }
             }
         };
+        let (meshes, _) = super::contact_meshes::contact_meshes(&model, &self.spec.geometry);
         let forces = sys
-            .forces_from_model(&model, &exprs)
+            .forces_with_meshes(&model, &exprs, &meshes)
             .map_err(|e| fail(e.to_string()))?;
         // An element switched off has no slot to read: its columns hold 0.
         let slots: Vec<(u32, Option<OutputSlot>)> = (self.outputs.slots.iter())

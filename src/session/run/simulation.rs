@@ -168,6 +168,26 @@ impl Simulation {
                 }
             }
         }
+        // Each CONTACT's normal force, friction force, penetration and slip speed
+        // (`CONTACT(id, 0, 9..12, 0)`), after the REQUESTs.
+        let contact_ids: Vec<u32> = read.model.contacts.iter().map(|c| c.el.id).collect();
+        for id in contact_ids {
+            for (suffix, comp) in [("FN", 9), ("FF", 10), ("PEN", 11), ("SLIP", 12)] {
+                let name = format!("CONTACT{id}.{suffix}");
+                let text = format!("CONTACT({id}, 0, {comp}, 0)");
+                match read.compile(&text, &Variables::new(), Expect::Scalar) {
+                    Ok(c) => columns.push(Column {
+                        name,
+                        function: c.function.clone(),
+                        source: Expr {
+                            span: 0..text.len(),
+                            function: c.function,
+                        },
+                    }),
+                    Err(_) => notes.push(format!("{name} ({text}) left out: it does not check")),
+                }
+            }
+        }
         let exprs = analysis.exprs;
         let mut system = analysis.system;
         // (The columns added their measures to the dataset's slots.)
@@ -176,11 +196,25 @@ impl Simulation {
             m
         });
         let model = switched_off.as_ref().unwrap_or(&read.model);
-        let forces = system.forces_from_model(model, &exprs)?;
+        let (meshes, contact_warnings) =
+            super::contact_meshes::contact_meshes(model, &spec.geometry);
+        if contact_warnings
+            .iter()
+            .any(|d| d.severity == crate::diag::Severity::Error)
+        {
+            return Err(RunFailure::Diagnostics {
+                probe: None,
+                diagnostics: contact_warnings,
+            });
+        }
+        let forces = system.forces_with_meshes(model, &exprs, &meshes)?;
+        let mut contact_warnings = contact_warnings;
+        contact_warnings.extend(super::contact_meshes::left_out(model, &forces.contacts));
         // Energy is conserved only without force elements and without rows that move
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
         let conservative = forces.elements.is_empty()
+            && forces.contacts.is_empty()
             && system
                 .rows()
                 .all(|(e, q)| !system.row_reads_time(e, q) && !system.row_reads_velocity(e, q));
@@ -280,6 +314,7 @@ impl Simulation {
             start,
             constraint_designs,
             probe_warnings,
+            contact_warnings,
             plant,
             inactive,
             changed: false,

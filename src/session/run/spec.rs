@@ -142,6 +142,9 @@ pub struct RunSpec {
     pub dim: DimRequest,
     /// Which back end evaluates the expressions.
     pub engine: Engine,
+    /// `--geometry GRAPHICS/ID=FILE`: the mesh of an EXTERNAL CONTACT geometry (one
+    /// without a file gets its part's placeholder box).
+    pub geometry: Vec<(u32, std::path::PathBuf)>,
     /// Estimate the answer's error from a second run at a looser ERROR
     /// (`--estimate-error`, [`super::Estimate`]) and warn when it exceeds 10·ERROR.
     pub estimate_error: bool,
@@ -170,6 +173,7 @@ impl RunSpec {
             dim: DimRequest::Auto,
             engine: Engine::Jit,
             estimate_error: false,
+            geometry: Vec::new(),
         }
     }
 }

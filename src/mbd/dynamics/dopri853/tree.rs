@@ -316,7 +316,7 @@ impl JointTree {
         out: &mut [f64],
         stage: bool,
     ) -> Result<(), DynError> {
-        if stage && d.forces.elements.is_empty() {
+        if stage && d.forces.elements.is_empty() && d.forces.contacts.is_empty() {
             self.kinematics(theta, rate);
         } else {
             self.place(d, theta, rate, t);

@@ -1,0 +1,161 @@
+//! A model's CONTACTs into a [`ContactSet`]: every GRAPHICS they name becomes one
+//! geometry of one world (shared by the contacts naming it), every I × J combination of a
+//! contact a watched pair; a planar system queries in its plane.
+
+use super::{ContactForce, ContactSet, ContactValues, Pair};
+use crate::collide::{Geometry, Space, TriMesh, World};
+use crate::mbd::error::MbdError;
+use crate::mbd::handles::PartHandle;
+use crate::mbd::system::{Dimension, System};
+use crate::model::elements::{Id, Model};
+use crate::vocab::math::Vec3;
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+impl ContactSet {
+    /// The contacts of `model` over the parts of `sys`; an EXTERNAL geometry takes its
+    /// mesh from `meshes` (keyed by GRAPHICS id). A CONTACT with a GRAPHICS that cannot
+    /// be a contact geometry (on a flexible body, an EXTERNAL without a mesh), or with I
+    /// and J geometries on one part, is left out, the reason in
+    /// [`ContactSet::left_out`].
+    pub fn from_model(
+        sys: &System,
+        model: &Model,
+        meshes: &HashMap<Id, TriMesh>,
+    ) -> Result<ContactSet, MbdError> {
+        if model.contacts.is_empty() {
+            return Ok(ContactSet::default());
+        }
+        let parts: HashMap<Id, PartHandle> = (sys.parts.iter().enumerate())
+            .filter_map(|(k, p)| Some((p.id?, PartHandle(k as u32))))
+            .collect();
+        let mut geometries: Vec<Geometry> = Vec::new();
+        let mut index: HashMap<Id, usize> = HashMap::new();
+        let mut pairs = Vec::new();
+        let mut watched = Vec::new();
+        let mut contacts = Vec::new();
+        let mut left_out = Vec::new();
+        for c in &model.contacts {
+            let k = contacts.len();
+            let (kept_geometries, kept_pairs) = (geometries.len(), pairs.len());
+            let built = watch(
+                model,
+                meshes,
+                &parts,
+                c,
+                k,
+                (&mut geometries, &mut index),
+                (&mut pairs, &mut watched),
+            );
+            if let Err(why) = built {
+                // Forget what this contact added: the geometries it alone named too.
+                geometries.truncate(kept_geometries);
+                index.retain(|_, at| *at < kept_geometries);
+                pairs.truncate(kept_pairs);
+                watched.truncate(kept_pairs);
+                left_out.push((c.el.id, why));
+                continue;
+            }
+            contacts.push(ContactForce {
+                id: c.el.id,
+                normal: c.normal,
+                friction: c.friction,
+                last: ContactValues::default(),
+            });
+        }
+        let space = match sys.dim {
+            Dimension::Three => Space::Three,
+            Dimension::Two => {
+                let (a, b, n) = sys.plane_axes();
+                let axis = |c: usize| {
+                    let mut v = Vec3::zeros();
+                    v[c] = 1.0;
+                    v
+                };
+                // The plane the parts move in: through the first moving part's
+                // reference point (every part keeps its out-of-plane coordinate).
+                let level = sys
+                    .parts
+                    .iter()
+                    .find(|p| p.index.is_some())
+                    .map_or(0.0, |p| p.r[n]);
+                Space::Plane {
+                    origin: axis(n) * level,
+                    a: axis(a),
+                    b: axis(b),
+                }
+            }
+        };
+        Ok(ContactSet {
+            contacts,
+            pairs: watched,
+            world: Some(RefCell::new(World::new(geometries, pairs, space))),
+            parts,
+            left_out,
+            incidents: RefCell::new(Vec::new()),
+            candidates: RefCell::new(Vec::new()),
+            statics: false,
+        })
+    }
+}
+
+/// The geometries being gathered (each once) and the GRAPHICS id of each.
+type Gathered<'a> = (&'a mut Vec<Geometry>, &'a mut HashMap<Id, usize>);
+
+/// The world's pairs and the set's pairs being gathered.
+type Watched<'a> = (&'a mut Vec<(usize, usize)>, &'a mut Vec<Pair>);
+
+/// Adds the geometries and pairs of CONTACT `c` (the `k`-th kept); why not, when one of
+/// its GRAPHICS cannot be a contact geometry or I and J share a part (what it added is
+/// then for the caller to drop).
+fn watch(
+    model: &Model,
+    meshes: &HashMap<Id, TriMesh>,
+    parts: &HashMap<Id, PartHandle>,
+    c: &crate::model::contact::Contact,
+    k: usize,
+    (geometries, index): Gathered,
+    (pairs, watched): Watched,
+) -> Result<(), String> {
+    let mut side = |ids: &[Id]| -> Result<Vec<usize>, String> {
+        let mut out = Vec::with_capacity(ids.len());
+        for &g in ids {
+            let at = match index.get(&g) {
+                Some(&at) => at,
+                None => {
+                    geometries.push(Geometry::of(model, g, meshes).map_err(|e| e.to_string())?);
+                    index.insert(g, geometries.len() - 1);
+                    geometries.len() - 1
+                }
+            };
+            out.push(at);
+        }
+        Ok(out)
+    };
+    let (is, js) = (side(&c.igeom)?, side(&c.jgeom)?);
+    let part = |g: usize| {
+        let id = geometries[g].part;
+        parts
+            .get(&id)
+            .copied()
+            .ok_or(format!("PART/{id} does not exist"))
+    };
+    for &gi in &is {
+        for &gj in &js {
+            let (pi, pj) = (part(gi)?, part(gj)?);
+            if pi == pj {
+                return Err(format!(
+                    "GRAPHICS/{} and GRAPHICS/{} move with one part",
+                    geometries[gi].graphic, geometries[gj].graphic
+                ));
+            }
+            pairs.push((gi, gj));
+            watched.push(Pair {
+                contact: k,
+                i: pi,
+                j: pj,
+            });
+        }
+    }
+    Ok(())
+}
