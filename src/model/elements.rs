@@ -64,6 +64,8 @@ pub struct Model {
     pub splines: Vec<SplineData>,
     /// ARRAY statements (read by `ARYVAL`).
     pub arrays: Vec<Array>,
+    /// DIFF, LSE, TFSISO and the MATRIX data they read (issue 40 §3).
+    pub states: super::states::StateElements,
     /// ACCGRAV in model length/time², global axes (zero when absent).
     pub gravity: Vec3,
     /// REQUEST statements.

@@ -104,7 +104,11 @@ pub fn simulate_framed(
                 in_contact: events.engaged(),
                 ..s.for_step(end - t, span)
             };
-            let attempt = integrator.attempt(d, end - t, &step_settings)?;
+            let mut attempt = integrator.attempt(d, end - t, &step_settings)?;
+            // The state elements' own error joins the method's.
+            if let Attempt::Converged { err, .. } = &mut attempt {
+                *err = err.max(d.state_error(step_settings.error)?);
+            }
             match attempt {
                 Attempt::Diverged => {
                     d.stats.rejected += 1;
@@ -198,6 +202,7 @@ pub fn simulate_framed(
                     }
                     d.check_dropped(drift_tol)?;
                     d.commit_measures();
+                    d.commit_states()?;
                     if s.fixed_step.is_none() {
                         let most = integrator.max_growth();
                         let grow = if let Some(f) = integrator.step_factor() {
