@@ -107,7 +107,8 @@ pub struct LinearSystem {
     pub d: Vec<f64>,
     /// The initial states.
     pub ic: Vec<f64>,
-    /// The VARIABLE each input is.
+    /// The VARIABLE each input is (a TFSISO's from its U array, filled by
+    /// [`StateElements::linear_systems`]).
     pub inputs: Vec<Id>,
     /// STATIC_HOLD.
     pub static_hold: bool,
@@ -188,7 +189,7 @@ impl Tfsiso {
             c,
             d: vec![b[n]],
             ic: vec![0.0; n],
-            inputs: vec![self.u],
+            inputs: Vec::new(),
             static_hold: self.static_hold,
             arrays: [Some(self.x), Some(self.u), Some(self.y)],
         })
@@ -215,7 +216,22 @@ impl StateElements {
             out.push(self.lse(l, arrays)?);
         }
         for t in &self.tfsisos {
-            out.push(t.realize()?);
+            let mut s = t.realize()?;
+            // Its U array lists the one VARIABLE that is its input.
+            let u = arrays
+                .iter()
+                .find(|a| a.el.id == t.u)
+                .ok_or_else(|| format!("{}: ARRAY/{} is not in the dataset", s.label, t.u))?;
+            match u.numbers.as_slice() {
+                [v] if *v >= 1.0 && v.fract() == 0.0 => s.inputs = vec![*v as Id],
+                _ => {
+                    return Err(format!(
+                        "{}: its U array (ARRAY/{}) must list one VARIABLE id",
+                        s.label, t.u
+                    ))
+                }
+            }
+            out.push(s);
         }
         Ok(out)
     }

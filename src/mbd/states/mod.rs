@@ -85,6 +85,9 @@ pub struct StateSet {
     pub(crate) z: Vec<f64>,
     /// Scratch: the model slot values the expressions read.
     pub(crate) slots: Vec<f64>,
+    /// The solves leave the state values as they stand (a linearization's differences
+    /// in the values the forces read).
+    pub frozen: bool,
 }
 
 /// The accepted states.
@@ -144,6 +147,38 @@ impl StateSet {
         self.base
             .as_ref()
             .map(|b| (b.x.as_slice(), b.rate.as_slice()))
+    }
+
+    /// The states' names, in order: `DIFF/3`, `LSE/2 x1`.
+    pub fn names(&self) -> Vec<String> {
+        let mut out: Vec<String> = self.diffs.iter().map(|d| d.label.clone()).collect();
+        for l in &self.linear {
+            out.extend((1..=l.sys.n).map(|j| format!("{} x{j}", l.sys.label)));
+        }
+        out
+    }
+
+    /// The state whose value (x) channel `channel` is, if any.
+    pub fn state_of_channel(&self, channel: usize) -> Option<usize> {
+        if channel < 2 * self.diffs.len() {
+            return channel.is_multiple_of(2).then_some(channel / 2);
+        }
+        let mut k = self.diffs.len();
+        for l in &self.linear {
+            if (l.base..l.base + l.sys.n).contains(&channel) {
+                return Some(k + channel - l.base);
+            }
+            k += l.sys.n;
+        }
+        None
+    }
+
+    /// Moves committed state `k` by `dx` (a linearization's finite differences); the
+    /// next solve at the committed time reads it.
+    pub fn nudge(&mut self, k: usize, dx: f64) {
+        if let Some(b) = &mut self.base {
+            b.x[k] += dx;
+        }
     }
 
     /// The error a state element's solve fails with.

@@ -46,6 +46,13 @@ impl StateSet {
         out
     }
 
+    /// The states' rates ẋ as the last solve left them.
+    pub fn rates(&self, sys: &System) -> Vec<f64> {
+        (self.layout().iter())
+            .map(|l| sys.measures.states.get(l.1).copied().unwrap_or(f64::NAN))
+            .collect()
+    }
+
     /// The committed states, made from the initial conditions at `sys`'s time the first
     /// time.
     fn committed_or_start(&mut self, sys: &System) -> Committed {
@@ -90,7 +97,7 @@ impl StateSet {
         }
         // The linear systems' inputs, then outputs.
         let mut slots = std::mem::take(&mut self.slots);
-        for (li, l) in self.linear.iter().enumerate() {
+        for l in &self.linear {
             let (n, m, p) = (l.sys.n, l.sys.m, l.sys.p);
             for (j, e) in l.inputs.iter().enumerate() {
                 let u = value(e, sys, &mut slots).map_err(|why| {
@@ -121,7 +128,6 @@ impl StateSet {
                 }
                 v[l.base + 2 * n + m + i] = y;
             }
-            let _ = li;
         }
         let nd = self.diffs.len();
         for (k, d) in self.diffs.iter().enumerate() {
@@ -167,9 +173,9 @@ impl StateSet {
 
     /// Solves the states at `sys`'s current (q, v, t) in the current [`Mode`], and
     /// writes their values (x, ẋ, the linear systems' u and y) where the measures read
-    /// them. Nothing to do without states.
+    /// them. Nothing to do without states, or [`StateSet::frozen`].
     pub fn solve(&mut self, sys: &mut System) -> Result<(), MbdError> {
-        if self.is_empty() {
+        if self.is_empty() || self.frozen {
             return Ok(());
         }
         let base = self.committed_or_start(sys);
