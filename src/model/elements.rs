@@ -459,7 +459,7 @@ pub struct Array {
     pub el: Named,
     /// X, U, Y, IC or empty, as written.
     pub kind: String,
-    /// The NUMBERS list.
+    /// The NUMBERS list (a U array's VARIABLES ids).
     pub numbers: Vec<f64>,
 }
 

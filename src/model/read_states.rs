@@ -192,3 +192,98 @@ pub fn gse_refused(a: &Args) -> Diagnostic {
         ),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::diag::Code;
+    use crate::model::reader::read_model;
+
+    const BASE: &str = "t\nPART/1, GROUND\nMARKER/10, PART = 1\n";
+
+    #[test]
+    fn matrices_read_in_row_order_whatever_their_layout() {
+        let text = format!(
+            "{BASE}MATRIX/1, FULL = RORDER, ROWS = 2, COLUMNS = 3, VALUES = 1, 2, 3, 4, 5, 6\n\
+             MATRIX/2, FULL = CORDER, ROWS = 2, COLUMNS = 3, VALUES = 1, 4, 2, 5, 3, 6\n\
+             MATRIX/3, SPARSE, ROWS = 2, COLUMNS = 3, I = 2, 1, J = 3, 1, VALUES = 6, 1\nEND\n"
+        );
+        let r = read_model(&text);
+        assert!(!r.has_errors(), "{:#?}", r.diagnostics);
+        let m = &r.model.states.matrices;
+        assert_eq!(m[0].values, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert_eq!(m[1].values, m[0].values);
+        assert_eq!(m[2].values, [1.0, 0.0, 0.0, 0.0, 0.0, 6.0]);
+        // MATRIX is data: read, and neither warned nor left out.
+        assert!(r.model.ignored.is_empty(), "{:?}", r.model.ignored);
+    }
+
+    #[test]
+    fn bad_state_statements_are_errors_at_their_place_never_panics() {
+        for (extra, code, at) in [
+            (
+                "MATRIX/1, FILE = a.mtx, NAME = A",
+                Code::BadArgument,
+                "FILE = a.mtx",
+            ),
+            (
+                "MATRIX/1, FULL = RORDER, ROWS = 2, COLUMNS = 2, VALUES = 1, 2, 3",
+                Code::BadArgument,
+                "MATRIX",
+            ),
+            (
+                "MATRIX/1, SPARSE, ROWS = 2, COLUMNS = 2, I = 3, J = 1, VALUES = 1",
+                Code::BadArgument,
+                "MATRIX",
+            ),
+            ("LSE/1, X = 2", Code::MissingArgument, "LSE"),
+            ("LSE/1, X = 2, A = 3, B = 4", Code::MissingArgument, "LSE"),
+            ("DIFF/1, IC = 0", Code::MissingArgument, "DIFF"),
+            (
+                "TFSISO/1, NUMERATOR = 1, X = 1, U = 2, Y = 3",
+                Code::MissingArgument,
+                "TFSISO",
+            ),
+        ] {
+            let text = format!("{BASE}{extra}\nEND\n");
+            let r = read_model(&text);
+            let found = r
+                .diagnostics
+                .iter()
+                .find(|d| d.code == code)
+                .unwrap_or_else(|| panic!("{extra}: no {code:?} in {:#?}", r.diagnostics));
+            assert!(
+                text[found.span.clone()].starts_with(at),
+                "{extra}: at `{}`",
+                &text[found.span.clone()]
+            );
+        }
+    }
+
+    #[test]
+    fn gse_is_refused_by_name_and_stays_among_what_is_left_out() {
+        let r = read_model(&format!("{BASE}GSE/4, NS = 2, NO = 1\nEND\n"));
+        assert!(r.diagnostics.iter().any(|d| d
+            .message
+            .contains("GSE/4: a GSE's equations come from compiled user subroutines")));
+        let gse = r
+            .model
+            .ignored
+            .iter()
+            .find(|i| i.kind == "GSE")
+            .expect("GSE left out");
+        assert!(gse.physical);
+    }
+
+    #[test]
+    fn a_diff_reads_its_ic_pair_and_flags() {
+        let text = format!(
+            "{BASE}DIFF/7, IMPLICIT, STATIC_HOLD, IC = 1.5, -2, FUNCTION = DIF1(7) + DIF(7)\nEND\n"
+        );
+        let r = read_model(&text);
+        assert!(!r.has_errors(), "{:#?}", r.diagnostics);
+        let d = &r.model.states.diffs[0];
+        assert_eq!((d.el.id, d.ic, d.ic_rate), (7, 1.5, Some(-2.0)));
+        assert!(d.implicit && d.static_hold);
+        assert!(r.model.ignored.is_empty(), "{:?}", r.model.ignored);
+    }
+}

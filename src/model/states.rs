@@ -49,7 +49,7 @@ pub struct Lse {
     pub el: Named,
     /// ARRAY X (the states).
     pub x: Id,
-    /// ARRAY U (its NUMBERS are VARIABLE ids, the inputs).
+    /// ARRAY U (its VARIABLES are the inputs).
     pub u: Option<Id>,
     /// ARRAY Y (the outputs).
     pub y: Option<Id>,

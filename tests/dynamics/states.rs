@@ -172,7 +172,7 @@ fn an_lse_controlled_pendulum_linearizes_with_the_controller_state_in_a() {
          PART/2, MASS = {m}, CM = 20, IP = {i}, {i}, {i}\nMARKER/20, PART = 2, QP = 0, -{d}, 0\n\
          MARKER/21, PART = 2\nJOINT/1, REVOLUTE, I = 21, J = 10\nACCGRAV/JGRAV = -{g}\n\
          VARIABLE/1, FUNCTION = AZ(21, 10)\n\
-         ARRAY/11, X\nARRAY/12, U, NUMBERS = 1\nARRAY/13, Y\n\
+         ARRAY/11, X\nARRAY/12, U, VARIABLES = 1\nARRAY/13, Y\n\
          MATRIX/1, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {a}\n\
          MATRIX/2, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {b}\n\
          MATRIX/3, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {c}\n\
