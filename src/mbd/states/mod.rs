@@ -7,10 +7,10 @@
 //! the forces: at a state (q, v, t) inside a step from the accepted (tₙ, xₙ, ẋₙ), the
 //! states solve the trapezoidal companion x = xₙ + (t − tₙ)/2·(ẋₙ + ẋ) together with
 //! their equations, by Newton on ẋ with a finite-difference Jacobian of the (small)
-//! block ([`solve`]). So every integrator's Newton iteration, whatever its own formula,
-//! sees states consistent with its current iterate: BDF, HHT, generalized-α, Newmark and
-//! the explicit dopri853 (whose stages are evaluations too) alike, with no change to
-//! their state vectors. The accepted step commits the states ([`StateSet::commit`]);
+//! block ([`StateSet::solve`]). So every integrator's Newton iteration, whatever its own
+//! formula, sees states consistent with its current iterate: BDF, HHT, generalized-α,
+//! Newmark and the explicit dopri853 (whose stages are evaluations too) alike, with no
+//! change to their state vectors. The accepted step commits the states ([`StateSet::commit`]);
 //! a rejected one leaves the committed ones. The states' own local error (the
 //! trapezoidal rule's, h³/12·x⃛ from divided differences of ẋ) joins the step's error
 //! estimate ([`StateSet::local_error`]).
