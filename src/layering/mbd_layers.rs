@@ -27,7 +27,7 @@ const LAYERS: &[(&str, &[&str])] = &[
     ("measures", &["measures", "output_slot"]),
     (
         "constraints and forces",
-        &["constraints", "contacts", "forces", "fused_rows"],
+        &["constraints", "contacts", "forces", "fused_rows", "states"],
     ),
     ("build", &["assembly", "build", "pipeline", "planar"]),
     ("dynamics", &["dynamics"]),

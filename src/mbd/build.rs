@@ -10,6 +10,7 @@ use super::handles::{MarkerHandle, PartHandle};
 use super::measure_set::Measure;
 use super::output_slot::OutputSlot;
 use super::planar::Dim;
+use super::states::{DiffState, StateExpr, StateSet};
 use super::system::System;
 use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
 use crate::model::inertia::mass_properties;
@@ -48,6 +49,12 @@ impl System {
         model: &Model,
         slot: &crate::model::elements::MeasureSlot,
     ) -> Result<usize, MbdError> {
+        // DIF, DIF1 and ARYVAL of an LSE's or TFSISO's arrays read the state values.
+        if let Some(channel) = model.states.channel(&slot.name, &slot.ids, &model.arrays) {
+            return Ok(self.measures.add(Measure::State {
+                channel: channel as u32,
+            }));
+        }
         let m = Measure::resolve(slot, &|id| self.marker_or_ground(id))?;
         if let Measure::Design { id } = m {
             let value = Id::try_from(id)
@@ -336,8 +343,61 @@ impl System {
             };
             set.elements.push(ForceElement::new(r, i, Some(j), law));
         }
+        set.states = self.states_from_model(model, exprs)?;
         set.fuse(exprs);
         set.contacts = super::contacts::ContactSet::from_model(self, model, meshes)?;
+        Ok(set)
+    }
+
+    /// The state elements of `model` (DIFF, LSE, TFSISO) with their expressions compiled
+    /// by `exprs` (VARIABLEs inlined): a DIFF's FUNCTION, and each LSE or TFSISO input's
+    /// VARIABLE. They may read kinematic measures, time and state values, not forces or
+    /// accelerations.
+    pub fn states_from_model(
+        &mut self,
+        model: &Model,
+        exprs: &dyn ExprCompiler,
+    ) -> Result<StateSet, MbdError> {
+        let mut set = StateSet::default();
+        let compile = |sys: &mut System, label: &str, e: &Expr| {
+            let e = model
+                .inline_variables(e)
+                .map_err(|s| MbdError::State(format!("{label}: {s}")))?;
+            let f = exprs.compile(&e);
+            let map = sys.resolve_slots(model, f.slots()).map_err(|err| {
+                MbdError::State(format!(
+                    "{label}: {err} (a state element's expression may read kinematic \
+                     measures, time and other states, not forces or accelerations)"
+                ))
+            })?;
+            Ok::<_, MbdError>(StateExpr { f, map })
+        };
+        for d in &model.states.diffs {
+            let label = format!("DIFF/{}", d.el.id);
+            let f = compile(self, &label, &d.function)?;
+            set.add_diff(DiffState {
+                label,
+                f,
+                implicit: d.implicit,
+                static_hold: d.static_hold,
+                ic: (d.ic, d.ic_rate.unwrap_or(0.0)),
+            });
+        }
+        let systems = model
+            .states
+            .linear_systems(&model.arrays)
+            .map_err(MbdError::State)?;
+        for s in systems {
+            let mut inputs = Vec::with_capacity(s.m);
+            for (j, &v) in s.inputs.iter().enumerate() {
+                let label = format!("{}: input {} (VARIABLE/{v})", s.label, j + 1);
+                let var = model
+                    .variable(v)
+                    .ok_or_else(|| MbdError::State(format!("{label} is not in the dataset")))?;
+                inputs.push(compile(self, &label, &var.function)?);
+            }
+            set.add_linear(s, inputs);
+        }
         Ok(set)
     }
 

@@ -96,6 +96,9 @@ pub enum MbdError {
     },
     /// A plant input or output a linearization cannot use (why, in words).
     Plant(String),
+    /// A state element (DIFF, LSE, TFSISO) that cannot be built or solved (why, in
+    /// words, naming it).
+    State(String),
 }
 
 /// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the
@@ -137,11 +140,11 @@ impl fmt::Display for MbdError {
             ),
             MbdError::NotKinematic(name) => match name.as_str() {
                 "ARYVAL" => f.write_str(
-                    "it reads ARYVAL, an ARRAY of control elements (LSE, GSE, TFSISO states or outputs), which mbfx does not simulate",
+                    "it reads ARYVAL of an ARRAY that is not the X, U or Y array of an LSE or TFSISO (the only ARYVAL mbfx gives a value)",
                 ),
                 "DIF" | "DIF1" => write!(
                     f,
-                    "it reads {name}, a DIFF state (a user differential equation), which mbfx does not integrate"
+                    "it reads {name} of a DIFF the model does not have"
                 ),
                 _ => write!(
                     f,
@@ -199,6 +202,7 @@ impl fmt::Display for MbdError {
                 write!(f, "MOTION/{motion}: JOINT/{joint} does not exist")
             }
             MbdError::Plant(why) => write!(f, "LINEAR/STATEMAT: {why}"),
+            MbdError::State(why) => f.write_str(why),
             MbdError::Variable(id) => write!(
                 f,
                 "it reads VARVAL({id}), and VARIABLE/{id} has no FUNCTION mbfx can evaluate (a USER subroutine, or no such VARIABLE)"

@@ -114,5 +114,7 @@ pub fn solve_at(d: &mut Dynamics, t: f64) -> Result<(), DynError> {
         d.project_positions(floor)?;
         d.commit_measures();
     }
-    d.reconcile()
+    d.reconcile()?;
+    // The state elements integrate along the prescribed motion, committed at each time.
+    Ok(d.commit_states()?)
 }

@@ -153,6 +153,13 @@ pub enum Measure {
         /// The VARIABLE's id.
         id: i64,
     },
+    /// A state element's value (DIF, DIF1, ARYVAL of an LSE or TFSISO array): entry
+    /// `channel` of [`MeasureSet::states`], which the state solve writes
+    /// ([`crate::mbd::states`]); no derivative with respect to q or v.
+    State {
+        /// Its place in the state values ([`crate::model::states::StateElements::channel`]).
+        channel: u32,
+    },
 }
 
 impl Measure {
@@ -171,7 +178,7 @@ impl Measure {
             | AngVelMag { i, j }
             | PinionAngle { i, j } => [i, j, None, None],
             UnitVec { i, k, .. } => [i, k, None, None],
-            Design { .. } => [None; 4],
+            Design { .. } | State { .. } => [None; 4],
         }
     }
 
@@ -323,4 +330,6 @@ pub struct MeasureSet {
     pub(super) axes: Vec<Option<Vec3>>,
     /// The value of each design variable the measures read, by VARIABLE id.
     pub(super) design: Vec<(i64, f64)>,
+    /// The state elements' values ([`Measure::State`]), as the last state solve left them.
+    pub states: Vec<f64>,
 }

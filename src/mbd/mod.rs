@@ -22,8 +22,9 @@
 //! 3. Measures: `measures` (values and derivatives from the state) and `output_slot`
 //!    (what an output expression reads).
 //! 4. Constraints and forces: `constraints` (JOINT, JPRIM, GCON and MOTION from primitive
-//!    equations, evaluated), `fused_rows`, `forces` (applied forces, evaluated in the
-//!    order of what they read) and `contacts` (CONTACT forces between geometries).
+//!    equations, evaluated), `fused_rows`, `states` (DIFF, LSE and TFSISO states, solved
+//!    at each evaluation), `forces` (applied forces, evaluated in the order of what they
+//!    read) and `contacts` (CONTACT forces between geometries).
 //! 5. Build: `build` (a Model into a System), `planar` (2D or 3D), `assembly` (positions
 //!    and velocities solved), and `pipeline` (the three, then the redundancy analysis:
 //!    what every session starts with).
@@ -83,6 +84,7 @@ pub mod redundancy;
 pub mod rewind;
 pub mod rows;
 pub mod sparse;
+pub mod states;
 pub mod statics;
 pub mod system;
 

@@ -66,6 +66,8 @@ pub struct Model {
     pub splines: Vec<SplineData>,
     /// ARRAY statements (read by `ARYVAL`).
     pub arrays: Vec<Array>,
+    /// DIFF, LSE, TFSISO and the MATRIX data they read (issue 40 §3).
+    pub states: super::states::StateElements,
     /// ACCGRAV in model length/time², global axes (zero when absent).
     pub gravity: Vec3,
     /// REQUEST statements.
@@ -459,7 +461,7 @@ pub struct Array {
     pub el: Named,
     /// X, U, Y, IC or empty, as written.
     pub kind: String,
-    /// The NUMBERS list.
+    /// The NUMBERS list (a U array's VARIABLES ids).
     pub numbers: Vec<f64>,
 }
 

@@ -115,7 +115,8 @@ pub fn spline(r: &mut Reader, a: &mut Args) {
     });
 }
 
-/// `ARRAY/id, [X | U | Y | IC], NUMBERS = …[, SIZE = n]`.
+/// `ARRAY/id, [X | U | Y | IC], NUMBERS = …[, SIZE = n]`, or a U array's
+/// `VARIABLES = id, …` (kept in `numbers`).
 pub fn array(r: &mut Reader, a: &mut Args) {
     let el = r.named(a);
     const KINDS: [&str; 4] = ["IC", "U", "X", "Y"];
@@ -124,6 +125,10 @@ pub fn array(r: &mut Reader, a: &mut Args) {
         .map_or(String::new(), |k| KINDS[k].to_string());
     let numbers = if a.stmt.arg("NUMBERS", 3).is_some() {
         a.numbers("NUMBERS", 3, 1..=usize::MAX).unwrap_or_default()
+    } else if a.stmt.arg("VARIABLES", 3).is_some() {
+        // A U array lists the VARIABLEs that are an LSE's or TFSISO's inputs (issue 40).
+        a.numbers("VARIABLES", 3, 1..=usize::MAX)
+            .unwrap_or_default()
     } else {
         Vec::new()
     };

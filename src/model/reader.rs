@@ -15,7 +15,7 @@ use super::elements::{Id, Ignored, Model, Omission};
 use super::scope::ModelScope;
 use super::statement::{read_statements, title_span, ItemKind, Statement};
 use super::stmt_args::{statement_label, Args};
-use super::{read_bodies, read_contact, read_data, read_graphics, read_links};
+use super::{read_bodies, read_contact, read_data, read_graphics, read_links, read_states};
 use crate::check::Expect;
 use crate::diag::{has_errors, Code, Diagnostic};
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -298,10 +298,17 @@ impl<'a> Reader<'a> {
             "EQUILIBRIUM" => read_data::equilibrium(self, &mut a),
             "OUTPUT" | "RESULTS" | "KINEMATICS" | "IC" => read_data::setting(self, &mut a),
             "GRAPHICS" if read_graphics::is_read(stmt) => read_graphics::graphics(self, &mut a),
+            "DIFF" => read_states::diff(self, &mut a),
+            "LSE" => read_states::lse(self, &mut a),
+            "TFSISO" => read_states::tfsiso(self, &mut a),
+            "MATRIX" => read_states::matrix(self, &mut a),
             "END" => {}
             _ => {
                 if let Some(kind) = stmt.canonical {
                     self.unsupported.entry(kind).or_default().push(stmt);
+                }
+                if stmt.canonical == Some("GSE") {
+                    self.diags.push(read_states::gse_refused(&a));
                 }
                 self.check_only(&mut a);
                 let found = a.finish();

@@ -33,7 +33,7 @@ pub fn element_statement(function: &str) -> Option<(&'static str, bool)> {
         "CVCV" => ("CVCV", false),
         "PTCV" => ("PTCV", false),
         "NFORCE" => ("NFORCE", false),
-        "DIF" | "DIF1" => ("DIFF", false),
+        "DIF" | "DIF1" => ("DIFF", true),
         "PINVAL" => ("PINPUT", false),
         "POUVAL" => ("POUTPUT", false),
         "SENVAL" => ("SENSOR", false),

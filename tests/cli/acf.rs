@@ -24,7 +24,7 @@ enum Outcome {
 use Outcome::*;
 
 /// The drill-string datasets' first failure (E0801 at their SFORCE 'topdrive').
-const DRILL: &str = "'topdrive': it reads ARYVAL, an ARRAY of control elements";
+const DRILL: &str = "JOINT measures forces: it is available once dynamics exist, not during assembly (a state element's expression may read kinematic";
 
 /// The FAST certification datasets' first failure.
 const FAST: &str = "[E0801] Error: SFORCE/2010 'YawActuator_SF': it reads VARVAL(2011), and VARIABLE/2011 has no FUNCTION mbfx can evaluate";
@@ -43,8 +43,9 @@ const COMMAND_FILES: &[(&str, Outcome)] = &[
         NoModel,
     ),
     // VARIABLE commands redefine the drill string's inputs (read and checked); the
-    // dataset stops first at SFORCE/1003, which reads the output of an LSE, and behind
-    // that its 47 GFORCEs and VARIABLEs call USER subroutines (adrill_solver's
+    // dataset stops first at a DIFF (9000905) that integrates a joint's reaction (a state
+    // element reading forces is refused), and behind that its 47 GFORCEs and VARIABLEs
+    // call USER subroutines (adrill_solver's
     // StringForces, BitForces, HoleCurveSub, Output4D) that exist only compiled.
     (
         "bthornton191__adamspy/test/existing_drillsim/test_analysis_1.acf",

@@ -27,5 +27,6 @@ mod rewind;
 mod run;
 mod solution_reads;
 mod springs;
+mod states;
 mod statics;
 mod validate;

@@ -1,6 +1,8 @@
 //! The evaluations at the current state that every step starts from: Φ and Φ_q over the
 //! kept rows ([`Dynamics::eval_constraints`], the fused row expressions first) and the
-//! generalized forces Q with ∂Q/∂q and ∂Q/∂v ([`Dynamics::eval_forces`]).
+//! generalized forces Q with ∂Q/∂q and ∂Q/∂v ([`Dynamics::eval_forces`]), after the
+//! state elements ([`crate::mbd::states`]), which are committed with an accepted state
+//! ([`Dynamics::commit_states`]).
 
 use super::setup::Dynamics;
 use crate::mbd::error::MbdError;
@@ -81,6 +83,10 @@ impl Dynamics {
     /// Q (gravity, force elements, gyroscopic moments) into `self.gen`, with ∂Q/∂q and
     /// ∂Q/∂v when `jacobians`.
     pub fn eval_forces(&mut self, jacobians: bool) -> Result<(), MbdError> {
+        // The state elements first: the forces may read them (none: nothing to do).
+        if !self.forces.states.is_empty() {
+            self.forces.states.solve(&mut self.sys)?;
+        }
         self.gen.clear();
         let bs = self.sys.dim.cols();
         let g = self.sys.gravity / self.sys.ucf;
@@ -142,5 +148,20 @@ impl Dynamics {
                 .eval_element(k, &self.sys, &mut self.gen, jacobians)?;
         }
         Ok(())
+    }
+
+    /// Commits the state elements at the current (accepted) state: a step, an
+    /// equilibrium, a kinematic solution.
+    pub fn commit_states(&mut self) -> Result<(), MbdError> {
+        self.forces.states.commit(&mut self.sys)
+    }
+
+    /// The state elements' local error over the step to the current candidate, as a
+    /// fraction of `error` (0 without states).
+    pub fn state_error(&mut self, error: f64) -> Result<f64, MbdError> {
+        if self.forces.states.is_empty() {
+            return Ok(0.0);
+        }
+        self.forces.states.local_error(&mut self.sys, error)
     }
 }

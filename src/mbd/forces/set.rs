@@ -36,6 +36,9 @@ pub struct ForceSet {
     /// Every expression's value in one call, when the compiler fuses and no expression
     /// reads the solution ([`ForceSet::fuse`]).
     fused: Option<Fused>,
+    /// The state elements (DIFF, LSE, TFSISO) whose values the forces may read: solved
+    /// before the forces at each evaluation ([`crate::mbd::states`]).
+    pub states: crate::mbd::states::StateSet,
 }
 
 /// The fused evaluation of a set's expressions: the function of their values and, when
@@ -188,6 +191,7 @@ impl ForceSet {
     pub fn forget_state(&mut self) {
         self.loads = vec![Loads::default(); self.elements.len()];
         self.solved = vec![0.0; self.solution.len()];
+        self.states.forget_state();
     }
 
     /// Adds every element's generalized forces (and, with `jacobians`, their ∂/∂q and

@@ -28,6 +28,7 @@
 
 pub mod modes;
 pub mod plant;
+pub mod states;
 
 use super::dynamics::{DynError, Dynamics};
 use super::freedom::{column_part, column_scale, coordinate_name, independent, null_space};
@@ -79,11 +80,16 @@ pub struct Linearized {
     /// The largest velocity and acceleration at the operating point, scaled
     /// (translations over the model length): 1/s and 1/s².
     pub rest: (f64, f64),
+    /// The state elements' rows and columns ([`states`]; empty without any).
+    pub states: states::StateCoupling,
 }
 
 /// Linearizes `d` about its current state; `damping` false leaves out C (Adams'
 /// NODAMPIN). The multipliers are solved at the state first (a state reached by
 /// dynamics or by statics alike). Fails when a free direction has no mass.
+///
+/// The state elements' states (DIFF, LSE, TFSISO) join as more states of A
+/// ([`states`]).
 pub fn linearize(d: &mut Dynamics, damping: bool) -> Result<Linearized, DynError> {
     let n = d.n;
     d.solve_accelerations()?;
@@ -131,17 +137,26 @@ pub fn linearize(d: &mut Dynamics, damping: bool) -> Result<Linearized, DynError
         .map(|col| coordinate_name(d, column_part(d, col).unwrap_or(System::GROUND), col))
         .collect();
     let reduce = |x: &DMat| basis.transpose() * x * &basis;
+    let coupling = states::coupling(d, &basis, &scale)?;
+    let (mut damping_r, mut stiffness_r) = (reduce(&c), reduce(&k));
+    if !coupling.is_empty() {
+        stiffness_r += &coupling.stiffness;
+        if damping {
+            damping_r += &coupling.damping;
+        }
+    }
     Ok(Linearized {
         time: d.sys.time,
         coords,
         mass: reduce(&m),
-        damping: reduce(&c),
-        stiffness: reduce(&k),
+        damping: damping_r,
+        stiffness: stiffness_r,
         basis,
         columns,
         scale,
         moving,
         rest,
+        states: coupling,
     })
 }
 
@@ -151,18 +166,25 @@ impl Linearized {
         self.coords.len()
     }
 
-    /// The state matrix A on x = (z, ż): [[0, I], [−M̃⁻¹·K̃, −M̃⁻¹·C̃]]. Fails when M̃ is
+    /// The state matrix A on x = (z, ż), then the state elements' states:
+    /// [[0, I], [−M̃⁻¹·K̃, −M̃⁻¹·C̃]] bordered as [`states`] says. Fails when M̃ is
     /// singular (a free direction without mass), naming the part of that direction.
     pub fn state_matrix(&self) -> Result<DMat, DynError> {
-        let f = self.freedom();
+        let (f, s) = (self.freedom(), self.states.len());
         if f == 0 {
-            return Ok(DMat::zeros(0, 0));
+            return Ok(match s {
+                0 => DMat::zeros(0, 0),
+                _ => self.states.dx.clone(),
+            });
         }
         let lu = self.mass.clone().lu();
         let rhs = {
-            let mut r = DMat::zeros(f, 2 * f);
+            let mut r = DMat::zeros(f, 2 * f + s);
             r.view_mut((0, 0), (f, f)).copy_from(&(-&self.stiffness));
             r.view_mut((0, f), (f, f)).copy_from(&(-&self.damping));
+            if s > 0 {
+                r.view_mut((0, 2 * f), (f, s)).copy_from(&self.states.force);
+            }
             r
         };
         let lower = lu.solve(&rhs).filter(|x| x.iter().all(|v| v.is_finite()));
@@ -174,21 +196,29 @@ impl Linearized {
                 directions: 1,
             });
         };
-        let mut a = DMat::zeros(2 * f, 2 * f);
+        let mut a = DMat::zeros(2 * f + s, 2 * f + s);
         for i in 0..f {
             a[(i, f + i)] = 1.0;
         }
-        a.view_mut((f, 0), (f, 2 * f)).copy_from(&lower);
+        a.view_mut((f, 0), (f, 2 * f + s)).copy_from(&lower);
+        if s > 0 {
+            let c = &self.states;
+            a.view_mut((2 * f, 0), (s, f)).copy_from(&c.dq);
+            a.view_mut((2 * f, f), (s, f)).copy_from(&c.dv);
+            a.view_mut((2 * f, 2 * f), (s, s)).copy_from(&c.dx);
+        }
         Ok(a)
     }
 
     /// The names of the states of [`Linearized::state_matrix`]: each coordinate, then
-    /// each one's rate (`d/dt PART/2 rotation about z`).
+    /// each one's rate (`d/dt PART/2 rotation about z`), then the state elements'
+    /// (`DIFF/3`, `LSE/2 x1`).
     pub fn state_names(&self) -> Vec<String> {
         let names = self.coords.iter().map(|c| c.name.clone());
         names
             .clone()
             .chain(names.map(|n| format!("d/dt {n}")))
+            .chain(self.states.names.iter().cloned())
             .collect()
     }
 }

@@ -43,10 +43,12 @@ pub fn modes(lin: &Linearized, shapes: bool) -> Result<Vec<Mode>, DynError> {
         return Ok(Vec::new());
     }
     let a = lin.state_matrix()?;
-    let fa = faer::Mat::<f64>::from_fn(2 * f, 2 * f, |i, j| a[(i, j)]);
+    // 2f, and one more per state element's state.
+    let size = a.nrows();
+    let fa = faer::Mat::<f64>::from_fn(size, size, |i, j| a[(i, j)]);
     let eig = fa.eigen().map_err(|_| DynError::Structure)?;
     let (values, vectors) = (eig.S().column_vector(), eig.U());
-    let mut order: Vec<usize> = (0..2 * f).filter(|&k| values[k].im >= 0.0).collect();
+    let mut order: Vec<usize> = (0..size).filter(|&k| values[k].im >= 0.0).collect();
     order.sort_by(|&x, &y| {
         let (p, q) = (values[x], values[y]);
         p.norm().total_cmp(&q.norm()).then(p.im.total_cmp(&q.im))

@@ -42,15 +42,26 @@ pub struct InputsOutputs {
 
 /// B, C and D of `lin` (linearized from `d`, whose last evaluations it leaves as they
 /// are) for the design variables `inputs` and the expressions `outputs`.
+///
+/// With state elements, B has a row per state (∂ẋ/∂u, [`super::states::input_rates`]) and
+/// C a column per state (an output's partial in a DIF or ARYVAL of an X array; one that
+/// reads a rate, an input or an output of a state element gets no partial through it).
 pub fn inputs_outputs(
     lin: &Linearized,
-    d: &Dynamics,
+    d: &mut Dynamics,
     inputs: &[i64],
     outputs: &[&Output],
 ) -> Result<InputsOutputs, DynError> {
-    let (f, n) = (lin.freedom(), d.n);
+    let (f, n, s) = (lin.freedom(), d.n, lin.states.len());
     let t = &lin.basis;
-    let mut b = DMat::zeros(2 * f, inputs.len());
+    let mut b = DMat::zeros(2 * f + s, inputs.len());
+    if s > 0 {
+        for (k, &id) in inputs.iter().enumerate() {
+            let rates = super::states::input_rates(d, id)?;
+            b.view_mut((2 * f, k), (s, 1)).copy_from(&rates);
+        }
+    }
+    let d: &Dynamics = d;
     if f > 0 && !inputs.is_empty() {
         let mut qu = DMat::zeros(n, inputs.len());
         for (k, &id) in inputs.iter().enumerate() {
@@ -71,10 +82,13 @@ pub fn inputs_outputs(
             })?;
         b.view_mut((f, 0), (f, inputs.len())).copy_from(&lower);
     }
-    let mut c = DMat::zeros(outputs.len(), 2 * f);
+    let mut c = DMat::zeros(outputs.len(), 2 * f + s);
     let mut dd = DMat::zeros(outputs.len(), inputs.len());
     for (row, out) in outputs.iter().enumerate() {
-        let (dq, dv, du) = partials(d, out, inputs)?;
+        let (dq, dv, du, dx) = partials(d, out, inputs)?;
+        for (k, x) in dx {
+            c[(row, 2 * f + k)] += x;
+        }
         let (cq, cv) = (t.transpose() * dq, t.transpose() * dv);
         for j in 0..f {
             c[(row, j)] = cq[j];
@@ -87,12 +101,9 @@ pub fn inputs_outputs(
     Ok(InputsOutputs { b, c, d: dd })
 }
 
-/// ∂y/∂q and ∂y/∂v over the velocity-layout columns, and ∂y/∂u for each input.
-fn partials(
-    d: &Dynamics,
-    out: &Output,
-    inputs: &[i64],
-) -> Result<(DVec, DVec, Vec<f64>), DynError> {
+/// ∂y/∂q and ∂y/∂v over the velocity-layout columns, ∂y/∂u for each input, and
+/// (state, ∂y/∂x) for the state elements' states it reads.
+fn partials(d: &Dynamics, out: &Output, inputs: &[i64]) -> Result<Partials, DynError> {
     let sys = &d.sys;
     let slots = out.f.slots();
     let mut vals = vec![0.0; slots.last().map_or(0, |&s| s as usize + 1)];
@@ -106,6 +117,7 @@ fn partials(
         .map_err(|why| MbdError::Plant(format!("{}: {why}", out.name)))?;
     let (mut dq, mut dv) = (DVec::zeros(d.n), DVec::zeros(d.n));
     let mut du = vec![0.0; inputs.len()];
+    let mut dx = Vec::new();
     for ((ev, &g), &m) in evs.iter().zip(&grad).zip(&out.map) {
         if g == 0.0 {
             continue;
@@ -116,9 +128,18 @@ fn partials(
             }
             continue;
         }
+        if let Measure::State { channel } = sys.measures.list[m] {
+            if let Some(k) = d.forces.states.state_of_channel(channel as usize) {
+                dx.push((k, g));
+            }
+            continue;
+        }
         ev.scatter(sys, &mut |col, x| dq[col] += g * x, &mut |col, x| {
             dv[col] += g * x
         });
     }
-    Ok((dq, dv, du))
+    Ok((dq, dv, du, dx))
 }
+
+/// ∂y/∂q, ∂y/∂v, ∂y/∂u and the (state, ∂y/∂x) pairs of one output.
+type Partials = (DVec, DVec, Vec<f64>, Vec<(usize, f64)>);

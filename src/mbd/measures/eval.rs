@@ -59,6 +59,14 @@ impl MeasureSet {
             .map_or(f64::NAN, |d| d.1)
     }
 
+    /// State value `channel` (NaN before the first state solve writes it).
+    pub fn state(&self, channel: u32) -> f64 {
+        self.states
+            .get(channel as usize)
+            .copied()
+            .unwrap_or(f64::NAN)
+    }
+
     /// The design variables the measures read, with their values.
     pub fn designs(&self) -> &[(i64, f64)] {
         &self.design
@@ -129,6 +137,7 @@ impl MeasureSet {
         // operations on the same numbers as through whole frames.
         match m {
             Measure::Design { id } => return self.design(id),
+            Measure::State { channel } => return self.state(channel),
             Measure::Disp { i, j, k, comp } if comp < 3 => {
                 let (a, b) = (sys.origin(i).0, sys.origin(j).0);
                 let d = V([a.x - b.x, a.y - b.y, a.z - b.z]);
@@ -170,6 +179,9 @@ impl MeasureSet {
         if let Measure::Design { id } = m {
             return J2::c(self.design(id));
         }
+        if let Measure::State { channel } = m {
+            return J2::c(self.state(channel));
+        }
         let frames = m.markers().map(|mk| {
             let f = sys.frame(mk);
             let p = sys.part(f.part);
@@ -203,6 +215,9 @@ impl MeasureSet {
         let m = self.list[n];
         if let Measure::Design { id } = m {
             return Some(D::c(self.design(id)));
+        }
+        if let Measure::State { channel } = m {
+            return Some(D::c(self.state(channel)));
         }
         // The measures that read only origins and axes get those alone (a whole dual frame
         // is 7 KB, an angle reads three of its eighteen vectors): the same values and
@@ -337,6 +352,7 @@ impl MeasureSet {
             AngVel { comp, .. } => f[0].w.sub(&f[1].w).dot(&f[2].axes[comp as usize]),
             AngVelMag { .. } => f[0].w.sub(&f[1].w).norm(),
             Design { id } => T::c(self.design(id)),
+            State { channel } => T::c(self.state(channel)),
             PinionAngle { .. } => {
                 let (i, j) = (&f[0], &f[1]);
                 let s = i.axes[0].dot(&i.axes[2].cross(&j.axes[2]));

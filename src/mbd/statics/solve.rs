@@ -41,16 +41,28 @@ struct Residual {
 /// the equilibrium's on return, `d.a` is zero. Fails with [`StaticsError::Failed`] naming
 /// what kept it from an equilibrium, or the direction along which the equilibrium found
 /// is not stable.
+///
+/// The state elements solve ẋ = 0 inside every evaluation, those with STATIC_HOLD held
+/// where they stand ([`crate::mbd::states::Mode::Static`]); the equilibrium's states are
+/// committed for the run that follows.
 pub fn equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, StaticsError> {
+    use crate::mbd::states::Mode;
+    d.forces.states.set_mode(Mode::Static);
     // A CONTACT with COULOMB_FRICTION = DYNAMICS_ONLY has no friction here.
     d.forces.contacts.statics = true;
-    let found = solve(d, s);
+    let mut found = solve_equilibrium(d, s);
     d.forces.contacts.statics = false;
+    if found.is_ok() {
+        if let Err(e) = d.commit_states() {
+            found = Err(e.into());
+        }
+    }
+    d.forces.states.set_mode(Mode::Dynamic);
     found
 }
 
-/// [`equilibrium`] with the contacts told it is statics.
-fn solve(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, StaticsError> {
+/// [`equilibrium`]'s Newton iteration, the contacts told it is statics.
+fn solve_equilibrium(d: &mut Dynamics, s: &EquilibriumSettings) -> Result<Report, StaticsError> {
     let (n, m) = (d.n, d.m);
     let zero = DVec::zeros(n);
     d.sys.set_v(&zero);

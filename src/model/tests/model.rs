@@ -217,7 +217,7 @@ fn equal_measure_calls_share_a_slot_and_vectors_take_three() {
          GCON/1, I = 21, FUNCTION = UVZ(21)*UVZ(11) - 1\n\
          DIFF/9, FUNCTION = DM(22, 11)",
     ));
-    // DIFF is outside the subset: its expression is checked but asks for no slot.
+    // A DIFF's expression asks for its slots like the others (issue 40 §3).
     let slot = |name: &str, ids: &[i64], component: u8| MeasureSlot {
         name: name.into(),
         ids: ids.to_vec(),
@@ -233,6 +233,7 @@ fn equal_measure_calls_share_a_slot_and_vectors_take_three() {
         slot("UVZ", &[11], 0),
         slot("UVZ", &[11], 1),
         slot("UVZ", &[11], 2),
+        slot("DM", &[22, 11], 0),
     ];
     assert_eq!(m.measures, want);
     assert_eq!(m.variables[1].function.function.uses.measures, vec![0, 2]);
@@ -565,6 +566,7 @@ fn unsupported_things_are_warnings_that_name_statement_id_and_line() {
          GRAPHICS/5, PLANE, RM = 21\n\
          SFORCE/2, I = 21, J = 11, FUNCTION = USER(1, 2)\n\
          DIFF/3, FUNCTION = TIME\n\
+         GSE/8, NS = 1\n\
          VARIABLE/4, FUNCTION = DIF(3)\n\
          VARIABLE/5, FUNCTION = USER(1)\n\
          VARIABLE/6, FUNCTION = VARVAL(5) + SFORCE(2, 0, 2, 0)",
@@ -576,8 +578,8 @@ fn unsupported_things_are_warnings_that_name_statement_id_and_line() {
         "MU_DYN_ROT of JOINT/1 (line 10)",
         "GRAPHICS is outside the mbfx subset: 1 statement ignored",
         "USER(...)",
-        "DIFF is outside the mbfx subset",
-        "DIF reads DIFF/3",
+        "GSE is outside the mbfx subset",
+        "GSE/8: a GSE's equations come from compiled user subroutines",
         "VARVAL reads VARIABLE/5, which calls a USER subroutine",
         "SFORCE reads SFORCE/2, which calls a USER subroutine",
     ];

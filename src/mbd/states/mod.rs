@@ -1,0 +1,203 @@
+//! The state elements in the core (issue 40 §3): DIFF, LSE and TFSISO as one block of
+//! first-order states x with ẋ = f(x, q, v, t) (or, for an IMPLICIT DIFF, 0 = f(ẋ, x, q,
+//! v, t)), whose values the expressions read through [`Measure::State`] (DIF, DIF1, and
+//! ARYVAL of an X, U or Y array).
+//!
+//! **How the integrators carry them.** The block is condensed into every evaluation of
+//! the forces: at a state (q, v, t) inside a step from the accepted (tₙ, xₙ, ẋₙ), the
+//! states solve the trapezoidal companion x = xₙ + (t − tₙ)/2·(ẋₙ + ẋ) together with
+//! their equations, by Newton on ẋ with a finite-difference Jacobian of the (small)
+//! block ([`StateSet::solve`]). So every integrator's Newton iteration, whatever its own
+//! formula, sees states consistent with its current iterate: BDF, HHT, generalized-α,
+//! Newmark and the explicit dopri853 (whose stages are evaluations too) alike, with no
+//! change to their state vectors. The accepted step commits the states ([`StateSet::commit`]);
+//! a rejected one leaves the committed ones. The states' own local error (the
+//! trapezoidal rule's, h³/12·x⃛ from divided differences of ẋ) joins the step's error
+//! estimate ([`StateSet::local_error`]).
+//!
+//! **Statics** ([`Mode::Static`]) solves ẋ = 0 for the states without STATIC_HOLD and
+//! keeps the others at their current values.
+//!
+//! [`Measure::State`]: crate::mbd::measure_set::Measure::State
+
+mod solve;
+
+use super::error::MbdError;
+use super::expr::ExprFn;
+use crate::model::states::LinearSystem;
+
+/// How the states are solved at an evaluation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    /// The trapezoidal companion from the committed states (a run).
+    #[default]
+    Dynamic,
+    /// ẋ = 0, STATIC_HOLD states held (statics).
+    Static,
+}
+
+/// An expression of the states with the measures its slots read.
+pub(crate) struct StateExpr {
+    /// The compiled expression.
+    pub(crate) f: Box<dyn ExprFn>,
+    /// The system measure of each of its slots, in the order of [`ExprFn::slots`].
+    pub(crate) map: Vec<usize>,
+}
+
+/// A DIFF in the core.
+pub(crate) struct DiffState {
+    /// `DIFF/3`.
+    pub(crate) label: String,
+    /// FUNCTION.
+    pub(crate) f: StateExpr,
+    /// IMPLICIT.
+    pub(crate) implicit: bool,
+    /// STATIC_HOLD.
+    pub(crate) static_hold: bool,
+    /// IC: x and (IMPLICIT) the first guess of ẋ.
+    pub(crate) ic: (f64, f64),
+}
+
+/// An LSE or TFSISO in the core: its matrices and its inputs' expressions.
+pub(crate) struct LinearState {
+    /// The matrices and sizes.
+    pub(crate) sys: LinearSystem,
+    /// The expression of each input (its VARIABLE's FUNCTION).
+    pub(crate) inputs: Vec<StateExpr>,
+    /// Its first state value ([`crate::model::states::StateElements::channel`]).
+    pub(crate) base: usize,
+}
+
+/// The model's state elements and where their integration stands.
+#[derive(Default)]
+pub struct StateSet {
+    pub(crate) diffs: Vec<DiffState>,
+    pub(crate) linear: Vec<LinearState>,
+    /// How the next evaluations solve them.
+    pub(crate) mode: Mode,
+    /// The values the measures read: per DIFF x, ẋ; per linear system x, ẋ, u, y.
+    pub(crate) channels: usize,
+    /// The committed time, states and rates; None before the first solve.
+    pub(crate) base: Option<Committed>,
+    /// The rates and step before the committed ones (for the error estimate).
+    pub(crate) previous: Option<(Vec<f64>, f64)>,
+    /// The unknowns of the last solve (its warm start).
+    pub(crate) z: Vec<f64>,
+    /// Scratch: the model slot values the expressions read.
+    pub(crate) slots: Vec<f64>,
+    /// The solves leave the state values as they stand (a linearization's differences
+    /// in the values the forces read).
+    pub frozen: bool,
+}
+
+/// The accepted states.
+#[derive(Clone, Debug)]
+pub(crate) struct Committed {
+    pub(crate) t: f64,
+    pub(crate) x: Vec<f64>,
+    pub(crate) rate: Vec<f64>,
+}
+
+impl StateSet {
+    /// Whether the model has none (every evaluation then skips them at no cost).
+    pub fn is_empty(&self) -> bool {
+        self.diffs.is_empty() && self.linear.is_empty()
+    }
+
+    /// How many states.
+    pub fn len(&self) -> usize {
+        self.diffs.len() + self.linear.iter().map(|l| l.sys.n).sum::<usize>()
+    }
+
+    /// Adds a DIFF; `label` names it in errors.
+    pub(crate) fn add_diff(&mut self, d: DiffState) {
+        self.diffs.push(d);
+        self.channels += 2;
+    }
+
+    /// Adds a linear system; its values follow the ones before.
+    pub(crate) fn add_linear(&mut self, sys: LinearSystem, inputs: Vec<StateExpr>) {
+        let base = self.channels;
+        self.channels += 2 * sys.n + sys.m + sys.p;
+        self.linear.push(LinearState { sys, inputs, base });
+    }
+
+    /// How the next evaluations solve the states (statics switches to [`Mode::Static`]
+    /// and back).
+    pub fn set_mode(&mut self, mode: Mode) {
+        if self.mode != mode {
+            self.mode = mode;
+            self.z.clear();
+        }
+    }
+
+    /// How the evaluations solve the states now.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Forgets the integration: the next solve starts again from the initial conditions.
+    pub fn forget_state(&mut self) {
+        (self.base, self.previous, self.mode) = (None, None, Mode::Dynamic);
+        self.z.clear();
+    }
+
+    /// The committed states (x, then ẋ), in the order DIFFs then linear systems.
+    pub fn committed(&self) -> Option<(&[f64], &[f64])> {
+        self.base
+            .as_ref()
+            .map(|b| (b.x.as_slice(), b.rate.as_slice()))
+    }
+
+    /// The states' names, in order: `DIFF/3`, `LSE/2 x1`.
+    pub fn names(&self) -> Vec<String> {
+        let mut out: Vec<String> = self.diffs.iter().map(|d| d.label.clone()).collect();
+        for l in &self.linear {
+            out.extend((1..=l.sys.n).map(|j| format!("{} x{j}", l.sys.label)));
+        }
+        out
+    }
+
+    /// The state whose value (x) channel `channel` is, if any.
+    pub fn state_of_channel(&self, channel: usize) -> Option<usize> {
+        if channel < 2 * self.diffs.len() {
+            return channel.is_multiple_of(2).then_some(channel / 2);
+        }
+        let mut k = self.diffs.len();
+        for l in &self.linear {
+            if (l.base..l.base + l.sys.n).contains(&channel) {
+                return Some(k + channel - l.base);
+            }
+            k += l.sys.n;
+        }
+        None
+    }
+
+    /// Moves committed state `k` by `dx` (a linearization's finite differences); the
+    /// next solve at the committed time reads it.
+    pub fn nudge(&mut self, k: usize, dx: f64) {
+        if let Some(b) = &mut self.base {
+            b.x[k] += dx;
+        }
+    }
+
+    /// The error a state element's solve fails with.
+    fn failure(&self, k: usize, why: &str) -> MbdError {
+        MbdError::State(format!("{}: {why}", self.label(k)))
+    }
+
+    /// The element state `k` belongs to (`DIFF/3`, `LSE/2`).
+    pub fn label(&self, k: usize) -> String {
+        if k < self.diffs.len() {
+            return self.diffs[k].label.clone();
+        }
+        let mut j = k - self.diffs.len();
+        for l in &self.linear {
+            if j < l.sys.n {
+                return l.sys.label.clone();
+            }
+            j -= l.sys.n;
+        }
+        "a state element".into()
+    }
+}

@@ -1,0 +1,224 @@
+//! State elements (issue 40 §3) against closed forms written here: DIFF (explicit and
+//! IMPLICIT), LSE and TFSISO step responses, a force driven by a DIFF, STATIC_HOLD in
+//! statics, and the wiper plant of the corpus, which lacks only DIFF. The datasets are
+//! under `tests/data/states/`, each with its closed form in its title line.
+
+use crate::run::{integrator_args, named, run_probed, run_raw};
+use mbfx::session::request::{run, RunRequest};
+use std::path::PathBuf;
+
+/// The BDF, the second-order family and the explicit method.
+const INTEGRATORS: [&str; 4] = ["gstiff", "hht", "galpha", "dopri853"];
+
+fn data(file: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/states")
+        .join(file)
+}
+
+/// A probe's column name, its expression and its closed form in time.
+type Probe<'a> = (&'a str, &'a str, &'a dyn Fn(f64) -> f64);
+
+/// Runs `file` 0–`end` at 0.05 s with `integrator` at ERROR `error`, probing `probes`;
+/// each probe's column against its closed form within `tol`.
+fn check(file: &str, (integrator, error): (&str, &str), end: &str, probes: &[Probe], tol: f64) {
+    let mut args = vec!["--end", end, "--output-step", "0.05", "--error", error];
+    args.extend(integrator_args(integrator));
+    let pairs: Vec<(&str, &str)> = probes.iter().map(|(n, e, _)| (*n, *e)).collect();
+    let csv = run_probed(&data(file), &args, &named(&pairs));
+    let t = csv.time();
+    assert!(t.len() > 10, "{file}: {} rows", t.len());
+    for (name, expr, exact) in probes {
+        let got = csv.col(name);
+        let worst = t
+            .iter()
+            .zip(&got)
+            .map(|(&t, &g)| (g - exact(t)).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < tol,
+            "{file} with {integrator}: {expr} is off its closed form by {worst:e} (tolerance {tol:e})"
+        );
+    }
+}
+
+#[test]
+fn diff_states_follow_exp_sin_and_an_implicit_quadratic_with_every_integrator_family() {
+    for integrator in INTEGRATORS {
+        check(
+            "diff_closed_forms.adm",
+            (integrator, "1e-6"),
+            "2",
+            &[
+                ("decay", "DIF(1)", &|t| (-t / 0.5).exp()),
+                ("sine", "DIF(2)", &|t: f64| t.sin()),
+                ("cosine", "DIF1(2)", &|t: f64| t.cos()),
+                ("quadratic", "DIF(3)", &|t| 1.0 + t * t),
+                ("rate", "DIF1(3)", &|t| 2.0 * t),
+            ],
+            1e-4,
+        );
+    }
+}
+
+#[test]
+fn lse_and_tfsiso_follow_their_analytic_step_responses() {
+    let lag = |t: f64| 1.0 - (-2.0 * t).exp();
+    // ωn²/(s² + 2ζωn·s + ωn²), unit step from rest.
+    let (wn, zeta) = (2.0f64, 0.5f64);
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    let second = move |t: f64| {
+        1.0 - (-zeta * wn * t).exp()
+            * ((wd * t).cos() + zeta / (1.0 - zeta * zeta).sqrt() * (wd * t).sin())
+    };
+    for integrator in INTEGRATORS {
+        check(
+            "linear_step_responses.adm",
+            (integrator, "1e-6"),
+            "4",
+            &[
+                ("lse_lag", "ARYVAL(13, 1)", &lag),
+                ("lse_lag_state", "ARYVAL(11, 1)", &lag),
+                ("lse_input", "ARYVAL(12, 1)", &|_| 1.0),
+                ("lse_second", "ARYVAL(23, 1)", &second),
+                ("tf_lag", "ARYVAL(33, 1)", &lag),
+                ("tf_second", "ARYVAL(43, 1)", &second),
+            ],
+            1e-4,
+        );
+    }
+}
+
+#[test]
+fn a_force_driven_by_a_diff_state_oscillates_at_its_closed_form() {
+    // 2·z̈ = −50·(z − z₀) with ż(0) = 1: z − z₀ = 0.2·sin(5t), and DIF(1) is that too.
+    for integrator in INTEGRATORS {
+        check(
+            "diff_drives_force.adm",
+            (integrator, "1e-7"),
+            "2",
+            &[
+                ("z", "DZ(20, 10)", &|t: f64| 0.2 * (5.0 * t).sin()),
+                ("y", "DIF(1)", &|t: f64| 0.2 * (5.0 * t).sin()),
+            ],
+            // 0.15 % of the amplitude: HHT's own period error over ten swings.
+            3e-4,
+        );
+    }
+}
+
+#[test]
+fn statics_holds_static_hold_states_at_their_ic_and_settles_the_others() {
+    let text = std::fs::read_to_string(data("static_hold.adm")).unwrap();
+    let mut r = RunRequest::dataset("static_hold.adm", &text);
+    r.statics = true;
+    r.probes = named(&[("z", "DZ(20, 10)"), ("held", "DIF(1)"), ("free", "DIF(2)")]);
+    let mut rows = Vec::new();
+    let mut sink = |row: &[f64]| -> std::io::Result<()> {
+        rows.push(row.to_vec());
+        Ok(())
+    };
+    run(&r, &mut sink, None).unwrap_or_else(|e| panic!("statics failed: {e:?}"));
+    let row = rows.last().expect("a row");
+    // −100·z + 3 + 2·1 − 1·9.81 = 0.
+    let z = (3.0 + 2.0 - 9.81) / 100.0;
+    assert!((row[1] - z).abs() < 1e-8, "z = {} vs {z}", row[1]);
+    assert!((row[2] - 3.0).abs() < 1e-12, "held DIFF at {}", row[2]);
+    assert!((row[3] - 1.0).abs() < 1e-8, "free DIFF at {}", row[3]);
+}
+
+#[test]
+fn the_wiper_plant_runs_with_its_diff_and_no_not_modelled_warning() {
+    let model = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(
+        "../shared/corpus/adams/Dinh-Hao-Nguyen__MSCAdams_Wiper_Project/ControlSimulink/Controls_Plant_5.adm",
+    );
+    let out = run_raw(
+        &model,
+        &[
+            "--end",
+            "0.2",
+            "--output-step",
+            "0.01",
+            "--probe",
+            "e=DIF(1)",
+            "--probe",
+            "w=WZ(99)",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("not modelled"), "{stderr}");
+    // DIFF/1 integrates VARVAL(29) = 20 − WZ(99): its rate is read back the same.
+    let csv = crate::run::Csv::parse(&String::from_utf8_lossy(&out.stdout));
+    let (t, e) = (csv.time(), csv.col("e"));
+    assert_eq!(e[0], 0.0, "IC = 0");
+    assert!(e.iter().all(|v| v.is_finite()));
+    // The integral of 20 − ω: ω starts at rest, so over the first rows e ≈ 20·t.
+    assert!(
+        (e[1] - 20.0 * t[1]).abs() < 0.05 * 20.0 * t[1],
+        "e = {} at {}",
+        e[1],
+        t[1]
+    );
+}
+
+#[test]
+fn an_lse_controlled_pendulum_linearizes_with_the_controller_state_in_a() {
+    // J·θ̈ = −m·g·d·θ − y, ẋ = a·x + b·θ, y = c·x + dd·θ (LSE/1 on u = AZ), J = i + m·d².
+    let (m, d, i, g) = (2.0, 1.5, 0.5, 9.81);
+    let (a, b, c, dd) = (-3.0, 2.0, 4.0, 10.0);
+    let text = format!(
+        "LSE-controlled pendulum\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+         PART/2, MASS = {m}, CM = 20, IP = {i}, {i}, {i}\nMARKER/20, PART = 2, QP = 0, -{d}, 0\n\
+         MARKER/21, PART = 2\nJOINT/1, REVOLUTE, I = 21, J = 10\nACCGRAV/JGRAV = -{g}\n\
+         VARIABLE/1, FUNCTION = AZ(21, 10)\n\
+         ARRAY/11, X\nARRAY/12, U, VARIABLES = 1\nARRAY/13, Y\n\
+         MATRIX/1, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {a}\n\
+         MATRIX/2, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {b}\n\
+         MATRIX/3, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {c}\n\
+         MATRIX/4, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = {dd}\n\
+         LSE/1, X = 11, U = 12, Y = 13, A = 1, B = 2, C = 3, D = 4\n\
+         SFORCE/1, ROTATIONAL, I = 21, J = 10, FUNCTION = -ARYVAL(13, 1)\nEND\n"
+    );
+    let j = i + m * d * d;
+    // On (θ, θ̇, x); a coordinate z = s·θ (the CM's x translation, s = d, or the rotation,
+    // s = 1) scales A by diag(s, s, 1).
+    let want = |s: f64| {
+        [
+            [0.0, 1.0, 0.0],
+            [-(m * g * d + dd) / j, 0.0, -c * s / j],
+            [b / s, 0.0, a],
+        ]
+    };
+    for dim in [
+        mbfx::session::DimRequest::Auto,
+        mbfx::session::DimRequest::Three,
+    ] {
+        let mut r = RunRequest::dataset("lse_pendulum.adm", &text);
+        (r.statics, r.dim) = (true, dim);
+        r.linear = Some(mbfx::session::request::LinearRequest::eigensol(None));
+        let mut sink = |_: &[f64]| -> std::io::Result<()> { Ok(()) };
+        let done = run(&r, &mut sink, None).unwrap_or_else(|f| panic!("{}", f.cause));
+        let lin = &done.summary.linear[0].linearized;
+        let names = lin.state_names();
+        let scale = match names[0].as_str() {
+            "PART/2 rotation about z" => 1.0,
+            "PART/2 x translation" => d,
+            other => panic!("{dim:?}: coordinate {other}"),
+        };
+        assert_eq!(
+            names[1..],
+            [format!("d/dt {}", names[0]), "LSE/1 x1".into()]
+        );
+        let got = lin.state_matrix().unwrap();
+        for (r, row) in want(scale).iter().enumerate() {
+            for (k, w) in row.iter().enumerate() {
+                let e = got[(r, k)];
+                assert!(
+                    (e - w).abs() < 1e-7 * (1.0 + w.abs()),
+                    "{dim:?}: A[{r}][{k}] = {e} vs {w}\n{got}"
+                );
+            }
+        }
+    }
+}
