@@ -20,7 +20,8 @@ pub fn from_parry(v: DVec3) -> Vec3 {
 /// re-orthonormalised first: a pose integrated by the core drifts by round-off, and
 /// glam's conversion assumes an exact rotation.
 pub fn rotation_to_parry(rot: &Mat3) -> DQuat {
-    let r = nalgebra::Rotation3::from_matrix(rot);
+    // Bounded iterations: the unbounded form never ends on a matrix with a NaN.
+    let r = nalgebra::Rotation3::from_matrix_eps(rot, 1e-15, 50, nalgebra::Rotation3::identity());
     let m = r.matrix();
     let cols = [0, 1, 2].map(|c| DVec3::new(m[(0, c)], m[(1, c)], m[(2, c)]));
     DQuat::from_mat3(&DMat3::from_cols(cols[0], cols[1], cols[2])).normalize()

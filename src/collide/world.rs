@@ -84,7 +84,13 @@ impl World {
     pub fn update(&mut self, part_pose: &dyn Fn(Id) -> Pose) {
         let first = !self.placed;
         for (k, g) in self.geometries.iter().enumerate() {
-            let frame = compose(&part_pose(g.part), &g.frame);
+            let part = part_pose(g.part);
+            if !(part.r.iter().chain(part.rot.iter())).all(|v| v.is_finite()) {
+                // A state with a NaN (a failing step) keeps the geometry where it was:
+                // the core rejects the state; the broad phase must not be fed a NaN.
+                continue;
+            }
+            let frame = compose(&part, &g.frame);
             self.poses[k] = pose_to_parry(&compose(&frame, &g.fix));
             self.boxes[k] = g.shape.compute_aabb(&self.poses[k]);
             let Some(plane) = &self.plane else {

@@ -132,3 +132,26 @@ fn a_box_flat_on_a_box_pushes_at_the_centre_of_the_overlap() {
         1e-9,
     );
 }
+
+#[test]
+fn a_pose_with_a_nan_leaves_the_geometry_where_it_was() {
+    use crate::collide::Pose;
+    let m = model(&format!("{FLOOR}\n{}", ball(0.0, 0.0, 0.4, 0.5)));
+    let mut w = world(&m, &[2, 100], &[(0, 1)], Space::Three);
+    let before = incidents(&w, 0);
+    w.update(&|id| {
+        let p = m.part(id).unwrap();
+        Pose {
+            r: if id == 2 {
+                Vec3::new(f64::NAN, 0.0, 0.0)
+            } else {
+                p.position
+            },
+            rot: p.orientation,
+        }
+    });
+    let mut found = Vec::new();
+    w.candidates(&mut found);
+    assert_eq!(found, vec![0]);
+    assert_eq!(incidents(&w, 0), before);
+}
