@@ -221,7 +221,7 @@ impl System {
 
 impl System {
     /// The force elements of `model` (SFORCE, VFORCE, VTORQUE, GFORCE, SPRINGDAMPER,
-    /// BUSHING) with their expressions compiled by `exprs` (VARIABLEs inlined). Gravity
+    /// BUSHING, BEAM, FIELD) with their expressions compiled by `exprs` (VARIABLEs inlined). Gravity
     /// is the system's own ([`System::gravity`]).
     pub fn forces_from_model(
         &mut self,
@@ -321,6 +321,35 @@ impl System {
                 ct: b.ct,
                 force: b.force,
                 torque: b.torque,
+                angles,
+            };
+            set.elements.push(ForceElement::new(r, i, Some(j), law));
+        }
+        let linear = (model.beams.iter())
+            .map(|b| {
+                (
+                    ForceKind::Beam,
+                    &b.el,
+                    b.i,
+                    b.j,
+                    crate::mbd::forces::beam_law(b),
+                )
+            })
+            .chain(model.fields.iter().map(|f| {
+                let law = crate::mbd::forces::field::Linear6 {
+                    k: *f.k,
+                    c: *f.c,
+                    length: f.length,
+                    preload: f.preload,
+                };
+                (ForceKind::Field, &f.el, f.i, f.j, law)
+            }));
+        for (kind, el, i, j, law) in linear {
+            let r = force_ref(kind, el);
+            let (i, j) = (marker(self, i)?, marker(self, j)?);
+            let angles = [0, 1, 2].map(|a| self.measures.add(angle_of(i, Some(j), a)));
+            let law = ForceLaw::Field {
+                law: Box::new(law),
                 angles,
             };
             set.elements.push(ForceElement::new(r, i, Some(j), law));

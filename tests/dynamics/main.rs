@@ -12,6 +12,7 @@ mod a02;
 mod adams;
 mod andrews;
 mod bdf;
+mod beams;
 mod contact;
 mod dense;
 mod exact;

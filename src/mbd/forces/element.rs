@@ -79,6 +79,15 @@ pub enum ForceLaw {
         /// Indices of the AX, AY, AZ measures of I relative to J.
         angles: [usize; 3],
     },
+    /// FIELD and BEAM: (F, T) = −K·(X − L) − C·V + (F₀, T₀) in J axes on I, X the
+    /// deflection of I relative to J (the AX, AY, AZ measures `angles` for its angles);
+    /// the reaction on J.
+    Field {
+        /// K, C, L and the preload.
+        law: Box<super::field::Linear6>,
+        /// Indices of the AX, AY, AZ measures of I relative to J.
+        angles: [usize; 3],
+    },
 }
 
 /// One force element.
@@ -149,7 +158,9 @@ impl ForceElement {
             .collect();
         match &self.law {
             ForceLaw::RotSpring { angle_measure, .. } => out.push(*angle_measure),
-            ForceLaw::Bushing { angles, .. } => out.extend_from_slice(angles),
+            ForceLaw::Bushing { angles, .. } | ForceLaw::Field { angles, .. } => {
+                out.extend_from_slice(angles)
+            }
             _ => {}
         }
         out
