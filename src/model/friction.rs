@@ -309,9 +309,11 @@ pub(super) fn friction(r: &mut Reader, a: &mut Args) {
         .find(|j| j.el.id == joint)
         .map(|j| j.kind);
     if let Some(joint_type) = joint_type.filter(|t| !FRICTION_JOINTS.contains(t)) {
+        let flag = crate::vocab::elements::ElementKind::Joint(joint_type).flag();
         let msg = format!(
-            "{} names a {:?} joint; friction acts in revolute, translational, cylindrical, spherical, Hooke and universal joints",
-            a.label, joint_type
+            "{} names a {} joint; friction acts in revolute, translational, cylindrical, spherical, Hooke and universal joints",
+            a.label,
+            flag.unwrap_or_default()
         );
         a.error(Code::BadArgument, span, msg);
         return;
@@ -344,4 +346,77 @@ pub(super) fn friction(r: &mut Reader, a: &mut Args) {
         overlap_delta,
         inactive_static,
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::read_model;
+
+    const HEAD: &str = "fr\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        PART/2, MASS = 1, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+        JOINT/1, REVOLUTE, I = 20, J = 10\nJOINT/2, FIXED, I = 20, J = 10\n";
+
+    #[test]
+    fn arguments_read_with_adams_defaults() {
+        let read = read_model(&format!(
+            "{HEAD}FRICTION/1, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = 0.2, \
+             INPUTS = (PRELOAD:REACTION_FORCE), EFFECT = SLIDING, OVERLAP_DELTA = INCREASE\n\
+             FRICTION/2, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = 0.2, INACTIVE_DURING = STATIC\nEND\n"
+        ));
+        assert!(!read.has_errors(), "{:?}", read.diagnostics);
+        let f = &read.model.frictions[0];
+        assert_eq!(
+            (f.mu_static, f.mu_dynamic, f.effect),
+            (0.3, 0.2, FrictionEffect::Sliding)
+        );
+        assert_eq!(
+            (
+                f.inputs.preload,
+                f.inputs.reaction_force,
+                f.inputs.bending_moment
+            ),
+            (true, true, false)
+        );
+        assert_eq!(f.overlap_delta, OverlapDelta::Increase);
+        // Adams' defaults.
+        assert_eq!((f.stiction_velocity, f.transition_coefficient), (0.1, 1.5));
+        assert_eq!(
+            (f.pin_radius, f.friction_arm, f.bending_arm),
+            (1.0, 1.0, 1.0)
+        );
+        assert!(read.model.frictions[1].inactive_static);
+        assert!(read.model.ignored.is_empty(), "{:?}", read.model.ignored);
+    }
+
+    #[test]
+    fn a_fixed_or_missing_joint_or_a_negative_mu_is_an_error_at_its_value() {
+        for (text, what) in [
+            (
+                "FRICTION/1, JOINT = 2, MU_STATIC = 0.3, MU_DYNAMIC = 0.2",
+                "names a FIXED joint",
+            ),
+            (
+                "FRICTION/1, JOINT = 7, MU_STATIC = 0.3, MU_DYNAMIC = 0.2",
+                "JOINT/7 is not defined",
+            ),
+            (
+                "FRICTION/1, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = -0.2",
+                "must not be negative",
+            ),
+            ("FRICTION/1, JOINT = 1, MU_STATIC = 0.3", "needs MU_DYNAMIC"),
+        ] {
+            let full = format!("{HEAD}{text}\nEND\n");
+            let read = read_model(&full);
+            let e = (read.diagnostics.iter())
+                .find(|d| d.severity == crate::diag::Severity::Error)
+                .unwrap_or_else(|| panic!("{text}: no error"));
+            assert!(e.message.contains(what), "{text}: {}", e.message);
+            assert!(read.model.frictions.is_empty(), "{text}");
+            assert!(
+                e.span.end <= full.len() && e.span.start >= HEAD.len() - 60,
+                "{text}"
+            );
+        }
+    }
 }

@@ -20,6 +20,7 @@ use crate::model::ModelRead;
 
 mod columns;
 mod estimate;
+mod friction_columns;
 mod rebuild;
 mod segments;
 mod simulation;

@@ -18,6 +18,7 @@ mod dense;
 mod exact;
 mod explicit;
 mod failures;
+mod friction;
 mod kinematics;
 mod linear;
 mod motions;

@@ -88,6 +88,9 @@ pub enum ForceLaw {
         /// Indices of the AX, AY, AZ measures of I relative to J.
         angles: [usize; 3],
     },
+    /// FRICTION: the friction of the joint between I and J, loaded by the joint's
+    /// reaction (solution values); the reaction on J.
+    Friction(Box<super::friction::JointFriction>),
 }
 
 /// One force element.
@@ -144,6 +147,20 @@ impl ForceElement {
             .into_iter()
             .flat_map(|(f, t)| f.iter_mut().chain(t.iter_mut()).flat_map(|b| b.iter_mut()));
         one.into_iter().chain(three)
+    }
+
+    /// The solution values the element reads: its expressions' and its law's.
+    pub(super) fn solution_reads(&self) -> Vec<usize> {
+        let mut r: Vec<usize> = self
+            .expressions()
+            .flat_map(|s| s.solution_reads())
+            .collect();
+        if let ForceLaw::Friction(f) = &self.law {
+            r.extend_from_slice(&f.reaction);
+        }
+        r.sort_unstable();
+        r.dedup();
+        r
     }
 
     /// The measures the element's expressions and laws read.

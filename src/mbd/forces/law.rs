@@ -165,6 +165,10 @@ impl ForceElement {
                 let (fv, tv) = law.loads(sys, &fi, &fj, angles, &mut slots);
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
+            ForceLaw::Friction(law) => {
+                let (fv, tv) = law.loads(&fi, &fj, inputs.solved);
+                (fv, tv, neg_v(&fv), neg_v(&tv), true)
+            }
         };
         let pi = sys.marker(self.i).part;
         let pj = self.j.map_or(System::GROUND, |j| sys.marker(j).part);

@@ -168,6 +168,19 @@ impl Simulation {
                 }
             }
         }
+        for (name, text) in super::friction_columns::columns(&read.model) {
+            match read.compile(&text, &Variables::new(), Expect::Scalar) {
+                Ok(c) => columns.push(Column {
+                    name,
+                    function: c.function.clone(),
+                    source: Expr {
+                        span: 0..0,
+                        function: c.function,
+                    },
+                }),
+                Err(_) => notes.push(format!("{name} ({text}) left out: it does not check")),
+            }
+        }
         let exprs = analysis.exprs;
         let mut system = analysis.system;
         // (The columns added their measures to the dataset's slots.)
