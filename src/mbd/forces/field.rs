@@ -9,7 +9,7 @@
 //!
 //! on I, and the reaction on J: −F at I's origin and −T (the beam's equilibrium: the
 //! force and the moment of its arm about J). A BEAM is this law with Timoshenko's K
-//! ([`super::beam`]) and L = (LENGTH, 0, …). This file holds the law's constants; the
+//! (the `beam` module) and L = (LENGTH, 0, …). This file holds the law's constants; the
 //! evaluation is in `field_loads`.
 
 pub use crate::model::beams::Mat6;
