@@ -228,7 +228,7 @@ impl System {
 
 impl System {
     /// The force elements of `model` (SFORCE, VFORCE, VTORQUE, GFORCE, SPRINGDAMPER,
-    /// BUSHING) with their expressions compiled by `exprs` (VARIABLEs inlined). Gravity
+    /// BUSHING, BEAM, FIELD) with their expressions compiled by `exprs` (VARIABLEs inlined). Gravity
     /// is the system's own ([`System::gravity`]).
     pub fn forces_from_model(
         &mut self,
@@ -344,6 +344,39 @@ impl System {
             set.elements.push(ForceElement::new(r, i, Some(j), law));
         }
         set.states = self.states_from_model(model, exprs)?;
+        let linear = (model.beams.iter())
+            .map(|b| {
+                (
+                    ForceKind::Beam,
+                    &b.el,
+                    b.i,
+                    b.j,
+                    crate::mbd::forces::beam_law(b),
+                )
+            })
+            .chain(model.fields.iter().map(|f| {
+                let law = crate::mbd::forces::field::Linear6 {
+                    k: *f.k,
+                    c: *f.c,
+                    length: f.length,
+                    preload: f.preload,
+                };
+                (ForceKind::Field, &f.el, f.i, f.j, law)
+            }));
+        for (kind, el, i, j, law) in linear {
+            let r = force_ref(kind, el);
+            let (i, j) = (marker(self, i)?, marker(self, j)?);
+            let angles = [0, 1, 2].map(|a| self.measures.add(angle_of(i, Some(j), a)));
+            let law = ForceLaw::Field {
+                law: Box::new(law),
+                angles,
+            };
+            set.elements.push(ForceElement::new(r, i, Some(j), law));
+        }
+        for f in &model.frictions {
+            let el = self.joint_friction(model, f, (&mut set.solution, &mut set.names))?;
+            set.elements.push(el);
+        }
         set.fuse(exprs);
         set.contacts = super::contacts::ContactSet::from_model(self, model, meshes)?;
         Ok(set)
@@ -399,6 +432,62 @@ impl System {
             set.add_linear(s, inputs);
         }
         Ok(set)
+    }
+
+    /// The force element of FRICTION `f`: between its joint's markers, reading the
+    /// joint's reaction on I in J's axes as six solution values appended to `solution`.
+    fn joint_friction(
+        &mut self,
+        model: &Model,
+        f: &crate::model::friction::Friction,
+        (solution, names): (&mut Vec<OutputSlot>, &mut Vec<String>),
+    ) -> Result<ForceElement, MbdError> {
+        use crate::mbd::forces::friction::{FrictionJoint, JointFriction};
+        let fail = |why| MbdError::FrictionJoint {
+            friction: f.el.id,
+            joint: i64::from(f.joint),
+            why,
+        };
+        let joint = (model.joints.iter())
+            .find(|j| j.el.id == f.joint)
+            .ok_or(fail("does not exist"))?;
+        let slips = FrictionJoint::of(joint.kind).ok_or(fail(
+            "is of a type friction does not act in (revolute, translational, cylindrical, \
+             spherical, Hooke, universal)",
+        ))?;
+        let element = (self.elements.iter())
+            .position(|e| e.elref.id == f.joint && matches!(e.elref.kind, ElementKind::Joint(_)))
+            .ok_or(fail("is not among the system's constraints"))?;
+        let marker = |sys: &System, id: Id| {
+            sys.marker_by_id(id)
+                .ok_or(MbdError::UnknownMarker(id as i64))
+        };
+        let (i, j) = (marker(self, joint.i)?, marker(self, joint.j)?);
+        let reaction = [2u8, 3, 4, 6, 7, 8].map(|comp| {
+            solution.push(OutputSlot::ElementForce {
+                constraint: true,
+                element,
+                jflag: false,
+                comp,
+                rm: Some(j),
+            });
+            names.push(format!("JOINT({}, 0, {comp}, {})", f.joint, joint.j));
+            solution.len() - 1
+        });
+        let (fi, fj) = (self.frame(Some(i)), self.frame(Some(j)));
+        let travel0 = (fi.r - fj.r).dot(&fj.rot.column(2));
+        let law = JointFriction::new(f, slips, reaction, travel0);
+        let r = ElementRef {
+            kind: ElementKind::Force(ForceKind::Friction),
+            id: f.el.id,
+            name: f.el.name.clone(),
+        };
+        Ok(ForceElement::new(
+            r,
+            i,
+            Some(j),
+            ForceLaw::Friction(Box::new(law)),
+        ))
     }
 
     /// A force expression compiled with its derivative, its measures resolved: marker

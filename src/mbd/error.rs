@@ -74,6 +74,16 @@ pub enum MbdError {
         /// The joint id it names.
         joint: i64,
     },
+    /// A FRICTION on a JOINT the model does not have or of a type friction does not act
+    /// in.
+    FrictionJoint {
+        /// The FRICTION's id.
+        friction: u32,
+        /// The joint id it names.
+        joint: i64,
+        /// What is wrong with it, in words.
+        why: &'static str,
+    },
     /// VARVAL of a VARIABLE without a FUNCTION mbfx can evaluate.
     Variable(i64),
     /// The model's SPLINE data cannot be used (why, in the model's words).
@@ -201,6 +211,11 @@ impl fmt::Display for MbdError {
             MbdError::UnknownMotionJoint { motion, joint } => {
                 write!(f, "MOTION/{motion}: JOINT/{joint} does not exist")
             }
+            MbdError::FrictionJoint {
+                friction,
+                joint,
+                why,
+            } => write!(f, "FRICTION/{friction}: JOINT/{joint} {why}"),
             MbdError::Plant(why) => write!(f, "LINEAR/STATEMAT: {why}"),
             MbdError::State(why) => f.write_str(why),
             MbdError::Variable(id) => write!(

@@ -231,7 +231,7 @@ impl OutputSlot {
                 }
             }
             "JOINT" | "JPRIM" | "MOTION" | "SFORCE" | "VFORCE" | "VTORQ" | "GFORCE" | "BUSH"
-            | "SPDP" => {
+            | "SPDP" | "BEAM" | "FIELD" | "FRICTION" => {
                 let id = ids.first().copied().unwrap_or(0);
                 let jflag = ids.get(1).copied().unwrap_or(0) != 0;
                 let c = ids.get(2).copied().unwrap_or(1);
@@ -255,6 +255,9 @@ impl OutputSlot {
                     "GFORCE" => Some(ForceKind::Gforce),
                     "BUSH" => Some(ForceKind::Bushing),
                     "SPDP" => Some(ForceKind::Springdamper),
+                    "BEAM" => Some(ForceKind::Beam),
+                    "FIELD" => Some(ForceKind::Field),
+                    "FRICTION" => Some(ForceKind::Friction),
                     _ => None,
                 };
                 let found = match force_kind {
@@ -283,12 +286,15 @@ impl OutputSlot {
 }
 
 /// The index of force element `id` of kind `fk` in the order [`System::forces_from_model`]
-/// builds them (SFORCE, then VFORCE/VTORQUE/GFORCE, SPRINGDAMPER, BUSHING).
+/// builds them (SFORCE, then VFORCE/VTORQUE/GFORCE, SPRINGDAMPER, BUSHING, BEAM, FIELD,
+/// FRICTION).
 fn model_force_index(model: &Model, fk: ForceKind, id: i64) -> Option<usize> {
     use crate::model::elements::VectorForceKind;
     let sf = model.sforces.len();
     let vf = model.vector_forces.len();
     let sd = model.spring_dampers.len();
+    let bu = model.bushings.len();
+    let (be, fi) = (model.beams.len(), model.fields.len());
     let id_is = |x: u32| x as i64 == id;
     match fk {
         ForceKind::Sforce => model.sforces.iter().position(|f| id_is(f.el.id)),
@@ -314,5 +320,20 @@ fn model_force_index(model: &Model, fk: ForceKind, id: i64) -> Option<usize> {
             .iter()
             .position(|f| id_is(f.el.id))
             .map(|k| sf + vf + sd + k),
+        ForceKind::Beam => model
+            .beams
+            .iter()
+            .position(|f| id_is(f.el.id))
+            .map(|k| sf + vf + sd + bu + k),
+        ForceKind::Field => model
+            .fields
+            .iter()
+            .position(|f| id_is(f.el.id))
+            .map(|k| sf + vf + sd + bu + be + k),
+        ForceKind::Friction => model
+            .frictions
+            .iter()
+            .position(|f| id_is(f.el.id))
+            .map(|k| sf + vf + sd + bu + be + fi + k),
     }
 }

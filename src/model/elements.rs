@@ -58,6 +58,12 @@ pub struct Model {
     pub bushings: Vec<Bushing>,
     /// CONTACT statements (issue 40 §1).
     pub contacts: Vec<super::contact::Contact>,
+    /// BEAM statements.
+    pub beams: Vec<super::beams::Beam>,
+    /// FIELD statements.
+    pub fields: Vec<super::beams::Field>,
+    /// FRICTION statements (joint friction).
+    pub frictions: Vec<super::friction::Friction>,
     /// VARIABLE statements (read by `VARVAL`).
     pub variables: Vec<Variable>,
     /// PINPUT and POUTPUT statements.
@@ -537,7 +543,7 @@ impl Part {
 
 impl Model {
     /// How many elements of each statement kind the model holds, in a fixed order.
-    pub fn element_counts(&self) -> [(&'static str, usize); 16] {
+    pub fn element_counts(&self) -> [(&'static str, usize); 19] {
         let forces = |k: VectorForceKind| self.vector_forces.iter().filter(|f| f.kind == k).count();
         [
             ("PART", self.parts.len()),
@@ -552,6 +558,9 @@ impl Model {
             ("GFORCE", forces(VectorForceKind::Gforce)),
             ("SPRINGDAMPER", self.spring_dampers.len()),
             ("BUSHING", self.bushings.len()),
+            ("BEAM", self.beams.len()),
+            ("FIELD", self.fields.len()),
+            ("FRICTION", self.frictions.len()),
             ("VARIABLE", self.variables.len()),
             ("SPLINE", self.splines.len()),
             ("ARRAY", self.arrays.len()),

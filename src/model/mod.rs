@@ -15,6 +15,7 @@
 //! and EQUILIBRIUM statements for both.
 
 mod args;
+pub mod beams;
 pub mod command_changes;
 mod command_lines;
 pub mod commands;
@@ -25,6 +26,7 @@ pub mod equilibrium_settings;
 mod expected;
 pub mod expressions;
 pub mod frames;
+pub mod friction;
 pub mod graphics;
 pub mod inertia;
 pub mod integrator_settings;

@@ -288,6 +288,9 @@ impl<'a> Reader<'a> {
             "SPRINGDAMPER" => read_links::spring_damper(self, &mut a),
             "BUSHING" => read_links::bushing(self, &mut a),
             "CONTACT" => read_contact::contact(self, &mut a),
+            "BEAM" => super::beams::beam(self, &mut a),
+            "FIELD" => super::beams::field(self, &mut a),
+            "FRICTION" => super::friction::friction(self, &mut a),
             "VARIABLE" => read_data::variable(self, &mut a),
             "SPLINE" => read_data::spline(self, &mut a),
             "ARRAY" => read_data::array(self, &mut a),
@@ -451,7 +454,7 @@ mod tests {
     fn the_model_carries_what_it_leaves_out_with_counts_and_lines() {
         let read = read_model(
             "t\nPART/1, GROUND\nMARKER/10, PART = 1\nGRAPHICS/1, PLANE, RM = 10\n\
-             FRICTION/1, JOINT = 1\nFRICTION/2, JOINT = 1\nWIDGET/3\n\
+             COUPLER/1, TYPE = 1\nCOUPLER/2, TYPE = 1\nWIDGET/3\n\
              SFORCE/4, I = 10, J = 10, FUNCTION = USER(1)\nEND\n",
         );
         let got: Vec<_> = (read.model.ignored.iter())
@@ -460,7 +463,7 @@ mod tests {
         assert_eq!(
             got,
             [
-                ("FRICTION", Omission::Unsupported, true, 2, 5),
+                ("COUPLER", Omission::Unsupported, true, 2, 5),
                 ("GRAPHICS", Omission::Unsupported, false, 1, 4),
                 ("WIDGET", Omission::Unknown, true, 1, 7),
                 ("USER", Omission::UserCall, true, 1, 8),
@@ -469,7 +472,7 @@ mod tests {
         let line = super::super::report::not_modelled(&read.model.ignored);
         assert_eq!(
             line.as_deref(),
-            Some("not modelled: 2 FRICTION, 1 WIDGET, 1 USER subroutine — the results leave out their physics")
+            Some("not modelled: 2 COUPLER, 1 WIDGET, 1 USER subroutine — the results leave out their physics")
         );
     }
 }

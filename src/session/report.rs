@@ -157,6 +157,9 @@ pub(crate) fn element_span(model: &Model, e: &ElementRef) -> Span {
                 }
                 ForceKind::Springdamper => find(model.spring_dampers.iter().map(|f| &f.el), e.id),
                 ForceKind::Bushing => find(model.bushings.iter().map(|f| &f.el), e.id),
+                ForceKind::Beam => find(model.beams.iter().map(|f| &f.el), e.id),
+                ForceKind::Field => find(model.fields.iter().map(|f| &f.el), e.id),
+                ForceKind::Friction => find(model.frictions.iter().map(|f| &f.el), e.id),
             }
             .unwrap_or(0..0);
         }

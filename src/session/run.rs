@@ -21,6 +21,7 @@ use crate::model::ModelRead;
 mod columns;
 mod contact_meshes;
 mod estimate;
+mod friction_columns;
 mod rebuild;
 mod segments;
 mod simulation;

@@ -63,6 +63,12 @@ pub enum ForceKind {
     Springdamper,
     /// BUSHING: linear six-component spring and damper.
     Bushing,
+    /// BEAM: Timoshenko's linear beam between two markers.
+    Beam,
+    /// FIELD: a 6×6 linear stiffness and damping between two markers.
+    Field,
+    /// FRICTION: the friction of a joint, loaded by the joint's reaction.
+    Friction,
 }
 
 /// The kind of element a constraint equation, a force or a message belongs to.
@@ -160,6 +166,9 @@ pub static ELEMENT_NAMES: &[ElementName] = &[
     force(ForceKind::Gforce, "GFORCE"),
     force(ForceKind::Springdamper, "SPRINGDAMPER"),
     force(ForceKind::Bushing, "BUSHING"),
+    force(ForceKind::Beam, "BEAM"),
+    force(ForceKind::Field, "FIELD"),
+    force(ForceKind::Friction, "FRICTION"),
     // No dataset statement makes one (see `ElementKind::in_dataset`): the name is
     // Exudyn's (`ObjectJointPrismatic2D`) in the dataset's upper case.
     plain(ElementKind::Prismatic2d, "PRISMATIC2D"),
@@ -260,7 +269,17 @@ mod tests {
             ParallelAxes,
             Perpendicular,
         ];
-        let forces = [Sforce, Vforce, Vtorque, Gforce, Springdamper, Bushing];
+        let forces = [
+            Sforce,
+            Vforce,
+            Vtorque,
+            Gforce,
+            Springdamper,
+            Bushing,
+            Beam,
+            Field,
+            Friction,
+        ];
         let all: Vec<ElementKind> = (joints.into_iter().map(Joint))
             .chain(jprims.into_iter().map(Jprim))
             .chain([Gcon, Motion, Prismatic2d])
@@ -276,7 +295,10 @@ mod tests {
                 | Gcon
                 | Motion
                 | Prismatic2d
-                | Force(Sforce | Vforce | Vtorque | Gforce | Springdamper | Bushing) => {}
+                | Force(
+                    Sforce | Vforce | Vtorque | Gforce | Springdamper | Bushing | Beam | Field
+                    | Friction,
+                ) => {}
             }
         }
         all

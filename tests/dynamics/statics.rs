@@ -16,7 +16,7 @@ const G: f64 = 9.81;
 const TIGHT: &str = "EQUILIBRIUM/ERROR = 1e-12, IMBALANCE = 1e-10\n";
 
 /// Runs `text` with `--statics` (and `--end` when given), probes `probes`; the rows.
-fn statics(
+pub(crate) fn statics(
     text: &str,
     end: Option<f64>,
     probes: &[(&str, &str)],

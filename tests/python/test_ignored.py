@@ -1,5 +1,5 @@
 """A run never drops physics silently (issue 40 §0): statements the model leaves out
-that could change the motion (a CONTACT, a FRICTION) are listed in `Run.warnings`, as
+that could change the motion (a COUPLER) are listed in `Run.warnings`, as
 `mbfx run` prints them in its summary; output and data statements stay quiet. The
 datasets are written here: the truth is what Adams models, not what mbfx does."""
 
@@ -19,10 +19,10 @@ JOINT/1, REVOLUTE, I = 21, J = 10
 END
 """
 
-FRICTION = PENDULUM.format(
-    title="with joint friction",
-    extra="FRICTION/1, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = 0.2, PIN_RADIUS = 0.01\n"
-    "FRICTION/2, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = 0.2, PIN_RADIUS = 0.01\n",
+COUPLED = PENDULUM.format(
+    title="with couplers",
+    extra="COUPLER/1, JOINTS = 1, 1, SCALES = 1, -1\n"
+    "COUPLER/2, JOINTS = 1, 1, SCALES = 1, -1\n",
 )
 
 QUIET = PENDULUM.format(
@@ -32,15 +32,15 @@ QUIET = PENDULUM.format(
     "GRAPHICS/1, CYLINDER, CM = 20, RADIUS = 0.1, LENGTH = 0.2\n",
 )
 
-LINE = "not modelled: 2 FRICTION — the results leave out their physics"
+LINE = "not modelled: 2 COUPLER — the results leave out their physics"
 
 
 def test_run_warnings_list_the_physics_left_out_as_the_cli_prints_it(cli, tmp_path):
-    run = mbfx.load(FRICTION).run(0.1)
+    run = mbfx.load(COUPLED).run(0.1)
     assert LINE in run.warnings, run.warnings
     assert f"warning: {LINE}" in run.summary
-    path = tmp_path / "friction.adm"
-    path.write_text(FRICTION, encoding="utf-8")
+    path = tmp_path / "coupled.adm"
+    path.write_text(COUPLED, encoding="utf-8")
     out = run_cli("run", str(path), "--end", "0.1", "--csv", "/dev/null", "--strict")
     assert out.returncode == 3, out.stderr
     assert f"warning: {LINE}\n" in out.stderr

@@ -79,6 +79,18 @@ pub enum ForceLaw {
         /// Indices of the AX, AY, AZ measures of I relative to J.
         angles: [usize; 3],
     },
+    /// FIELD and BEAM: (F, T) = −K·(X − L) − C·V + (F₀, T₀) in J axes on I, X the
+    /// deflection of I relative to J (the AX, AY, AZ measures `angles` for its angles);
+    /// the reaction on J.
+    Field {
+        /// K, C, L and the preload.
+        law: Box<super::field::Linear6>,
+        /// Indices of the AX, AY, AZ measures of I relative to J.
+        angles: [usize; 3],
+    },
+    /// FRICTION: the friction of the joint between I and J, loaded by the joint's
+    /// reaction (solution values); the reaction on J.
+    Friction(Box<super::friction::JointFriction>),
 }
 
 /// One force element.
@@ -137,6 +149,20 @@ impl ForceElement {
         one.into_iter().chain(three)
     }
 
+    /// The solution values the element reads: its expressions' and its law's.
+    pub(super) fn solution_reads(&self) -> Vec<usize> {
+        let mut r: Vec<usize> = self
+            .expressions()
+            .flat_map(|s| s.solution_reads())
+            .collect();
+        if let ForceLaw::Friction(f) = &self.law {
+            r.extend_from_slice(&f.reaction);
+        }
+        r.sort_unstable();
+        r.dedup();
+        r
+    }
+
     /// The measures the element's expressions and laws read.
     pub(super) fn measures(&self) -> Vec<usize> {
         let mut out: Vec<usize> = self
@@ -149,7 +175,9 @@ impl ForceElement {
             .collect();
         match &self.law {
             ForceLaw::RotSpring { angle_measure, .. } => out.push(*angle_measure),
-            ForceLaw::Bushing { angles, .. } => out.extend_from_slice(angles),
+            ForceLaw::Bushing { angles, .. } | ForceLaw::Field { angles, .. } => {
+                out.extend_from_slice(angles)
+            }
             _ => {}
         }
         out

@@ -161,6 +161,14 @@ impl ForceElement {
                 let tv = in_axes(&fj.axes, tc);
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
+            ForceLaw::Field { law, angles } => {
+                let (fv, tv) = law.loads(sys, &fi, &fj, angles, &mut slots);
+                (fv, tv, neg_v(&fv), neg_v(&tv), true)
+            }
+            ForceLaw::Friction(law) => {
+                let (fv, tv) = law.loads(&fi, &fj, inputs.solved);
+                (fv, tv, neg_v(&fv), neg_v(&tv), true)
+            }
         };
         let pi = sys.marker(self.i).part;
         let pj = self.j.map_or(System::GROUND, |j| sys.marker(j).part);

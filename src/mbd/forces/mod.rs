@@ -1,5 +1,6 @@
 //! Applied forces (multibody spec §7): SFORCE (translational, rotational, ACTIONONLY),
-//! VFORCE, VTORQUE, GFORCE, SPRINGDAMPER, BUSHING, and ACCGRAV with the units-consistency
+//! VFORCE, VTORQUE, GFORCE, SPRINGDAMPER, BUSHING, BEAM and FIELD, joint FRICTION, and
+//! ACCGRAV with the units-consistency
 //! factor. Each element is evaluated as duals (the `dual` module) over the local directions
 //! of the parts it reads (its markers and the markers of the measures its expressions
 //! read, one shared [`PartSlots`] table), so the generalized force Q and its exact
@@ -22,7 +23,10 @@
 //!
 //! The files, one job each: `inputs` (what an expression reads), `element` (an element
 //! as data), `expression` (an expression's value or dual), `num` (the numbers an
-//! element is evaluated in), `law` (loads by law into Q), `generalized` (Q and its
+//! element is evaluated in), `law` (loads by law into Q), `field` (the linear
+//! six-component law of FIELD and BEAM) and `field_loads` (its evaluation) with `beam`
+//! (BEAM's Timoshenko stiffness), [`friction`] (joint friction, loaded by the joint's
+//! reaction) with `friction_loads` (its evaluation), `generalized` (Q and its
 //! Jacobians), `set` (the set: preparing, fusing, evaluating), `order` (the evaluation
 //! order), `input_partials` (∂Q/∂u) and [`contact`] (the switching functions of IMPACT
 //! and BISTOP).
@@ -30,9 +34,14 @@
 //! [`PartSlots`]: crate::mbd::measures::PartSlots
 //! [`ContactProbe`]: contact::ContactProbe
 
+mod beam;
 pub mod contact;
 mod element;
 mod expression;
+pub mod field;
+mod field_loads;
+pub mod friction;
+mod friction_loads;
 mod generalized;
 mod input_partials;
 mod inputs;
@@ -41,6 +50,7 @@ mod num;
 mod order;
 mod set;
 
+pub use beam::law as beam_law;
 pub use element::{angle_of, ForceElement, ForceLaw};
 pub use generalized::Generalized;
 pub(crate) use inputs::measure_value;

@@ -169,12 +169,7 @@ impl ForceSet {
         self.reads = self
             .elements
             .iter()
-            .map(|el| {
-                let mut r: Vec<usize> = el.expressions().flat_map(|s| s.solution_reads()).collect();
-                r.sort_unstable();
-                r.dedup();
-                r
-            })
+            .map(ForceElement::solution_reads)
             .collect();
         let n = self.elements.len();
         let deps: Vec<Vec<usize>> = (0..n).map(|k| depends_on(self, k)).collect();

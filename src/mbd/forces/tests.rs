@@ -21,6 +21,11 @@ const FORCES: &str = "forces\nPART/1, GROUND\nMARKER/10, PART = 1\n\
     SPRINGDAMPER/2, ROTATION, I = 21, J = 31, KT = 5, CT = 0.3, ANGLE = 0.1, TORQUE = 0.2\n\
     BUSHING/1, I = 21, J = 31, K = 10, 20, 30, C = 1, 2, 3, KT = 4, 5, 6, CT = 0.1, 0.2, 0.3, FORCE = 0.1, 0.2, 0.3, TORQUE = 0.01, 0.02, 0.03\n\
     GFORCE/1, I = 21, JFLOAT = 32, RM = 31, FX = VX(21,31)\\ FY = 2*DZ(21,31)\\ FZ = 1\\ TX = WX(21,31)\\ TY = 0.5\\ TZ = DM(21,31)\\\n\
+    BEAM/1, I = 21, J = 31, LENGTH = 0.9, AREA = 0.01, IXX = 2E-5, IYY = 1E-5, IZZ = 1.5E-5, ASY = 1.2, ASZ = 1.1, EMODULUS = 2E5, GMODULUS = 8E4, CRATIO = 0.01\n\
+    FIELD/1, I = 21, J = 31, KMATRIX = -3, 4, 0, 7, 3, -1, 6, 2, -2, 5, 1, -3, 4, 0, 7, 3, -1, 6, 2, -2, 5, 1, -3, 4, 0, 7, 3, -1, 6, 2, -2, 5, 1, -3, 4, 0, CRATIO = 0.05, LENGTH = 0.7, 0.1, -0.1, 0.05, 0, 0.02, FORCE = 1, 2, 3, 0.1, 0.2, 0.3\n\
+    JOINT/1, CYLINDRICAL, I = 21, J = 31\n\
+    FRICTION/1, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = 0.2, STICTION_TRANSITION_VELOCITY = 2, FRICTION_FORCE_PRELOAD = 5, INITIAL_OVERLAP = 0.5, OVERLAP_DELTA = INCREASE, PIN_RADIUS = 0.3\n\
+    FRICTION/2, JOINT = 1, MU_STATIC = 0.3, MU_DYNAMIC = 0.2, STICTION_TRANSITION_VELOCITY = 0.2, TRANSITION_VELOCITY_COEFFICIENT = 10, FRICTION_FORCE_PRELOAD = 5, PIN_RADIUS = 0.3\n\
     END\n";
 
 fn dynamics() -> Dynamics {
@@ -30,7 +35,7 @@ fn dynamics() -> Dynamics {
     let mut sys = System::from_model(&read.model, Dim::Three, &exprs).unwrap();
     sys.time = 0.3;
     let forces = sys.forces_from_model(&read.model, &exprs).unwrap();
-    assert_eq!(forces.elements.len(), 7);
+    assert_eq!(forces.elements.len(), 11);
     Dynamics::new(sys, forces, &[]).unwrap()
 }
 
@@ -56,6 +61,11 @@ fn column_matches(k: &[Vec<f64>], c: usize, up: &DVec, down: &DVec, h: f64, what
 fn force_jacobians_match_central_differences() {
     let mut d = dynamics();
     d.eval_forces(true).unwrap();
+    // The frictions act here (their preload loads them; their slip is in the stiction
+    // branch for FRICTION/1 and in the transition for FRICTION/2).
+    for l in &d.forces.loads[9..] {
+        assert!(l.on_i.0.norm() > 1e-3 && l.on_i.1.norm() > 1e-3, "{l:?}");
+    }
     let n = d.n;
     let (mut kq, mut kv) = (vec![vec![0.0; n]; n], vec![vec![0.0; n]; n]);
     for &(r, c, x) in &d.gen.dq {

@@ -647,6 +647,16 @@ fn every_element_kind_reads_back_under_its_table_name() {
             Force(ForceKind::Bushing) => {
                 format!("{keyword}/1, I = 22, J = 11, K = 1, 2, 3, C = 4, 5, 6")
             }
+            Force(ForceKind::Beam) => format!(
+                "{keyword}/1, I = 22, J = 11, LENGTH = 1, AREA = 1, IXX = 1, IYY = 1, IZZ = 1, EMODULUS = 1, GMODULUS = 1"
+            ),
+            Force(ForceKind::Field) => format!(
+                "{keyword}/1, I = 22, J = 11, KMATRIX = {}",
+                ["1"; 36].join(", ")
+            ),
+            Force(ForceKind::Friction) => format!(
+                "JOINT/1, REVOLUTE, I = 21, J = 11\n{keyword}/1, JOINT = 1, MU_STATIC = 0.2, MU_DYNAMIC = 0.1"
+            ),
             Prismatic2d => unreachable!("no dataset statement makes a 2D prismatic joint"),
         };
         let m = clean(&with(&statement));

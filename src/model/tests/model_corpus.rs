@@ -55,13 +55,15 @@ const INVALID: &[(&str, &[&str], &str)] = &[
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova_beam00.adm",
-        &["E0604", "E0606"],
-        "markers without PART and no GROUND",
+        &["E0311", "E0604", "E0606"],
+        "markers without PART and no GROUND; the BEAM (read since issue 40) names those \
+         markers, which are therefore not defined",
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova_beam01.adm",
-        &["E0606"],
-        "a BEAM alone: no GROUND part",
+        &["E0311", "E0604", "E0605", "E0606"],
+        "a BEAM alone: no GROUND part, no markers for its I and J, IZ = 30,5,1,4 (four \
+         numbers) and no EMODULUS or GMODULUS",
     ),
     (
         "alex-marinov__mbdyn/contrib/a2m/samples/prova_marker01.adm",

@@ -169,23 +169,30 @@ impl Simulation {
             }
         }
         // Each CONTACT's normal force, friction force, penetration and slip speed
-        // (`CONTACT(id, 0, 9..12, 0)`), after the REQUESTs.
-        let contact_ids: Vec<u32> = read.model.contacts.iter().map(|c| c.el.id).collect();
-        for id in contact_ids {
-            for (suffix, comp) in [("FN", 9), ("FF", 10), ("PEN", 11), ("SLIP", 12)] {
-                let name = format!("CONTACT{id}.{suffix}");
-                let text = format!("CONTACT({id}, 0, {comp}, 0)");
-                match read.compile(&text, &Variables::new(), Expect::Scalar) {
-                    Ok(c) => columns.push(Column {
-                        name,
-                        function: c.function.clone(),
-                        source: Expr {
-                            span: 0..text.len(),
-                            function: c.function,
-                        },
-                    }),
-                    Err(_) => notes.push(format!("{name} ({text}) left out: it does not check")),
-                }
+        // (`CONTACT(id, 0, 9..12, 0)`), then each FRICTION's, after the REQUESTs.
+        let contacts = read.model.contacts.iter().flat_map(|c| {
+            let id = c.el.id;
+            [("FN", 9), ("FF", 10), ("PEN", 11), ("SLIP", 12)].map(|(suffix, comp)| {
+                (
+                    format!("CONTACT{id}.{suffix}"),
+                    format!("CONTACT({id}, 0, {comp}, 0)"),
+                )
+            })
+        });
+        let element_columns: Vec<(String, String)> = contacts
+            .chain(super::friction_columns::columns(&read.model))
+            .collect();
+        for (name, text) in element_columns {
+            match read.compile(&text, &Variables::new(), Expect::Scalar) {
+                Ok(c) => columns.push(Column {
+                    name,
+                    function: c.function.clone(),
+                    source: Expr {
+                        span: 0..text.len(),
+                        function: c.function,
+                    },
+                }),
+                Err(_) => notes.push(format!("{name} ({text}) left out: it does not check")),
             }
         }
         let exprs = analysis.exprs;

@@ -1,0 +1,214 @@
+//! Joint FRICTION (issue 40 §2) against closed forms written here: a flywheel on a
+//! revolute under a known radial load slows at μd·Rp·N/J; a block sliding on a
+//! translational joint stops after v0²/(2·μd·g); below the stiction force a pushed block
+//! only creeps (at the slip speed where μ(v)·N balances the push), above it slides off
+//! with acceleration (P − μd·N)/m. The load is the joint's own reaction, solved with the
+//! motion.
+
+use mbfx::session::request::{run, RunRequest};
+use mbfx::session::DimRequest;
+
+const G: f64 = 9.81;
+
+/// Runs `text` to `end` with output step `dt`, probing `probes`, in `dim`; the rows and
+/// the header.
+fn run_with(
+    text: &str,
+    end: f64,
+    dt: f64,
+    probes: &[(&str, &str)],
+    dim: DimRequest,
+) -> (Vec<Vec<f64>>, Vec<String>) {
+    let mut r = RunRequest::dataset("friction.adm", text);
+    (r.end, r.output_step, r.error, r.dim) = (Some(end), Some(dt), Some(1e-6), dim);
+    r.probes = probes
+        .iter()
+        .map(|(n, e)| (n.to_string(), e.to_string()))
+        .collect();
+    let mut out = Vec::new();
+    let mut sink = |row: &[f64]| -> std::io::Result<()> {
+        out.push(row.to_vec());
+        Ok(())
+    };
+    let done = run(&r, &mut sink, None).unwrap_or_else(|e| panic!("{e:?}"));
+    assert!(
+        !done.summary.warnings.iter().any(|w| w.contains("FRICTION")),
+        "{:?}",
+        done.summary.warnings
+    );
+    (out, done.header)
+}
+
+/// [`run_with`]'s rows.
+fn rows(text: &str, end: f64, dt: f64, probes: &[(&str, &str)], dim: DimRequest) -> Vec<Vec<f64>> {
+    run_with(text, end, dt, probes, dim).0
+}
+
+// The flywheel: m on its axis, gravity across it, so the pin carries N = m·g.
+const M: f64 = 10.0;
+const JZ: f64 = 0.5;
+const RP: f64 = 0.05;
+const MU_S: f64 = 0.3;
+const MU_D: f64 = 0.2;
+const VS: f64 = 0.01;
+const W0: f64 = 5.0;
+
+fn flywheel() -> String {
+    format!(
+        "flywheel\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+         PART/2, MASS = {M}, CM = 20, IP = 0.3, 0.3, {JZ}, WZ = {W0}\nMARKER/20, PART = 2\n\
+         JOINT/1, REVOLUTE, I = 20, J = 10\n\
+         FRICTION/1, JOINT = 1, MU_STATIC = {MU_S}, MU_DYNAMIC = {MU_D}, PIN_RADIUS = {RP}, \
+         STICTION_TRANSITION_VELOCITY = {VS}, TRANSITION_VELOCITY_COEFFICIENT = 1.5\n\
+         ACCGRAV/JGRAV = -{G}\nEND\n"
+    )
+}
+
+#[test]
+fn a_flywheel_slows_at_mu_r_n_over_j_and_stops() {
+    let alpha = MU_D * RP * M * G / JZ;
+    let stop = W0 / alpha;
+    // Full sliding down to the slip speed 1.5·VS, that is ω = 1.5·VS/RP.
+    let sliding_until = (W0 - 1.5 * VS / RP) / alpha;
+    let probes = [
+        ("w", "WZ(20, 10)"),
+        ("t", "FRICTION(1, 0, 8, 10)"),
+        ("n", "JOINT(1, 0, 3, 10)"),
+    ];
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let (out, header) = run_with(&flywheel(), stop + 0.5, 0.01, &probes, dim);
+        // The run's own friction columns follow the probes.
+        assert_eq!(
+            header[4..],
+            ["FRICTION1.F", "FRICTION1.T", "FRICTION1.V"],
+            "{header:?}"
+        );
+        for r in out.iter().filter(|r| r[0] < sliding_until - 0.01) {
+            let want = W0 - alpha * r[0];
+            assert!(
+                (r[1] - want).abs() < 1e-6 * W0,
+                "{dim:?} t = {}: ω {} vs {want}",
+                r[0],
+                r[1]
+            );
+            // The friction torque on the wheel: −μd·Rp·N, N the pin's reaction m·g.
+            assert!(
+                (r[2] + MU_D * RP * M * G).abs() < 1e-6 * MU_D * RP * M * G,
+                "{dim:?} t = {}: torque {}",
+                r[0],
+                r[2]
+            );
+            assert!(
+                (r[3] - M * G).abs() < 1e-6 * M * G,
+                "{dim:?} reaction {}",
+                r[3]
+            );
+            assert_eq!(r[5], -r[2], "{dim:?}: the torque column is the magnitude");
+            assert!((r[6] - RP * r[1]).abs() < 1e-12, "{dim:?}: slip {}", r[6]);
+        }
+        // Stopped: the creep below the stiction velocity decays in a few hundredths.
+        let last = out.last().expect("rows");
+        assert!(
+            last[1].abs() < 1e-3,
+            "{dim:?} ω at {}: {}",
+            last[0],
+            last[1]
+        );
+    }
+}
+
+/// A block of 2 kg on a translational joint along x, gravity across it, given `extra`.
+fn block(extra: &str) -> String {
+    format!(
+        "block\nPART/1, GROUND\nMARKER/10, PART = 1, REULER = 90D, 90D, 0\nMARKER/11, PART = 1\n\
+         MARKER/12, PART = 1, FLOATING\n\
+         PART/2, MASS = 2, CM = 20, IP = 0.1, 0.1, 0.1{extra}\n\
+         MARKER/20, PART = 2, REULER = 90D, 90D, 0\n\
+         JOINT/1, TRANSLATIONAL, I = 20, J = 10\n\
+         FRICTION/1, JOINT = 1, MU_STATIC = {MU_S}, MU_DYNAMIC = {MU_D}, \
+         STICTION_TRANSITION_VELOCITY = {VS}\n\
+         ACCGRAV/JGRAV = -{G}\n"
+    )
+}
+
+#[test]
+fn a_sliding_block_stops_after_v0_squared_over_2_mu_g() {
+    let v0 = 2.0;
+    let text = block(&format!(", VX = {v0}")) + "END\n";
+    let out = rows(
+        &text,
+        1.5,
+        0.01,
+        &[("x", "DX(20, 11)"), ("v", "VX(20, 11)")],
+        DimRequest::Auto,
+    );
+    let a = MU_D * G;
+    for r in out.iter().filter(|r| v0 - a * r[0] > 1.5 * VS + 0.01) {
+        let want = v0 - a * r[0];
+        assert!(
+            (r[2] - want).abs() < 1e-6 * v0,
+            "t = {}: v {} vs {want}",
+            r[0],
+            r[2]
+        );
+    }
+    let last = out.last().expect("rows");
+    let want = v0 * v0 / (2.0 * a);
+    // The last 1.5·VS of speed is shed over a creep of at most (1.5·VS)²/(2·a)·(μd/μ).
+    assert!(
+        (last[1] - want).abs() < 1e-3 * want,
+        "stopped at {} vs {want}",
+        last[1]
+    );
+    assert!(last[2].abs() < 1e-3, "v {}", last[2]);
+}
+
+#[test]
+fn a_block_sticks_below_the_stiction_force_and_slides_above() {
+    let n = 2.0 * G;
+    // Below: P = 0.8·μs·N only creeps, at the slip speed v where μs·s·(3 − s²)/2 = P/N,
+    // s = v/VS (the stiction curve's rising branch).
+    let p = 0.8 * MU_S * n;
+    let text = block("")
+        + &format!("SFORCE/1, TRANSLATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {p}\nEND\n");
+    let out = rows(
+        &text,
+        1.0,
+        0.01,
+        &[("x", "DX(20, 11)"), ("v", "VX(20, 11)")],
+        DimRequest::Auto,
+    );
+    let target = p / (MU_S * n);
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..100 {
+        let s = 0.5 * (lo + hi);
+        if s * (3.0 - s * s) / 2.0 < target {
+            lo = s;
+        } else {
+            hi = s;
+        }
+    }
+    let creep = lo * VS;
+    let last = out.last().expect("rows");
+    assert!(
+        (last[2] - creep).abs() < 1e-4 * VS,
+        "creep {} vs {creep}",
+        last[2]
+    );
+    assert!(last[1] < 1.5 * VS, "moved {}", last[1]);
+    // Above: P = 1.2·μs·N breaks free and accelerates at (P − μd·N)/m once sliding.
+    let p = 1.2 * MU_S * n;
+    let text = block("")
+        + &format!("SFORCE/1, TRANSLATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {p}\nEND\n");
+    let out = rows(
+        &text,
+        1.0,
+        0.01,
+        &[("x", "DX(20, 11)"), ("v", "VX(20, 11)")],
+        DimRequest::Auto,
+    );
+    let a = (p - MU_D * n) / 2.0;
+    let at = |t: f64| out.iter().find(|r| (r[0] - t).abs() < 1e-9).expect("row")[2];
+    let slope = (at(1.0) - at(0.5)) / 0.5;
+    assert!((slope - a).abs() < 1e-4 * a, "a {slope} vs {a}");
+}
