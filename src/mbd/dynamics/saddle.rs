@@ -18,6 +18,10 @@ pub(super) const SOLUTION_SWEEPS: usize = 200;
 
 pub(super) const SOLUTION_TOL: f64 = 1e-14;
 
+/// A relative change at which a force–solution loop that no longer contracts is taken as
+/// settled: rounding, not a loop that amplifies.
+const SOLUTION_NOISE: f64 = 1e-11;
+
 impl Dynamics {
     /// Consistent accelerations and multipliers at the current state (spec §6.1 phase
     /// 3): M·a/UCF + Φ_qᵀλ = Q, Φ_q·a = γ.
@@ -149,7 +153,11 @@ impl Dynamics {
             copy_into(&mut self.a, a);
             copy_into(&mut self.lambda, lambda);
             self.store_accelerations();
-            if !looped || change <= SOLUTION_TOL {
+            // A loop that has stopped contracting at the rounding of its values (a
+            // friction reading its joint's reaction settles to within a few ulps, then
+            // wanders there) has converged as far as the numbers allow.
+            let settled = stalled >= 4 && change <= SOLUTION_NOISE;
+            if !looped || change <= SOLUTION_TOL || settled {
                 (self.scratch.gamma, self.scratch.solution) = (gamma, rhs);
                 return Ok(());
             }
