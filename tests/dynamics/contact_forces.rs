@@ -188,6 +188,26 @@ fn the_corpus_contact_runs_with_its_contact_modelled() {
         .all(|f| f.is_finite() && *f >= 0.0));
 }
 
+#[test]
+fn contacts_left_out_keep_their_columns_at_zero() {
+    // adams_vscode's test.adm: three CONTACTs whose geometry is on an FE_PART, left out
+    // with a warning. Their columns address contacts by their place in the dataset: they
+    // read zero (a run once panicked indexing past the contacts kept).
+    let path = corpus("bthornton191__adams_vscode/test/files/test.adm");
+    let out = run_raw(&path, &["--end", "0.01", "--output-step", "0.005"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let csv = Csv::parse(&String::from_utf8_lossy(&out.stdout));
+    let columns: Vec<String> = (csv.header.iter())
+        .filter(|n| n.starts_with("CONTACT"))
+        .cloned()
+        .collect();
+    assert_eq!(columns.len(), 12, "{columns:?}");
+    for name in columns {
+        assert!(csv.col(&name).iter().all(|f| *f == 0.0), "{name}");
+    }
+}
+
 /// N spheres in a square grid 0.5 m apart, 5 cm above a floor, each its own part and its
 /// own CONTACT with the floor (IMPACT k = 1E5, e = 1.5).
 fn spheres(n: usize) -> String {

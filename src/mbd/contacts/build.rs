@@ -54,8 +54,9 @@ impl ContactSet {
                 pairs.truncate(kept_pairs);
                 watched.truncate(kept_pairs);
                 left_out.push((c.el.id, why));
-                continue;
             }
+            // A contact left out keeps its place (outputs address contacts by their
+            // position in the model) and, watching no pair, reads zero.
             contacts.push(ContactForce {
                 id: c.el.id,
                 normal: c.normal,
