@@ -6,20 +6,7 @@ use super::friction::{FrictionJoint, JointFriction};
 use super::num::Num;
 use crate::mbd::dual::V;
 use crate::mbd::measures::Frame;
-
-/// Adams' STEP from (x0, h0) to (x1, h1), cubic.
-fn step(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> (f64, f64) {
-    let u = ((x - x0) / (x1 - x0)).clamp(0.0, 1.0);
-    let du = if (0.0..1.0).contains(&u) {
-        1.0 / (x1 - x0)
-    } else {
-        0.0
-    };
-    (
-        h0 + (h1 - h0) * u * u * (3.0 - 2.0 * u),
-        (h1 - h0) * 6.0 * u * (1.0 - u) * du,
-    )
-}
+use mbfx_runtime::step_grad;
 
 impl JointFriction {
     /// μ(|v|)/|v| as a function of the squared slip speed `v2` (smooth through zero
@@ -32,7 +19,10 @@ impl JointFriction {
         }
         let v = v2.sqrt();
         let (m, dm) = if v.val() < vd {
-            step(v.val(), vs, self.mu_peak, vd, self.mu_tail)
+            // (This branch is reached only with vs ≤ v < vd, so the runtime's STEP is
+            // defined.)
+            let (m, grad) = step_grad(v.val(), vs, self.mu_peak, vd, self.mu_tail);
+            (m, grad[0])
         } else {
             (self.mu_tail, 0.0)
         };
