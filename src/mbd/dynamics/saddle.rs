@@ -129,7 +129,7 @@ impl Dynamics {
         gamma::gamma(self, &mut gamma)?;
         let mut rhs = std::mem::take(&mut self.scratch.solution);
         let looped = self.forces.reads_solution();
-        let mut last_change = f64::INFINITY;
+        let mut best_change = f64::INFINITY;
         let mut stalled = 0;
         for _ in 0..SOLUTION_SWEEPS {
             self.eval_forces(false)?;
@@ -161,15 +161,17 @@ impl Dynamics {
                 (self.scratch.gamma, self.scratch.solution) = (gamma, rhs);
                 return Ok(());
             }
-            stalled = if change < 0.9 * last_change {
+            // Progress is judged against the smallest change so far: at the rounding
+            // floor the changes wander in a cycle, and each dip must not reset the count.
+            stalled = if change < 0.9 * best_change {
                 0
             } else {
                 stalled + 1
             };
-            if stalled >= 5 {
+            if stalled >= 5 && change > SOLUTION_NOISE {
                 break;
             }
-            last_change = change;
+            best_change = best_change.min(change);
         }
         Err(self.solution_loop())
     }
