@@ -27,6 +27,13 @@
 //! unchanged where the constraints hold); its velocities are then exact on the velocity
 //! constraints and go under error control with the positions.
 //!
+//! The state elements' states ([`crate::mbd::states`]) are integrated by the same
+//! formula, x₁ = p(t₁) + g·(ẋ₁ − ṗ(t₁)), with the same order, steps and history: each
+//! evaluation solves their equations for ẋ₁ with x₁ so tied to it, the Newton step is
+//! the one of the matrix bordered by their coupling ([`super::states_border`]), and
+//! their own corrector–predictor difference, over ERROR·max(1, |x|), joins the error
+//! norm (and the order selection) beside the positions'.
+//!
 //! The local error is estimated from the corrector–predictor difference,
 //! h/(t₁ − tₙ₋ₖ)·|y₁ − p(t₁)| (the constant-step factor 1/(k + 1)), per column over
 //! ERROR in model units, as Adams takes it (scaled down for models under a unit length). After each step the orders k − 1, k and, when
@@ -45,6 +52,8 @@ use super::reuse::{self, Reuse};
 use super::rotation_chart::rotation_vector_rate;
 use super::setup::Dynamics;
 use super::state::{copy_into, largest_magnitude, Snapshot};
+use super::states_border::StateBorder;
+use crate::mbd::states::StateSet;
 use crate::mbd::system::Dimension;
 use crate::vocab::math::{DVec, Vec3};
 use history::{lagrange, lagrange_weights, History};
@@ -92,6 +101,9 @@ struct Prediction {
     g: f64,
     /// The error factor h/(t₁ − tₙ₋ₖ).
     c_err: f64,
+    /// The state elements' p(t₁) and b = p(t₁) − g·ṗ(t₁).
+    sp: Vec<f64>,
+    sb: Vec<f64>,
 }
 
 /// A BDF integrator.
@@ -112,6 +124,12 @@ pub struct Bdf {
     /// SI2) and of the last accepted step, for the order-raising estimate.
     diff: Vec<f64>,
     last_diff: Option<Vec<f64>>,
+    /// The candidate's state elements (x, ẋ), and their corrector minus predictor over
+    /// their tolerances, the candidate's and the last accepted step's.
+    sx: Vec<f64>,
+    sr: Vec<f64>,
+    sdiff: Vec<f64>,
+    last_sdiff: Vec<f64>,
     /// The candidate's scaled error estimates at orders k − 1 and k.
     err_lower: f64,
     err: f64,
@@ -127,6 +145,8 @@ pub struct Bdf {
     lower: (Vec<f64>, DVec, DVec),
     /// When the factorization is reused (its weight: g).
     reuse: Reuse,
+    /// The state elements' border of the Newton matrix.
+    border: StateBorder,
     /// The order of the last attempt, and the interpolating polynomial of the last
     /// accepted step with an output time inside it.
     k_step: usize,
@@ -142,10 +162,13 @@ struct Dense {
     ts: Vec<f64>,
     x: Vec<Vec<f64>>,
     v: Vec<DVec>,
-    /// Scratch: weights, and the interpolated positions and velocities.
+    /// The state elements' x at each point.
+    s: Vec<Vec<f64>>,
+    /// Scratch: weights, and the interpolated positions, velocities and states.
     l: Vec<f64>,
     xs: Vec<f64>,
     vs: DVec,
+    ss: Vec<f64>,
 }
 
 impl Bdf {
@@ -165,6 +188,10 @@ impl Bdf {
             shift: Vec::new(),
             diff: Vec::new(),
             last_diff: None,
+            sx: Vec::new(),
+            sr: Vec::new(),
+            sdiff: Vec::new(),
+            last_sdiff: Vec::new(),
             err_lower: f64::INFINITY,
             err: 0.0,
             failures: 0,
@@ -175,6 +202,7 @@ impl Bdf {
             proj: Vec::new(),
             lower: (Vec::new(), DVec::zeros(0), DVec::zeros(0)),
             reuse: Reuse::refreshing(),
+            border: StateBorder::default(),
             k_step: 1,
             dense: Dense::default(),
         }
@@ -228,6 +256,40 @@ impl Bdf {
         }
     }
 
+    /// The order-`k` predictor polynomial of the state elements at t₀ + h through the
+    /// newest k + 1 points: value into `sp`, derivative into `sd` (when given).
+    fn interpolate_states(
+        hist: &History,
+        k: usize,
+        h: f64,
+        sp: &mut Vec<f64>,
+        mut sd: Option<&mut Vec<f64>>,
+    ) {
+        let t0 = hist.newest().t;
+        let mut ts = [0.0; MAX_ORDER + 2];
+        for (j, t) in ts.iter_mut().enumerate().take(k + 1) {
+            *t = hist.point(j).t - t0;
+        }
+        let (mut l, mut dl) = ([0.0; MAX_ORDER + 2], [0.0; MAX_ORDER + 2]);
+        lagrange(&ts[..=k], h, &mut l[..=k], &mut dl[..=k]);
+        let ns = hist.newest().states.len();
+        sp.clear();
+        sp.resize(ns, 0.0);
+        if let Some(sd) = sd.as_deref_mut() {
+            sd.clear();
+            sd.resize(ns, 0.0);
+        }
+        for j in 0..=k {
+            let p = &hist.point(j).states;
+            for (c, &x) in p.iter().enumerate() {
+                sp[c] += l[j] * x;
+                if let Some(sd) = sd.as_deref_mut() {
+                    sd[c] += dl[j] * x;
+                }
+            }
+        }
+    }
+
     /// Fills [`Prediction`] for a step of `h` at the current order.
     fn predict(&mut self, n: usize, h: f64) {
         let k = self.k;
@@ -243,6 +305,8 @@ impl Bdf {
                 bv: DVec::zeros(n),
                 g: 0.0,
                 c_err: 0.0,
+                sp: Vec::new(),
+                sb: Vec::new(),
             };
         }
         let mut xd = std::mem::take(&mut p.bx);
@@ -272,6 +336,11 @@ impl Bdf {
         p.bx = xd;
         p.bv.copy_from(&p.vp);
         p.bv.axpy(-p.g, &p.ap, 1.0);
+        // The state elements: b = p − g·ṗ too.
+        Self::interpolate_states(hist, k, h, &mut p.sp, Some(&mut p.sb));
+        for (b, &x) in p.sb.iter_mut().zip(&p.sp) {
+            *b = x - p.g * *b;
+        }
     }
 
     /// Moves `d` to the candidate the accelerations `a1` give at `t1`.
@@ -367,6 +436,9 @@ impl Bdf {
         self.shift.clear();
         self.shift.resize(n, 0.0);
         let g = self.pred.g;
+        if !self.pred.sb.is_empty() {
+            d.forces.states.set_formula(&self.pred.sb, g);
+        }
         let mut a1 = self.pred.ap.clone();
         let mut lambda = {
             let hist = self.hist();
@@ -393,6 +465,12 @@ impl Bdf {
         self.place(d, &a1, t1);
         d.a = a1;
         d.lambda = lambda;
+        if !self.pred.sb.is_empty() {
+            // The states at the converged candidate (the last evaluation was one
+            // correction before it).
+            d.solve_states()?;
+            d.forces.states.current(&d.sys, &mut self.sx, &mut self.sr);
+        }
         Ok(self.estimate(d, h, st))
     }
 
@@ -427,6 +505,14 @@ impl Bdf {
             }
             self.constraint_rhs(d, rhs)?;
             d.solve(rhs)?;
+            if !d.forces.states.is_empty() {
+                // The step of the matrix bordered by the state elements.
+                let mut border = std::mem::take(&mut self.border);
+                let mut place = |d: &mut Dynamics, a: &DVec| self.place(d, a, t1);
+                let bordered = border.correct(d, rhs, (a1, 1.0), &mut place);
+                self.border = border;
+                bordered?;
+            }
             // The test is on what the corrections do to the integrated variables: the
             // velocities move by g·δa (the positions by g²·δa, less), each against a
             // fraction of its tolerance, above the rounding floor: in I3 the positions'
@@ -507,6 +593,15 @@ impl Bdf {
                 (err, worst) = (e, c % n);
             }
         }
+        // The state elements' own differences, over their tolerances.
+        self.sdiff.clear();
+        for (&x, &p) in self.sx.iter().zip(&self.pred.sp) {
+            self.sdiff.push((x - p) / StateSet::tolerance(x, st.error));
+        }
+        let states = largest_magnitude(&self.sdiff) * self.pred.c_err;
+        if states > err {
+            (err, worst) = (states, 0);
+        }
         self.err = err;
         self.err_lower = f64::INFINITY;
         let k = self.k;
@@ -527,6 +622,13 @@ impl Bdf {
                 e_low = e_low.max((self.x[c] - xp[c]).abs() / t);
                 if si2 {
                     e_low = e_low.max((self.v1[c] - vp[c]).abs() / t);
+                }
+            }
+            if !self.sx.is_empty() {
+                let mut sp = Vec::new();
+                Self::interpolate_states(hist, k - 1, h, &mut sp, None);
+                for (&x, &p) in self.sx.iter().zip(&sp) {
+                    e_low = e_low.max((x - p).abs() / StateSet::tolerance(x, st.error));
                 }
             }
             self.err_lower = c_err * e_low;
@@ -583,6 +685,8 @@ impl Integrator for Bdf {
     }
 
     fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
+        // The state elements' history starts from their committed values.
+        d.commit_states()?;
         self.hist = Some(History::new(d, self.kmax + 2));
         (self.k, self.at_order, self.failures) = (1, 0, 0);
         self.last_diff = None;
@@ -622,7 +726,10 @@ impl Integrator for Bdf {
                     .enumerate()
                     .map(|(c, (a, b))| (a - b).abs() / tol[c % n])
                     .fold(0.0, f64::max);
-                Some(e / (k as f64 + 2.0))
+                let states = (self.sdiff.iter().zip(&self.last_sdiff))
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                Some(e.max(states) / (k as f64 + 2.0))
             }
             _ => None,
         };
@@ -648,6 +755,7 @@ impl Integrator for Bdf {
             Some(l) => l.clone_from(&self.diff),
             None => self.last_diff = Some(self.diff.clone()),
         }
+        self.last_sdiff.clone_from(&self.sdiff);
         let hist = self.hist.as_mut().expect("started");
         hist.push(d);
         // The order can only use the points there are.
@@ -661,6 +769,7 @@ impl Integrator for Bdf {
         d.restore(&p.snap);
         d.a.clone_from(hist.accelerations());
         d.lambda.clone_from(&p.lambda);
+        d.forces.states.hold();
         self.factor = None;
         if self.err.is_nan() || self.err <= 1.0 {
             // A diverged corrector or a switch being located: the driver picks the step.
@@ -701,12 +810,14 @@ impl Integrator for Bdf {
         dense.ts.clear();
         dense.x.clear();
         dense.v.clear();
+        dense.s.clear();
         let t1 = hist.newest().t;
         for j in 0..=k.min(hist.len() - 1) {
             let p = hist.point(j);
             dense.ts.push(p.t - t1);
             dense.x.push(p.x.clone());
             dense.v.push(p.v.clone());
+            dense.s.push(p.states.clone());
         }
         Ok(())
     }
@@ -725,13 +836,19 @@ impl Integrator for Bdf {
             dense.vs = DVec::zeros(n);
         }
         dense.vs.fill(0.0);
+        dense.ss.clear();
+        dense.ss.resize(dense.s.first().map_or(0, Vec::len), 0.0);
         for (j, &w) in dense.l.iter().enumerate() {
             for (x, &p) in dense.xs.iter_mut().zip(&dense.x[j]) {
                 *x += w * p;
             }
             dense.vs.axpy(w, &dense.v[j], 1.0);
+            for (x, &p) in dense.ss.iter_mut().zip(&dense.s[j]) {
+                *x += w * p;
+            }
         }
         d.set_state(base, &dense.xs, &dense.vs, t);
+        d.place_states(&dense.ss);
     }
 
     fn extend_candidate(&mut self, d: &mut Dynamics) -> bool {
@@ -746,16 +863,19 @@ impl Integrator for Bdf {
         dense.ts.clear();
         dense.x.clear();
         dense.v.clear();
+        dense.s.clear();
         let mut x = vec![0.0; d.n];
         d.increment(&newest.snap, &d.snapshot(), &mut x);
         dense.ts.push(d.sys.time - newest.t);
         dense.x.push(x);
         dense.v.push(d.sys.v());
+        dense.s.push(self.sx.clone());
         for j in 0..k {
             let p = hist.point(j);
             dense.ts.push(p.t - newest.t);
             dense.x.push(p.x.clone());
             dense.v.push(p.v.clone());
+            dense.s.push(p.states.clone());
         }
         true
     }

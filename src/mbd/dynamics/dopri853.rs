@@ -33,14 +33,19 @@
 //! or high damping limit its step by stability instead, where the implicit methods are
 //! the choice.
 //!
+//! The state elements are extra components of the ODE, in the Cartesian form (`states`);
+//! a model with any keeps to that form.
+//!
 //! One job a file: this one the integrator and its Cartesian form; `tableau` (the
 //! coefficients), `error_estimate` (the combined error estimate), `dense_output` (the
 //! order-7 continuous extension), `tree` (a planar tree's joint coordinates) and
-//! `joints` (the integrator on them, its joint-coordinate mode).
+//! `joints` (the integrator on them, its joint-coordinate mode) and `states` (the state
+//! elements' components).
 
 mod dense_output;
 mod error_estimate;
 mod joints;
+mod states;
 mod tableau;
 pub mod tree;
 
@@ -54,6 +59,7 @@ use crate::vocab::math::{DVec, Vec3};
 use dense_output::{Extension, A_EXTRA, C_EXTRA, END, EXTENDED};
 use error_estimate::estimate;
 use joints::Joints;
+use states::StateStages;
 use tableau::{A, B, C, STAGES};
 use tree::JointTree;
 
@@ -95,6 +101,8 @@ pub struct Dopri853 {
     dense_v: Extension,
     /// The joint-coordinate form, when the model is a planar tree ([`JointTree`]).
     joint: Option<Joints>,
+    /// The state elements' components.
+    states: StateStages,
 }
 
 impl Default for Dopri853 {
@@ -123,6 +131,7 @@ impl Dopri853 {
             h: 0.0,
             dense_x: Extension::default(),
             dense_v: Extension::default(),
+            states: StateStages::default(),
         }
     }
 
@@ -168,16 +177,21 @@ impl Dopri853 {
     /// velocities' alike).
     fn error(&self, h: f64) -> (f64, usize) {
         let n = self.tol.1.len();
+        let error = self.tol.0;
         let (err, worst) = estimate(
-            2 * n,
-            |i| self.tol.1[i % n],
-            |j, i| match i < n {
-                true => self.kx[j][i],
-                false => self.kv[j][i - n],
+            2 * n + self.states.len(),
+            |i| match i < 2 * n {
+                true => self.tol.1[i % n],
+                false => self.states.tolerance(i - 2 * n, error),
+            },
+            |j, i| match i {
+                i if i < n => self.kx[j][i],
+                i if i < 2 * n => self.kv[j][i - n],
+                i => self.states.k[j][i - 2 * n],
             },
             h,
         );
-        (err, worst % n)
+        (err, if worst < 2 * n { worst % n } else { 0 })
     }
 }
 
@@ -203,7 +217,11 @@ impl Integrator for Dopri853 {
     }
 
     fn start(&mut self, d: &mut Dynamics) -> Result<(), DynError> {
-        if !self.cartesian {
+        d.commit_states()?;
+        self.states = StateStages::default();
+        self.states.take_committed(d);
+        // The joint form carries no state elements.
+        if !self.cartesian && d.forces.states.is_empty() {
             self.joint = match JointTree::of(d) {
                 Some(tree) => Some(Joints::start(tree, d)?),
                 None => None,
@@ -261,6 +279,7 @@ impl Integrator for Dopri853 {
                     self.v[i] = self.start_v[i] + self.dense_v.at(i, s);
                 }
                 d.set_state(&start, &self.x, &self.v, t);
+                self.states.dense_state(d, s);
             }
         }
         self.start = Some(start);
@@ -300,9 +319,11 @@ impl Integrator for Dopri853 {
         self.v0 = d.sys.v();
         self.a0.clone_from(&d.a);
         self.lambda0.clone_from(&d.lambda);
+        self.states.take_committed(d);
     }
 
     fn reject(&mut self, d: &mut Dynamics) {
+        d.forces.states.hold();
         let base = self.base.as_ref().expect("started");
         d.restore(base);
         d.a.clone_from(&self.a0);
@@ -323,16 +344,22 @@ impl Dopri853 {
         // The first stage is the accepted state: x = 0, where the chart's rate is ω.
         self.kx[0].copy_from_slice(self.v0.as_slice());
         self.kv[0].copy_from_slice(self.a0.as_slice());
+        self.states.first();
         for s in 1..STAGES {
             self.combine(A[s], h);
+            self.states.combine(d, A[s], h, false);
             if !self.place(d, base, t0 + C[s] * h) {
                 return Ok(Attempt::Diverged);
             }
             d.solve_accelerations()?;
             self.kv[s].copy_from_slice(d.a.as_slice());
             self.chart_rates(d, s);
+            self.states.slope(d, s);
         }
         self.combine(&B, h);
+        // The candidate's states: the evaluations at its end (the projection's, the
+        // commit's) solve their rates there.
+        self.states.combine(d, &B, h, false);
         if !self.place(d, base, t0 + h) {
             return Ok(Attempt::Diverged);
         }
@@ -370,8 +397,11 @@ impl Dopri853 {
         std::mem::swap(&mut self.v0, &mut self.start_v);
         let mut full = true;
         let mut outcome = Ok(());
+        // (The states' end slope first: the extra stages read it.)
+        self.states.extend(h, false);
         for (e, s) in (END + 1..EXTENDED).enumerate() {
             self.combine(A_EXTRA[e], h);
+            self.states.combine(d, A_EXTRA[e], h, true);
             if !self.place(d, start, start.time + C_EXTRA[e] * h) {
                 full = false;
                 break;
@@ -382,9 +412,11 @@ impl Dopri853 {
             }
             self.kv[s].copy_from_slice(d.a.as_slice());
             self.chart_rates(d, s);
+            self.states.slope(d, s);
         }
         std::mem::swap(&mut self.v0, &mut self.start_v);
         outcome?;
+        self.states.extend(h, full);
         let (kx, kv) = (&self.kx, &self.kv);
         let (v0, v1) = (&self.start_v, &self.v0);
         let n = dx.len();
@@ -403,15 +435,21 @@ impl Dopri853 {
         let (dx, v1) = (self.x.clone(), self.v.clone());
         self.kv[END].copy_from_slice(d.a.as_slice());
         self.chart_rates(d, END);
+        // The states' end: the candidate's sum, its rates as the last evaluation left them.
+        let end = self.states.y.clone();
+        self.states.slope(d, END);
         for (e, s) in (END + 1..EXTENDED).enumerate() {
             self.combine(A_EXTRA[e], h);
+            self.states.combine(d, A_EXTRA[e], h, false);
             if !self.place(d, base, base.time + C_EXTRA[e] * h) || d.solve_accelerations().is_err()
             {
                 return false;
             }
             self.kv[s].copy_from_slice(d.a.as_slice());
             self.chart_rates(d, s);
+            self.states.slope(d, s);
         }
+        self.states.extend_candidate(h, &end);
         let (kx, kv, v0) = (&self.kx, &self.kv, &self.v0);
         let n = dx.len();
         self.dense_x.fill(n, h, true, |i| dx[i], |j, i| kx[j][i]);

@@ -156,12 +156,21 @@ impl Dynamics {
         self.forces.states.commit(&mut self.sys)
     }
 
-    /// The state elements' local error over the step to the current candidate, as a
-    /// fraction of `error` (0 without states).
-    pub fn state_error(&mut self, error: f64) -> Result<f64, MbdError> {
-        if self.forces.states.is_empty() {
-            return Ok(0.0);
+    /// Solves the state elements at the current state under the integrator's formula
+    /// (the values a converged step ends with, before its error estimate reads them).
+    pub fn solve_states(&mut self) -> Result<(), MbdError> {
+        self.forces.states.solve(&mut self.sys)
+    }
+
+    /// Places the state elements at `x` (a continuous extension's values inside a step)
+    /// and solves their rates there, for the outputs that read them. A failure leaves
+    /// them as they stand: the extension's rows are outputs only, and the same
+    /// equations are solved, and their failure reported, at the next step.
+    pub fn place_states(&mut self, x: &[f64]) {
+        if x.is_empty() {
+            return;
         }
-        self.forces.states.local_error(&mut self.sys, error)
+        self.forces.states.set_formula(x, 0.0);
+        let _ = self.forces.states.solve(&mut self.sys);
     }
 }

@@ -28,8 +28,9 @@
 //!    `step_extension` (continuous extensions inside a step): the struct and its impl
 //!    blocks.
 //! 3. drive: `integrator` (the contract and its settings), `reuse`, `crossing`, `events`,
-//!    `inside_step` (output times inside a step) and `time_loop` (the driver): what runs
-//!    an integrator.
+//!    `inside_step` (output times inside a step), `states_border` (the state elements'
+//!    border of the Newton matrix) and `time_loop` (the driver): what runs an
+//!    integrator.
 //! 4. methods: `newmark`, `bdf` and `dopri853`, the integrators.
 
 pub mod bdf;
@@ -57,6 +58,7 @@ mod saddle;
 pub mod schur;
 mod setup;
 mod state;
+mod states_border;
 mod stats;
 mod step_extension;
 mod stiffness;

@@ -24,6 +24,27 @@
 //! Generalized-α: (1 − α_m)·ã₁ + α_m·ã₀ = (1 − α_f)·a₁ + α_f·a₀, s = 1, r = 0,
 //! c = (1 − α_f)/(1 − α_m), all four from ρ∞.
 //!
+//! The state elements' states ([`crate::mbd::states`]) follow the first-order
+//! generalized-α method (Jansen, Whiting & Hulbert 2000, in the algorithmic-rate form of
+//! Arnold & Brüls 2007) with the same method's parameters: with w the algorithmic rate,
+//!
+//! ```text
+//! x₁ = x₀ + h·((1 − γ)·w₀ + γ·w₁),   (1 − α_m)·w₁ + α_m·w₀ = (1 − α_f)·ẋ₁ + α_f·ẋ₀,
+//! ```
+//!
+//! ẋ₁ = f(x₁, q₁, v₁, t₁) solved inside every evaluation of the same Newton iteration
+//! (x₁ = b + g·ẋ₁ is linear in ẋ₁), whose step is the one of the matrix bordered by
+//! their coupling ([`super::states_border`]). Generalized-α uses its own α_m, α_f, γ; HHT maps to
+//! α_m = 0, α_f = −α, γ = ½ − α (its blend of the forces at t₀ and t₁); Newmark to
+//! α_m = α_f = 0 with its γ. So the states are second order where the method is
+//! (γ = ½ − α_m + α_f), A-stable, and damped at high frequency as the method damps. w
+//! lags ẋ by (α_f − α_m)·h: when the step changes, w₀ is moved along by
+//! (α_m − α_f)·Δh·ẍ₀ (ẍ₀ from the last step's rates), or a variable step would leave it
+//! off by O(h·Δh) (at a start w₀ = ẋ₀).
+//! Their local error, |γ − ½ + α_m − α_f|·h·|ẋ₁ − ẋ₀| + h³/12·|x⃛| with x⃛ from the divided
+//! differences of ẋ over this step and the one before (on a first step h²/12·|ẋ₁ − ẋ₀|),
+//! over ERROR·max(1, |x|), joins the step's estimate.
+//!
 //! Newton reuses its factorization across iterations and steps while it contracts, and
 //! refactors when the step size moved or the contraction is poor. The local error
 //! estimate is the Newmark position truncation error, (β − ⅙)·h²·(ã₁ − ã₀); while a
@@ -35,7 +56,9 @@ use super::integrator::{Attempt, Integrator, Settings};
 use super::reuse::{self, Reuse};
 use super::setup::Dynamics;
 use super::state::{copy_into, largest_magnitude, Snapshot};
+use super::states_border::StateBorder;
 use super::step_extension::Hermite;
+use crate::mbd::states::StateSet;
 use crate::vocab::math::DVec;
 
 /// Relative size of the last Newton correction of accelerations and multipliers at
@@ -108,6 +131,8 @@ pub struct Newmark {
     tol: (f64, Vec<f64>),
     /// When the factorization is reused (its weight: the step size).
     reuse: Reuse,
+    /// The state elements' border of the Newton matrix.
+    border: StateBorder,
     /// The physical accelerations at the last accepted state (kept only when forces read
     /// accelerations: HHT's own are shifted in time).
     a_phys0: DVec,
@@ -116,6 +141,35 @@ pub struct Newmark {
     start: Option<Snapshot>,
     start_v: DVec,
     hermite: Hermite,
+    /// The state elements: x and ẋ committed at the last accepted state, ẋ before it,
+    /// the candidate's x and ẋ, and the last accepted step's start (x, ẋ) for its
+    /// continuous extension.
+    states: StateHistory,
+}
+
+/// The state elements' values a Newmark step reads.
+#[derive(Default)]
+struct StateHistory {
+    /// α_m, α_f and γ of the states' generalized-α (the module doc).
+    alpha_m: f64,
+    alpha_f: f64,
+    gamma: f64,
+    /// x, ẋ and the algorithmic rate w committed at the last accepted state.
+    x0: Vec<f64>,
+    r0: Vec<f64>,
+    w0: Vec<f64>,
+    /// The step w₀ belongs to (0 at a start), and w₀ moved to the current step's.
+    w_step: f64,
+    w: Vec<f64>,
+    r_prev: Vec<f64>,
+    x1: Vec<f64>,
+    r1: Vec<f64>,
+    start: (Vec<f64>, Vec<f64>),
+    /// The extension is the candidate's (from x0 to x1), not the accepted step's.
+    candidate: bool,
+    /// Scratch: the formula's b, and the extension's states.
+    b: Vec<f64>,
+    at: Vec<f64>,
 }
 
 impl Newmark {
@@ -161,10 +215,12 @@ impl Newmark {
             watched: 0.0,
             tol: (f64::NAN, Vec::new()),
             reuse: Reuse::default(),
+            border: StateBorder::default(),
             a_phys0: DVec::zeros(0),
             start: None,
             start_v: DVec::zeros(0),
             hermite: Hermite::default(),
+            states: StateHistory::default(),
         }
     }
 
@@ -257,6 +313,29 @@ impl Newmark {
             _ => self.lambda0.clone(),
         };
         self.reuse.begin_step(h, d.factor_generation);
+        // The states' generalized-α: x₁ = b + g·ẋ₁.
+        let sh = &mut self.states;
+        if !sh.x0.is_empty() {
+            let (am, af, gm) = (sh.alpha_m, sh.alpha_f, sh.gamma);
+            // w lags ẋ by (α_f − α_m)·h: moved to this step's h (ẍ₀ from the last
+            // step's rates), as a change of step would leave it off by O(h·Δh).
+            sh.w.clear();
+            for k in 0..sh.x0.len() {
+                let accel = match (sh.r_prev.get(k), self.h0) {
+                    (Some(rp), Some(h0)) => (sh.r0[k] - rp) / h0,
+                    _ => 0.0,
+                };
+                sh.w.push(sh.w0[k] + (am - af) * (h - sh.w_step) * accel);
+            }
+            sh.b.clear();
+            for k in 0..sh.x0.len() {
+                let (x, r, w) = (sh.x0[k], sh.r0[k], sh.w[k]);
+                sh.b.push(x + h * (1.0 - gm) * w + h * gm * (af * r - am * w) / (1.0 - am));
+            }
+            d.forces
+                .states
+                .set_formula(&sh.b, h * gm * (1.0 - af) / (1.0 - am));
+        }
         let reach = d.reach();
         let newton_tol = (NEWTON_PER_ERROR * st.error).clamp(NEWTON_TOL_MIN, NEWTON_TOL_MAX);
         let mut prev_norm = f64::INFINITY;
@@ -299,6 +378,15 @@ impl Newmark {
                 *x = -phi * inv_scale;
             }
             d.solve(rhs)?;
+            if !d.forces.states.is_empty() {
+                // The step of the matrix bordered by the state elements.
+                let mut border = std::mem::take(&mut self.border);
+                let w_q = self.s;
+                let mut place = |d: &mut Dynamics, a: &DVec| self.place(d, a, h, t1);
+                let bordered = border.correct(d, rhs, (&a1, w_q), &mut place);
+                self.border = border;
+                bordered?;
+            }
             // The index-3 Newton matrix has condition O(h⁻²): positions converged to a
             // tolerance still leave accelerations and multipliers (reactions) off by
             // that over β·h². So the test is on the accelerations and multipliers
@@ -361,6 +449,16 @@ impl Newmark {
                     watched = watched.max(coef_v * (a1 - a0).abs() / tol);
                 }
                 self.watched = err.max(watched);
+                if !self.states.x0.is_empty() {
+                    // The states at the converged candidate, and their own error.
+                    d.solve_states()?;
+                    let sh = &mut self.states;
+                    d.forces.states.current(&d.sys, &mut sh.x1, &mut sh.r1);
+                    let states = self.state_error(h, st.error);
+                    if states > err {
+                        (err, worst) = (states, 0);
+                    }
+                }
                 return Ok(Attempt::Converged { err, worst });
             }
             // Slow or diverging with an old factorization: refactor here and go on.
@@ -375,6 +473,48 @@ impl Newmark {
 }
 
 impl Newmark {
+    /// The state elements' local error of the candidate after a step `h`, over their
+    /// tolerances at ERROR `error` (the module doc's estimate).
+    fn state_error(&self, h: f64, error: f64) -> f64 {
+        let sh = &self.states;
+        let first = (sh.gamma - 0.5 + sh.alpha_m - sh.alpha_f).abs() * h;
+        let mut worst = 0.0f64;
+        for k in 0..sh.x1.len() {
+            let (r0, r1) = (sh.r0[k], sh.r1[k]);
+            let third = match (sh.r_prev.get(k), self.h0) {
+                (Some(&rp), Some(h0)) => 2.0 * ((r1 - r0) / h - (r0 - rp) / h0) / (h + h0),
+                _ => (r1 - r0) / h,
+            };
+            let e = first * (r1 - r0).abs() + h.powi(3) / 12.0 * third.abs();
+            worst = worst.max(e / StateSet::tolerance(sh.x1[k], error));
+        }
+        worst
+    }
+
+    /// Takes the committed state elements as the start of the next step, with their
+    /// algorithmic rates (at a start, the rates themselves).
+    fn take_committed_states(&mut self, d: &Dynamics) {
+        let sh = &mut self.states;
+        let Some((x, r)) = d.forces.states.committed() else {
+            return;
+        };
+        let (am, af) = (sh.alpha_m, sh.alpha_f);
+        let w1: Vec<f64> = match sh.w.len() == r.len() {
+            true => (0..r.len())
+                .map(|k| ((1.0 - af) * r[k] + af * sh.r0[k] - am * sh.w[k]) / (1.0 - am))
+                .collect(),
+            false => r.to_vec(),
+        };
+        sh.w_step = match sh.w.len() == r.len() {
+            true => self.h1,
+            false => 0.0,
+        };
+        let (x_old, r_old) = (std::mem::take(&mut sh.x0), std::mem::take(&mut sh.r0));
+        sh.r_prev.clone_from(&r_old);
+        sh.start = (x_old, r_old);
+        (sh.x0, sh.r0, sh.w0) = (x.to_vec(), r.to_vec(), w1);
+    }
+
     /// The physical accelerations at t₁ from the method's a₁ into `out`. HHT's a₁ solves
     /// (s·M₁ − r·M₀)·a₁ = s·F₁ − r·F₀ with F = M·a at each end, so a₁ is the blend
     /// s·a(t₁) − r·a(t₀) (exactly where the mass is constant, to O(h) where 3D inertia
@@ -431,6 +571,18 @@ impl Integrator for Newmark {
         self.a_prev = DVec::zeros(0);
         self.h0 = None;
         self.reuse.invalidate();
+        d.commit_states()?;
+        let (alpha_m, alpha_f, gamma) = match self.method {
+            Method::Hht { alpha } => (0.0, -alpha, 0.5 - alpha),
+            _ => (self.alpha_m, self.alpha_f, self.gamma),
+        };
+        self.states = StateHistory {
+            alpha_m,
+            alpha_f,
+            gamma,
+            ..StateHistory::default()
+        };
+        self.take_committed_states(d);
         Ok(())
     }
 
@@ -476,6 +628,7 @@ impl Integrator for Newmark {
         copy_into(&mut self.lambda0, d.lambda.as_slice());
         copy_into(&mut self.at0, self.at1.as_slice());
         self.h0 = Some(self.h1);
+        self.take_committed_states(d);
         d.store_accelerations();
         if d.forces.reads_solution() {
             let mut a = DVec::zeros(d.n);
@@ -493,11 +646,34 @@ impl Integrator for Newmark {
             let v = (&self.start_v, &self.v0);
             self.hermite.fill(d, start, end, v, self.h1);
         }
+        self.states.candidate = false;
         Ok(())
     }
 
     fn dense_state(&mut self, d: &mut Dynamics, t: f64) {
         self.hermite.place(d, t);
+        // The states on the cubic Hermite through the step's ends and slopes.
+        let sh = &mut self.states;
+        let ((xa, ra), (xb, rb), from) = match sh.candidate {
+            false => ((&sh.start.0, &sh.start.1), (&sh.x0, &sh.r0), &self.start),
+            true => ((&sh.x0, &sh.r0), (&sh.x1, &sh.r1), &self.base),
+        };
+        if xa.is_empty() || xb.len() != xa.len() || ra.len() != xa.len() {
+            return;
+        }
+        let h = self.h1;
+        let s = match from {
+            Some(from) if h > 0.0 => ((t - from.time) / h).clamp(0.0, 1.0),
+            _ => 1.0,
+        };
+        let (h00, h10) = ((1.0 + 2.0 * s) * (1.0 - s).powi(2), s * (1.0 - s).powi(2));
+        let (h01, h11) = (s * s * (3.0 - 2.0 * s), s * s * (s - 1.0));
+        sh.at.clear();
+        for k in 0..xa.len() {
+            sh.at
+                .push(h00 * xa[k] + h10 * h * ra[k] + h01 * xb[k] + h11 * h * rb[k]);
+        }
+        d.place_states(&sh.at);
     }
 
     fn extend_candidate(&mut self, d: &mut Dynamics) -> bool {
@@ -506,11 +682,13 @@ impl Integrator for Newmark {
         };
         let (end, v1) = (d.snapshot(), d.sys.v());
         self.hermite.fill(d, base, &end, (&self.v0, &v1), self.h1);
+        self.states.candidate = true;
         true
     }
 
     fn reject(&mut self, d: &mut Dynamics) {
         let base = self.base.as_ref().expect("started");
+        d.forces.states.hold();
         d.restore(base);
         d.a = self.a0.clone();
         d.lambda = self.lambda0.clone();

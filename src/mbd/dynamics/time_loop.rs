@@ -104,19 +104,7 @@ pub fn simulate_framed(
                 in_contact: events.engaged(),
                 ..s.for_step(end - t, span)
             };
-            let mut attempt = integrator.attempt(d, end - t, &step_settings)?;
-            // The state elements' own error (the trapezoidal rule's, of order h³) joins
-            // the method's; the step factor it asks for bounds the method's.
-            let mut state_factor = f64::INFINITY;
-            if let (Attempt::Converged { err, .. }, false) =
-                (&mut attempt, d.forces.states.is_empty())
-            {
-                let states = d.state_error(step_settings.error)?;
-                if states > 0.0 {
-                    state_factor = 0.9 * states.powf(-1.0 / 3.0);
-                }
-                *err = err.max(states);
-            }
+            let attempt = integrator.attempt(d, end - t, &step_settings)?;
             match attempt {
                 Attempt::Diverged => {
                     d.stats.rejected += 1;
@@ -162,10 +150,6 @@ pub fn simulate_framed(
                     let shrink = integrator
                         .step_factor()
                         .unwrap_or_else(|| (0.9 * err.powf(-1.0 / order)).clamp(0.1, 0.9));
-                    let shrink = match state_factor.is_finite() {
-                        true => shrink.min(state_factor.clamp(0.1, 0.9)),
-                        false => shrink,
-                    };
                     want = h * shrink;
                     if want < s.hmin {
                         return Err(DynError::StepTooSmall {
@@ -187,6 +171,8 @@ pub fn simulate_framed(
                     events.accept();
                     let event = verdict == Verdict::Accept { event: true };
                     d.stats.events += event as usize;
+                    // The state elements first: the integrator's history reads them.
+                    d.commit_states()?;
                     integrator.accept(d);
                     // The extension of a step with an output time inside it is readied
                     // before a restart forgets the step (the outputs come at its end).
@@ -214,7 +200,6 @@ pub fn simulate_framed(
                     }
                     d.check_dropped(drift_tol)?;
                     d.commit_measures();
-                    d.commit_states()?;
                     if s.fixed_step.is_none() {
                         let most = integrator.max_growth();
                         let grow = if let Some(f) = integrator.step_factor() {
@@ -223,10 +208,6 @@ pub fn simulate_framed(
                             (0.9 * err.powf(-1.0 / integrator.error_order())).clamp(0.2, most)
                         } else {
                             most
-                        };
-                        let grow = match state_factor.is_finite() {
-                            true => grow.min(state_factor.clamp(0.2, most)),
-                            false => grow,
                         };
                         // Not longer right after a rejection (Hairer & Wanner's rule): the
                         // estimate that accepted this step just refused a longer one.
@@ -250,6 +231,11 @@ pub fn simulate_framed(
                     }
                     if let Some(f) = frames.as_deref_mut() {
                         inside_step::frames(d, integrator, f)?;
+                    }
+                    // The extensions placed the states inside the step: back to its end.
+                    if (interpolate || frames.is_some()) && !d.forces.states.is_empty() {
+                        d.forces.states.hold();
+                        d.solve_states()?;
                     }
                 }
             }

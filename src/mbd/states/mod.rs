@@ -3,17 +3,17 @@
 //! v, t)), whose values the expressions read through [`Measure::State`] (DIF, DIF1, and
 //! ARYVAL of an X, U or Y array).
 //!
-//! **How the integrators carry them.** The block is condensed into every evaluation of
-//! the forces: at a state (q, v, t) inside a step from the accepted (tₙ, xₙ, ẋₙ), the
-//! states solve the trapezoidal companion x = xₙ + (t − tₙ)/2·(ẋₙ + ẋ) together with
-//! their equations, by Newton on ẋ with a finite-difference Jacobian of the (small)
-//! block ([`StateSet::solve`]). So every integrator's Newton iteration, whatever its own
-//! formula, sees states consistent with its current iterate: BDF, HHT, generalized-α,
-//! Newmark and the explicit dopri853 (whose stages are evaluations too) alike, with no
-//! change to their state vectors. The accepted step commits the states ([`StateSet::commit`]);
-//! a rejected one leaves the committed ones. The states' own local error (the
-//! trapezoidal rule's, h³/12·x⃛ from divided differences of ẋ) joins the step's error
-//! estimate ([`StateSet::local_error`]).
+//! **How the integrators carry them.** The states are components of each integrator's
+//! own state vector: the integrator says, for the evaluations of a step, how x follows
+//! from ẋ in its formula, x = b + g·ẋ ([`StateSet::set_formula`]: a BDF's predictor form
+//! with its own g, the Newmark family's γ-rule, an explicit stage's sum with g = 0), and
+//! every evaluation of the forces solves the block's equations for ẋ under that formula
+//! at the current (q, v, t) ([`StateSet::solve`]: Newton on ẋ with a finite-difference
+//! Jacobian of the small block, or the rates directly when g = 0 and no DIFF is
+//! IMPLICIT). The integrator keeps the states' history, their error estimate and their
+//! continuous extension beside its own. The accepted step commits the states
+//! ([`StateSet::commit`]); between steps, and after a rejection ([`StateSet::hold`]),
+//! the evaluations hold x at the committed values.
 //!
 //! **Statics** ([`Mode::Static`]) solves ẋ = 0 for the states without STATIC_HOLD and
 //! keeps the others at their current values.
@@ -29,7 +29,7 @@ use crate::model::states::LinearSystem;
 /// How the states are solved at an evaluation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Mode {
-    /// The trapezoidal companion from the committed states (a run).
+    /// x = b + g·ẋ in the integrator's formula (a run).
     #[default]
     Dynamic,
     /// ẋ = 0, STATIC_HOLD states held (statics).
@@ -77,10 +77,11 @@ pub struct StateSet {
     pub(crate) mode: Mode,
     /// The values the measures read: per DIFF x, ẋ; per linear system x, ẋ, u, y.
     pub(crate) channels: usize,
-    /// The committed time, states and rates; None before the first solve.
+    /// The committed states and rates; None before the first solve.
     pub(crate) base: Option<Committed>,
-    /// The rates and step before the committed ones (for the error estimate).
-    pub(crate) previous: Option<(Vec<f64>, f64)>,
+    /// The integrator's formula x = b + g·ẋ for the evaluations of the current step:
+    /// (b, g); None holds x at the committed values.
+    pub(crate) formula: Option<(Vec<f64>, f64)>,
     /// The unknowns of the last solve (its warm start).
     pub(crate) z: Vec<f64>,
     /// Scratch: the model slot values the expressions read.
@@ -93,7 +94,6 @@ pub struct StateSet {
 /// The accepted states.
 #[derive(Clone, Debug)]
 pub(crate) struct Committed {
-    pub(crate) t: f64,
     pub(crate) x: Vec<f64>,
     pub(crate) rate: Vec<f64>,
 }
@@ -138,7 +138,7 @@ impl StateSet {
 
     /// Forgets the integration: the next solve starts again from the initial conditions.
     pub fn forget_state(&mut self) {
-        (self.base, self.previous, self.mode) = (None, None, Mode::Dynamic);
+        (self.base, self.formula, self.mode) = (None, None, Mode::Dynamic);
         self.z.clear();
     }
 
@@ -171,6 +171,31 @@ impl StateSet {
             k += l.sys.n;
         }
         None
+    }
+
+    /// The integrator's formula for the evaluations that follow: x = b + g·ẋ, per state
+    /// in the order of [`StateSet::names`].
+    pub fn set_formula(&mut self, b: &[f64], g: f64) {
+        match &mut self.formula {
+            Some((fb, fg)) => {
+                fb.clear();
+                fb.extend_from_slice(b);
+                *fg = g;
+            }
+            None => self.formula = Some((b.to_vec(), g)),
+        }
+    }
+
+    /// The evaluations that follow hold x at the committed values (after a rejected
+    /// step, between steps).
+    pub fn hold(&mut self) {
+        self.formula = None;
+    }
+
+    /// The tolerance of state `x` at ERROR `error`: relative above a unit value,
+    /// absolute below.
+    pub fn tolerance(x: f64, error: f64) -> f64 {
+        error * x.abs().max(1.0)
     }
 
     /// Moves committed state `k` by `dx` (a linearization's finite differences); the

@@ -1,7 +1,9 @@
 //! Solving the state block at the system's current (q, v, t): the residual of every
-//! state's equation as a function of the unknowns z (the rates ẋ in a run, the states x
-//! in statics), Newton on z with a finite-difference Jacobian of the block, the commit
-//! of an accepted state and the trapezoidal rule's local error.
+//! state's equation as a function of the unknowns z (the rates ẋ in a run, x following
+//! from them by the integrator's formula x = b + g·ẋ; the states x in statics), Newton
+//! on z with a finite-difference Jacobian of the block (or, with g = 0 and every
+//! equation explicit, the rates as the equations give them), and the commit of an
+//! accepted state.
 
 use super::{Committed, Mode, StateExpr, StateSet};
 use crate::mbd::error::MbdError;
@@ -17,6 +19,13 @@ const CONVERGED: f64 = 1e-11;
 
 /// The relative finite-difference step of the block's Jacobian.
 const FD_STEP: f64 = 1e-7;
+
+/// Passes of the explicit rates (g = 0) before Newton takes over: more than one only
+/// where an equation reads another's rate (DIF1).
+const EXPLICIT_PASSES: usize = 4;
+
+/// How x follows from the unknowns: the integrator's (b, g), or the committed x.
+type Formula<'a> = (&'a [f64], f64);
 
 /// `e`'s value at the state of `sys`, its slots filled into `slots`.
 fn value(e: &StateExpr, sys: &System, slots: &mut Vec<f64>) -> Result<f64, String> {
@@ -53,15 +62,13 @@ impl StateSet {
             .collect()
     }
 
-    /// The committed states, made from the initial conditions at `sys`'s time the first
-    /// time.
-    fn committed_or_start(&mut self, sys: &System) -> Committed {
+    /// The committed states, made from the initial conditions the first time.
+    fn committed_or_start(&mut self) -> Committed {
         if let Some(b) = &self.base {
             return b.clone();
         }
         let layout = self.layout();
         let b = Committed {
-            t: sys.time,
             x: layout.iter().map(|l| l.3).collect(),
             rate: layout.iter().map(|l| l.4).collect(),
         };
@@ -69,17 +76,18 @@ impl StateSet {
         b
     }
 
-    /// The residual of every state's equation at unknowns `z` from `base` (writing the
-    /// state values the expressions read into `sys`), into `r`.
+    /// The residual of every state's equation at unknowns `z` under `formula` (statics:
+    /// `base` holds the STATIC_HOLD states), writing the state values the expressions
+    /// read into `sys`, into `r`.
     fn residual(
         &mut self,
         sys: &mut System,
-        base: &Committed,
+        (base, formula): (&Committed, Formula<'_>),
         z: &[f64],
         r: &mut [f64],
     ) -> Result<(), MbdError> {
         let layout = self.layout();
-        let h = sys.time - base.t;
+        let (b, g) = formula;
         let channels = self.channels;
         let values = &mut sys.measures.states;
         if values.len() != channels {
@@ -88,7 +96,7 @@ impl StateSet {
         // The states and rates the unknowns stand for.
         for (k, &(xc, rc, held, ..)) in layout.iter().enumerate() {
             let (x, rate) = match self.mode {
-                Mode::Dynamic => (base.x[k] + 0.5 * h * (base.rate[k] + z[k]), z[k]),
+                Mode::Dynamic => (b[k] + g * z[k], z[k]),
                 Mode::Static if held => (base.x[k], 0.0),
                 Mode::Static => (z[k], 0.0),
             };
@@ -171,14 +179,14 @@ impl StateSet {
         Ok(())
     }
 
-    /// Solves the states at `sys`'s current (q, v, t) in the current [`Mode`], and
-    /// writes their values (x, ẋ, the linear systems' u and y) where the measures read
-    /// them. Nothing to do without states, or [`StateSet::frozen`].
+    /// Solves the states at `sys`'s current (q, v, t) in the current [`Mode`] and
+    /// formula, and writes their values (x, ẋ, the linear systems' u and y) where the
+    /// measures read them. Nothing to do without states, or [`StateSet::frozen`].
     pub fn solve(&mut self, sys: &mut System) -> Result<(), MbdError> {
         if self.is_empty() || self.frozen {
             return Ok(());
         }
-        let base = self.committed_or_start(sys);
+        let base = self.committed_or_start();
         let n = self.len();
         if self.z.len() != n {
             self.z = match self.mode {
@@ -186,29 +194,68 @@ impl StateSet {
                 Mode::Static => base.x.clone(),
             };
         }
+        let formula = self.formula.take();
+        let (b, g) = match (&formula, self.mode) {
+            (Some((b, g)), Mode::Dynamic) => (b.as_slice(), *g),
+            _ => (base.x.as_slice(), 0.0),
+        };
         let mut z = std::mem::take(&mut self.z);
-        let result = self.newton(sys, &base, &mut z);
+        let explicit = self.mode == Mode::Dynamic && g == 0.0;
+        let direct = match explicit && self.diffs.iter().all(|d| !d.implicit) {
+            true => self.rates_directly(sys, (&base, (b, g)), &mut z),
+            false => Ok(false),
+        };
+        let result = match direct {
+            Ok(true) => Ok(()),
+            Ok(false) => self.newton(sys, (&base, (b, g)), &mut z),
+            Err(e) => Err(e),
+        };
         self.z = z;
+        self.formula = formula;
         result
+    }
+
+    /// The rates as the explicit equations give them at x fixed (g = 0), passed again
+    /// while one reads another's rate; true when they settled (`z` left at them).
+    fn rates_directly(
+        &mut self,
+        sys: &mut System,
+        at: (&Committed, Formula<'_>),
+        z: &mut [f64],
+    ) -> Result<bool, MbdError> {
+        let mut r = vec![0.0; z.len()];
+        for _ in 0..EXPLICIT_PASSES {
+            self.residual(sys, at, z, &mut r)?;
+            let mut settled = true;
+            for (zi, d) in z.iter_mut().zip(&r) {
+                settled &= d.abs() <= CONVERGED * (1.0 + zi.abs());
+                *zi += d;
+            }
+            if settled {
+                self.residual(sys, at, z, &mut r)?;
+                return Ok(true);
+            }
+        }
+        Ok(false)
     }
 
     /// Newton on the unknowns `z` (left at the solution, its values written).
     fn newton(
         &mut self,
         sys: &mut System,
-        base: &Committed,
+        at: (&Committed, Formula<'_>),
         z: &mut [f64],
     ) -> Result<(), MbdError> {
         let n = z.len();
         let (mut r, mut rp) = (vec![0.0; n], vec![0.0; n]);
         let mut jac = DMat::zeros(n, n);
         for _ in 0..MAX_ITERATIONS {
-            self.residual(sys, base, z, &mut r)?;
+            self.residual(sys, at, z, &mut r)?;
             for c in 0..n {
                 let step = FD_STEP * z[c].abs().max(1.0);
                 let keep = z[c];
                 z[c] = keep + step;
-                self.residual(sys, base, z, &mut rp)?;
+                self.residual(sys, at, z, &mut rp)?;
                 z[c] = keep;
                 for i in 0..n {
                     jac[(i, c)] = (rp[i] - r[i]) / step;
@@ -226,7 +273,7 @@ impl StateSet {
                     }
                 };
                 // Restore the values of the unknowns as they stand.
-                self.residual(sys, base, z, &mut r)?;
+                self.residual(sys, at, z, &mut r)?;
                 return Err(self.failure(worst, what));
             };
             let mut converged = true;
@@ -239,10 +286,10 @@ impl StateSet {
                 *zi += d;
             }
             if converged {
-                return self.residual(sys, base, z, &mut r);
+                return self.residual(sys, at, z, &mut r);
             }
         }
-        self.residual(sys, base, z, &mut r)?;
+        self.residual(sys, at, z, &mut r)?;
         let worst = (0..n)
             .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
             .unwrap_or(0);
@@ -253,29 +300,23 @@ impl StateSet {
     }
 
     /// Makes the states at `sys`'s current (accepted) state the committed ones: their
-    /// values from a solve in the current mode, their rates from the run's equations
-    /// there (a statics' equilibrium commits its states with the rates a run starts
-    /// from).
+    /// values from a solve in the current mode and formula, their rates from the run's
+    /// equations there with x held (a statics' equilibrium commits its states with the
+    /// rates a run starts from). The evaluations that follow hold them.
     pub fn commit(&mut self, sys: &mut System) -> Result<(), MbdError> {
         if self.is_empty() {
             return Ok(());
         }
         self.solve(sys)?;
         let layout = self.layout();
-        let old = self.committed_or_start(sys);
         let x: Vec<f64> = layout.iter().map(|l| sys.measures.states[l.0]).collect();
         let rate: Vec<f64> = layout.iter().map(|l| sys.measures.states[l.1]).collect();
-        let h = sys.time - old.t;
-        if h > 0.0 {
-            self.previous = Some((old.rate.clone(), h));
-        }
         let mode = std::mem::take(&mut self.mode);
         self.base = Some(Committed {
-            t: sys.time,
             x,
             rate: rate.clone(),
         });
-        // The rates at the new base, from the run's equations (h = 0: x stays).
+        self.formula = None;
         self.z = rate;
         let solved = self.solve(sys);
         self.mode = mode;
@@ -289,39 +330,40 @@ impl StateSet {
         Ok(())
     }
 
-    /// The trapezoidal rule's local error of the step from the committed states to
-    /// `sys`'s current (candidate) state over the tolerance ERROR·max(1, |x|), its
-    /// largest ratio (0 without states): h³/12·|x⃛| with x⃛ from the divided
-    /// differences of ẋ over this step and the one before; on a first step, with none
-    /// before, h/2·|ẋₙ₊₁ − ẋₙ| (the difference from Euler's, an over-estimate).
-    pub fn local_error(&mut self, sys: &mut System, error: f64) -> Result<f64, MbdError> {
-        if self.is_empty() || self.mode == Mode::Static {
-            return Ok(0.0);
+    /// The unknowns of the last solve: the rates ẋ in a run.
+    pub fn unknowns(&self) -> &[f64] {
+        &self.z
+    }
+
+    /// The residuals of the states' equations at rates `z` under the current formula
+    /// at `sys`'s current (q, v, t), into `r`, without solving (the state values the
+    /// expressions read are left at `z`'s): what the integrators' Newton matrix
+    /// differentiates.
+    pub fn residual_of_rates(
+        &mut self,
+        sys: &mut System,
+        z: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), MbdError> {
+        let base = self.committed_or_start();
+        let formula = self.formula.take();
+        let (b, g) = match &formula {
+            Some((b, g)) => (b.as_slice(), *g),
+            None => (base.x.as_slice(), 0.0),
+        };
+        let out = self.residual(sys, (&base, (b, g)), z, r);
+        self.formula = formula;
+        out
+    }
+
+    /// The states x and rates ẋ as the last solve left them, into `x` and `rate`
+    /// (resized to the states).
+    pub fn current(&self, sys: &System, x: &mut Vec<f64>, rate: &mut Vec<f64>) {
+        x.clear();
+        rate.clear();
+        for l in self.layout() {
+            x.push(sys.measures.states.get(l.0).copied().unwrap_or(f64::NAN));
+            rate.push(sys.measures.states.get(l.1).copied().unwrap_or(f64::NAN));
         }
-        self.solve(sys)?;
-        let base = self.committed_or_start(sys);
-        let h = sys.time - base.t;
-        if h <= 0.0 {
-            return Ok(0.0);
-        }
-        let layout = self.layout();
-        let mut worst: f64 = 0.0;
-        for (k, l) in layout.iter().enumerate() {
-            let (x, r1, r0) = (
-                sys.measures.states[l.0],
-                sys.measures.states[l.1],
-                base.rate[k],
-            );
-            let est = match &self.previous {
-                Some((rates, hp)) => {
-                    let third = 2.0 * ((r1 - r0) / h - (r0 - rates[k]) / hp) / (h + hp);
-                    h * h * h / 12.0 * third.abs()
-                }
-                None => 0.5 * h * (r1 - r0).abs(),
-            };
-            let tol = error * x.abs().max(base.x[k].abs()).max(1.0);
-            worst = worst.max(est / tol);
-        }
-        Ok(worst)
     }
 }

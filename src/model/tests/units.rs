@@ -163,3 +163,16 @@ fn variables_a_controller_sets_are_free() {
     );
     assert_eq!(w, []);
 }
+
+#[test]
+fn state_element_expressions_are_checked_like_the_others() {
+    // A DIFF's FUNCTION adding a length to a velocity is flagged where it stands.
+    let w = unit_warnings("DIFF/1, IC = 0, FUNCTION = DZ(21,11) + VZ(21,11)");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].0.contains("adds a length"), "{w:?}");
+    assert_eq!(w[0].2, "DZ(21,11) + VZ(21,11)");
+    // And an IMPLICIT one's residual; a consistent law stays quiet.
+    let w = unit_warnings("DIFF/1, IMPLICIT, IC = 0, FUNCTION = DIF1(1) - AZ(21,11) - VZ(21,11)");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(unit_warnings("DIFF/1, IC = 0, FUNCTION = -2*DIF(1) + DZ(21,11)").is_empty());
+}

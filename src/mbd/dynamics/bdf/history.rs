@@ -5,6 +5,9 @@
 //! origin where the rotation vector is smooth. Velocities live in a vector space (global
 //! axes) and need no chart.
 //!
+//! Each point holds the state elements' x and ẋ too ([`crate::mbd::states`]: they are
+//! integrated by the same formula), as the last commit left them.
+//!
 //! Right after a start or a restart there is one real point; the order-1 predictor then
 //! uses a seed point one step back, from the newest state's Taylor expansion
 //! (second order in the positions, first in the velocities, all that order 1 needs).
@@ -28,6 +31,19 @@ pub struct Point {
     pub lambda: DVec,
     /// The configuration in the newest point's chart (velocity layout).
     pub x: Vec<f64>,
+    /// The state elements' x and ẋ.
+    pub states: Vec<f64>,
+    pub rates: Vec<f64>,
+}
+
+/// The committed states and rates of `d` into `x` and `rate` (empty without states).
+fn committed_states(d: &Dynamics, x: &mut Vec<f64>, rate: &mut Vec<f64>) {
+    x.clear();
+    rate.clear();
+    if let Some((cx, cr)) = d.forces.states.committed() {
+        x.extend_from_slice(cx);
+        rate.extend_from_slice(cr);
+    }
 }
 
 /// The accepted states, newest first, at most `cap` of them.
@@ -57,13 +73,17 @@ impl History {
     /// discontinuity).
     pub fn restart(&mut self, d: &Dynamics) {
         self.points.clear();
-        self.points.push_front(Point {
+        let mut p = Point {
             t: d.sys.time,
             snap: d.snapshot(),
             v: d.sys.v(),
             lambda: d.lambda.clone(),
             x: vec![0.0; d.n],
-        });
+            states: Vec::new(),
+            rates: Vec::new(),
+        };
+        committed_states(d, &mut p.states, &mut p.rates);
+        self.points.push_front(p);
         self.a = d.a.clone();
         self.seed = None;
     }
@@ -84,9 +104,12 @@ impl History {
                 v: DVec::zeros(d.n),
                 lambda: DVec::zeros(d.m),
                 x: vec![0.0; d.n],
+                states: Vec::new(),
+                rates: Vec::new(),
             },
         };
         p.t = d.sys.time;
+        committed_states(d, &mut p.states, &mut p.rates);
         copy_into(&mut p.v, d.sys.v().as_slice());
         copy_into(&mut p.lambda, d.lambda.as_slice());
         self.points.push_front(p);
@@ -135,6 +158,11 @@ impl History {
             v: &p.v - &self.a * h,
             lambda: p.lambda.clone(),
             x,
+            // First order in the states, all that order 1 needs.
+            states: (p.states.iter().zip(&p.rates))
+                .map(|(x, r)| x - h * r)
+                .collect(),
+            rates: p.rates.clone(),
         });
     }
 
