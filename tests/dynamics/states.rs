@@ -324,3 +324,31 @@ fn a_pi_controlled_pendulum_comes_to_rest_at_its_closed_form() {
         );
     }
 }
+
+#[test]
+fn a_pendulum_driven_through_a_fast_actuator_state_comes_to_rest_at_its_closed_form() {
+    // The torque is the state x of a 1 ms lag on a PD law, ẋ = (u − x)/0.001: the
+    // coupling the Newton matrix's border carries (without it the iteration contracts
+    // poorly and the steps fail). At rest x = u = 2000·(0.5 − θ) holds the weight,
+    // m·g·d·sin θ: θ from that equation by Newton here.
+    let (m, g, d) = (2.0, 9.81, 1.5);
+    let mut th = 0.5f64;
+    for _ in 0..50 {
+        let r = 2000.0 * (0.5 - th) - m * g * d * th.sin();
+        th -= r / (-2000.0 - m * g * d * th.cos());
+    }
+    for integrator in ["gstiff", "hht"] {
+        let mut args = vec!["--end", "5", "--output-step", "0.1", "--error", "1e-4"];
+        args.extend(integrator_args(integrator));
+        let pairs = [("x", "DIF(1)"), ("th", "AZ(21, 10)")];
+        let csv = run_probed(&data("lag_pendulum.adm"), &args, &named(&pairs));
+        let (x, got) = (csv.col("x"), csv.col("th"));
+        let (x, got) = (x[x.len() - 1], got[got.len() - 1]);
+        assert!((got - th).abs() < 1e-6, "{integrator}: θ = {got} vs {th}");
+        let torque = 2000.0 * (0.5 - th);
+        assert!(
+            (x - torque).abs() < 1e-3,
+            "{integrator}: x = {x} vs {torque}"
+        );
+    }
+}

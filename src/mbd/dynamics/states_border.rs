@@ -119,7 +119,9 @@ impl StateBorder {
         self.generation = Some(d.factor_generation);
         self.s = None;
         self.u.clear();
-        let q0 = self.frozen_forces(d)?;
+        // Q at the candidate, as this iteration's evaluation left it (the states solved
+        // at the rates `z`).
+        let q0 = d.gen.q.clone();
         let mut dmat = DMat::zeros(s, s);
         let mut coupled = false;
         for k in 0..s {
