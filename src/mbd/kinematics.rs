@@ -114,7 +114,9 @@ pub fn solve_at(d: &mut Dynamics, t: f64) -> Result<(), DynError> {
         d.project_positions(floor)?;
         d.commit_measures();
     }
+    // The state elements integrate along the prescribed motion (the trapezoidal rule
+    // from the last time), committed at each time.
+    d.forces.states.trapezoidal_to(t);
     d.reconcile()?;
-    // The state elements integrate along the prescribed motion, committed at each time.
     Ok(d.commit_states()?)
 }

@@ -304,6 +304,17 @@ fn a_stiff_diff_under_gstiff_takes_long_steps_and_tracks_sin() {
     assert!(n < 300, "{n} steps\n{stderr}");
 }
 
+/// DIF(1) and AZ(21, 10) at the end of a run of a pendulum dataset with `integrator`
+/// (end, output step, ERROR).
+fn at_end(file: &str, integrator: &str, (end, step, error): (&str, &str, &str)) -> (f64, f64) {
+    let mut args = vec!["--end", end, "--output-step", step, "--error", error];
+    args.extend(integrator_args(integrator));
+    let pairs = [("x", "DIF(1)"), ("th", "AZ(21, 10)")];
+    let csv = run_probed(&data(file), &args, &named(&pairs));
+    let (x, th) = (csv.col("x"), csv.col("th"));
+    (x[x.len() - 1], th[th.len() - 1])
+}
+
 #[test]
 fn a_pi_controlled_pendulum_comes_to_rest_at_its_closed_form() {
     // J·θ̈ = −m·g·d·sin θ + 100·(0.5 − θ) − 20·θ̇ + 50·x, ẋ = 0.5 − θ: the integral
@@ -311,12 +322,7 @@ fn a_pi_controlled_pendulum_comes_to_rest_at_its_closed_form() {
     let (m, g, d) = (2.0, 9.81, 1.5);
     let x_rest = m * g * d * 0.5f64.sin() / 50.0;
     for integrator in ["gstiff", "hht", "dopri853"] {
-        let mut args = vec!["--end", "25", "--output-step", "0.5", "--error", "1e-6"];
-        args.extend(integrator_args(integrator));
-        let pairs = [("x", "DIF(1)"), ("th", "AZ(21, 10)")];
-        let csv = run_probed(&data("pi_pendulum.adm"), &args, &named(&pairs));
-        let (x, th) = (csv.col("x"), csv.col("th"));
-        let (x, th) = (x[x.len() - 1], th[th.len() - 1]);
+        let (x, th) = at_end("pi_pendulum.adm", integrator, ("25", "0.5", "1e-6"));
         assert!((th - 0.5).abs() < 1e-4, "{integrator}: θ = {th}");
         assert!(
             (x - x_rest).abs() < 1e-4,
@@ -338,17 +344,30 @@ fn a_pendulum_driven_through_a_fast_actuator_state_comes_to_rest_at_its_closed_f
         th -= r / (-2000.0 - m * g * d * th.cos());
     }
     for integrator in ["gstiff", "hht"] {
-        let mut args = vec!["--end", "5", "--output-step", "0.1", "--error", "1e-4"];
-        args.extend(integrator_args(integrator));
-        let pairs = [("x", "DIF(1)"), ("th", "AZ(21, 10)")];
-        let csv = run_probed(&data("lag_pendulum.adm"), &args, &named(&pairs));
-        let (x, got) = (csv.col("x"), csv.col("th"));
-        let (x, got) = (x[x.len() - 1], got[got.len() - 1]);
+        let (x, got) = at_end("lag_pendulum.adm", integrator, ("5", "0.1", "1e-4"));
         assert!((got - th).abs() < 1e-6, "{integrator}: θ = {got} vs {th}");
         let torque = 2000.0 * (0.5 - th);
         assert!(
             (x - torque).abs() < 1e-3,
             "{integrator}: x = {x} vs {torque}"
+        );
+    }
+}
+
+#[test]
+fn kinematics_integrates_a_diff_along_the_prescribed_motion() {
+    // z = t² prescribed, ẋ = z: x = t³/3. The states follow the output times by the
+    // trapezoidal rule, whose error over 0–2 s at 0.1 s is 2·h²/12·x⃛ = 0.0033.
+    let args = ["--kinematics", "--end", "2", "--output-step", "0.1"];
+    let pairs = [("x", "DIF(1)")];
+    let csv = run_probed(&data("kinematics_diff.adm"), &args, &named(&pairs));
+    let (t, x) = (csv.time(), csv.col("x"));
+    assert_eq!(t.len(), 21);
+    for (&t, &x) in t.iter().zip(&x) {
+        let exact = t * t * t / 3.0;
+        assert!(
+            (x - exact).abs() <= 0.0034 * t / 2.0 + 1e-12,
+            "x({t}) = {x} vs {exact}"
         );
     }
 }

@@ -30,7 +30,7 @@
 //! The state elements' states ([`crate::mbd::states`]) are integrated by the same
 //! formula, x₁ = p(t₁) + g·(ẋ₁ − ṗ(t₁)), with the same order, steps and history: each
 //! evaluation solves their equations for ẋ₁ with x₁ so tied to it, the Newton step is
-//! the one of the matrix bordered by their coupling ([`super::states_border`]), and
+//! the one of the matrix bordered by their coupling (`states_border`), and
 //! their own corrector–predictor difference, over ERROR·max(1, |x|), joins the error
 //! norm (and the order selection) beside the positions'.
 //!

@@ -34,7 +34,7 @@
 //!
 //! ẋ₁ = f(x₁, q₁, v₁, t₁) solved inside every evaluation of the same Newton iteration
 //! (x₁ = b + g·ẋ₁ is linear in ẋ₁), whose step is the one of the matrix bordered by
-//! their coupling ([`super::states_border`]). Generalized-α uses its own α_m, α_f, γ; HHT maps to
+//! their coupling (`states_border`). Generalized-α uses its own α_m, α_f, γ; HHT maps to
 //! α_m = 0, α_f = −α, γ = ½ − α (its blend of the forces at t₀ and t₁); Newmark to
 //! α_m = α_f = 0 with its γ. So the states are second order where the method is
 //! (γ = ½ − α_m + α_f), A-stable, and damped at high frequency as the method damps. w

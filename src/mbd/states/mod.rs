@@ -82,6 +82,8 @@ pub struct StateSet {
     /// The integrator's formula x = b + g·ẋ for the evaluations of the current step:
     /// (b, g); None holds x at the committed values.
     pub(crate) formula: Option<(Vec<f64>, f64)>,
+    /// The time of the last commit.
+    pub(crate) committed_time: Option<f64>,
     /// The unknowns of the last solve (its warm start).
     pub(crate) z: Vec<f64>,
     /// Scratch: the model slot values the expressions read.
@@ -139,6 +141,7 @@ impl StateSet {
     /// Forgets the integration: the next solve starts again from the initial conditions.
     pub fn forget_state(&mut self) {
         (self.base, self.formula, self.mode) = (None, None, Mode::Dynamic);
+        self.committed_time = None;
         self.z.clear();
     }
 
@@ -184,6 +187,21 @@ impl StateSet {
             }
             None => self.formula = Some((b.to_vec(), g)),
         }
+    }
+
+    /// The trapezoidal rule from the committed states to time `t`,
+    /// x = xₙ + (t − tₙ)/2·(ẋₙ + ẋ), as the formula of the evaluations that follow: how
+    /// the states follow a motion no integrator carries (kinematics, solved at its
+    /// output times).
+    pub fn trapezoidal_to(&mut self, t: f64) {
+        let Some(c) = &self.base else {
+            return;
+        };
+        let h = t - self.committed_time.unwrap_or(t);
+        let b: Vec<f64> = (c.x.iter().zip(&c.rate))
+            .map(|(x, r)| x + 0.5 * h * r)
+            .collect();
+        self.set_formula(&b, 0.5 * h);
     }
 
     /// The evaluations that follow hold x at the committed values (after a rejected

@@ -317,6 +317,7 @@ impl StateSet {
             rate: rate.clone(),
         });
         self.formula = None;
+        self.committed_time = Some(sys.time);
         self.z = rate;
         let solved = self.solve(sys);
         self.mode = mode;
