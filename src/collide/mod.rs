@@ -41,7 +41,7 @@ mod tests;
 
 pub use error::CollideError;
 pub use geometry::Geometry;
-pub use world::World;
+pub use world::{Reach, World};
 
 use crate::vocab::math::{Mat3, Vec3};
 

@@ -15,6 +15,9 @@ use parry3d_f64::query::{
 };
 use std::collections::HashMap;
 
+mod reach;
+pub use reach::Reach;
+
 /// The geometries of a model's contacts, the pairs to watch, and where they are.
 pub struct World {
     geometries: Vec<Geometry>,

@@ -275,3 +275,32 @@ fn figures_cost_per_step_of_n_falling_spheres() {
     let slope = (cost[2].1 / cost[0].1).ln() / (cost[2].0 / cost[0].0).ln();
     eprintln!("log-log slope of the cost per step, N = 10 to 1000: {slope:.2}");
 }
+
+#[test]
+fn no_step_carries_a_ball_through_the_floor() {
+    // Dropped 0.1 m onto a floor 0.2 m thick with rows interpolated and no HMAX: a free
+    // flight step of dopri853 grew to 0.3 s and carried the ball clean through, apart at
+    // both ends of it (it ended 1.86 m below the floor). It must come to rest on the top
+    // (y = 0) at the linear law's depth m·g/k.
+    let want = 0.1 - G / 1e5;
+    // (dopri853 at 1e-10 is the run that passed through; the implicit methods' steps
+    // are bounded too, and must not suffer for it.)
+    for (method, error) in [("dopri853", "1e-10"), ("gstiff", "1e-6"), ("hht", "1e-6")] {
+        let csv = run(
+            "contact_ball_long_steps.adm",
+            "1",
+            "1e-3",
+            &["--integrator", method, "--error", error, "--interpolate"],
+        );
+        let y = csv.col("y");
+        assert!(
+            y.iter().all(|&y| y > 0.0),
+            "{method}: below the floor's top"
+        );
+        assert!(
+            (last(&y) - want).abs() < 1e-6,
+            "{method}: {} {want}",
+            last(&y)
+        );
+    }
+}

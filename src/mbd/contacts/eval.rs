@@ -42,7 +42,7 @@ struct Load {
 
 impl ContactSet {
     /// Places every geometry at the state of `sys`.
-    fn place(&self, sys: &System) {
+    pub(super) fn place(&self, sys: &System) {
         let Some(world) = &self.world else { return };
         let pose = |id| {
             self.parts.get(&id).map_or(

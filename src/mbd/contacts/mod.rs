@@ -13,11 +13,13 @@
 //!
 //! The files, one job each: `law` (the normal laws and the friction coefficient),
 //! `build` (a model's CONTACTs into a set and its world), `eval` (loads, Jacobians,
-//! switches and the values an output reads).
+//! switches and the values an output reads), `reach` (the step no pair can pass
+//! through another in).
 
 mod build;
 mod eval;
 pub mod law;
+mod reach;
 
 use crate::collide::{Incident, World};
 use crate::mbd::handles::PartHandle;

@@ -99,6 +99,14 @@ pub fn simulate_framed(
             if let Some(aim) = events.aim(t).filter(|&a| a < h) {
                 (h, end) = (aim, t + aim);
             }
+            // Nor may a contact pair pass through another unseen inside it (onset is
+            // seen only at a step's ends): the contacts' conservative bound.
+            if s.fixed_step.is_none() && !d.forces.contacts.is_empty() {
+                let reach = d.forces.contacts.step_bound(&d.sys, h);
+                if reach < h {
+                    (h, end) = (reach, t + reach);
+                }
+            }
             let clipped = h < want;
             let step_settings = Settings {
                 in_contact: events.engaged(),
