@@ -403,9 +403,9 @@ def main():
     for integrator in ["Euler", "implicitfast", "RK4"]:
         families["MuJoCo " + integrator] = [mujoco_point(integrator, dt, args.repeats) for dt in steps]
 
-    head = "%-20s %-12s %7s %14s %9s %14s %9s %9s %9s %10s %12s" % (
+    head = "%-20s %-12s %7s %14s %9s %14s %9s %9s %9s %10s %12s %8s" % (
         "method", "setting", "steps", "rest depth m", "rel err", "peak depth m", "rel err",
-        "apex m", "rel err", "CPU s", "CPU / sim s")
+        "apex m", "rel err", "CPU s", "CPU / sim s", "µs/step")
     print(head)
     print("-" * len(head))
     for name, points in families.items():
@@ -414,9 +414,9 @@ def main():
                 print("%-20s %-12s %7d   (no bounce seen)" % (name, p["setting"], p["steps"]))
                 continue
             got, err = p["scores"]
-            print("%-20s %-12s %7d %14.9g %9.2e %14.9g %9.2e %9.6f %9.2e %10.3e %12.3e" % (
+            print("%-20s %-12s %7d %14.9g %9.2e %14.9g %9.2e %9.6f %9.2e %10.3e %12.3e %8.2f" % (
                 name, p["setting"], p["steps"], got["rest"], err["rest"], got["peak"], err["peak"],
-                got["apex"], err["apex"], p["cpu"], p["cpu"] / T))
+                got["apex"], err["apex"], p["cpu"], p["cpu"] / T, 1e6 * p["cpu"] / p["steps"]))
         print()
 
     drift = max(abs(p["scored_steps"] / p["steps"] - 1.0) for n, f in families.items()
