@@ -128,6 +128,8 @@ def closed_form(g_contact, bias):
     """The first impact's deepest penetration, the first rebound's apex (the lowest point's
     height over the floor) and the rest depth of M x'' = M g_contact − K x − C x', entered
     at x = 0 with the free fall's speed, left where K x + C x' + bias reaches 0."""
+    if not 0.0 <= ZETA < 1.0:
+        raise ValueError("the closed form is the underdamped one: 0 <= ZETA < 1")
     v0 = math.sqrt(2.0 * G * H)
     w = math.sqrt(K / M)
     s = C / (2.0 * M)
@@ -140,7 +142,8 @@ def closed_form(g_contact, bias):
         return xe + math.exp(-s * t) * (a * math.cos(wd * t) + b * math.sin(wd * t))
 
     def xd(t):
-        return math.exp(-s * t) * ((wd * b - s * a) * math.cos(wd * t) - (s * b + wd * a) * math.sin(wd * t))
+        c, n = math.cos(wd * t), math.sin(wd * t)
+        return math.exp(-s * t) * ((wd * b - s * a) * c - (s * b + wd * a) * n)
 
     half = math.pi / wd
     t_peak = root(xd, 0.0, half)
@@ -328,7 +331,8 @@ def cpu_at(points, target):
         ea, eb = transient(a), transient(b)
         if eb <= target <= ea:
             u = (math.log(target) - math.log(ea)) / (math.log(eb) - math.log(ea))
-            return math.exp(math.log(a["cpu"]) + u * (math.log(b["cpu"]) - math.log(a["cpu"]))), False
+            la, lb = math.log(a["cpu"]), math.log(b["cpu"])
+            return math.exp(la + u * (lb - la)), False
     return None
 
 
@@ -376,8 +380,8 @@ def main():
     families = {}
 
     load = os.getloadavg()[0]
-    print("%s, %s, load average %.2f at the start" % (time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-                                                     cpu_model(), load))
+    when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    print("%s, %s, load average %.2f at the start" % (when, cpu_model(), load))
     print("ball: m = %g kg, r = %g m, dropped %g m, g = %g; contact k = %g N/m, c = %.6g N·s/m"
           " (damping ratio %g), %g s simulated" % (M, R, H, G, K, C, ZETA, T))
     print("mbfx:   IMPACT, EXPONENT 1, DMAX %g; truth: peak %.9g m, apex %.9g m, rest %.9g m"
@@ -387,7 +391,8 @@ def main():
           % (mujoco.__version__, -K / M, -C / M, D_IMP, TRUTH_MUJOCO["peak"], TRUTH_MUJOCO["apex"],
              TRUTH_MUJOCO["rest"]))
     depth, want, rel = check_matching()
-    print("matching check: MuJoCo at rest %.9g m, predicted %.9g m (relative %.1e)" % (depth, want, rel))
+    print("matching check: MuJoCo at rest %.9g m, predicted %.9g m (relative %.1e)"
+          % (depth, want, rel))
     if abs(rel) > 1e-6:
         sys.exit("MuJoCo's rest depth is not the matched law's: the matching is off")
     print()
@@ -401,7 +406,8 @@ def main():
             families["mbfx " + method] = [
                 mbfx_point(args.mbfx, adm, method, e, args.repeats) for e in errors]
     for integrator in ["Euler", "implicitfast", "RK4"]:
-        families["MuJoCo " + integrator] = [mujoco_point(integrator, dt, args.repeats) for dt in steps]
+        families["MuJoCo " + integrator] = [
+            mujoco_point(integrator, dt, args.repeats) for dt in steps]
 
     head = "%-20s %-12s %7s %14s %9s %14s %9s %9s %9s %10s %12s %8s" % (
         "method", "setting", "steps", "rest depth m", "rel err", "peak depth m", "rel err",
@@ -421,7 +427,8 @@ def main():
 
     drift = max(abs(p["scored_steps"] / p["steps"] - 1.0) for n, f in families.items()
                 if n.startswith("mbfx") for p in f)
-    print("mbfx's scored runs (dense rows) took within %.1f %% of the timed runs' steps" % (100 * drift))
+    print("mbfx's scored runs (dense rows) took within %.1f %% of the timed runs' steps"
+          % (100 * drift))
     print("load average %.2f at the end" % os.getloadavg()[0])
     print()
     targets = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6]
