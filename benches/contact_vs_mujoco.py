@@ -431,6 +431,21 @@ def main():
           % (100 * drift))
     print("load average %.2f at the end" % os.getloadavg()[0])
     print()
+    print("At equal rest-depth error: the cheapest run of each side whose rest depth is that"
+          " close (every run's is, so the rest depth alone ranks the cheapest settings)")
+    for bound in [1e-5, 1e-8]:
+        best = {}
+        for side in ["mbfx", "MuJoCo"]:
+            pts = [p for n, f in families.items() if n.startswith(side) for p in f
+                   if p["scores"] and p["scores"][1]["rest"] <= bound]
+            best[side] = min(pts, key=lambda p: p["cpu"]) if pts else None
+        if best["mbfx"] and best["MuJoCo"]:
+            a, b = best["mbfx"], best["MuJoCo"]
+            print("  <= %.0e: %s %s %.3e s (transient %.1e), %s %s %.3e s"
+                  " (transient %.1e): ratio %.3g" % (
+                      bound, a["method"], a["setting"], a["cpu"], transient(a), b["method"],
+                      b["setting"], b["cpu"], transient(b), a["cpu"] / b["cpu"]))
+    print()
     targets = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6]
     names = list(families)
     print("CPU (s) at equal transient error (max of the peak's and the apex's relative errors),"
