@@ -134,9 +134,13 @@ impl Dynamics {
         let mut rhs = std::mem::take(&mut self.scratch.solution);
         let looped = self.forces.reads_solution();
         let solved = match looped && self.forces.differentiates_reactions() {
-            true => self
-                .sweep(&gamma, &mut rhs)
-                .and_then(|_| self.newton_solution(&gamma, &mut rhs)),
+            // (A first sweep that changes nothing has found the loop settled already.)
+            true => match self.sweep(&gamma, &mut rhs) {
+                Ok(change) if change > SOLUTION_TOL => {
+                    self.newton_solution(&gamma, &mut rhs, change)
+                }
+                other => other.map(|_| ()),
+            },
             false => self.swept_solution(&gamma, &mut rhs, looped),
         };
         (self.scratch.gamma, self.scratch.solution) = (gamma, rhs);
@@ -205,15 +209,21 @@ impl Dynamics {
     }
 
     /// Newton on (a, λ) for forces that read reactions with their derivative by them,
-    /// from the accelerations and multipliers of a first sweep: the residual
+    /// from the accelerations and multipliers of a first sweep, which changed them by
+    /// `swept` (relative): the residual
     /// [M·a/UCF + Φ_qᵀ·λ − Q(λ); Φ_q·a − γ] against the matrix [[M/UCF, Φ_qᵀ − ∂Q/∂λ],
     /// [Φ_q, 0]], refactored while it contracts slowly (∂Q/∂λ follows the reaction's
     /// direction; forces reading accelerations, which it leaves out, converge at their
     /// loop's gain). `x` is scratch.
-    fn newton_solution(&mut self, gamma: &DVec, x: &mut Vec<f64>) -> Result<(), DynError> {
+    fn newton_solution(
+        &mut self,
+        gamma: &DVec,
+        x: &mut Vec<f64>,
+        swept: f64,
+    ) -> Result<(), DynError> {
         let (n, m) = (self.n, self.m);
         let mut top = std::mem::take(&mut self.scratch.product);
-        let (mut refactor, mut last) = (true, f64::INFINITY);
+        let (mut refactor, mut last) = (true, swept);
         for _ in 0..SOLUTION_SWEEPS {
             self.eval_forces(false)?;
             self.check_forces()?;
@@ -241,8 +251,15 @@ impl Dynamics {
             self.a += DVec::from_column_slice(&x[..n]);
             self.lambda += DVec::from_column_slice(&x[n..]);
             self.store_accelerations();
-            // Converged, or at the rounding floor (no longer contracting there).
-            if change <= SOLUTION_TOL || (change <= SOLUTION_NOISE && change > 0.5 * last) {
+            // Converged: this change, or what is left after it at this contraction
+            // (ρ·change/(1 − ρ)), below the tolerance; or at the rounding floor, where
+            // it no longer contracts.
+            let rate = change / last;
+            let left = match rate < 1.0 && last.is_finite() {
+                true => rate * change / (1.0 - rate),
+                false => change,
+            };
+            if left <= SOLUTION_TOL || (change <= SOLUTION_NOISE && change > 0.5 * last) {
                 self.scratch.product = top;
                 return Ok(());
             }
@@ -255,6 +272,7 @@ impl Dynamics {
         }
         Err(self.solution_loop())
     }
+
     /// The failure of a force–solution loop that does not settle: names the first force
     /// reading an acceleration or a reaction, and what it reads.
     pub(super) fn solution_loop(&self) -> DynError {
