@@ -212,3 +212,62 @@ fn a_block_sticks_below_the_stiction_force_and_slides_above() {
     let slope = (at(1.0) - at(0.5)) / 0.5;
     assert!((slope - a).abs() < 1e-4 * a, "a {slope} vs {a}");
 }
+
+#[test]
+fn a_block_whose_friction_loads_its_own_joint_slows_at_the_loops_closed_form() {
+    // The block's CM stands H above its joint marker I, where the friction f acts: the
+    // joint holds the block upright with a bending moment H·|f| (about I, m·a = f at
+    // the CM), which loads the friction through Xs (INITIAL_OVERLAP) as N = m·g +
+    // H·|f|/Xs. With |f| = μd·N: N = m·g/(1 − μd·H/Xs). The loop's gain μd·H/Xs is
+    // 0.9 here: repeating the solve would shed a tenth of its error per sweep. (EFFECT =
+    // SLIDING keeps μ ≤ μd as the block stops: with μs the gain would pass 1 there, and
+    // the block would jam, N growing without bound, as a drawer pushed from too high.)
+    const H: f64 = 0.45;
+    const XS: f64 = 0.1;
+    let gain = MU_D * H / XS;
+    let a = MU_D * G / (1.0 - gain);
+    let v0 = 4.0;
+    let text = format!(
+        "loop\nPART/1, GROUND\nMARKER/10, PART = 1, REULER = 90D, 90D, 0\nMARKER/11, PART = 1\n\
+         PART/2, MASS = 2, CM = 21, IP = 0.1, 0.1, 0.1, VX = {v0}\n\
+         MARKER/20, PART = 2, REULER = 90D, 90D, 0\nMARKER/21, PART = 2, QP = 0, {H}, 0\n\
+         JOINT/1, TRANSLATIONAL, I = 20, J = 10\n\
+         FRICTION/1, JOINT = 1, MU_STATIC = {MU_S}, MU_DYNAMIC = {MU_D}, \
+         STICTION_TRANSITION_VELOCITY = {VS}, INITIAL_OVERLAP = {XS}, EFFECT = SLIDING\n\
+         ACCGRAV/JGRAV = -{G}\nEND\n"
+    );
+    let stop = v0 / a;
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let out = rows(
+            &text,
+            stop + 0.1,
+            0.005,
+            &[("x", "DX(20, 11)"), ("v", "VX(20, 11)")],
+            dim,
+        );
+        let sliding: Vec<_> = (out.iter())
+            .filter(|r| v0 - a * r[0] > 1.5 * VS + 0.01)
+            .collect();
+        assert!(
+            sliding.len() > 30,
+            "{dim:?}: {} rows sliding",
+            sliding.len()
+        );
+        for r in sliding {
+            let want = v0 - a * r[0];
+            assert!(
+                (r[2] - want).abs() < 1e-6 * v0,
+                "{dim:?} t = {}: v {} vs {want}",
+                r[0],
+                r[2]
+            );
+        }
+        let last = out.last().expect("rows");
+        let want = v0 * v0 / (2.0 * a);
+        assert!(
+            (last[1] - want).abs() < 1e-3 * want,
+            "{dim:?}: stopped at {} vs {want}",
+            last[1]
+        );
+    }
+}

@@ -1,5 +1,5 @@
 //! Where the entries of the Newton matrix
-//! [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·Φ_qᵀ], [Φ_q, −ε·I]] go, found once when the
+//! [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·(Φ_qᵀ − ∂Q/∂λ)], [Φ_q, −ε·I]] go, found once when the
 //! dynamics is set up: the value slots of the sparse pattern or, for a matrix small
 //! enough to be factored dense, the places in its column-major array, written there
 //! directly. Searching the pattern for every entry at every factorization cost as much as
@@ -67,15 +67,17 @@ impl Fill {
         }
     }
 
-    /// Fills the matrix with mass blocks `blocks`, Jacobian `jac`, force Jacobians `gen`,
-    /// geometric stiffness `geo`, weights `w` and regularisation `eps`, and factors it.
+    /// Fills the matrix with mass blocks `blocks`, Jacobian `jac`, force Jacobians `gen`
+    /// and ∂Q/∂λ `reactions` (entries at their place in the matrix, the multipliers'
+    /// columns), geometric stiffness `geo`, weights `w` and regularisation `eps`, and
+    /// factors it.
     #[allow(clippy::too_many_arguments)]
     pub fn factor(
         &self,
         f: &mut Factors,
         blocks: &[Mat3Block],
         jac: &Jacobian,
-        gen: &Generalized,
+        (gen, reactions): (&Generalized, &[(usize, usize, f64)]),
         geo: &[(usize, usize, f64)],
         w: Weights,
         eps: f64,
@@ -84,6 +86,7 @@ impl Fill {
             blocks,
             jac,
             gen,
+            reactions,
             geo,
             w,
             eps,
@@ -111,6 +114,7 @@ struct Terms<'a> {
     blocks: &'a [Mat3Block],
     jac: &'a Jacobian,
     gen: &'a Generalized,
+    reactions: &'a [(usize, usize, f64)],
     geo: &'a [(usize, usize, f64)],
     w: Weights,
     eps: f64,
@@ -171,6 +175,11 @@ impl Terms<'_> {
             for &(r, c, x) in &self.gen.dv {
                 add(r, c, -w.w_c * x);
             }
+        }
+        // (A force reading its joint's reaction loads the parts the joint's rows read:
+        // its ∂Q/∂λ falls on Φ_qᵀ's places.)
+        for &(r, c, x) in self.reactions {
+            add(r, c, -w.w_l * x);
         }
     }
 }

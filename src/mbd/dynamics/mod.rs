@@ -24,7 +24,8 @@
 //! 2. object: `setup` (the struct and its construction), `eval` (Φ, Φ_q, Q and its
 //!    Jacobians), `mass`, `stiffness`, `gamma`, `newton` (the Newton matrix's factors and
 //!    solves), `saddle` (consistent accelerations, reconciliation), `project`, `state`
-//!    (snapshots, increments, the vector helpers), `checks`, `outputs` and
+//!    (snapshots, increments, the vector helpers), `checks`, `outputs`,
+//!    `reaction_partials` (∂Q/∂λ of forces reading a joint's reaction) and
 //!    `step_extension` (continuous extensions inside a step): the struct and its impl
 //!    blocks.
 //! 3. drive: `integrator` (the contract and its settings), `reuse`, `crossing`, `events`,
@@ -51,6 +52,7 @@ pub mod newmark;
 mod newton;
 pub mod outputs;
 mod project;
+mod reaction_partials;
 mod resolved;
 mod reuse;
 mod rotation_chart;

@@ -1,7 +1,9 @@
-//! The Newton matrix [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·Φ_qᵀ], [Φ_q, 0]]
-//! ([`Weights`]): filled on its sparse pattern and factored, by the Schur complement
-//! when no force element couples two parts, else by the sparse LU, regularised near a
-//! dead centre (into [`super::workspace::Factors`]); and its solves.
+//! The Newton matrix [[w_m·M/UCF − w_k·∂Q/∂q − w_c·∂Q/∂v, w_l·(Φ_qᵀ − ∂Q/∂λ)], [Φ_q, 0]]
+//! ([`Weights`]; ∂Q/∂λ from forces that read a joint's reaction, `reaction_partials`):
+//! filled on its sparse pattern and factored, by the Schur complement when no force
+//! element couples two parts and none reads a reaction (the complement assumes the
+//! symmetric Φ_qᵀ there), else by the sparse LU, regularised near a dead centre (into
+//! [`super::workspace::Factors`]); and its solves.
 
 use super::blocks::{Mat3Block, Weights};
 use super::failure::{DynError, NonFinite, Singularity};
@@ -17,10 +19,12 @@ pub(super) const EXACT_PIVOT_RATIO: f64 = 1e-8;
 
 impl Dynamics {
     /// Fills and factors the Newton matrix with weights `w` from the last evaluations of
-    /// constraints (with Jacobian) and forces (with Jacobians).
+    /// constraints (with Jacobian) and forces (with Jacobians, and ∂Q/∂λ where forces
+    /// read reactions).
     /// Factors the Newton matrix with weights `w` at the current state and multipliers
     /// `lambda` (their geometric stiffness enters with w_k).
     pub fn factor(&mut self, w: Weights, lambda: &DVec) -> Result<(), DynError> {
+        self.loop_jacobian();
         if w.w_k != 0.0 {
             self.geometric_stiffness(lambda);
         } else {
@@ -79,7 +83,9 @@ impl Dynamics {
         f.regularised = true;
         // A NaN or infinity in the matrix makes the Schur path decline (its block
         // inverses and factorizations check); the full LU then reports it.
-        if let (Some(schur), false) = (&mut f.schur, f.schur_declined) {
+        // ∂Q/∂λ makes the matrix unsymmetric in the multipliers' columns: the LU takes it.
+        let looped = !self.scratch.loop_jacobian.is_empty();
+        if let (Some(schur), false, false) = (&mut f.schur, f.schur_declined, looped) {
             match schur.factor(&self.jac, blocks, &self.gen, &self.geo, w, eps) {
                 Ok(true) => {
                     f.via_schur = true;
@@ -93,13 +99,14 @@ impl Dynamics {
                 _ => {}
             }
         }
+        let forces = (&self.gen, self.scratch.loop_jacobian.as_slice());
         // The saddle point's dense matrix is factored as it is unless it is nearly
         // singular: its solves then need no refinement.
         if which == Which::Saddle && f.lu.pivot_ratio().is_some() {
             let f = &mut self.factors[which as usize];
             if self
                 .fill
-                .factor(f, blocks, &self.jac, &self.gen, &self.geo, w, 0.0)
+                .factor(f, blocks, &self.jac, forces, &self.geo, w, 0.0)
                 .is_ok()
                 && f.lu.pivot_ratio().is_some_and(|r| r >= EXACT_PIVOT_RATIO)
             {
@@ -110,7 +117,7 @@ impl Dynamics {
         let f = &mut self.factors[which as usize];
         let factored = self
             .fill
-            .factor(f, blocks, &self.jac, &self.gen, &self.geo, w, eps);
+            .factor(f, blocks, &self.jac, forces, &self.geo, w, eps);
         let culprit = if factored.is_err() {
             self.singular_culprit()
         } else {

@@ -159,7 +159,7 @@ impl Dynamics {
     }
 
     /// The I and J markers of constraint element `e` (from its first equation).
-    fn element_markers(&self, e: usize) -> (M, M) {
+    pub(super) fn element_markers(&self, e: usize) -> (M, M) {
         match self.sys.elements[e].eqs.first().map(|q| &q.row) {
             Some(Row::Along { i, j, .. }) | Some(Row::Dot { i, j, .. }) => (Some(*i), Some(*j)),
             Some(Row::Measured { terms, .. }) => terms.first().map_or((None, None), |&(_, m)| {

@@ -1,6 +1,7 @@
 //! The buffers and factors a [`super::Dynamics`] owns for its solves: the Newton matrix's
 //! and the saddle-point matrix's factorizations ([`Factors`], told apart by [`Which`]),
-//! and the saddle-point solves' scratch ([`Scratch`]).
+//! and the saddle-point solves' scratch ([`Scratch`]), with the entries of ∂Q/∂λ the next
+//! factorization takes.
 
 use super::schur;
 use crate::mbd::sparse::SparseLu;
@@ -39,4 +40,7 @@ pub(super) struct Scratch {
     /// γ and the solution (a; λ) of [`super::Dynamics::accelerations_factored`].
     pub(super) gamma: DVec,
     pub(super) solution: Vec<f64>,
+    /// −∂Q/∂λ's entries for the next factorization (row, column, ∂Q/∂λ), from
+    /// [`super::Dynamics::loop_jacobian`]; empty: none.
+    pub(super) loop_jacobian: Vec<(usize, usize, f64)>,
 }

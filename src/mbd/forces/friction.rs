@@ -1,9 +1,11 @@
 //! Joint friction (FRICTION, issue 40 §2): a force element between a joint's I and J
 //! markers whose load comes from the joint's own reaction. The reaction (force and
 //! torque on I, J's axes) is read as six solution values ([`super::Source::Solution`]
-//! slots of [`super::ForceSet::solution`]), held fixed within one evaluation and
-//! settled by the dynamics' iteration exactly as an expression reading `JOINT(id, …)`;
-//! the slip velocities are duals, so ∂Q/∂q and ∂Q/∂v are exact and ∂Q/∂λ is left out.
+//! slots of [`super::ForceSet::solution`]), held fixed within one evaluation; the slip
+//! velocities are duals, so ∂Q/∂q and ∂Q/∂v are exact, and the law gives its derivative
+//! by the reaction ([`super::Generalized::ds`]), which the dynamics chains with the
+//! reaction's derivative by the multipliers into the Newton matrix: the friction–reaction
+//! loop is solved by Newton.
 //!
 //! With the reaction force F = (Fx, Fy, Fz) and torque T = (Tx, Ty, Tz) in J's axes,
 //! each term switched by INPUTS, the friction's load N and slip velocity v are

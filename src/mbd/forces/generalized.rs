@@ -1,5 +1,5 @@
 //! What force evaluation writes: the generalized force Q per velocity-level column and
-//! its Jacobians ∂Q/∂q, ∂Q/∂v as entries.
+//! its Jacobians ∂Q/∂q, ∂Q/∂v and ∂Q/∂(solution value) as entries.
 
 use crate::vocab::math::DVec;
 
@@ -13,6 +13,11 @@ pub struct Generalized {
     pub dq: Vec<(usize, usize, f64)>,
     /// ∂Q/∂v entries (row, column, value).
     pub dv: Vec<(usize, usize, f64)>,
+    /// ∂Q/∂s entries (row, solution value, value) by the solution values s the forces
+    /// read ([`super::ForceSet::solution`]), where a force law has them (joint friction
+    /// by its joint's reaction): the dynamics chains them with ∂s/∂λ into the Newton
+    /// matrix.
+    pub ds: Vec<(usize, usize, f64)>,
 }
 
 impl Generalized {
@@ -22,6 +27,7 @@ impl Generalized {
             q: DVec::zeros(n),
             dq: Vec::new(),
             dv: Vec::new(),
+            ds: Vec::new(),
         }
     }
 
@@ -30,5 +36,6 @@ impl Generalized {
         self.q.fill(0.0);
         self.dq.clear();
         self.dv.clear();
+        self.ds.clear();
     }
 }

@@ -17,9 +17,10 @@
 //!
 //! An expression may also read what only the solution gives (Adams allows it): an
 //! acceleration, a reaction, another force's value ([`Source::Solution`]). Those values
-//! are filled in by the dynamics before each evaluation and held fixed within it (no
-//! derivative), so the equations of motion solve them by iteration; forces that read
-//! each other's values are evaluated in dependency order ([`ForceSet::order`]).
+//! are filled in by the dynamics before each evaluation and held fixed within it, so the
+//! equations of motion solve them by iteration; joint friction also gives its derivative
+//! by the reaction it reads ([`Generalized::ds`]), so that loop is solved by Newton. Forces
+//! that read each other's values are evaluated in dependency order ([`ForceSet::order`]).
 //!
 //! The files, one job each: `inputs` (what an expression reads), `element` (an element
 //! as data), `expression` (an expression's value or dual), `num` (the numbers an

@@ -145,6 +145,12 @@ impl ForceSet {
         !self.solution.is_empty()
     }
 
+    /// Whether a force law reads reactions with its derivative by them
+    /// ([`Generalized::ds`]): joint friction.
+    pub fn differentiates_reactions(&self) -> bool {
+        (self.elements.iter()).any(|e| matches!(e.law, ForceLaw::Friction(_)))
+    }
+
     /// Records the parts each element reads: its markers and its measures' markers.
     pub fn prepare(&mut self, sys: &System) -> Result<(), MbdError> {
         for el in &mut self.elements {
@@ -223,7 +229,11 @@ impl ForceSet {
             fused: fused.as_deref().map(Vec::as_slice),
             seed: None,
         };
-        self.loads[k] = self.elements[k].eval(sys, &inputs, out, jacobians)?;
+        let el = &self.elements[k];
+        self.loads[k] = el.eval(sys, &inputs, out, jacobians)?;
+        if let ForceLaw::Friction(law) = &el.law {
+            law.reaction_partials(el, sys, &self.solved, out);
+        }
         Ok(())
     }
 }
