@@ -20,6 +20,7 @@ use crate::model::ModelRead;
 
 mod columns;
 mod contact_meshes;
+mod cpu_clock;
 mod estimate;
 mod friction_columns;
 mod rebuild;

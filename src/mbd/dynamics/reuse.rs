@@ -26,9 +26,10 @@ pub struct Reuse {
     last_first: f64,
     last_rate: f64,
     /// The contraction right after the last fresh factorization: what refactoring can
-    /// achieve. About 1e-5 (Newton is quadratic) unless forces read accelerations or
-    /// reactions, whose loop Newton does not differentiate: then refactoring cannot beat
-    /// the loop's gain, and is not tried for it.
+    /// achieve. About 1e-5 (Newton is quadratic) unless forces read accelerations, or
+    /// reactions through an expression (`JOINT(…)`), loops Newton does not differentiate
+    /// (a FRICTION's reaction it does: ∂Q/∂λ is in the matrix): then refactoring cannot
+    /// beat the loop's gain, and is not tried for it.
     fresh_rate: f64,
     /// In the current step: the iteration that factored afresh, and refactors tried.
     fresh_at: Option<usize>,
@@ -126,8 +127,9 @@ impl Reuse {
 /// with their Jacobian; the forces, with Jacobians when `reuse` asks for a factorization
 /// (which then follows, with `weights` for the step weight `w`), and when they read
 /// accelerations or reactions with this iterate's (`accelerations` fills `d.a`, `lambda`
-/// the multipliers: Newton then solves them with the motion, at the loop gain's rate,
-/// which the contraction test watches). True when it factored.
+/// the multipliers: Newton then solves them with the motion, quadratically for a
+/// FRICTION's reaction, whose ∂Q/∂λ the matrix holds, else at the loop gain's rate, which
+/// the contraction test watches). True when it factored.
 pub fn evaluate(
     d: &mut Dynamics,
     reuse: &mut Reuse,

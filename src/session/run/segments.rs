@@ -1,13 +1,13 @@
 //! The run loop: a simulation's segments one after the other (dynamics, equilibria,
 //! kinematics, linear analyses), each output row handed out, and the summary made.
 
+use super::cpu_clock::CpuClock;
 use super::{monitors, Outputs, Segment, Simulation, Summary, TableRow};
 use crate::mbd::dynamics::integrator::{Interrupt, OutputTimes, RowState};
 use crate::mbd::dynamics::{simulate_framed, DynError, Dynamics, FrameTimes};
 use crate::model::commands::Analysis;
 use crate::session::plan::Plan;
 use crate::session::stopped::Stopped;
-use std::time::Instant;
 
 impl Simulation {
     /// Kinetic plus gravitational potential energy (model units, /UCF).
@@ -80,7 +80,7 @@ impl Simulation {
         mut table: Option<&mut dyn FnMut(&TableRow)>,
         interrupt: Option<Interrupt<'_>>,
     ) -> (Summary, Option<Stopped>) {
-        let clock = Instant::now();
+        let clock = CpuClock::start();
         // Energy is watched over runs of dynamics alone (an equilibrium changes it).
         // (A command file that changes the model changes its energy too.)
         let integrates_only = segments
@@ -135,7 +135,7 @@ impl Simulation {
                     steps: d.stats.steps,
                     newton_iterations: d.stats.newton_iterations,
                     order: d.stats.order,
-                    cpu_seconds: clock.elapsed().as_secs_f64(),
+                    cpu_seconds: clock.seconds(),
                 });
             }
             out(row).map_err(|e| DynError::Output(e.to_string()))
@@ -252,7 +252,7 @@ impl Simulation {
             equilibria,
             linear,
             stats: self.dynamics.stats,
-            cpu_seconds: clock.elapsed().as_secs_f64(),
+            cpu_seconds: clock.seconds(),
             max_residual,
             energy: e0.map(|e| (e, self.energy())),
             notes,
