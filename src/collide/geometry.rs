@@ -45,6 +45,8 @@ pub struct Geometry {
     /// For a mesh: its triangles after parry merged duplicate vertices (indices of
     /// welded vertices), to tell which touching triangles are neighbours.
     pub(crate) triangles: Vec<[u32; 3]>,
+    /// A placeholder mesh standing in for an EXTERNAL's file ([`TriMesh::stand_in`]).
+    pub stand_in: bool,
 }
 
 impl std::fmt::Debug for Geometry {
@@ -118,9 +120,10 @@ impl Geometry {
                 })?;
                 external(marker(*rm)?, mesh)
             }
+            Shape::Plane { rm, x, y } => plane(marker(*rm)?, *x, *y),
             other => Err(format!(
                 "a{} {} has no volume to collide (contact geometries are BOX, CYLINDER, \
-                 FRUSTUM, ELLIPSOID, EXTERNAL)",
+                 FRUSTUM, ELLIPSOID, EXTERNAL, PLANE)",
                 if other.kind().starts_with(['A', 'O']) {
                     "n"
                 } else {
@@ -130,7 +133,10 @@ impl Geometry {
             )),
         };
         let (part, built) = built.map_err(fail)?;
+        let stand_in = matches!(g.shape, Shape::External { .. })
+            && meshes.get(&graphic).is_some_and(|m| m.stand_in);
         Ok(Geometry {
+            stand_in,
             graphic,
             part,
             frame: built.frame,
@@ -200,6 +206,24 @@ fn solid_box(corner: &Marker, extent: [f64; 3]) -> Result<(Id, Built), String> {
     let frame = marker_frame(corner, Vec3::from(extent.map(|e| e / 2.0)));
     let shape = SharedShape::cuboid(half[0], half[1], half[2]);
     Ok((corner.part, Built::plain(frame, Form::Box { half }, shape)))
+}
+
+/// Adams' PLANE: the rectangle `x` × `y` in RM's x-y plane with the solid on its −z
+/// side, a box as deep as the rectangle's longer side (a face that bounds a volume, so a
+/// body sunk into it is pushed back out along +z, and one beside the rectangle is not).
+fn plane(rm: &Marker, x: [f64; 2], y: [f64; 2]) -> Result<(Id, Built), String> {
+    let depth = (x[1] - x[0]).max(y[1] - y[0]);
+    let half = [(x[1] - x[0]) / 2.0, (y[1] - y[0]) / 2.0, depth / 2.0];
+    if !sizes_ok(&half) {
+        return Err(format!(
+            "a PLANE needs XMIN < XMAX and YMIN < YMAX (x {} to {}, y {} to {})",
+            x[0], x[1], y[0], y[1]
+        ));
+    }
+    let centre = Vec3::new((x[0] + x[1]) / 2.0, (y[0] + y[1]) / 2.0, -depth / 2.0);
+    let shape = SharedShape::cuboid(half[0], half[1], half[2]);
+    let built = Built::plain(marker_frame(rm, centre), Form::Box { half }, shape);
+    Ok((rm.part, built))
 }
 
 /// A cylinder (`bottom` = `top`) or frustum from CM's origin along its z for `length`.

@@ -46,6 +46,7 @@ fn u_mesh() -> TriMesh {
     TriMesh {
         vertices,
         triangles,
+        stand_in: false,
     }
 }
 
