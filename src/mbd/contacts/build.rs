@@ -100,9 +100,11 @@ impl ContactSet {
             candidates: RefCell::new(Vec::new()),
             statics: false,
             held,
+            held_at_start: Vec::new(),
             held_out: Vec::new(),
         };
         set.hold_overlapping_stand_ins(sys);
+        set.held_at_start.clone_from(&set.held);
         Ok(set)
     }
 

@@ -52,6 +52,8 @@ pub struct ContactSet {
     /// pair with a stand-in geometry (a placeholder for an EXTERNAL without its mesh)
     /// that overlaps at the assembled start is: the overlap is the stand-in's artefact.
     held: Vec<bool>,
+    /// `held` as built, for a run started again ([`ContactSet::forget_state`]).
+    held_at_start: Vec<bool>,
     /// The pairs held out at the start, for the run to warn about.
     pub held_out: Vec<HeldOut>,
 }
@@ -118,6 +120,11 @@ impl ContactSet {
     /// matrix's pattern; repeats possible.
     pub fn coupled_parts(&self) -> impl Iterator<Item = (PartHandle, PartHandle)> + '_ {
         self.pairs.iter().map(|p| (p.i, p.j))
+    }
+
+    /// Back to the start of a run: the pairs held out at the start are held again.
+    pub fn forget_state(&mut self) {
+        self.held.clone_from(&self.held_at_start);
     }
 
     /// How many switching values [`ContactSet::switches`] gives: two per pair.

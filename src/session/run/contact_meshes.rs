@@ -106,9 +106,7 @@ pub(super) fn left_out<'a>(
     set: &'a crate::mbd::contacts::ContactSet,
 ) -> impl Iterator<Item = Diagnostic> + 'a {
     set.left_out.iter().map(|(id, why)| {
-        let span = (model.contacts.iter())
-            .find(|c| c.el.id == *id)
-            .map_or(0..0, |c| c.el.span.clone());
+        let span = contact_span(model, *id);
         Diagnostic::warning(
             Code::UnsupportedStatement,
             span,
@@ -124,9 +122,7 @@ pub(super) fn held_out<'a>(
     set: &'a crate::mbd::contacts::ContactSet,
 ) -> impl Iterator<Item = Diagnostic> + 'a {
     set.held_out.iter().map(|h| {
-        let span = (model.contacts.iter())
-            .find(|c| c.el.id == h.contact)
-            .map_or(0..0, |c| c.el.span.clone());
+        let span = contact_span(model, h.contact);
         let (i, j) = h.graphics;
         Diagnostic::warning(
             Code::UnsupportedStatement,
@@ -141,6 +137,13 @@ pub(super) fn held_out<'a>(
         )
         .with_help("give the EXTERNAL geometry its mesh: --geometry GRAPHICS/ID=FILE")
     })
+}
+
+/// The span of CONTACT/`id` (empty when the model has none).
+fn contact_span(model: &Model, id: Id) -> crate::diag::Span {
+    (model.contacts.iter())
+        .find(|c| c.el.id == id)
+        .map_or(0..0, |c| c.el.span.clone())
 }
 
 /// The placeholder box of the part marker `rm` is on, in `rm`'s coordinates.
