@@ -1,6 +1,7 @@
 """A run of a dataset with a CONTACT (issue 40 §1) has its four columns per contact, as
 the command line's CSV: the normal force, friction force, penetration and slip speed. A
-sphere at rest on a box carries its weight m g through the normal force (closed form)."""
+sphere at rest on a box carries its weight m g through the normal force (closed form);
+meshes given with `geometry=` are the contacts' EXTERNAL geometry, recorded or not."""
 
 from __future__ import annotations
 
