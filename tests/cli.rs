@@ -785,7 +785,7 @@ fn check_of_a_bad_model_points_at_the_reference() {
         "bad_model.adm",
         b"title\nUNITS/LENGTH = MILLIMETER\nPART/1, GROUND\nMARKER/11, PART = 1\n\
           ! adams_view_name='Joint_4'\nJOINT/4, REVOLUTE, I = 11, J = 99\n\
-          GRAPHICS/1, PLANE, RM = 11\nEND\n",
+          GRAPHICS/1, POINT, RM = 11\nEND\n",
     );
     let r = check(&path);
     assert_eq!(r.code, 1, "{}", r.describe());

@@ -138,9 +138,10 @@ class Model:
     ) -> Run:
         """Simulates the model to `end` as `mbfx run` does. `Run.animate()` runs it again
         to record its frames; `animation=True` records a frame at each output row as it
-        runs (no second run), `animation=False` keeps nothing to animate. EXTERNAL
-        graphics are drawn from the mesh files of `geometry` ({GRAPHICS id: STL, OBJ or
-        glTF file}), which records as it runs."""
+        runs (no second run), `animation=False` keeps nothing to animate. `geometry`
+        ({GRAPHICS id: STL, OBJ or glTF file}) gives EXTERNAL graphics their meshes: a
+        CONTACT naming one collides with it, and the animation draws it (recorded as it
+        runs unless `animation=False`)."""
     def linearize(
         self,
         statics: bool = True,

@@ -17,6 +17,16 @@ use std::path::PathBuf;
 /// The animation request of `Model.run`: a frame at each output row (no second run
 /// for `animate()`), meshes for EXTERNAL graphics from `geometry` ({id: path}).
 pub fn request_of(geometry: Option<&Bound<'_, PyDict>>) -> PyResult<AnimationRequest> {
+    Ok(AnimationRequest {
+        fps: None,
+        glyphs: false,
+        geometry: meshes_of(geometry)?,
+    })
+}
+
+/// `geometry` ({GRAPHICS id: path}) as the run's meshes for EXTERNAL graphics: the
+/// contacts' geometry, and what an animation draws.
+pub fn meshes_of(geometry: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(u32, PathBuf)>> {
     let mut meshes = Vec::new();
     for (id, path) in geometry.into_iter().flat_map(|g| g.iter()) {
         let id: u32 = id.extract().map_err(|_| {
@@ -27,11 +37,7 @@ pub fn request_of(geometry: Option<&Bound<'_, PyDict>>) -> PyResult<AnimationReq
         let path: PathBuf = path.extract()?;
         meshes.push((id, path));
     }
-    Ok(AnimationRequest {
-        fps: None,
-        glyphs: false,
-        geometry: meshes,
-    })
+    Ok(meshes)
 }
 
 /// What a run recorded for its animation, and how it was asked.

@@ -285,8 +285,9 @@ impl PyModel {
     /// `Run.animate()` runs the model again to record its frames; `animation=True`
     /// records a frame at each output row as it runs (no second run; a small model's
     /// run costs a third more), `animation=False` keeps nothing to animate. `geometry`
-    /// maps EXTERNAL GRAPHICS ids to mesh files (STL, OBJ, glTF) drawn in their place,
-    /// as `--geometry`, and records as it runs.
+    /// maps EXTERNAL GRAPHICS ids to mesh files (STL, OBJ, glTF), as `--geometry`: a
+    /// CONTACT naming the graphic collides with the mesh, and the animation draws it
+    /// (recorded as it runs unless `animation=False`).
     /// A failure raises `RunError` with the rows so far as `.run`; Ctrl-C raises
     /// `KeyboardInterrupt` with them.
     #[pyo3(signature = (
@@ -329,9 +330,10 @@ impl PyModel {
             // starts): by default a run records nothing and `Run.animate()` runs it
             // again; `animation=True` (or meshes given) records as it runs, `False`
             // keeps nothing to animate.
-            if animation == Some(true) || geometry.is_some() {
+            if animation == Some(true) || (geometry.is_some() && animation.is_none()) {
                 r.animation = Some(crate::animation::request_of(geometry)?);
             }
+            r.geometry = crate::animation::meshes_of(geometry)?;
             (r.end, r.output_step, r.error) = (end, output_step, error);
             r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;

@@ -3,7 +3,9 @@
 //! [`AnimationRequest`] from them, checked before the run (a target of an unknown kind,
 //! a geometry map that cannot be read), and the file written once the run is over,
 //! through a temporary file beside it renamed into place, so that a failure leaves
-//! nothing half-written.
+//! nothing half-written. `--geometry` is parsed here once for both its uses: the
+//! meshes the animation draws and the EXTERNAL geometry of CONTACTs, which a run reads
+//! with or without `--animate`.
 
 use crate::session::animation::{Animation, AnimationRequest, DEFAULT_FPS};
 use std::path::{Path, PathBuf};
@@ -22,10 +24,11 @@ pub struct AnimateArgs {
     /// markers, joint symbols), not only for parts with nothing to draw.
     #[arg(long, requires = "animate")]
     pub glyphs: bool,
-    /// With --animate: a mesh (STL, OBJ, glTF) for an EXTERNAL graphic as
-    /// GRAPHICS/ID=FILE, or a TOML file mapping many ("GRAPHICS/12" = "crank.stl", paths
-    /// relative to it); repeatable.
-    #[arg(long, value_name = "GRAPHICS/ID=FILE|MAP.toml", requires = "animate")]
+    /// A mesh (STL, OBJ, glTF) for an EXTERNAL graphic as GRAPHICS/ID=FILE, or a TOML
+    /// file mapping many ("GRAPHICS/12" = "crank.stl", paths relative to it);
+    /// repeatable. A CONTACT naming the graphic collides with the mesh; --animate draws
+    /// it.
+    #[arg(long, value_name = "GRAPHICS/ID=FILE|MAP.toml")]
     pub geometry: Vec<String>,
 }
 
@@ -66,16 +69,22 @@ impl AnimateArgs {
                 ))
             }
         };
+        let request = AnimationRequest {
+            fps: interpolate.map(|f| f.unwrap_or(DEFAULT_FPS)),
+            glyphs: self.glyphs,
+            geometry: self.geometry()?,
+        };
+        Ok(Some((kind, request)))
+    }
+
+    /// The meshes `--geometry` gives (GRAPHICS id, file), in the order given; an
+    /// argument that is neither GRAPHICS/ID=FILE nor a readable TOML map is an error.
+    pub fn geometry(&self) -> Result<Vec<(u32, PathBuf)>, String> {
         let mut geometry = Vec::new();
         for g in &self.geometry {
             geometry.extend(geometry_of(g)?);
         }
-        let request = AnimationRequest {
-            fps: interpolate.map(|f| f.unwrap_or(DEFAULT_FPS)),
-            glyphs: self.glyphs,
-            geometry,
-        };
-        Ok(Some((kind, request)))
+        Ok(geometry)
     }
 }
 

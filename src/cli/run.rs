@@ -362,6 +362,10 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         Err(msg) => return command_line_error(msg, o),
     };
     req.animation = animate.as_ref().map(|(_, r)| r.clone());
+    req.geometry = match a.animate.geometry() {
+        Ok(g) => g,
+        Err(msg) => return command_line_error(msg, o),
+    };
     let color = o.color;
     let (stdout, err) = o.both();
     let mut printer = Printer {

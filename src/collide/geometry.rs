@@ -42,9 +42,15 @@ pub struct Geometry {
     /// Where parry's shape sits in `frame` (parry's round shapes have their axis along
     /// y; mbfx's along z).
     pub(crate) fix: Pose,
-    /// For a mesh: its triangles after parry merged duplicate vertices (indices of
-    /// welded vertices), to tell which touching triangles are neighbours.
+    /// For a mesh parry holds as triangles: its triangles after parry merged duplicate
+    /// vertices (indices of welded vertices), to tell which touching triangles are
+    /// neighbours. Empty for a convex solid (a convex mesh held as its hull).
     pub(crate) triangles: Vec<[u32; 3]>,
+    /// A mesh held as triangles that is closed (each edge between two triangles): it
+    /// bounds a solid, which a mesh–mesh pair queries in convex pieces.
+    pub(crate) closed: bool,
+    /// A placeholder mesh standing in for an EXTERNAL's file ([`TriMesh::stand_in`]).
+    pub stand_in: bool,
 }
 
 impl std::fmt::Debug for Geometry {
@@ -118,9 +124,10 @@ impl Geometry {
                 })?;
                 external(marker(*rm)?, mesh)
             }
+            Shape::Plane { rm, x, y } => plane(marker(*rm)?, *x, *y),
             other => Err(format!(
                 "a{} {} has no volume to collide (contact geometries are BOX, CYLINDER, \
-                 FRUSTUM, ELLIPSOID, EXTERNAL)",
+                 FRUSTUM, ELLIPSOID, EXTERNAL, PLANE)",
                 if other.kind().starts_with(['A', 'O']) {
                     "n"
                 } else {
@@ -130,7 +137,11 @@ impl Geometry {
             )),
         };
         let (part, built) = built.map_err(fail)?;
+        let stand_in = matches!(g.shape, Shape::External { .. })
+            && meshes.get(&graphic).is_some_and(|m| m.stand_in);
         Ok(Geometry {
+            stand_in,
+            closed: built.closed,
             graphic,
             part,
             frame: built.frame,
@@ -141,9 +152,10 @@ impl Geometry {
         })
     }
 
-    /// The GRAPHICS statement's kind of solid, for messages.
+    /// Whether parry holds it as a triangle mesh (a surface, its touches on triangles);
+    /// false for every convex solid, a convex mesh's hull included.
     pub fn is_mesh(&self) -> bool {
-        self.form == Form::Mesh
+        !self.triangles.is_empty()
     }
 }
 
@@ -154,6 +166,7 @@ struct Built {
     shape: SharedShape,
     fix: Pose,
     triangles: Vec<[u32; 3]>,
+    closed: bool,
 }
 
 impl Built {
@@ -165,6 +178,7 @@ impl Built {
             shape,
             fix: identity(),
             triangles: Vec::new(),
+            closed: false,
         }
     }
 }
@@ -200,6 +214,24 @@ fn solid_box(corner: &Marker, extent: [f64; 3]) -> Result<(Id, Built), String> {
     let frame = marker_frame(corner, Vec3::from(extent.map(|e| e / 2.0)));
     let shape = SharedShape::cuboid(half[0], half[1], half[2]);
     Ok((corner.part, Built::plain(frame, Form::Box { half }, shape)))
+}
+
+/// Adams' PLANE: the rectangle `x` × `y` in RM's x-y plane with the solid on its −z
+/// side, a box as deep as the rectangle's longer side (a face that bounds a volume, so a
+/// body sunk into it is pushed back out along +z, and one beside the rectangle is not).
+fn plane(rm: &Marker, x: [f64; 2], y: [f64; 2]) -> Result<(Id, Built), String> {
+    let depth = (x[1] - x[0]).max(y[1] - y[0]);
+    let half = [(x[1] - x[0]) / 2.0, (y[1] - y[0]) / 2.0, depth / 2.0];
+    if !sizes_ok(&half) {
+        return Err(format!(
+            "a PLANE needs XMIN < XMAX and YMIN < YMAX (x {} to {}, y {} to {})",
+            x[0], x[1], y[0], y[1]
+        ));
+    }
+    let centre = Vec3::new((x[0] + x[1]) / 2.0, (y[0] + y[1]) / 2.0, -depth / 2.0);
+    let shape = SharedShape::cuboid(half[0], half[1], half[2]);
+    let built = Built::plain(marker_frame(rm, centre), Form::Box { half }, shape);
+    Ok((rm.part, built))
 }
 
 /// A cylinder (`bottom` = `top`) or frustum from CM's origin along its z for `length`.
@@ -322,18 +354,109 @@ fn external(rm: &Marker, mesh: &TriMesh) -> Result<(Id, Built), String> {
     let flags = TriMeshFlags::MERGE_DUPLICATE_VERTICES | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES;
     let shape = SharedShape::trimesh_with_flags(vertices, mesh.triangles.clone(), flags)
         .map_err(|e| format!("its mesh is not a usable triangle mesh ({e:?})"))?;
-    let triangles = shape
+    let (welded, triangles) = shape
         .as_trimesh()
-        .map(|t| t.indices().to_vec())
+        .map(|t| (t.vertices().to_vec(), t.indices().to_vec()))
         .unwrap_or_default();
     let frame = marker_frame(rm, Vec3::zeros());
+    let closed = is_closed(&triangles);
+    // A closed convex mesh (a placeholder box, a convex part) is its hull, exactly: a
+    // solid, whose overlap with anything parry measures as deep as it goes. It is convex
+    // when it encloses its hull's volume (to 10⁻⁹): O(n log n), not a plane test per
+    // face and vertex.
+    if closed {
+        // A box (a placeholder's, a block's) is parry's cuboid: its contacts with
+        // other boxes come from exact separating axes, where a general hull's face
+        // normal carries GJK's round-off and a box resting on a box jitters.
+        if let Some(cuboid) = box_of(&welded) {
+            return Ok((
+                rm.part,
+                Built {
+                    fix: cuboid.0,
+                    ..Built::plain(frame, Form::Mesh, cuboid.1)
+                },
+            ));
+        }
+        if let Some(hull) = SharedShape::convex_hull(&welded) {
+            let full = hull.mass_properties(1.0).mass();
+            if (full - enclosed_volume(&welded, &triangles)).abs() <= 1e-9 * full {
+                return Ok((rm.part, Built::plain(frame, Form::Mesh, hull)));
+            }
+        }
+    }
     Ok((
         rm.part,
         Built {
             triangles,
+            closed,
             ..Built::plain(frame, Form::Mesh, shape)
         },
     ))
+}
+
+/// Whether every edge of `triangles` is shared by exactly two of them.
+fn is_closed(triangles: &[[u32; 3]]) -> bool {
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    !edges.is_empty() && edges.values().all(|&n| n == 2)
+}
+
+/// When the 8 `vertices` are a box's corners: its centre and axes (a rotation) and
+/// the cuboid of its half extents there.
+fn box_of(vertices: &[DVec3]) -> Option<(Pose, SharedShape)> {
+    if vertices.len() != 8 {
+        return None;
+    }
+    let v0 = vertices[0];
+    let d: Vec<DVec3> = vertices[1..].iter().map(|v| *v - v0).collect();
+    let size = d.iter().map(|e| e.length()).fold(0.0, f64::max);
+    let tol = 1e-9 * size;
+    for a in 0..7 {
+        for b in a + 1..7 {
+            for c in b + 1..7 {
+                let e = [d[a], d[b], d[c]];
+                let square = e[0].dot(e[1]).abs() <= tol * size
+                    && e[1].dot(e[2]).abs() <= tol * size
+                    && e[0].dot(e[2]).abs() <= tol * size;
+                let corners = (0..8).all(|k| {
+                    let corner = v0
+                        + (0..3)
+                            .filter(|i| k >> i & 1 == 1)
+                            .map(|i| e[i])
+                            .fold(DVec3::ZERO, |s, x| s + x);
+                    vertices.iter().any(|v| (*v - corner).length() <= tol)
+                });
+                if !square || !corners || e.iter().any(|x| x.length() <= tol) {
+                    continue;
+                }
+                let axis = |x: DVec3| Vec3::new(x.x, x.y, x.z).normalize();
+                let (x, y) = (axis(e[0]), axis(e[1]));
+                let centre = v0 + (e[0] + e[1] + e[2]) * 0.5;
+                let fix = Pose {
+                    r: Vec3::new(centre.x, centre.y, centre.z),
+                    rot: Mat3::from_columns(&[x, y, x.cross(&y)]),
+                };
+                let half = e.map(|x| x.length() / 2.0);
+                return Some((fix, SharedShape::cuboid(half[0], half[1], half[2])));
+            }
+        }
+    }
+    None
+}
+
+/// The volume `triangles` enclose (the divergence theorem; either winding), for a
+/// closed mesh.
+fn enclosed_volume(vertices: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
+    let six = triangles.iter().fold(0.0, |sum, t| {
+        let [a, b, c] = t.map(|k| vertices[k as usize]);
+        sum + a.dot(b.cross(c))
+    });
+    (six / 6.0).abs()
 }
 
 /// A radius given as a value, or as the distance from CM's z axis to RM (in the

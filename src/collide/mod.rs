@@ -6,8 +6,9 @@
 //! **The contract the core relies on** (the types below; their methods live in this
 //! module's files):
 //! - [`Geometry::of`] builds one contact geometry from a GRAPHICS statement of the model
-//!   (BOX, CYLINDER, FRUSTUM, ELLIPSOID, EXTERNAL with a [`TriMesh`]; the planes Adams
-//!   offers), held in the BCS of the part its marker is on.
+//!   (BOX, CYLINDER, FRUSTUM, ELLIPSOID, EXTERNAL with a [`TriMesh`], and Adams' PLANE:
+//!   its rectangle with the solid behind it), held in the BCS of the part its marker is
+//!   on.
 //! - [`World::new`] takes every geometry and the pairs to watch, in 3D or in the plane of a
 //!   planar scene (then parry2d, on the shapes' sections by the plane).
 //! - [`World::update`] places each part (global pose of its BCS); [`World::incidents`]
@@ -53,6 +54,10 @@ pub struct TriMesh {
     pub vertices: Vec<Vec3>,
     /// Triangles, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
+    /// A placeholder standing in for geometry the run was not given (an EXTERNAL without
+    /// its file): its overlaps at the start are its own artefact (`mbd::contacts` holds
+    /// such a pair out until it separates).
+    pub stand_in: bool,
 }
 
 /// A global pose: the position of a frame's origin and its rotation (columns: its axes).

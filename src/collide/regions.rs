@@ -28,12 +28,13 @@ pub struct Touch {
 /// Groups `touches` into connected regions and appends one incident per region to
 /// `out`. Two touches are one region when they share a manifold or lie on triangles of
 /// one mesh that share a vertex (`mesh_i`, `mesh_j`: the welded triangles of each
-/// side, empty for a convex solid) — so a U-shaped mesh standing on a box on both legs
+/// side, empty for a convex solid; for a mesh in convex pieces, each piece's links,
+/// shared by neighbouring pieces) — so a U-shaped mesh standing on a box on both legs
 /// gives two incidents, and a ball on the shared edge of two triangles one.
-pub fn incidents(
+pub fn incidents<A: AsRef<[u32]>, B: AsRef<[u32]>>(
     touches: &[Touch],
-    mesh_i: &[[u32; 3]],
-    mesh_j: &[[u32; 3]],
+    mesh_i: &[A],
+    mesh_j: &[B],
     out: &mut Vec<Incident>,
 ) {
     if touches.is_empty() {
@@ -46,11 +47,25 @@ pub fn incidents(
     for (k, t) in touches.iter().enumerate() {
         let first = *first_of_manifold.entry(t.manifold).or_insert(k);
         sets.join(first, k);
-        for (side, tri, mesh) in [(0u8, t.triangle_i, mesh_i), (1, t.triangle_j, mesh_j)] {
-            let Some(triangle) = tri.and_then(|i| mesh.get(i as usize)) else {
+        let sides = [
+            (
+                0u8,
+                t.triangle_i
+                    .and_then(|i| mesh_i.get(i as usize))
+                    .map(AsRef::as_ref),
+            ),
+            (
+                1,
+                t.triangle_j
+                    .and_then(|i| mesh_j.get(i as usize))
+                    .map(AsRef::as_ref),
+            ),
+        ];
+        for (side, keys) in sides {
+            let Some(keys) = keys else {
                 continue;
             };
-            for &v in triangle {
+            for &v in keys {
                 let first = *first_at_vertex.entry((side, v)).or_insert(k);
                 sets.join(first, k);
             }

@@ -1,6 +1,7 @@
 //! The contact world: every geometry placed at a state, a broad phase (parry's BVH,
 //! rebuilt at each update) that finds the pairs whose bounding boxes overlap, and the
-//! narrow phase that gives one pair's separation and incidents.
+//! narrow phase that gives one pair's separation and incidents (two closed meshes in
+//! their convex pieces).
 
 use super::convert::{compose, from_parry, pose_to_parry};
 use super::planar::{self, Plane, Section};
@@ -13,6 +14,7 @@ use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::{
     ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher, QueryDispatcher,
 };
+use parry3d_f64::shape::SharedShape;
 use std::collections::HashMap;
 
 mod reach;
@@ -38,6 +40,46 @@ pub struct World {
     /// Each geometry's section by the plane (taken at the first update), and its 2D
     /// pose: `None` for a geometry queried in 3D.
     sections: Vec<Option<(Section, planar::Pose2)>>,
+    /// The convex pieces of each closed, non-convex mesh that a mesh–mesh pair watches
+    /// (`None` otherwise): two surfaces' manifolds see only where they cross, pieces
+    /// see how deep they overlap.
+    solids: Vec<Option<Solid>>,
+}
+
+/// A closed mesh as convex pieces (parry's compound of its V-HACD decomposition), and
+/// which pieces touch: `links[p]` lists ids shared by the pieces next to piece p.
+struct Solid {
+    shape: SharedShape,
+    links: Vec<Vec<u32>>,
+}
+
+impl Solid {
+    /// The convex pieces of mesh `g` (held as triangles).
+    fn of(g: &Geometry) -> Option<Solid> {
+        let mesh = g.shape.as_trimesh()?;
+        let shape = SharedShape::convex_decomposition(mesh.vertices(), mesh.indices());
+        let pieces = shape.as_compound()?.shapes();
+        // Pieces of one solid meet face to face: boxes grown by 10⁻⁹ of the mesh's
+        // size that overlap are neighbours.
+        let grow = 1e-9 * mesh.local_aabb().extents().length();
+        let boxes: Vec<Aabb> = (pieces.iter())
+            .map(|(pose, piece)| piece.compute_aabb(pose).loosened(grow))
+            .collect();
+        let mut links = vec![Vec::new(); boxes.len()];
+        let mut next = 0u32;
+        for a in 0..boxes.len() {
+            links[a].push(next);
+            next += 1;
+            for b in a + 1..boxes.len() {
+                if boxes[a].intersects(&boxes[b]) {
+                    links[a].push(next);
+                    links[b].push(next);
+                    next += 1;
+                }
+            }
+        }
+        Some(Solid { shape, links })
+    }
 }
 
 impl World {
@@ -49,7 +91,19 @@ impl World {
             pairs_of.entry((i.min(j), i.max(j))).or_default().push(k);
         }
         let n = geometries.len();
+        let mut solids: Vec<Option<Solid>> = (0..n).map(|_| None).collect();
+        for &(i, j) in &pairs {
+            let closed = |k: usize| geometries.get(k).is_some_and(|g| g.is_mesh() && g.closed);
+            if i != j && closed(i) && closed(j) {
+                for k in [i, j] {
+                    if solids[k].is_none() {
+                        solids[k] = Solid::of(&geometries[k]);
+                    }
+                }
+            }
+        }
         World {
+            solids,
             geometries,
             pairs,
             space,
@@ -160,8 +214,30 @@ impl World {
             Some((si, sj, plane)) => planar::touches(si, sj, plane, self.noise(i, j)),
             None => self.touches(i, j, 0.0),
         };
-        let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
-        regions::incidents(&touches, &gi.triangles, &gj.triangles, out);
+        match self.solids_of(i, j) {
+            Some((a, b)) => regions::incidents(&touches, &a.links, &b.links, out),
+            None => {
+                let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+                regions::incidents(&touches, &gi.triangles, &gj.triangles, out);
+            }
+        }
+    }
+
+    /// The convex pieces of both geometries of a mesh–mesh pair, when both are closed.
+    fn solids_of(&self, i: usize, j: usize) -> Option<(&Solid, &Solid)> {
+        Some((self.solids[i].as_ref()?, self.solids[j].as_ref()?))
+    }
+
+    /// The shapes pair (`i`, `j`) is queried with, and whether each is a composite whose
+    /// touches name their triangle or piece.
+    fn shapes(&self, i: usize, j: usize) -> (&SharedShape, &SharedShape, bool, bool) {
+        match self.solids_of(i, j) {
+            Some((a, b)) => (&a.shape, &b.shape, true, true),
+            None => {
+                let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+                (&gi.shape, &gj.shape, gi.is_mesh(), gj.is_mesh())
+            }
+        }
     }
 
     /// The distance between the pair's geometries when apart (> 0), minus their deepest
@@ -177,9 +253,9 @@ impl World {
                 return d;
             }
         }
-        let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+        let (si, sj, _, _) = self.shapes(i, j);
         let pos12 = self.poses[i].inv_mul(&self.poses[j]);
-        match DefaultQueryDispatcher.distance(&pos12, &*gi.shape, &*gj.shape) {
+        match DefaultQueryDispatcher.distance(&pos12, &**si, &**sj) {
             Ok(d) if d.distance > 0.0 => return d.distance,
             Ok(_) => {}
             Err(_) => {
@@ -226,7 +302,7 @@ impl World {
     /// The narrow phase's points between geometries `i` and `j` closer than
     /// `prediction` (negative `dist`: penetrating), global.
     fn points(&self, i: usize, j: usize, prediction: f64) -> Vec<Point> {
-        let (gi, gj) = (&self.geometries[i], &self.geometries[j]);
+        let (si, sj, parts_i, parts_j) = self.shapes(i, j);
         let (pi, pj) = (&self.poses[i], &self.poses[j]);
         let pos12 = pi.inv_mul(pj);
         let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
@@ -235,8 +311,8 @@ impl World {
         // pair would give no points (no contact), never a panic.
         let _ = DefaultQueryDispatcher.contact_manifolds(
             &pos12,
-            &*gi.shape,
-            &*gj.shape,
+            &**si,
+            &**sj,
             prediction,
             &mut manifolds,
             &mut workspace,
@@ -258,8 +334,8 @@ impl World {
                     normal: -from_parry(n1),
                     dist: c.dist,
                     manifold: m,
-                    sub1: gi.is_mesh().then_some(manifold.subshape1),
-                    sub2: gj.is_mesh().then_some(manifold.subshape2),
+                    sub1: parts_i.then_some(manifold.subshape1),
+                    sub2: parts_j.then_some(manifold.subshape2),
                 });
             }
         }

@@ -150,6 +150,16 @@ pub enum Shape {
         /// FACETING_TOLERANCE.
         faceting_tolerance: Option<f64>,
     },
+    /// PLANE: the rectangle XMIN ≤ x ≤ XMAX, YMIN ≤ y ≤ YMAX in RM's x-y plane, its
+    /// normal RM's +z (a contact geometry: docs/contact.md says what it collides as).
+    Plane {
+        /// RM, the reference marker.
+        rm: Id,
+        /// XMIN, XMAX.
+        x: [f64; 2],
+        /// YMIN, YMAX.
+        y: [f64; 2],
+    },
 }
 
 impl Shape {
@@ -167,6 +177,7 @@ impl Shape {
             Shape::Force { .. } => "FORCE",
             Shape::Curve { .. } => "CURVE",
             Shape::External { .. } => "EXTERNAL",
+            Shape::Plane { .. } => "PLANE",
         }
     }
 }

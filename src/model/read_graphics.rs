@@ -2,8 +2,9 @@
 //! shape, each argument is read with Adams' abbreviations, and the checks are those of
 //! any other statement: markers and elements that exist (`E0311`), required arguments
 //! (`E0604`), no negative radius or scale and an OUTLINE of two points at least
-//! (`E0605`). A GRAPHICS kind not in [`KINDS`] (the contact geometries POINT, PLANE, ...)
-//! stays outside the subset and is summarised as such by the reader.
+//! (`E0605`), a PLANE's minimum below its maximum (`E0605`). A GRAPHICS kind not in
+//! [`KINDS`] (the contact geometry POINT, ...) stays outside the subset and is
+//! summarised as such by the reader.
 
 use super::elements::Id;
 use super::graphics::{Facets, Graphic, Radius, Shape};
@@ -26,6 +27,7 @@ pub(super) const KINDS: &[(&str, usize)] = &[
     ("FORCE", 3),
     ("FRUSTUM", 3),
     ("OUTLINE", 3),
+    ("PLANE", 3),
     ("SPDP", 4),
 ];
 
@@ -53,6 +55,7 @@ pub fn graphics(r: &mut Reader, a: &mut Args) {
         "FORCE" => force(r, a),
         "FRUSTUM" => frustum(r, a),
         "OUTLINE" => outline(r, a),
+        "PLANE" => plane(r, a),
         _ => spring_damper(r, a),
     };
     if let Some(shape) = shape {
@@ -336,5 +339,29 @@ fn external(r: &mut Reader, a: &mut Args) -> Option<Shape> {
         file: file?,
         element,
         faceting_tolerance,
+    })
+}
+
+/// `RM = id, XMIN = r, XMAX = r, YMIN = r, YMAX = r`: a rectangle in RM's x-y plane; each
+/// minimum below its maximum (`E0605` at the maximum).
+fn plane(r: &mut Reader, a: &mut Args) -> Option<Shape> {
+    let rm = marker(r, a, "RM", 2);
+    let mut range = |lo: &str, hi: &str| {
+        let (min, max) = (a.required_number(lo, 4), a.required_number(hi, 4));
+        let (min, max) = (min?, max?);
+        if min < max {
+            return Some([min, max]);
+        }
+        let span = (a.stmt.arg(hi, 4)).map_or(a.stmt.keyword_span.clone(), |arg| arg.span.clone());
+        let msg = format!("{hi} of {} is not above {lo} ({max} ≤ {min})", a.label);
+        a.error(Code::BadArgument, span, msg);
+        None
+    };
+    let x = range("XMIN", "XMAX");
+    let y = range("YMIN", "YMAX");
+    Some(Shape::Plane {
+        rm: rm?,
+        x: x?,
+        y: y?,
     })
 }

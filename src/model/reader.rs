@@ -143,7 +143,7 @@ pub(super) struct Reader<'a> {
 /// a word (`check` still lists those outside the subset). Any other kind the reader does
 /// not model, and any keyword it does not know, counts as physics left out. GRAPHICS is
 /// read into `Model::graphics` for the kinds `read_graphics` knows; the others (contact
-/// geometry such as POINT or PLANE) stay outside the subset, quiet like these.
+/// geometry such as POINT) stay outside the subset, quiet like these.
 pub const QUIET_STATEMENTS: &[(&str, &str)] = &[
     // Output and display.
     ("DEBUG", "what the solver prints"),
@@ -453,7 +453,7 @@ mod tests {
     #[test]
     fn the_model_carries_what_it_leaves_out_with_counts_and_lines() {
         let read = read_model(
-            "t\nPART/1, GROUND\nMARKER/10, PART = 1\nGRAPHICS/1, PLANE, RM = 10\n\
+            "t\nPART/1, GROUND\nMARKER/10, PART = 1\nGRAPHICS/1, POINT, RM = 10\n\
              COUPLER/1, TYPE = 1\nCOUPLER/2, TYPE = 1\nWIDGET/3\n\
              SFORCE/4, I = 10, J = 10, FUNCTION = USER(1)\nEND\n",
         );

@@ -1,13 +1,13 @@
 //! One item per GRAPHICS statement, on the part of its reference marker at that marker's
-//! pose (docs/models.md "GRAPHICS" for each argument's convention): the solids, circles
-//! and arcs; OUTLINE's segments (rigid on one part, stretching between two); SPDP as a
+//! pose (docs/models.md "GRAPHICS" for each argument's convention): the solids, PLANE's
+//! rectangle, circles and arcs; OUTLINE's segments (rigid on one part, stretching between two); SPDP as a
 //! stretching spring and damper; FORCE as an arrow. CURVE and EXTERNAL are left to the
 //! caller (CURVE data is not read; EXTERNAL needs `--geometry`). A graphic whose values
 //! give nothing to draw (a zero radius, an unknown marker) is left out with a note.
 
 use super::canvas::Canvas;
 use super::curves::{arc, circle, segments, unit_line, DEFAULT_SEG};
-use super::solids::{cuboid, ellipsoid, frustum, DEFAULT_SIDES, ELLIPSOID_SLICES};
+use super::solids::{cuboid, ellipsoid, frustum, rectangle, DEFAULT_SIDES, ELLIPSOID_SLICES};
 use super::spring::{damper, helix, DEFAULT_COILS};
 use super::tessellate::{facets, finite, Builder};
 use super::{Anchor, ArrowSource, Item, Mesh, Motion, Pose, Role};
@@ -109,6 +109,12 @@ pub fn draw(c: &mut Canvas, g: &Graphic) -> Later {
                 }
             }
         }
+        // A PLANE is drawn as its rectangle, both faces (it is seen from either side).
+        Shape::Plane { rm, x, y } => solid(c, g, *rm, |_| {
+            let lo = Vec3::new(x[0], y[0], 0.0);
+            let hi = Vec3::new(x[1], y[1], 0.0);
+            finite(&[x[0], x[1], y[0], y[1]]).then(|| rectangle(lo, hi))
+        }),
         Shape::Curve { .. } | Shape::External { .. } => Ok(()),
     };
     if let Err(why) = result {

@@ -1,7 +1,8 @@
 //! The closed solids as triangle meshes in their marker's frame: BOX (a corner at the
 //! origin), CYLINDER and FRUSTUM (bottom centre at the origin, axis along z, swept by
-//! RANGLE), ELLIPSOID (centred, semi-axes along x, y, z). Flat faces carry their face
-//! normal, the ellipsoid its smooth surface normal; all point outward.
+//! RANGLE), ELLIPSOID (centred, semi-axes along x, y, z), and PLANE's flat rectangle.
+//! Flat faces carry their face normal, the ellipsoid its smooth surface normal; all
+//! point outward.
 
 use super::tessellate::Builder;
 use crate::vocab::math::Vec3;
@@ -46,6 +47,22 @@ pub fn centred_cuboid(lo: Vec3, hi: Vec3) -> Builder {
             );
         }
     }
+    b
+}
+
+/// The flat rectangle between corners `lo` and `hi` of one z (a PLANE), its two faces
+/// (+z and −z) so either side shows.
+pub fn rectangle(lo: Vec3, hi: Vec3) -> Builder {
+    let mut b = Builder::default();
+    let corners = [
+        lo,
+        Vec3::new(hi.x, lo.y, lo.z),
+        Vec3::new(hi.x, hi.y, lo.z),
+        Vec3::new(lo.x, hi.y, lo.z),
+    ];
+    // `flat` winds each face to its normal: the same corners serve both.
+    b.flat(&corners, Vec3::z());
+    b.flat(&corners, -Vec3::z());
     b
 }
 

@@ -211,6 +211,16 @@ fn arguments(shape: &Shape) -> (Vec<u32>, Vec<(&'static str, Value)>) {
                 ("faceting_tolerance", num(*faceting_tolerance)),
             ],
         ),
+        Shape::Plane { rm, x, y } => (
+            vec![*rm],
+            vec![
+                ("rm", Integer(*rm)),
+                ("xmin", Number(x[0])),
+                ("xmax", Number(x[1])),
+                ("ymin", Number(y[0])),
+                ("ymax", Number(y[1])),
+            ],
+        ),
     }
 }
 

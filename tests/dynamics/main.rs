@@ -15,6 +15,7 @@ mod bdf;
 mod beams;
 mod contact;
 mod contact_forces;
+mod contact_geometry;
 mod dense;
 mod exact;
 mod explicit;

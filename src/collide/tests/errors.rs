@@ -24,7 +24,7 @@ fn an_outline_has_no_volume() {
     assert_eq!(
         e.to_string(),
         "GRAPHICS/2 cannot be a contact geometry: an OUTLINE has no volume to collide \
-         (contact geometries are BOX, CYLINDER, FRUSTUM, ELLIPSOID, EXTERNAL)"
+         (contact geometries are BOX, CYLINDER, FRUSTUM, ELLIPSOID, EXTERNAL, PLANE)"
     );
     assert!(under.starts_with("GRAPHICS/2, OUTLINE"), "{under}");
     assert_eq!(e.diagnostic().code.as_str(), "E0605");

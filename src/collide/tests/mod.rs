@@ -6,6 +6,7 @@ mod convex;
 mod errors;
 mod mesh;
 mod planar;
+mod plane;
 
 use crate::collide::{Geometry, Incident, Pose, Space, TriMesh, World};
 use crate::model::elements::Id;

@@ -123,6 +123,7 @@ fn a_mesh_or_a_tilted_box_is_queried_in_3d() {
     let tetra = crate::collide::TriMesh {
         vertices: vec![Vec3::zeros(), Vec3::x(), Vec3::y(), Vec3::z()],
         triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        stand_in: false,
     };
     let meshes = HashMap::from([(3, tetra)]);
     let w = world_with(&m, &[2, 100, 3], &[(0, 1), (2, 1)], plane(), &meshes);

@@ -1,8 +1,10 @@
 //! A model's CONTACTs into a [`ContactSet`]: every GRAPHICS they name becomes one
 //! geometry of one world (shared by the contacts naming it), every I × J combination of a
-//! contact a watched pair; a planar system queries in its plane.
+//! contact a watched pair; a planar system queries in its plane. A pair with a
+//! stand-in geometry that overlaps at the assembled start is held out until it
+//! separates.
 
-use super::{ContactForce, ContactSet, ContactValues, Pair};
+use super::{ContactForce, ContactSet, ContactValues, HeldOut, Pair};
 use crate::collide::{Geometry, Space, TriMesh, World};
 use crate::mbd::error::MbdError;
 use crate::mbd::handles::PartHandle;
@@ -87,7 +89,8 @@ impl ContactSet {
                 }
             }
         };
-        Ok(ContactSet {
+        let held = vec![false; watched.len()];
+        let mut set = ContactSet {
             contacts,
             pairs: watched,
             world: Some(RefCell::new(World::new(geometries, pairs, space))),
@@ -96,7 +99,47 @@ impl ContactSet {
             incidents: RefCell::new(Vec::new()),
             candidates: RefCell::new(Vec::new()),
             statics: false,
-        })
+            held,
+            held_at_start: Vec::new(),
+            held_out: Vec::new(),
+        };
+        set.hold_overlapping_stand_ins(sys);
+        set.held_at_start.clone_from(&set.held);
+        Ok(set)
+    }
+
+    /// Holds out every pair with a stand-in geometry that overlaps at the state of `sys`
+    /// (the assembled start): a placeholder box is not the user's geometry, so its
+    /// overlap there is its own artefact, not a contact to push apart at once.
+    fn hold_overlapping_stand_ins(&mut self, sys: &System) {
+        let Some(world) = &self.world else { return };
+        let with_stand_in: Vec<usize> = {
+            let w = world.borrow();
+            let g = w.geometries();
+            (w.pairs().iter().enumerate())
+                .filter(|(_, &(i, j))| g[i].stand_in || g[j].stand_in)
+                .map(|(k, _)| k)
+                .collect()
+        };
+        if with_stand_in.is_empty() {
+            return;
+        }
+        self.place(sys);
+        let w = world.borrow();
+        let mut incidents = Vec::new();
+        for k in with_stand_in {
+            w.incidents(k, &mut incidents);
+            if incidents.is_empty() {
+                continue;
+            }
+            self.held[k] = true;
+            let (i, j) = w.pairs()[k];
+            self.held_out.push(HeldOut {
+                contact: self.contacts[self.pairs[k].contact].id,
+                graphics: (w.geometries()[i].graphic, w.geometries()[j].graphic),
+                depth: incidents.iter().map(|c| c.depth).fold(0.0, f64::max),
+            });
+        }
     }
 }
 

@@ -126,8 +126,21 @@ impl ContactSet {
         let mut candidates = self.candidates.take();
         let mut incidents = self.incidents.take();
         world.borrow_mut().candidates(&mut candidates);
+        // A held pair whose bounding boxes are apart is apart.
+        for (k, held) in self.held.iter_mut().enumerate() {
+            if *held && candidates.binary_search(&k).is_err() {
+                *held = false;
+            }
+        }
         for &k in &candidates {
             world.borrow().incidents(k, &mut incidents);
+            if self.held[k] {
+                if !incidents.is_empty() {
+                    continue;
+                }
+                // Apart: from here on the pair is like any other.
+                self.held[k] = false;
+            }
             let pair = self.pairs[k];
             for inc in &incidents {
                 let (v, ai, aj) = Self::relative(sys, pair.i, pair.j, &inc.point);
@@ -173,7 +186,7 @@ impl ContactSet {
         let world = world.borrow();
         let mut incidents = self.incidents.take();
         for (k, pair) in self.pairs.iter().enumerate() {
-            if candidates.binary_search(&k).is_err() {
+            if self.held[k] || candidates.binary_search(&k).is_err() {
                 out.extend([APART, f64::NAN]);
                 continue;
             }

@@ -10,6 +10,9 @@
 //! normal and centroid is left out), plus the turning of each force's moment arm with its
 //! part. Onset, separation and the clamp of a damped law pulling are switches for the
 //! step control ([`ContactSet::switches`]), which the event machinery of IMPACT locates.
+//! A pair with a stand-in geometry (the placeholder of an EXTERNAL without its mesh) that
+//! overlaps at the assembled start is held out until it first separates
+//! ([`ContactSet::held_out`]).
 //!
 //! The files, one job each: `law` (the normal laws and the friction coefficient),
 //! `build` (a model's CONTACTs into a set and its world), `eval` (loads, Jacobians,
@@ -47,6 +50,26 @@ pub struct ContactSet {
     pub left_out: Vec<(Id, String)>,
     /// Set while statics runs: a DYNAMICS_ONLY contact then has no friction.
     pub statics: bool,
+    /// Per watched pair: held out (no force, no switch) until it is first found apart. A
+    /// pair with a stand-in geometry (a placeholder for an EXTERNAL without its mesh)
+    /// that overlaps at the assembled start is: the overlap is the stand-in's artefact.
+    held: Vec<bool>,
+    /// `held` as built, for a run started again ([`ContactSet::forget_state`]).
+    held_at_start: Vec<bool>,
+    /// The pairs held out at the start, for the run to warn about.
+    pub held_out: Vec<HeldOut>,
+}
+
+/// A pair with a stand-in geometry that overlaps at the start, held out until it
+/// separates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeldOut {
+    /// The CONTACT id.
+    pub contact: Id,
+    /// The GRAPHICS ids of its I and J geometries.
+    pub graphics: (Id, Id),
+    /// The deepest overlap at the start (model length units).
+    pub depth: f64,
 }
 
 /// One CONTACT: its id, laws, and its values at the last evaluation.
@@ -99,6 +122,11 @@ impl ContactSet {
     /// matrix's pattern; repeats possible.
     pub fn coupled_parts(&self) -> impl Iterator<Item = (PartHandle, PartHandle)> + '_ {
         self.pairs.iter().map(|p| (p.i, p.j))
+    }
+
+    /// Back to the start of a run: the pairs held out at the start are held again.
+    pub fn forget_state(&mut self) {
+        self.held.clone_from(&self.held_at_start);
     }
 
     /// How many switching values [`ContactSet::switches`] gives: two per pair.

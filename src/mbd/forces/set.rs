@@ -193,6 +193,7 @@ impl ForceSet {
         self.loads = vec![Loads::default(); self.elements.len()];
         self.solved = vec![0.0; self.solution.len()];
         self.states.forget_state();
+        self.contacts.forget_state();
     }
 
     /// Adds every element's generalized forces (and, with `jacobians`, their ∂/∂q and

@@ -175,6 +175,14 @@ fn every_kind_reads_its_arguments() {
             faceting_tolerance: Some(300.0028)
         }
     );
+    assert_eq!(
+        shape("GRAPHICS/1, PLANE, RM = 21, XMIN = -1, XMAX = 2.5, YMIN = -3, YMAX = 0.5"),
+        Shape::Plane {
+            rm: 21,
+            x: [-1.0, 2.5],
+            y: [-3.0, 0.5]
+        }
+    );
 }
 
 #[test]
@@ -315,7 +323,7 @@ fn an_argument_a_graphic_does_not_take_is_a_warning_at_it() {
 
 #[test]
 fn an_unknown_graphics_kind_stays_outside_the_subset() {
-    let (_, r) = read("GRAPHICS/1, PLANE, RM = 21, XMIN = -1, XMAX = 1, YMIN = -1, YMAX = 1");
+    let (_, r) = read("GRAPHICS/1, POINT, RM = 21");
     assert!(r.model.graphics.is_empty());
     let ignored: Vec<_> = (r.model.ignored.iter())
         .filter(|i| i.kind == "GRAPHICS")

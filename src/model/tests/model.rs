@@ -563,7 +563,7 @@ fn messages_name_elements_by_view_name() {
 fn unsupported_things_are_warnings_that_name_statement_id_and_line() {
     let text = with(
         "JOINT/1, REVOLUTE, I = 21, J = 11, MU_DYN_ROT = 0.1\n\
-         GRAPHICS/5, PLANE, RM = 21\n\
+         GRAPHICS/5, POINT, RM = 21\n\
          SFORCE/2, I = 21, J = 11, FUNCTION = USER(1, 2)\n\
          DIFF/3, FUNCTION = TIME\n\
          GSE/8, NS = 1\n\

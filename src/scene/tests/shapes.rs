@@ -251,3 +251,32 @@ fn a_circle_by_rm_takes_the_distance_from_cms_z_axis_and_an_arc_sweeps_rangle() 
     assert!((first - Vec3::new(2.0, 0.0, 0.0)).norm() < 1e-6, "{first}");
     assert!((last - Vec3::new(0.0, 2.0, 0.0)).norm() < 1e-6, "{last}");
 }
+
+#[test]
+fn a_plane_is_its_rectangle_seen_from_both_sides() {
+    let (_, m) = shape("GRAPHICS/5, PLANE, RM = 11, XMIN = -1, XMAX = 3, YMIN = 0.5, YMAX = 2");
+    assert_normals_agree(&m);
+    for p in &m.positions {
+        let p = v(*p);
+        assert!(p.z.abs() < 1e-12, "z {}", p.z);
+        assert!(
+            (-1.0..=3.0).contains(&p.x) && (0.5..=2.0).contains(&p.y),
+            "{p}"
+        );
+    }
+    // Each face covers the 4 × 1.5 rectangle once: its triangles' areas, signed by
+    // which way they face, add up to the area up (+z) and down (−z).
+    let (mut up, mut down) = (0.0, 0.0);
+    for [a, b, c] in triangles(&m) {
+        let z = (b - a).cross(&(c - a)).z / 2.0;
+        if z > 0.0 {
+            up += z;
+        } else {
+            down -= z;
+        }
+    }
+    assert!(
+        (up - 6.0).abs() < 1e-9 && (down - 6.0).abs() < 1e-9,
+        "{up} {down}"
+    );
+}

@@ -92,6 +92,10 @@ pub struct RunRequest {
     /// Record the run's animation (`--animate`): frames, glyphs, meshes for EXTERNAL
     /// graphics ([`crate::session::animation`]); the rows are the same with or without.
     pub animation: Option<crate::session::animation::AnimationRequest>,
+    /// Meshes for EXTERNAL graphics (`--geometry GRAPHICS/ID=FILE`): the geometry of the
+    /// CONTACTs that name them, with or without an animation (one it records draws them
+    /// too).
+    pub geometry: Vec<(u32, PathBuf)>,
 }
 
 /// The linear analysis a [`RunRequest`] asks for where the run ends: LINEAR/EIGENSOL
@@ -169,6 +173,7 @@ impl RunRequest {
             kinematics: false,
             linear: None,
             animation: None,
+            geometry: Vec::new(),
         }
     }
 
@@ -295,7 +300,14 @@ impl RunRequest {
         spec.cartesian = self.cartesian;
         spec.interpolate = self.interpolate;
         spec.estimate_error = self.estimate_error;
-        spec.geometry = (self.animation.as_ref()).map_or_else(Vec::new, |a| a.geometry.clone());
+        // The request's meshes, then any the animation alone was given (a caller that
+        // set only the animation's): the contacts use the same files the drawing does.
+        spec.geometry.clone_from(&self.geometry);
+        for (id, file) in self.animation.iter().flat_map(|a| &a.geometry) {
+            if !spec.geometry.iter().any(|(g, _)| g == id) {
+                spec.geometry.push((*id, file.clone()));
+            }
+        }
         spec.formulation = self.formulation.map(Into::into);
         (spec.error, spec.hmax, spec.hinit, spec.hmin) =
             (self.error, self.hmax, self.hinit, self.hmin);

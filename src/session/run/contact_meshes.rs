@@ -2,7 +2,8 @@
 //! ([`crate::collide::TriMesh`] in the RM marker's coordinates): read from the file
 //! `--geometry GRAPHICS/ID=FILE` gives, else the placeholder box the scene draws for an
 //! EXTERNAL without a mesh (the uniform box of its part's mass and inertia), with one
-//! `W0602` per geometry that stands in for its file.
+//! `W0602` per geometry that stands in for its file; and the warnings for the CONTACTs
+//! the core left out or holds out at the start (a stand-in pair that overlaps there).
 
 use crate::collide::TriMesh;
 use crate::diag::{Code, Diagnostic};
@@ -64,6 +65,7 @@ pub fn contact_meshes(
                         .chunks_exact(3)
                         .map(|t| [t[0], t[1], t[2]])
                         .collect(),
+                    stand_in: false,
                 }),
                 Err(e) => {
                     diags.push(Diagnostic::error(Code::Io, g.el.span.clone(), e.0));
@@ -104,15 +106,44 @@ pub(super) fn left_out<'a>(
     set: &'a crate::mbd::contacts::ContactSet,
 ) -> impl Iterator<Item = Diagnostic> + 'a {
     set.left_out.iter().map(|(id, why)| {
-        let span = (model.contacts.iter())
-            .find(|c| c.el.id == *id)
-            .map_or(0..0, |c| c.el.span.clone());
+        let span = contact_span(model, *id);
         Diagnostic::warning(
             Code::UnsupportedStatement,
             span,
             format!("CONTACT/{id} is left out: {why}"),
         )
     })
+}
+
+/// A W0602 at each CONTACT with a stand-in pair the core holds out of `set` because it
+/// overlaps at the start, naming the contact and its geometries.
+pub(super) fn held_out<'a>(
+    model: &'a Model,
+    set: &'a crate::mbd::contacts::ContactSet,
+) -> impl Iterator<Item = Diagnostic> + 'a {
+    set.held_out.iter().map(|h| {
+        let span = contact_span(model, h.contact);
+        let (i, j) = h.graphics;
+        Diagnostic::warning(
+            Code::UnsupportedStatement,
+            span,
+            format!(
+                "CONTACT/{}: GRAPHICS/{i} and GRAPHICS/{j} overlap by {} at the start with \
+                 a placeholder standing in for their geometry; the pair is held out until \
+                 they separate",
+                h.contact,
+                format_depth(h.depth)
+            ),
+        )
+        .with_help("give the EXTERNAL geometry its mesh: --geometry GRAPHICS/ID=FILE")
+    })
+}
+
+/// The span of CONTACT/`id` (empty when the model has none).
+fn contact_span(model: &Model, id: Id) -> crate::diag::Span {
+    (model.contacts.iter())
+        .find(|c| c.el.id == id)
+        .map_or(0..0, |c| c.el.span.clone())
 }
 
 /// The placeholder box of the part marker `rm` is on, in `rm`'s coordinates.
@@ -131,5 +162,19 @@ fn placeholder(model: &Model, rm: Id) -> Option<TriMesh> {
     Some(TriMesh {
         vertices,
         triangles: BOX_TRIANGLES.to_vec(),
+        stand_in: true,
     })
+}
+
+/// A depth to four significant digits (`0.01234`, `1.5e-07`).
+fn format_depth(d: f64) -> String {
+    if d != 0.0 && !(1e-4..1e5).contains(&d.abs()) {
+        return format!("{d:.3e}");
+    }
+    let digits = (3 - d.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{d:.digits$}");
+    match s.contains('.') {
+        true => s.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => s,
+    }
 }

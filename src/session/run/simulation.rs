@@ -217,6 +217,7 @@ impl Simulation {
         let forces = system.forces_with_meshes(model, &exprs, &meshes)?;
         let mut contact_warnings = contact_warnings;
         contact_warnings.extend(super::contact_meshes::left_out(model, &forces.contacts));
+        contact_warnings.extend(super::contact_meshes::held_out(model, &forces.contacts));
         // Energy is conserved only without force elements and without rows that move
         // with time (MOTIONs, time-dependent GCONs) or do work through velocities
         // (non-holonomic GCONs).
