@@ -112,7 +112,15 @@ pub fn simulate_framed(
                 in_contact: events.engaged(),
                 ..s.for_step(end - t, span)
             };
-            let attempt = integrator.attempt(d, end - t, &step_settings)?;
+            // A force that is not finite at a trial state (a Newton iterate thrown far by
+            // too long a step) is the step's failure, as a divergence is; only when the
+            // steps can shrink no more does it end the run, with the element named.
+            let attempt = match integrator.attempt(d, end - t, &step_settings) {
+                Err(DynError::NotFinite { .. }) if s.fixed_step.is_none() && h * 0.25 >= s.hmin => {
+                    Attempt::Diverged
+                }
+                other => other?,
+            };
             match attempt {
                 Attempt::Diverged => {
                     d.stats.rejected += 1;
