@@ -30,6 +30,10 @@ pub struct World {
     /// Global bounding box of each geometry.
     boxes: Vec<Aabb>,
     bvh: Bvh,
+    /// The tree no longer matches `boxes` (an update moved them): rebuilt by the next
+    /// [`World::candidates`], so an update that only reads boxes (the step bound's
+    /// reach) does not pay for a tree.
+    bvh_stale: bool,
     workspace: BvhWorkspace,
     /// The pairs (their indices) watched between two geometries, keyed (low, high).
     pairs_of: HashMap<(usize, usize), Vec<usize>>,
@@ -110,6 +114,7 @@ impl World {
             poses: vec![Pose3::IDENTITY; n],
             boxes: vec![Aabb::new_invalid(); n],
             bvh: Bvh::new(),
+            bvh_stale: false,
             workspace: BvhWorkspace::default(),
             pairs_of,
             placed: false,
@@ -136,8 +141,8 @@ impl World {
         self.space
     }
 
-    /// Places every geometry from the global pose of its part's BCS, and rebuilds the
-    /// broad phase.
+    /// Places every geometry from the global pose of its part's BCS; the broad phase is
+    /// rebuilt when next asked for candidates.
     pub fn update(&mut self, part_pose: &dyn Fn(Id) -> Pose) {
         let first = !self.placed;
         for (k, g) in self.geometries.iter().enumerate() {
@@ -161,9 +166,7 @@ impl World {
                 *pose = section.pose(&frame, plane);
             }
         }
-        // A rebuild is O(N log N) and keeps the tree tight however far the parts moved
-        // (a refit would keep the old topology).
-        self.bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &self.boxes);
+        self.bvh_stale = true;
         self.placed = true;
     }
 
@@ -173,6 +176,12 @@ impl World {
         out.clear();
         if !self.placed {
             return;
+        }
+        if self.bvh_stale {
+            // A rebuild is O(N log N) and keeps the tree tight however far the parts
+            // moved (a refit would keep the old topology).
+            self.bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &self.boxes);
+            self.bvh_stale = false;
         }
         let pairs_of = &self.pairs_of;
         self.bvh
