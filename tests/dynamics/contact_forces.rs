@@ -4,20 +4,10 @@
 //! v0²/(2 μ g) in 3D and in the plane, a block that sticks below tan θ = μs and slides
 //! above, a ball whose free flight takes large steps, and the corpus' CONTACT datasets.
 
-use crate::run::{named, run_probed, run_raw, Csv};
+use crate::run::{last, named, run_probed, run_raw, test_data as data, Csv};
 use std::path::{Path, PathBuf};
 
 const G: f64 = 9.80665;
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn last(v: &[f64]) -> f64 {
-    *v.last().expect("rows")
-}
 
 /// `mbfx run` of `name` to `end` at output step `dt` with `extra` arguments, probing the
 /// CM's y and x (marker 20) and its x velocity.

@@ -4,20 +4,10 @@
 //! held out with a warning until they separate, then a contact at the same rest depth;
 //! and the corpus datasets whose stand-ins overlap at the start.
 
-use crate::run::{named, run_probed, run_raw, Csv};
+use crate::run::{last, named, run_probed, run_raw, test_data as data, Csv};
 use std::path::{Path, PathBuf};
 
 const G: f64 = 9.80665;
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn last(v: &[f64]) -> f64 {
-    *v.last().expect("rows")
-}
 
 /// The rest depth of 1 kg on an IMPACT contact of k = 1E5, e = 1.5.
 fn rest_depth() -> f64 {

@@ -6,7 +6,7 @@
 use crate::adams::{case, Case, Quantity, Table, CASES, QUANTITIES, ROUND_OFF};
 use crate::exact::{models, G};
 use crate::validate::{align_quaternions, deviations, failures, magnitudes, ColumnDeviation};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// The output of `mbfx run … --csv -`: the header and the numbers, row by row.
@@ -69,6 +69,18 @@ impl Csv {
             );
         }
     }
+}
+
+/// The project's test dataset `tests/data/NAME`.
+pub fn test_data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// The last value of a column.
+pub fn last(v: &[f64]) -> f64 {
+    *v.last().expect("rows")
 }
 
 /// `mbfx run MODEL ARGS… --csv -`, whatever its outcome.

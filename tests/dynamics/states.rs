@@ -13,9 +13,7 @@ use std::path::PathBuf;
 const INTEGRATORS: [&str; 4] = ["gstiff", "hht", "galpha", "dopri853"];
 
 fn data(file: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/states")
-        .join(file)
+    crate::run::test_data("states").join(file)
 }
 
 /// A probe's column name, its expression and its closed form in time.
