@@ -213,11 +213,14 @@ class Graphic:
 class Linearization:
     """A model linearized where a run left it (`Model.linearize()`; docs/analyses.md).
 
-    The minimal coordinates z are model coordinates (`coordinates`, e.g. "PART/2 rotation
-    about z"); every coordinate of the model (`columns`) moves by `shapes`-weighted z.
+    The minimal coordinates z are the joints' own coordinates where the joints span the
+    motion (`coordinates`, e.g. "JOINT/1 (REVOLUTE) rotation"), else model coordinates
+    ("PART/2 rotation about z"); every coordinate of the model (`columns`) moves by
+    `shapes`-weighted z.
     Modes are numbered by rising |λ|: `eigenvalues` (complex, Im ≥ 0, one per conjugate
     pair), `natural_hz` = |λ|/2π, `damped_hz` = Im λ/2π, `damping_ratio` = −Re λ/|λ|, and
-    `shapes[:, k]` mode k's displacement of every column, the largest at 1. `M`, `C`, `K`
+    `shapes[:, k]` mode k's displacement of every column, its largest minimal coordinate
+    at 1. `M`, `C`, `K`
     are the reduced mass, damping and stiffness matrices; `A` the state matrix on
     `states` (z, then ż). `moving` says the operating point was not at rest (the inertial
     partials are then left out); `text` is what `mbfx run --linear` prints.

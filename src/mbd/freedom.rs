@@ -97,21 +97,42 @@ pub fn describe_all(d: &Dynamics, basis: &DMat) -> Vec<Freedom> {
 /// pivots are the largest entries left, so the recombination is as well conditioned as
 /// the basis allows. Returns the recombined basis and the chosen coordinates.
 pub fn independent(basis: &DMat) -> (DMat, Vec<usize>) {
-    let mut b = basis.transpose();
+    let (b, coords) = pivot_candidates(basis.transpose(), 0);
+    (b.transpose(), coords)
+}
+
+/// A preferred candidate's pivot is taken above this fraction of the best other one at
+/// the same step: below it, the preferred candidate is nearly a combination of those
+/// already chosen and the recombination would be ill-conditioned.
+const PREFERENCE: f64 = 1e-3;
+
+/// Gauss–Jordan with full pivoting on the rows of `b` (k × candidates: each candidate's
+/// value along each direction), choosing one candidate per row; the first `preferred`
+/// candidates are taken at every step where one reaches [`PREFERENCE`] of the best other
+/// pivot. Returns `b` with the chosen candidates' columns made the identity, and those
+/// candidates in order (fewer than k when the rows run out of rank).
+pub fn pivot_candidates(mut b: DMat, preferred: usize) -> (DMat, Vec<usize>) {
     let k = b.nrows();
     let mut used = vec![false; b.ncols()];
     let mut coords = Vec::with_capacity(k);
     for row in 0..k {
-        // The largest remaining entry of rows row.. picks the pivot row and coordinate.
-        let mut best = (row, 0, 0.0f64);
-        for r in row..k {
-            for c in (0..b.ncols()).filter(|&c| !used[c]) {
-                if b[(r, c)].abs() > best.2 {
-                    best = (r, c, b[(r, c)].abs());
+        // The largest remaining entry of rows row.. among `cols` picks a pivot.
+        let best_in = |cols: std::ops::Range<usize>, b: &DMat| {
+            let mut best = (row, 0, 0.0f64);
+            for r in row..k {
+                for c in cols.clone().filter(|&c| !used[c]) {
+                    if b[(r, c)].abs() > best.2 {
+                        best = (r, c, b[(r, c)].abs());
+                    }
                 }
             }
-        }
-        let (r, c, top) = best;
+            best
+        };
+        let (first, other) = (best_in(0..preferred, &b), best_in(preferred..b.ncols(), &b));
+        let (r, c, top) = match first.2 > 0.0 && first.2 >= PREFERENCE * other.2 {
+            true => first,
+            false => other,
+        };
         if top == 0.0 {
             break;
         }
@@ -130,7 +151,7 @@ pub fn independent(basis: &DMat) -> (DMat, Vec<usize>) {
             }
         }
     }
-    (b.transpose(), coords)
+    (b, coords)
 }
 
 /// The part whose block holds column `col` of the velocity layout.

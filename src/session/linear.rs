@@ -131,6 +131,15 @@ fn write_files(r: &LinearReport, base: &str) -> std::io::Result<Vec<PathBuf>> {
         let mut shapes = String::from("mode,coordinate,real,imag\n");
         for m in r.modes.iter().filter(|m| wanted(&r.command, m.number)) {
             let Some(shape) = &m.shape else { continue };
+            // The joints' own coordinates first, then every coordinate of the model.
+            let joints = r
+                .linearized
+                .coords
+                .iter()
+                .zip(m.coordinates.iter().flatten());
+            for (c, x) in joints.filter(|(c, _)| c.column.is_none()) {
+                let _ = writeln!(shapes, "{},{},{:e},{:e}", m.number, c.name, x.re, x.im);
+            }
             for (name, x) in r.linearized.columns.iter().zip(shape) {
                 let _ = writeln!(shapes, "{},{name},{:e},{:e}", m.number, x.re, x.im);
             }

@@ -249,10 +249,13 @@ fn a_command_file_writes_the_state_matrix_and_the_modes() {
     assert_eq!(done.summary.linear.len(), 2);
     let text = done.summary.text();
     assert!(
-        text.contains("linear analysis at time 0: 1 degree(s) of freedom (PART/2 y translation)"),
+        text.contains(
+            "linear analysis at time 0: 1 degree(s) of freedom (JOINT/1 (TRANSLATIONAL) translation)"
+        ),
         "{text}"
     );
-    // A = [[0, 1], [−k/m, −c/m]] on (y, ẏ).
+    // A = [[0, 1], [−k/m, −c/m]] on the joint's travel along z_J, which REULER = 0, −90D, 0
+    // turns onto global +y: the travel is PART/2's y.
     let a: Vec<Vec<f64>> = std::fs::read_to_string(format!("{}.a", base.display()))
         .expect("the .a file")
         .lines()
@@ -269,7 +272,10 @@ fn a_command_file_writes_the_state_matrix_and_the_modes() {
         }
     }
     let states = std::fs::read_to_string(format!("{}.st", base.display())).expect("the .st file");
-    assert_eq!(states, "PART/2 y translation\nd/dt PART/2 y translation\n");
+    assert_eq!(
+        states,
+        "JOINT/1 (TRANSLATIONAL) translation\nd/dt JOINT/1 (TRANSLATIONAL) translation\n"
+    );
     let modes = std::fs::read_to_string(format!("{}_modes.csv", base.display())).expect("modes");
     let mut lines = modes.lines();
     assert_eq!(
@@ -279,10 +285,11 @@ fn a_command_file_writes_the_state_matrix_and_the_modes() {
     let row: Vec<&str> = lines.next().expect("one mode").split(',').collect();
     let hz: f64 = row[1].parse().expect("a number");
     assert!((hz - 250f64.sqrt() / (2.0 * std::f64::consts::PI)).abs() < 1e-12 * hz);
-    assert_eq!(row[6], "PART/2 y translation");
+    assert_eq!(row[6], "JOINT/1 (TRANSLATIONAL) translation");
     let shapes = std::fs::read_to_string(format!("{}_shapes.csv", base.display())).expect("shapes");
     assert!(
-        shapes.contains("1,PART/2 y translation,1e0,0e0"),
+        shapes.contains("1,JOINT/1 (TRANSLATIONAL) translation,1e0,0e0\n")
+            && shapes.contains("1,PART/2 y translation,1e0,0e0\n"),
         "{shapes}"
     );
     let _ = std::fs::remove_dir_all(&dir);
@@ -412,8 +419,8 @@ fn a_torque_input_reaches_the_pendulum_through_its_coordinates() {
     // A compound pendulum (m, d, I about the CM) driven by a torque u about the pin.
     // With the state's coordinate z and its angle θ = z·∂θ/∂z, the linearized equation
     // is I_pin·θ̈ = −m·g·d·θ + u: in any coordinate, B's lower entry is
-    // (∂z/∂θ)/I_pin and C for the output AZ is (∂θ/∂z, 0). The coordinate mbfx picks
-    // is read from the states file: the CM's x (x = d·θ) or the rotation (θ itself).
+    // (∂z/∂θ)/I_pin and C for the output AZ is (∂θ/∂z, 0), in the revolute's own
+    // rotation (z = θ).
     let (m, d, i) = (2.0, 1.5, 0.5);
     let dataset = format!(
         "pendulum\nPART/1, GROUND\nMARKER/10, PART = 1\n\
@@ -426,11 +433,8 @@ fn a_torque_input_reaches_the_pendulum_through_its_coordinates() {
     let (done, dir) = run_command_file(&dataset, PLANT_COMMANDS);
     done.unwrap_or_else(|f| panic!("{}", f.cause));
     let states = std::fs::read_to_string(dir.join("plant.st")).expect("states");
-    let dz_dtheta = match states.lines().next() {
-        Some("PART/2 x translation") => d,
-        Some("PART/2 rotation about z") => 1.0,
-        other => panic!("unexpected coordinate {other:?}"),
-    };
+    assert_eq!(states.lines().next(), Some("JOINT/1 (REVOLUTE) rotation"));
+    let dz_dtheta = 1.0;
     let pin = i + m * d * d;
     let w2 = m * G * d / pin;
     assert_matrix(
@@ -485,4 +489,61 @@ fn an_input_that_is_not_a_constant_is_named() {
     );
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&missing.1);
+}
+
+/// The names of the report's minimal coordinates.
+fn coordinate_names(r: &LinearReport) -> Vec<&str> {
+    r.linearized
+        .coords
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect()
+}
+
+/// The minimal coordinates are the joints' own (issue 41 §4): a torsion pendulum's mode
+/// is its revolute's rotation, and a double pendulum's modes are shapes in its two
+/// revolutes' rotations (the second relative to the first), the ratio of which the
+/// eigenvector of (K − ω²·M)·θ = 0 in absolute angles gives.
+#[test]
+fn modes_are_named_and_shaped_in_the_joints_own_coordinates() {
+    // An inverted pendulum (CM 1 m above the pin) held up by a torsion spring.
+    let torsion = "torsion pendulum\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+        PART/2, MASS = 1, CM = 20, IP = 0.1, 0.1, 0.1\nMARKER/20, PART = 2, QP = 0, 1, 0\n\
+        MARKER/21, PART = 2\nJOINT/1, REVOLUTE, I = 21, J = 10\n\
+        SPRINGDAMPER/1, ROTATION, I = 21, J = 10, KT = 20\nACCGRAV/JGRAV = -9.81\nEND\n";
+    let (m1, i1, d1, l1, m2, i2, d2) = (1.0, 0.1, 0.5, 1.0, 1.5, 0.05, 0.4);
+    let (ma, mb) = (i1 + m1 * d1 * d1 + m2 * l1 * l1, m2 * l1 * d2);
+    let ka = G * (m1 * d1 + m2 * l1);
+    for dim in DIMS {
+        let r = linearized(torsion, dim);
+        let names = coordinate_names(&r);
+        assert_eq!(names, ["JOINT/1 (REVOLUTE) rotation"], "{dim:?}");
+        assert_eq!(r.modes[0].dominant, "JOINT/1 (REVOLUTE) rotation");
+        // ω² = (KT − m·g·d)/(I + m·d²).
+        assert_close(&omegas(&r), &[(10.19f64 / 1.1).sqrt()], "torsion");
+
+        let r = linearized(&double_pendulum(m1, i1, d1, l1, m2, i2, d2), dim);
+        let names = coordinate_names(&r);
+        assert_eq!(
+            names,
+            ["JOINT/1 (REVOLUTE) rotation", "JOINT/2 (REVOLUTE) rotation"],
+            "{dim:?}"
+        );
+        for mode in &r.modes {
+            let w2 = mode.eigenvalue.norm_sqr();
+            // Absolute angles: θ2/θ1 = (ka − ω²·ma)/(ω²·mb); JOINT/2 turns by θ2 − θ1.
+            let want = (ka - w2 * ma) / (w2 * mb) - 1.0;
+            let z = mode.coordinates.as_ref().expect("shapes");
+            let got = (z[1] / z[0]).re;
+            assert!(
+                ((got - want) / want).abs() < 1e-9 && (z[1] / z[0]).im.abs() < 1e-9,
+                "{dim:?} mode {}: {got} vs {want}",
+                mode.number
+            );
+            // The coordinate that moves most names the mode and moves by 1.
+            let top = usize::from(z[1].norm() > z[0].norm());
+            assert_eq!(mode.dominant, names[top]);
+            assert!((z[top] - 1.0).norm() < 1e-12);
+        }
+    }
 }

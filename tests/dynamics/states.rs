@@ -201,11 +201,9 @@ fn an_lse_controlled_pendulum_linearizes_with_the_controller_state_in_a() {
         let done = run(&r, &mut sink, None).unwrap_or_else(|f| panic!("{}", f.cause));
         let lin = &done.summary.linear[0].linearized;
         let names = lin.state_names();
-        let scale = match names[0].as_str() {
-            "PART/2 rotation about z" => 1.0,
-            "PART/2 x translation" => d,
-            other => panic!("{dim:?}: coordinate {other}"),
-        };
+        // The revolute's own rotation is the coordinate (issue 41 §4).
+        assert_eq!(names[0], "JOINT/1 (REVOLUTE) rotation", "{dim:?}");
+        let scale = 1.0;
         assert_eq!(
             names[1..],
             [format!("d/dt {}", names[0]), "LSE/1 x1".into()]

@@ -12,8 +12,9 @@
 //! the compiled derivatives of the expressions, the constraint forces' tangent from
 //! [`super::statics::tangent`]. The constraints are eliminated by moving only along
 //! their Jacobian's null space, δq = T·z: T's columns span it, recombined
-//! ([`super::freedom::independent`]) so that each minimal coordinate zₖ is one of the
-//! model's own coordinates (`PART/2 rotation about z`) and the others follow it. Then
+//! ([`joint_coords`]) so that each minimal coordinate zₖ is a joint's own coordinate
+//! (`JOINT/1 rotation`, `JOINT/4 translation`) where the joints span the motion, else one
+//! of the model's own (`PART/2 rotation about z`), and the others follow it. Then
 //!
 //! ```text
 //! M̃·z̈ + C̃·ż + K̃·z = 0,     M̃ = Tᵀ·M·T,  C̃ = Tᵀ·C·T,  K̃ = Tᵀ·K·T,
@@ -26,15 +27,17 @@
 //! the result says so ([`Linearized::moving`]). Rows of MOTIONs and GCONs add their
 //! Jacobian but not their second derivative (as in statics).
 
+pub mod joint_coords;
 pub mod modes;
 pub mod plant;
 pub mod states;
 
 use super::dynamics::{DynError, Dynamics};
-use super::freedom::{column_part, column_scale, coordinate_name, independent, null_space};
+use super::freedom::{column_part, column_scale, coordinate_name, null_space};
 use super::statics::tangent;
 use super::system::{PartHandle, System};
 use crate::vocab::math::DMat;
+use joint_coords::Chosen;
 
 /// Scaled velocities (1/s) below this count as rest.
 const REST_VELOCITY: f64 = 1e-9;
@@ -43,15 +46,18 @@ const REST_VELOCITY: f64 = 1e-9;
 /// a tight IMBALANCE leaves.
 const REST_ACCELERATION: f64 = 1e-6;
 
-/// One minimal coordinate: a coordinate of the model (velocity layout).
+/// One minimal coordinate: a joint's own coordinate ([`joint_coords`]) or a coordinate
+/// of the model (velocity layout).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coordinate {
-    /// Its column in the velocity layout.
-    pub column: usize,
-    /// Its part.
+    /// Its column in the velocity layout (None: a joint's coordinate).
+    pub column: Option<usize>,
+    /// Its part (a joint's: its I marker's).
     pub part: PartHandle,
-    /// What it is, named (`PART/2 rotation about z`).
+    /// What it is, named (`JOINT/1 rotation`, `PART/2 rotation about z`).
     pub name: String,
+    /// The model length for a translation, 1 for a rotation.
+    pub scale: f64,
 }
 
 /// The linearized equations in minimal coordinates.
@@ -118,21 +124,32 @@ pub fn linearize(d: &mut Dynamics, damping: bool) -> Result<Linearized, DynError
         }
     }
     // The null space in scaled coordinates (translations over the model length), then
-    // recombined on independent coordinates and brought back to model units.
-    let (scaled, columns) = independent(&null_space(d));
-    let f = columns.len();
-    let basis = DMat::from_fn(n, f, |r, j| scaled[(r, j)] * scale[r] / scale[columns[j]]);
-    let coords = columns
+    // recombined on the joints' own coordinates where they span it, else on the model's
+    // coordinates, and brought back to model units.
+    let joints = joint_coords::joint_coordinates(d);
+    let (scaled, chosen) = joint_coords::choose(&null_space(d), &joints, &scale);
+    let coords: Vec<Coordinate> = chosen
         .iter()
-        .map(|&col| {
-            let part = column_part(d, col).unwrap_or(System::GROUND);
-            Coordinate {
-                column: col,
-                part,
-                name: coordinate_name(d, part, col),
+        .map(|&c| match c {
+            Chosen::Joint(k) => Coordinate {
+                column: None,
+                part: joints[k].part,
+                name: joints[k].name.clone(),
+                scale: joints[k].scale,
+            },
+            Chosen::Column(col) => {
+                let part = column_part(d, col).unwrap_or(System::GROUND);
+                Coordinate {
+                    column: Some(col),
+                    part,
+                    name: coordinate_name(d, part, col),
+                    scale: scale[col],
+                }
             }
         })
         .collect();
+    let f = coords.len();
+    let basis = DMat::from_fn(n, f, |r, j| scaled[(r, j)] * scale[r] / coords[j].scale);
     let columns = (0..n)
         .map(|col| coordinate_name(d, column_part(d, col).unwrap_or(System::GROUND), col))
         .collect();

@@ -3,7 +3,8 @@
 //! eigendecomposition (Hessenberg QR), each with its natural frequency |λ|/2π, damped
 //! frequency Im λ/2π and damping ratio −Re λ/|λ|, and its mode shape: the eigenvector's
 //! coordinate part z carried to every coordinate of the model by T·z, scaled so that
-//! the coordinate that moves most (translations over the model length) moves by 1.
+//! the minimal coordinate that moves most (translations over the model length; a
+//! joint's own coordinate where the joints span the motion) moves by 1.
 //!
 //! Complex eigenvalues come in conjugate pairs; each pair is one mode (the one with
 //! Im λ > 0). A real eigenvalue (an overdamped direction, a neutral one at 0, an unstable
@@ -30,14 +31,17 @@ pub struct Mode {
     /// The displacement of every coordinate of the model (velocity layout), the one that
     /// moves most at 1 (None: the mode shapes were not asked for).
     pub shape: Option<Vec<Complex64>>,
-    /// The coordinate that moves most, named.
+    /// The displacement of each minimal coordinate, in the order of
+    /// [`super::Linearized::coords`], scaled as `shape` (None: not asked for).
+    pub coordinates: Option<Vec<Complex64>>,
+    /// The minimal coordinate that moves most (a joint's own where the joints span the
+    /// motion), named; a state element's state for a mode of the states alone.
     pub dominant: String,
 }
 
 /// The modes of `lin`; `shapes` false leaves the shapes out (Adams' NOVECTOR; the
 /// dominant coordinate is still named).
 pub fn modes(lin: &Linearized, shapes: bool) -> Result<Vec<Mode>, DynError> {
-    let (scale, names) = (&lin.scale, &lin.columns);
     let f = lin.freedom();
     if f == 0 {
         return Ok(Vec::new());
@@ -64,10 +68,31 @@ pub fn modes(lin: &Linearized, shapes: bool) -> Result<Vec<Mode>, DynError> {
             let dq: Vec<Complex64> = (0..n)
                 .map(|c| (0..f).map(|j| vectors[(j, e)] * lin.basis[(c, j)]).sum())
                 .collect();
-            let top = (0..n)
-                .max_by(|&x, &y| (dq[x].norm() / scale[x]).total_cmp(&(dq[y].norm() / scale[y])))
-                .unwrap_or(0);
-            let pivot = dq[top];
+            // The minimal coordinate that moves most (scaled: translations over the
+            // model length) names the mode and moves by 1; a mode without any (a state
+            // element's own) is named by its largest state.
+            let z: Vec<Complex64> = (0..f).map(|j| vectors[(j, e)]).collect();
+            let coords = &lin.coords;
+            let largest = |x: &[Complex64], scale: &dyn Fn(usize) -> f64| {
+                (0..x.len())
+                    .max_by(|&a, &b| (x[a].norm() / scale(a)).total_cmp(&(x[b].norm() / scale(b))))
+            };
+            let top = largest(&z, &|j| coords[j].scale).filter(|&j| z[j].norm() > 0.0);
+            let (pivot, dominant) = match top {
+                Some(j) => (z[j], coords[j].name.clone()),
+                None => {
+                    let x: Vec<Complex64> = (2 * f..size).map(|k| vectors[(k, e)]).collect();
+                    let k = largest(&x, &|_| 1.0).unwrap_or(0);
+                    let name = lin.states.names.get(k).cloned().unwrap_or_default();
+                    (
+                        x.get(k)
+                            .copied()
+                            .filter(|p| p.norm() > 0.0)
+                            .unwrap_or(Complex64::ONE),
+                        name,
+                    )
+                }
+            };
             Mode {
                 number: k + 1,
                 eigenvalue: lambda,
@@ -76,7 +101,8 @@ pub fn modes(lin: &Linearized, shapes: bool) -> Result<Vec<Mode>, DynError> {
                 // (+ 0.0: an undamped mode's −0 prints as 0.)
                 damping_ratio: if r > 0.0 { -lambda.re / r + 0.0 } else { 0.0 },
                 shape: shapes.then(|| dq.iter().map(|x| x / pivot).collect()),
-                dominant: names.get(top).cloned().unwrap_or_default(),
+                coordinates: shapes.then(|| z.iter().map(|x| x / pivot).collect()),
+                dominant,
             }
         })
         .collect())
