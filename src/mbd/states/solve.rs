@@ -291,9 +291,14 @@ impl StateSet {
                 true => held_rates(&jac, &rhs),
                 false => None,
             }) else {
-                let worst = (0..n)
-                    .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
-                    .unwrap_or(0);
+                // The state no equation depends on, if one is (the singularity's cause),
+                // else the one furthest from its equation.
+                let free = (0..n).find(|&c| (0..n).all(|i| jac[(i, c)] == 0.0));
+                let worst = free.unwrap_or_else(|| {
+                    (0..n)
+                        .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
+                        .unwrap_or(0)
+                });
                 let what = match self.mode {
                     Mode::Dynamic => "its equation cannot be solved for its rate (singular Jacobian)",
                     Mode::Static => {
