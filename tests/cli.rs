@@ -30,6 +30,10 @@ mod model_changes;
 #[path = "cli/set.rs"]
 mod set;
 
+/// State elements: faults at their statements, the corpus' drill strings.
+#[path = "cli/states.rs"]
+mod states;
+
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

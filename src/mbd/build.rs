@@ -14,6 +14,7 @@ use super::states::{DiffState, StateExpr, StateSet};
 use super::system::System;
 use crate::model::elements::{Expr, Id, Model, MotionAxis, MotionLevel, MotionTarget, Named};
 use crate::model::inertia::mass_properties;
+use crate::model::states::Statement;
 use crate::vocab::elements::{ElementKind, ElementRef, ForceKind};
 use crate::vocab::math::Vec3;
 use std::collections::HashMap;
@@ -384,32 +385,37 @@ impl System {
 
     /// The state elements of `model` (DIFF, LSE, TFSISO) with their expressions compiled
     /// by `exprs` (VARIABLEs inlined): a DIFF's FUNCTION, and each LSE or TFSISO input's
-    /// VARIABLE. They may read kinematic measures, time and state values, not forces or
-    /// accelerations.
+    /// VARIABLE. They may read kinematic measures, time and state values, and what only
+    /// the dynamics gives (reactions, forces, accelerations), listed in the set's
+    /// [`StateSet::solution`]. A failure names the statement at fault.
     pub fn states_from_model(
         &mut self,
         model: &Model,
         exprs: &dyn ExprCompiler,
     ) -> Result<StateSet, MbdError> {
         let mut set = StateSet::default();
-        let compile = |sys: &mut System, label: &str, e: &Expr| {
-            let e = model
-                .inline_variables(e)
-                .map_err(|s| MbdError::State(format!("{label}: {s}")))?;
-            let f = exprs.compile(&e);
-            let map = sys.resolve_slots(model, f.slots()).map_err(|err| {
-                MbdError::State(format!(
-                    "{label}: {err} (a state element's expression may read kinematic \
-                     measures, time and other states, not forces or accelerations)"
-                ))
-            })?;
-            Ok::<_, MbdError>(StateExpr { f, map })
-        };
+        let compile =
+            |sys: &mut System, set: &mut StateSet, place: Statement, label: &str, e: &Expr| {
+                let fail = |s: String| MbdError::State(place, format!("{label}: {s}"));
+                let e = model.inline_variables(e).map_err(fail)?;
+                let f = exprs.compile(&e);
+                let mut map = Vec::with_capacity(f.slots().len());
+                for &s in f.slots() {
+                    let read = (&mut set.solution, &mut set.names);
+                    map.push(
+                        sys.slot_source(model, s, read)
+                            .map_err(|e| fail(e.to_string()))?,
+                    );
+                }
+                Ok::<_, MbdError>(StateExpr { f, map })
+            };
         for d in &model.states.diffs {
-            let label = format!("DIFF/{}", d.el.id);
-            let f = compile(self, &label, &d.function)?;
+            let statement = Statement::new("DIFF", d.el.id);
+            let label = statement.to_string();
+            let f = compile(self, &mut set, statement, &label, &d.function)?;
             set.add_diff(DiffState {
                 label,
+                statement,
                 f,
                 implicit: d.implicit,
                 static_hold: d.static_hold,
@@ -419,19 +425,48 @@ impl System {
         let systems = model
             .states
             .linear_systems(&model.arrays)
-            .map_err(MbdError::State)?;
+            .map_err(|(place, why)| MbdError::State(place, why))?;
         for s in systems {
             let mut inputs = Vec::with_capacity(s.m);
             for (j, &v) in s.inputs.iter().enumerate() {
                 let label = format!("{}: input {} (VARIABLE/{v})", s.label, j + 1);
-                let var = model
-                    .variable(v)
-                    .ok_or_else(|| MbdError::State(format!("{label} is not in the dataset")))?;
-                inputs.push(compile(self, &label, &var.function)?);
+                // A VARIABLE that is not there is the U array's fault.
+                let u_array = s.arrays[1].map_or(s.statement, |u| Statement::new("ARRAY", u));
+                let var = model.variable(v).ok_or_else(|| {
+                    MbdError::State(u_array, format!("{label} is not in the dataset"))
+                })?;
+                let place = Statement::new("VARIABLE", v);
+                inputs.push(compile(self, &mut set, place, &label, &var.function)?);
             }
             set.add_linear(s, inputs);
         }
         Ok(set)
+    }
+
+    /// Where slot `s` of an expression is read from: a kinematic measure of the system,
+    /// or a value only the dynamics gives (an acceleration, a reaction, a force),
+    /// appended to `solution` once, with its name as written into `names`.
+    fn slot_source(
+        &mut self,
+        model: &Model,
+        s: u32,
+        (solution, names): (&mut Vec<OutputSlot>, &mut Vec<String>),
+    ) -> Result<Source, MbdError> {
+        match self.resolve_slots(model, &[s]) {
+            Ok(m) => Ok(Source::Measure(m[0])),
+            Err(MbdError::NeedsDynamics(..)) => {
+                let o = OutputSlot::resolve(self, model, s)?;
+                let k = solution.iter().position(|x| *x == o).unwrap_or_else(|| {
+                    solution.push(o);
+                    let ms = &model.measures[s as usize];
+                    let ids: Vec<String> = ms.ids.iter().map(|x| x.to_string()).collect();
+                    names.push(format!("{}({})", ms.name, ids.join(", ")));
+                    solution.len() - 1
+                });
+                Ok(Source::Solution(k))
+            }
+            Err(err) => Err(err),
+        }
     }
 
     /// The force element of FRICTION `f`: between its joint's markers, reading the
@@ -509,21 +544,8 @@ impl System {
             |err: MbdError| MbdError::Expression(r.clone(), ExprError::Other(err.to_string()));
         let mut map = Vec::with_capacity(f.slots().len());
         for &s in f.slots() {
-            match self.resolve_slots(model, &[s]) {
-                Ok(m) => map.push(Source::Measure(m[0])),
-                Err(MbdError::NeedsDynamics(..)) => {
-                    let o = OutputSlot::resolve(self, model, s).map_err(other)?;
-                    let k = solution.iter().position(|x| *x == o).unwrap_or_else(|| {
-                        solution.push(o);
-                        let ms = &model.measures[s as usize];
-                        let ids: Vec<String> = ms.ids.iter().map(|x| x.to_string()).collect();
-                        names.push(format!("{}({})", ms.name, ids.join(", ")));
-                        solution.len() - 1
-                    });
-                    map.push(Source::Solution(k));
-                }
-                Err(err) => return Err(other(err)),
-            }
+            let read = (&mut *solution, &mut *names);
+            map.push(self.slot_source(model, s, read).map_err(other)?);
         }
         Ok(Scalar::new(f, map)
             .watching(&e.function)

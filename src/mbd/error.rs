@@ -2,6 +2,7 @@
 //! (`JOINT/3 'crank_pin'`), equations by their Adams labels.
 
 use super::expr::ExprError;
+use crate::model::states::Statement;
 use crate::vocab::elements::ElementRef;
 use std::fmt;
 
@@ -106,9 +107,10 @@ pub enum MbdError {
     },
     /// A plant input or output a linearization cannot use (why, in words).
     Plant(String),
-    /// A state element (DIFF, LSE, TFSISO) that cannot be built or solved (why, in
-    /// words, naming it).
-    State(String),
+    /// A state element (DIFF, LSE, TFSISO) that cannot be built or solved: the
+    /// statement at fault (the element, or the ARRAY, MATRIX or VARIABLE it reads) and
+    /// why, in words, naming the element.
+    State(Statement, String),
 }
 
 /// `JOINT/3 (REVOLUTE) 'name'` (the type for a JOINT or JPRIM, the name only when the
@@ -136,6 +138,16 @@ impl MbdError {
             | MbdError::NoSecondDerivative(e, _, _)
             | MbdError::SolutionLoop { element: e, .. } => Some(e),
             MbdError::ForceCycle(circle) => circle.first(),
+            _ => None,
+        }
+    }
+
+    /// The statement a state element's error is at (its DIFF, LSE or TFSISO, or the
+    /// ARRAY, MATRIX or VARIABLE at fault): not an [`ElementRef`], which names the
+    /// elements of the equations and forces.
+    pub fn state_statement(&self) -> Option<Statement> {
+        match self {
+            MbdError::State(s, _) => Some(*s),
             _ => None,
         }
     }
@@ -217,7 +229,7 @@ impl fmt::Display for MbdError {
                 why,
             } => write!(f, "FRICTION/{friction}: JOINT/{joint} {why}"),
             MbdError::Plant(why) => write!(f, "LINEAR/STATEMAT: {why}"),
-            MbdError::State(why) => f.write_str(why),
+            MbdError::State(_, why) => f.write_str(why),
             MbdError::Variable(id) => write!(
                 f,
                 "it reads VARVAL({id}), and VARIABLE/{id} has no FUNCTION mbfx can evaluate (a USER subroutine, or no such VARIABLE)"

@@ -86,11 +86,39 @@ pub struct Tfsiso {
     pub static_hold: bool,
 }
 
+/// The statement a state element's fault is placed on (`DIFF/3`, `ARRAY/7`): its
+/// keyword and id, which the session's report turns into the statement's span.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Statement {
+    /// `DIFF`, `LSE`, `TFSISO`, `ARRAY`, `MATRIX` or `VARIABLE`.
+    pub keyword: &'static str,
+    /// Its id.
+    pub id: Id,
+}
+
+impl Statement {
+    /// `keyword/id`.
+    pub fn new(keyword: &'static str, id: Id) -> Statement {
+        Statement { keyword, id }
+    }
+}
+
+impl std::fmt::Display for Statement {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.keyword, self.id)
+    }
+}
+
+/// Why a state element cannot be built, and the statement at fault.
+pub type StateFault = (Statement, String);
+
 /// A linear element in the one form the core solves: ẋ = A·x + B·u, y = C·x + D·u.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LinearSystem {
     /// The statement (`LSE/3`, `TFSISO/2`).
     pub label: String,
+    /// The same, as a place for diagnostics.
+    pub statement: Statement,
     /// States, inputs, outputs.
     pub n: usize,
     /// Inputs.
@@ -144,7 +172,8 @@ impl Tfsiso {
     /// y = Σ (b̃ₖ₋₁ − b̃ₙ·aₖ₋₁/aₙ)·xₖ + b̃ₙ·u with b̃ = b/aₙ (b̃ₙ = 0 for a strictly
     /// proper one). Err says why none exists (a numerator of higher degree, aₙ = 0).
     pub fn realize(&self) -> Result<LinearSystem, String> {
-        let label = format!("TFSISO/{}", self.el.id);
+        let statement = Statement::new("TFSISO", self.el.id);
+        let label = statement.to_string();
         let trim = |v: &[f64]| {
             let mut v = v.to_vec();
             while v.len() > 1 && v.last() == Some(&0.0) {
@@ -181,6 +210,7 @@ impl Tfsiso {
         let c: Vec<f64> = (0..n).map(|k| b[k] - b[n] * den[k] / an).collect();
         Ok(LinearSystem {
             label,
+            statement,
             n,
             m: 1,
             p: 1,
@@ -209,26 +239,30 @@ impl StateElements {
 
     /// Every LSE, then every TFSISO, in the form the core solves, with `arrays` the
     /// dataset's ARRAYs; Err names the first that has none (a missing MATRIX or ARRAY,
-    /// sizes that do not agree).
-    pub fn linear_systems(&self, arrays: &[Array]) -> Result<Vec<LinearSystem>, String> {
+    /// sizes that do not agree) and the statement at fault: the element, or the ARRAY
+    /// or MATRIX whose contents are wrong.
+    pub fn linear_systems(&self, arrays: &[Array]) -> Result<Vec<LinearSystem>, StateFault> {
         let mut out: Vec<LinearSystem> = Vec::new();
         for l in &self.lses {
             out.push(self.lse(l, arrays)?);
         }
         for t in &self.tfsisos {
-            let mut s = t.realize()?;
+            let mut s = t
+                .realize()
+                .map_err(|why| (Statement::new("TFSISO", t.el.id), why))?;
             // Its U array lists the one VARIABLE that is its input.
-            let u = arrays
-                .iter()
-                .find(|a| a.el.id == t.u)
-                .ok_or_else(|| format!("{}: ARRAY/{} is not in the dataset", s.label, t.u))?;
+            let u = arrays.iter().find(|a| a.el.id == t.u).ok_or_else(|| {
+                let why = format!("{}: ARRAY/{} is not in the dataset", s.label, t.u);
+                (s.statement, why)
+            })?;
             match u.numbers.as_slice() {
                 [v] if *v >= 1.0 && v.fract() == 0.0 => s.inputs = vec![*v as Id],
                 _ => {
-                    return Err(format!(
+                    let why = format!(
                         "{}: its U array (ARRAY/{}) must list one VARIABLE id",
                         s.label, t.u
-                    ))
+                    );
+                    return Err((Statement::new("ARRAY", t.u), why));
                 }
             }
             out.push(s);
@@ -236,24 +270,28 @@ impl StateElements {
         Ok(out)
     }
 
-    fn lse(&self, l: &Lse, arrays: &[Array]) -> Result<LinearSystem, String> {
-        let label = format!("LSE/{}", l.el.id);
+    fn lse(&self, l: &Lse, arrays: &[Array]) -> Result<LinearSystem, StateFault> {
+        let statement = Statement::new("LSE", l.el.id);
+        let label = statement.to_string();
         let matrix = |id: Id| {
-            self.matrix(id)
-                .ok_or_else(|| format!("{label}: MATRIX/{id} is not in the dataset"))
+            self.matrix(id).ok_or_else(|| {
+                let why = format!("{label}: MATRIX/{id} is not in the dataset");
+                (statement, why)
+            })
         };
         let array = |id: Id| {
-            arrays
-                .iter()
-                .find(|a| a.el.id == id)
-                .ok_or_else(|| format!("{label}: ARRAY/{id} is not in the dataset"))
+            arrays.iter().find(|a| a.el.id == id).ok_or_else(|| {
+                let why = format!("{label}: ARRAY/{id} is not in the dataset");
+                (statement, why)
+            })
         };
         let a = matrix(l.a)?;
         if a.rows != a.cols || a.rows == 0 {
-            return Err(format!(
+            let why = format!(
                 "{label}: A (MATRIX/{}) must be square, it is {}×{}",
                 l.a, a.rows, a.cols
-            ));
+            );
+            return Err((Statement::new("MATRIX", l.a), why));
         }
         let n = a.rows;
         let inputs: Vec<Id> = match l.u {
@@ -271,10 +309,11 @@ impl StateElements {
             };
             let mx = matrix(id)?;
             if (mx.rows, mx.cols) != (rows, cols) {
-                return Err(format!(
+                let why = format!(
                     "{label}: {what} (MATRIX/{id}) is {}×{}, it must be {rows}×{cols}",
                     mx.rows, mx.cols
-                ));
+                );
+                return Err((Statement::new("MATRIX", id), why));
             }
             Ok(mx.values.clone())
         };
@@ -282,10 +321,11 @@ impl StateElements {
             Some(id) => {
                 let v = array(id)?.numbers.clone();
                 if v.len() != n {
-                    return Err(format!(
+                    let why = format!(
                         "{label}: IC (ARRAY/{id}) has {} numbers for {n} states",
                         v.len()
-                    ));
+                    );
+                    return Err((Statement::new("ARRAY", id), why));
                 }
                 v
             }
@@ -304,6 +344,7 @@ impl StateElements {
             static_hold: l.static_hold,
             arrays: [Some(l.x), l.u, l.y],
             label,
+            statement,
         })
     }
 

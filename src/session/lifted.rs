@@ -91,6 +91,12 @@ impl Lifted {
         let mut m3 = std::mem::take(&mut d.sys.measures);
         m3.adopt_unwrapping(&two.sys.measures, &self.same_measure);
         d.sys.measures = m3;
+        // The state elements where the 2D run has them (the forces may read them).
+        if !two.forces.states.is_empty() {
+            let (mut x, mut rate) = (Vec::new(), Vec::new());
+            two.forces.states.current(&two.sys, &mut x, &mut rate);
+            d.forces.states.hold_at(x, rate);
+        }
         d.solve_accelerations()?;
         d.refresh_outputs()?;
         for &(s, slot) in &self.slots {

@@ -12,8 +12,9 @@ use crate::mbd::expr::ExprError;
 use crate::mbd::redundancy::AnalysisError;
 use crate::mbd::statics::Failure as StaticFailure;
 use crate::mbd::system::{Dimension, System};
-use crate::model::elements::Model;
+use crate::model::elements::{Model, Named};
 use crate::model::report::ReportSection;
+use crate::model::states::Statement;
 use crate::vocab::elements::{ElementKind, ElementRef};
 
 /// `built in 2D: why` (or 3D), from the system's reason.
@@ -167,6 +168,34 @@ pub(crate) fn element_span(model: &Model, e: &ElementRef) -> Span {
     span.cloned().unwrap_or(0..0)
 }
 
+/// The statement span of a state element's fault (its DIFF, LSE or TFSISO, or the
+/// ARRAY, MATRIX or VARIABLE at fault; 0..0 when `model` has none of that id).
+pub(crate) fn statement_span(model: &Model, s: Statement) -> Span {
+    fn find<'a>(mut list: impl Iterator<Item = &'a Named>, id: u32) -> Option<Span> {
+        list.find(|n| n.id == id).map(|n| n.span.clone())
+    }
+    let states = &model.states;
+    match s.keyword {
+        "DIFF" => find(states.diffs.iter().map(|d| &d.el), s.id),
+        "LSE" => find(states.lses.iter().map(|l| &l.el), s.id),
+        "TFSISO" => find(states.tfsisos.iter().map(|t| &t.el), s.id),
+        "MATRIX" => find(states.matrices.iter().map(|m| &m.el), s.id),
+        "ARRAY" => find(model.arrays.iter().map(|a| &a.el), s.id),
+        "VARIABLE" => find(model.variables.iter().map(|v| &v.el), s.id),
+        _ => None,
+    }
+    .unwrap_or(0..0)
+}
+
+/// The span of an [`MbdError`]: its element's statement, or its state statement's.
+fn model_error_span(e: &MbdError, model: &Model) -> Span {
+    match (e.element(), e.state_statement()) {
+        (Some(el), _) => element_span(model, el),
+        (None, Some(s)) => statement_span(model, s),
+        (None, None) => 0..0,
+    }
+}
+
 /// Notes shown at most; the rest are counted.
 const MAX_NOTES: usize = 8;
 
@@ -207,7 +236,7 @@ pub fn diagnostics(f: &Failure, model: &Model) -> Vec<Diagnostic> {
     match f {
         Failure::Read(d) => d.clone(),
         Failure::Build(e) => {
-            let span = e.element().map_or(0..0, |el| element_span(model, el));
+            let span = model_error_span(e, model);
             vec![multi_line(Code::NotAnalysed, span, &text, true)]
         }
         Failure::NotPlanar(_) => vec![multi_line(Code::CommandLine, 0..0, &text, false)],
@@ -278,7 +307,10 @@ pub fn culprit_span(e: &Stopped, model: &Model) -> Span {
     match e.culprit() {
         Some(Culprit::Element(el)) => element_span(model, &el),
         Some(Culprit::Part(id)) => model.part(id).map_or(0..0, |p| p.el.span.clone()),
-        None => 0..0,
+        None => match e.dynamics() {
+            Some(DynError::Model(m)) => model_error_span(m, model),
+            _ => 0..0,
+        },
     }
 }
 

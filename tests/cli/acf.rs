@@ -23,8 +23,9 @@ enum Outcome {
 
 use Outcome::*;
 
-/// The drill-string datasets' first failure (E0801 at their SFORCE 'topdrive').
-const DRILL: &str = "JOINT measures forces: it is available once dynamics exist, not during assembly (a state element's expression may read kinematic";
+/// The drill-string analyses' first failure: their first SIMULATE/STATIC, at a DIFF
+/// integrating a velocity (ẋ = VZ) without STATIC_HOLD, which statics cannot fix.
+const DRILL: &str = "[E0801] Error: DIFF/8002: statics cannot fix its state from ẋ = 0";
 
 /// The FAST certification datasets' first failure.
 const FAST: &str = "[E0801] Error: SFORCE/2010 'YawActuator_SF': it reads VARVAL(2011), and VARIABLE/2011 has no FUNCTION mbfx can evaluate";
@@ -42,11 +43,11 @@ const COMMAND_FILES: &[(&str, Outcome)] = &[
         "bthornton191__adams_rescale/models/rescale_analysis_from_batch.acf",
         NoModel,
     ),
-    // VARIABLE commands redefine the drill string's inputs (read and checked); the
-    // dataset stops first at a DIFF (9000905) that integrates a joint's reaction (a state
-    // element reading forces is refused), and behind that its 47 GFORCEs and VARIABLEs
-    // call USER subroutines (adrill_solver's
-    // StringForces, BitForces, HoleCurveSub, Output4D) that exist only compiled.
+    // VARIABLE commands redefine the drill string's inputs (read and checked); its DIFFs
+    // lag joint reactions (issue 40 §3), and the first SIMULATE/STATIC stops at DIFF/8002
+    // (ẋ = VZ, no STATIC_HOLD: ẋ = 0 does not fix it); behind that its 47 GFORCEs and
+    // VARIABLEs call USER subroutines (adrill_solver's StringForces, BitForces,
+    // HoleCurveSub, Output4D) that exist only compiled.
     (
         "bthornton191__adamspy/test/existing_drillsim/test_analysis_1.acf",
         Fails(DRILL),
@@ -80,8 +81,12 @@ const COMMAND_FILES: &[(&str, Outcome)] = &[
         "bthornton191__adamspy/test/files/real_analysis_with_spikes_2/FRS5_doe_1_LAUL_analysis.acf",
         Refused("DEACTIVATE/SENSOR"),
     ),
-    // The drill string again (as existing_drillsim's).
-    ("bthornton191__adamspy/test/files/test.acf", Fails(DRILL)),
+    // The drill string again (as existing_drillsim's); this one redefines VARIABLE/1102,
+    // which its dataset does not have.
+    (
+        "bthornton191__adamspy/test/files/test.acf",
+        Fails("[E0311] Error: VARIABLE/1102 is not defined in the dataset"),
+    ),
     (
         "bthornton191__adamspy/test/files/test_analysis_1.acf",
         Fails(DRILL),

@@ -367,3 +367,115 @@ fn kinematics_integrates_a_diff_along_the_prescribed_motion() {
         );
     }
 }
+
+/// The response of the lag ẋ = (u − x)/τ from x(0) = 0 to u = B·sin(ωt).
+fn lagged_sine(b: f64, w: f64, tau: f64, t: f64) -> f64 {
+    let wt = w * tau;
+    b * ((w * t).sin() - wt * (w * t).cos() + wt * (-t / tau).exp()) / (1.0 + wt * wt)
+}
+
+#[test]
+fn a_diff_lags_joint_reactions_a_constant_and_a_sinusoidal_one() {
+    // JOINT/1 holds both parts up: FY = (2 + 3)·9.81. JOINT/2 carries PART/3 (m = 3)
+    // with the slider pushed by 10·sin(2t) along z: FZ = 3·10·sin(2t)/5. Each DIFF is the
+    // lag ẋ = (u − x)/0.5 of one.
+    let tau = 0.5;
+    let weight = 5.0 * 9.81;
+    // (HHT is second order: its states' error at ERROR 1e-8 adds up to 2.3e-5 on the
+    // 49 N lag, at 1e-9 to 5e-6.)
+    for (integrator, error) in [("gstiff", "1e-8"), ("hht", "1e-9")] {
+        check(
+            "filter_reaction.adm",
+            (integrator, error),
+            "3",
+            &[
+                ("lift", "JOINT(1, 0, 3, 10)", &|_| weight),
+                ("held", "DIF(1)", &|t: f64| {
+                    weight * (1.0 - (-t / tau).exp())
+                }),
+                ("push", "JOINT(2, 0, 4, 10)", &|t: f64| {
+                    6.0 * (2.0 * t).sin()
+                }),
+                ("lagged", "DIF(2)", &|t| lagged_sine(6.0, 2.0, tau, t)),
+            ],
+            1e-5,
+        );
+    }
+}
+
+#[test]
+fn a_force_reading_a_lag_of_its_own_joints_reaction_settles_at_the_closed_form() {
+    // FY = m·g − 3·x is the reaction, ẋ = (FY − x)/τ: ẋ = (m·g − 4·x)/τ, so
+    // x = m·g/4·(1 − e^(−4t/τ)). A loop of gain 3 through the reaction: it converges
+    // only as Newton, with ∂ẋ/∂λ in the matrix.
+    let (mg, tau) = (2.0 * 9.81, 0.5);
+    let rest = mg / 4.0;
+    for (integrator, error) in [("gstiff", "1e-8"), ("hht", "1e-9")] {
+        check(
+            "loop_reaction.adm",
+            (integrator, error),
+            "3",
+            &[
+                ("x", "DIF(1)", &|t: f64| {
+                    rest * (1.0 - (-4.0 * t / tau).exp())
+                }),
+                ("reaction", "JOINT(1, 0, 3, 10)", &|t: f64| {
+                    mg - 3.0 * rest * (1.0 - (-4.0 * t / tau).exp())
+                }),
+            ],
+            1e-5,
+        );
+        // At rest, to 1e-6: e^(−24) is far below it.
+        let mut args = vec!["--end", "3", "--output-step", "0.5", "--error", error];
+        args.extend(integrator_args(integrator));
+        let csv = run_probed(
+            &data("loop_reaction.adm"),
+            &args,
+            &named(&[("x", "DIF(1)")]),
+        );
+        let x = *csv.col("x").last().expect("rows");
+        assert!((x - rest).abs() < 1e-6, "{integrator}: x = {x} vs {rest}");
+    }
+}
+
+#[test]
+fn dopri853_lags_a_joint_reaction_too() {
+    // DOP853 solves the reactions at each stage; the states read them there. The
+    // constant reaction of filter_reaction.adm's JOINT/1 under DOP853.
+    let weight = 5.0 * 9.81;
+    check(
+        "filter_reaction.adm",
+        ("dopri853", "1e-8"),
+        "3",
+        &[("held", "DIF(1)", &|t: f64| {
+            weight * (1.0 - (-t / 0.5).exp())
+        })],
+        1e-5,
+    );
+}
+
+#[test]
+fn kinematics_integrates_a_diff_of_a_motions_reaction() {
+    // z = t² driven on the 2 kg slider: the MOTION pushes with m·a = 4 along z, the
+    // joint holds m·g = 19.62 in y; ẋ₁ = FZ and ẋ₂ = FY integrate to 4t and 19.62·t
+    // (any rule integrates a constant exactly).
+    let args = ["--kinematics", "--end", "1", "--output-step", "0.1"];
+    let pairs = [("push", "DIF(1)"), ("lift", "DIF(2)")];
+    let csv = run_probed(&data("kinematics_reaction.adm"), &args, &named(&pairs));
+    let (t, push, lift) = (csv.time(), csv.col("push"), csv.col("lift"));
+    assert_eq!(t.len(), 11);
+    for k in 0..t.len() {
+        assert!(
+            (push[k] - 4.0 * t[k]).abs() < 1e-9,
+            "x1({}) = {}",
+            t[k],
+            push[k]
+        );
+        assert!(
+            (lift[k] - 19.62 * t[k]).abs() < 1e-9,
+            "x2({}) = {}",
+            t[k],
+            lift[k]
+        );
+    }
+}

@@ -85,6 +85,7 @@ impl Dynamics {
     pub fn eval_forces(&mut self, jacobians: bool) -> Result<(), MbdError> {
         // The state elements first: the forces may read them (none: nothing to do).
         if !self.forces.states.is_empty() {
+            self.fill_state_inputs();
             self.forces.states.solve(&mut self.sys)?;
         }
         self.gen.clear();
@@ -153,13 +154,43 @@ impl Dynamics {
     /// Commits the state elements at the current (accepted) state: a step, an
     /// equilibrium, a kinematic solution.
     pub fn commit_states(&mut self) -> Result<(), MbdError> {
+        self.fill_state_inputs();
         self.forces.states.commit(&mut self.sys)
     }
 
     /// Solves the state elements at the current state under the integrator's formula
     /// (the values a converged step ends with, before its error estimate reads them).
     pub fn solve_states(&mut self) -> Result<(), MbdError> {
+        self.fill_state_inputs();
         self.forces.states.solve(&mut self.sys)
+    }
+
+    /// Whether an expression, of a force or of a state element, reads the solution
+    /// (accelerations, reactions, forces): the iterations then keep `a` and `lambda` at
+    /// their iterate, and the consistent solve sweeps until they settle.
+    pub fn reads_solution(&self) -> bool {
+        self.forces.reads_solution() || self.forces.states.reads_solution()
+    }
+
+    /// The solution values the state elements read (reactions, forces, accelerations)
+    /// at the current multipliers and accelerations, for the solves that follow
+    /// (nothing when they read none).
+    pub fn fill_state_inputs(&mut self) {
+        if !self.forces.states.reads_solution() {
+            return;
+        }
+        let mut solved = std::mem::take(&mut self.forces.states.solved);
+        solved.clear();
+        solved.extend(self.forces.states.solution.iter().map(|s| s.value(self)));
+        self.forces.states.solved = solved;
+    }
+
+    /// The residuals of the state elements' equations at rates `z` (their solution
+    /// values filled in at the current iterate), into `r`: what the bordered Newton
+    /// matrix differentiates.
+    pub(super) fn state_residual(&mut self, z: &[f64], r: &mut [f64]) -> Result<(), MbdError> {
+        self.fill_state_inputs();
+        self.forces.states.residual_of_rates(&mut self.sys, z, r)
     }
 
     /// Places the state elements at `x` (a continuous extension's values inside a step)
@@ -171,6 +202,7 @@ impl Dynamics {
             return;
         }
         self.forces.states.set_formula(x, 0.0);
+        self.fill_state_inputs();
         let _ = self.forces.states.solve(&mut self.sys);
     }
 }

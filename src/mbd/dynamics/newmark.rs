@@ -630,7 +630,7 @@ impl Integrator for Newmark {
         self.h0 = Some(self.h1);
         self.take_committed_states(d);
         d.store_accelerations();
-        if d.forces.reads_solution() {
+        if d.reads_solution() {
             let mut a = DVec::zeros(d.n);
             self.physical_accelerations(&d.a, &mut a);
             self.a_phys0 = a;

@@ -139,7 +139,7 @@ pub fn evaluate(
 ) -> Result<bool, DynError> {
     let refactor = reuse.must_factor();
     d.eval_constraints(true)?;
-    if d.forces.reads_solution() {
+    if d.reads_solution() {
         accelerations(&mut d.a);
         copy_into(&mut d.lambda, lambda.as_slice());
         d.store_accelerations();

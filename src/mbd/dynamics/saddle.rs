@@ -132,7 +132,7 @@ impl Dynamics {
         let mut gamma = std::mem::take(&mut self.scratch.gamma);
         gamma::gamma(self, &mut gamma)?;
         let mut rhs = std::mem::take(&mut self.scratch.solution);
-        let looped = self.forces.reads_solution();
+        let looped = self.reads_solution();
         let solved = match looped && self.forces.differentiates_reactions() {
             // (A first sweep that changes nothing has found the loop settled already.)
             true => match self.sweep(&gamma, &mut rhs) {

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! [K   B] [δy]   [f]        B = ∂R/∂ż = −w_Q·∂Q/∂ż     (forces reading the states)
-//! [C   D] [δż] = [−Rₛ],     C = ∂Rₛ/∂a                  (the states reading the plant)
+//! [C   D] [δż] = [−Rₛ],     C = ∂Rₛ/∂(a, λ)             (the states reading the plant)
 //!                           D = ∂Rₛ/∂ż                  (the block's own Jacobian)
 //! ```
 //!
@@ -17,8 +17,13 @@
 //! The entries come from finite differences, the states' expressions and the force
 //! elements reading them having no derivative with respect to the state values in the
 //! core: B and D by a forward difference of each rate (the forces evaluated with the
-//! states frozen), C·w along a direction w of the accelerations by moving the
-//! integrator's candidate (its `place`) and evaluating the residuals again.
+//! states frozen), C·w along a direction w = (w_a, w_λ) by moving the integrator's
+//! candidate along w_a (its `place`; the accelerations the states read move with it)
+//! and the multipliers along w_λ, each by its own step, and evaluating the residuals
+//! again. The multipliers' part is what carries a state reading a reaction
+//! (`JOINT(id, 0, 4, rm)`), so a loop force → reaction → state → force is solved by
+//! Newton. (Under HHT the states read the physical accelerations, which move as
+//! w_a/s; the difference takes them as w_a: an approximation of the matrix only.)
 
 use super::failure::DynError;
 use super::setup::Dynamics;
@@ -77,9 +82,7 @@ impl StateBorder {
         self.r0.resize(s, 0.0);
         self.r.resize(s, 0.0);
         let mut r0 = std::mem::take(&mut self.r0);
-        d.forces
-            .states
-            .residual_of_rates(&mut d.sys, &self.z, &mut r0)?;
+        d.state_residual(&self.z, &mut r0)?;
         self.r0 = r0;
         if self.generation != Some(d.factor_generation) {
             self.build(d, w_q, a1, place)?;
@@ -88,7 +91,7 @@ impl StateBorder {
             return Ok(());
         }
         // S·δż = −Rₛ − C·(K⁻¹f).
-        let c = self.along(d, a1, &rhs[..d.n], place)?;
+        let c = self.along(d, a1, &rhs[..d.n + d.m], place)?;
         let f = DVec::from_iterator(s, (0..s).map(|i| -self.r0[i] - c[i]));
         // (A singular S leaves K's step: the block's own solve still holds the states.)
         if let Some(dz) = self.s.as_ref().and_then(|lu| lu.solve(&f)) {
@@ -100,9 +103,7 @@ impl StateBorder {
         }
         // The state values back at the candidate's rates.
         let mut r = std::mem::take(&mut self.r);
-        d.forces
-            .states
-            .residual_of_rates(&mut d.sys, &self.z, &mut r)?;
+        d.state_residual(&self.z, &mut r)?;
         self.r = r;
         Ok(())
     }
@@ -129,10 +130,7 @@ impl StateBorder {
             let e = FD_STEP * keep.abs().max(1.0);
             self.z[k] = keep + e;
             let mut r = std::mem::take(&mut self.r);
-            let moved = d
-                .forces
-                .states
-                .residual_of_rates(&mut d.sys, &self.z, &mut r);
+            let moved = d.state_residual(&self.z, &mut r);
             self.r = r;
             self.z[k] = keep;
             moved?;
@@ -150,9 +148,7 @@ impl StateBorder {
         }
         // The state values and forces back at the candidate.
         let mut r = std::mem::take(&mut self.r);
-        d.forces
-            .states
-            .residual_of_rates(&mut d.sys, &self.z, &mut r)?;
+        d.state_residual(&self.z, &mut r)?;
         self.r = r;
         d.gen.q.copy_from(&q0);
         if !coupled {
@@ -163,7 +159,7 @@ impl StateBorder {
         let mut smat = dmat;
         for k in 0..s {
             let u = std::mem::take(&mut self.u[k]);
-            let cu = self.along(d, a1, &u[..n], place);
+            let cu = self.along(d, a1, &u, place);
             self.u[k] = u;
             let cu = cu?;
             for i in 0..s {
@@ -184,8 +180,29 @@ impl StateBorder {
     }
 
     /// C·w: the change of the states' residuals at fixed rates as the accelerations
-    /// move along `w` from `a1` (the candidate put back after).
+    /// move along `w`'s first n entries from `a1` and the multipliers along the rest
+    /// (the candidate put back after).
     fn along(
+        &mut self,
+        d: &mut Dynamics,
+        a1: &DVec,
+        w: &[f64],
+        place: &mut Place<'_>,
+    ) -> Result<Vec<f64>, DynError> {
+        let n = d.n;
+        let (wa, wl) = w.split_at(n.min(w.len()));
+        let mut out = self.along_accelerations(d, a1, wa, place)?;
+        if d.forces.states.reads_solution() {
+            for (o, c) in out.iter_mut().zip(self.along_multipliers(d, wl)?) {
+                *o += c;
+            }
+        }
+        Ok(out)
+    }
+
+    /// C_a·w: the accelerations moved along `w` from `a1` (the candidate, and the
+    /// accelerations the states read, put back after).
+    fn along_accelerations(
         &mut self,
         d: &mut Dynamics,
         a1: &DVec,
@@ -203,14 +220,45 @@ impl StateBorder {
             *a += e * x;
         }
         place(d, &moved);
+        let reads = d.forces.states.reads_solution() && d.a.len() == w.len();
+        if reads {
+            for (a, &x) in d.a.iter_mut().zip(w) {
+                *a += e * x;
+            }
+            d.store_accelerations();
+        }
         let mut r = std::mem::take(&mut self.r);
-        let at = d
-            .forces
-            .states
-            .residual_of_rates(&mut d.sys, &self.z, &mut r);
+        let at = d.state_residual(&self.z, &mut r);
         place(d, a1);
+        if reads {
+            for (a, &x) in d.a.iter_mut().zip(w) {
+                *a -= e * x;
+            }
+            d.store_accelerations();
+        }
         let out = at.map(|()| (0..s).map(|i| (r[i] - self.r0[i]) / e).collect());
         self.r = r;
+        Ok(out?)
+    }
+
+    /// C_λ·w: the multipliers moved along `w` (and put back after).
+    fn along_multipliers(&mut self, d: &mut Dynamics, w: &[f64]) -> Result<Vec<f64>, DynError> {
+        let s = self.z.len();
+        let size = largest_magnitude(w);
+        if size == 0.0 || d.lambda.len() != w.len() {
+            return Ok(vec![0.0; s]);
+        }
+        let e = FD_STEP * largest_magnitude(d.lambda.as_slice()).max(1.0) / size;
+        let keep = d.lambda.clone();
+        for (l, &x) in d.lambda.iter_mut().zip(w) {
+            *l += e * x;
+        }
+        let mut r = std::mem::take(&mut self.r);
+        let at = d.state_residual(&self.z, &mut r);
+        d.lambda = keep;
+        let out = at.map(|()| (0..s).map(|i| (r[i] - self.r0[i]) / e).collect());
+        self.r = r;
+        d.fill_state_inputs();
         Ok(out?)
     }
 }

@@ -53,7 +53,7 @@ impl StateCoupling {
 
 /// The rates of the states at `d`'s current state (its committed states as they stand).
 fn rates(d: &mut Dynamics) -> Result<DVec, DynError> {
-    d.forces.states.solve(&mut d.sys)?;
+    d.solve_states()?;
     Ok(DVec::from_vec(d.forces.states.rates(&d.sys)))
 }
 

@@ -18,13 +18,28 @@
 //! **Statics** ([`Mode::Static`]) solves ẋ = 0 for the states without STATIC_HOLD and
 //! keeps the others at their current values.
 //!
+//! **What the expressions read.** Kinematic measures, time and state values through
+//! the system's measures; and, as force expressions do ([`Source::Solution`]), what only
+//! the dynamics gives: a joint's or primitive's reaction, a force element's value, the
+//! net load FX…TM between two markers, an acceleration. Those are listed in
+//! [`StateSet::solution`] and their values ([`StateSet::solved`]) are filled in by the
+//! dynamics before every solve (`Dynamics::fill_state_inputs`), at the current
+//! iterate's multipliers and accelerations: the state block is then solved with them
+//! held, and the integrators' bordered Newton matrix carries ∂Rₛ/∂λ and ∂Rₛ/∂a
+//! (`dynamics::states_border`), so a loop force → reaction → state → force converges
+//! as Newton. An applied force's value is the one of the evaluation before (the
+//! states are solved before the forces): exact once the iteration has settled.
+//!
 //! [`Measure::State`]: crate::mbd::measure_set::Measure::State
+//! [`Source::Solution`]: crate::mbd::forces::Source::Solution
 
 mod solve;
 
 use super::error::MbdError;
 use super::expr::ExprFn;
-use crate::model::states::LinearSystem;
+use super::forces::Source;
+use super::output_slot::OutputSlot;
+use crate::model::states::{LinearSystem, Statement};
 
 /// How the states are solved at an evaluation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -36,18 +51,21 @@ pub enum Mode {
     Static,
 }
 
-/// An expression of the states with the measures its slots read.
+/// An expression of the states with the values its slots read.
 pub(crate) struct StateExpr {
     /// The compiled expression.
     pub(crate) f: Box<dyn ExprFn>,
-    /// The system measure of each of its slots, in the order of [`ExprFn::slots`].
-    pub(crate) map: Vec<usize>,
+    /// Where each of its slots is read from, in the order of [`ExprFn::slots`]: a
+    /// system measure, or a solution value (an index into [`StateSet::solution`]).
+    pub(crate) map: Vec<Source>,
 }
 
 /// A DIFF in the core.
 pub(crate) struct DiffState {
     /// `DIFF/3`.
     pub(crate) label: String,
+    /// The same, as a place for diagnostics.
+    pub(crate) statement: Statement,
     /// FUNCTION.
     pub(crate) f: StateExpr,
     /// IMPLICIT.
@@ -91,6 +109,13 @@ pub struct StateSet {
     /// The solves leave the state values as they stand (a linearization's differences
     /// in the values the forces read).
     pub frozen: bool,
+    /// The solution values the expressions read (reactions, forces, accelerations:
+    /// [`Source::Solution`]), which only the dynamics can give.
+    pub solution: Vec<OutputSlot>,
+    /// Each as written (`JOINT(3, 0, 4, 7)`).
+    pub names: Vec<String>,
+    /// Their values for the next solves, filled in by the dynamics.
+    pub solved: Vec<f64>,
 }
 
 /// The accepted states.
@@ -204,6 +229,18 @@ impl StateSet {
         self.set_formula(&b, 0.5 * h);
     }
 
+    /// Holds the states at `x` (their rates `rate` the next solve's start), as if
+    /// committed there: a shadow of another system's run (the 3D system a 2D run reads
+    /// its reactions from) takes that run's states.
+    pub fn hold_at(&mut self, x: Vec<f64>, rate: Vec<f64>) {
+        if x.len() != self.len() || rate.len() != x.len() {
+            return;
+        }
+        self.z.clone_from(&rate);
+        self.base = Some(Committed { x, rate });
+        self.formula = None;
+    }
+
     /// The evaluations that follow hold x at the committed values (after a rejected
     /// step, between steps).
     pub fn hold(&mut self) {
@@ -224,9 +261,29 @@ impl StateSet {
         }
     }
 
+    /// Whether an expression reads a solution value (the dynamics must fill them in).
+    pub fn reads_solution(&self) -> bool {
+        !self.solution.is_empty()
+    }
+
     /// The error a state element's solve fails with.
     fn failure(&self, k: usize, why: &str) -> MbdError {
-        MbdError::State(format!("{}: {why}", self.label(k)))
+        MbdError::State(self.statement(k), format!("{}: {why}", self.label(k)))
+    }
+
+    /// The statement of the element state `k` belongs to.
+    fn statement(&self, k: usize) -> Statement {
+        if k < self.diffs.len() {
+            return self.diffs[k].statement;
+        }
+        let mut j = k - self.diffs.len();
+        for l in &self.linear {
+            if j < l.sys.n {
+                return l.sys.statement;
+            }
+            j -= l.sys.n;
+        }
+        Statement::new("DIFF", 0)
     }
 
     /// The element state `k` belongs to (`DIFF/3`, `LSE/2`).

@@ -7,8 +7,9 @@
 
 use super::{Committed, Mode, StateExpr, StateSet};
 use crate::mbd::error::MbdError;
-use crate::mbd::forces::measure_value;
+use crate::mbd::forces::{measure_value, Source};
 use crate::mbd::system::System;
+use crate::model::states::Statement;
 use crate::vocab::math::{DMat, DVec};
 
 /// Newton iterations before a state solve fails.
@@ -27,16 +28,36 @@ const EXPLICIT_PASSES: usize = 4;
 /// How x follows from the unknowns: the integrator's (b, g), or the committed x.
 type Formula<'a> = (&'a [f64], f64);
 
-/// `e`'s value at the state of `sys`, its slots filled into `slots`.
-fn value(e: &StateExpr, sys: &System, slots: &mut Vec<f64>) -> Result<f64, String> {
+/// `e`'s value at the state of `sys` and the solution values `solved`, its slots
+/// filled into `slots`.
+fn value(
+    e: &StateExpr,
+    (sys, solved): (&System, &[f64]),
+    slots: &mut Vec<f64>,
+) -> Result<f64, String> {
     for (&s, &m) in e.f.slots().iter().zip(&e.map) {
         let s = s as usize;
         if slots.len() <= s {
             slots.resize(s + 1, 0.0);
         }
-        slots[s] = measure_value(sys, m);
+        slots[s] = match m {
+            Source::Measure(m) => measure_value(sys, m),
+            Source::Solution(k) => solved.get(k).copied().unwrap_or(0.0),
+        };
     }
     e.f.value(sys.time, slots).map_err(|err| err.to_string())
+}
+
+/// The Newton correction of the rates with x held (g = 0) where the block's Jacobian
+/// is singular: an IMPLICIT DIFF whose FUNCTION does not read its own rate (an
+/// algebraic equation, `DIF(1) − DIF(2)` = 0) fixes its x, not its ẋ, and with x held
+/// nothing fixes that rate. The least-squares correction of least norm leaves such a
+/// rate where it stands (the integrator's last solve of it, where x = b + g·ẋ with g > 0
+/// did fix it) and corrects the others.
+fn held_rates(jac: &DMat, rhs: &DVec) -> Option<DVec> {
+    let svd = jac.clone().svd(true, true);
+    let largest = svd.singular_values.iter().fold(0.0f64, |m, &v| m.max(v));
+    svd.solve(rhs, 1e-12 * largest).ok()
 }
 
 impl StateSet {
@@ -108,13 +129,16 @@ impl StateSet {
         for l in &self.linear {
             let (n, m, p) = (l.sys.n, l.sys.m, l.sys.p);
             for (j, e) in l.inputs.iter().enumerate() {
-                let u = value(e, sys, &mut slots).map_err(|why| {
-                    MbdError::State(format!(
-                        "{}: input {} (VARIABLE/{}): {why}",
-                        l.sys.label,
-                        j + 1,
-                        l.sys.inputs[j]
-                    ))
+                let u = value(e, (sys, &self.solved), &mut slots).map_err(|why| {
+                    let variable = l.sys.inputs[j];
+                    MbdError::State(
+                        Statement::new("VARIABLE", variable),
+                        format!(
+                            "{}: input {} (VARIABLE/{variable}): {why}",
+                            l.sys.label,
+                            j + 1
+                        ),
+                    )
                 });
                 let u = match u {
                     Ok(u) => u,
@@ -144,11 +168,11 @@ impl StateSet {
                 r[k] = z[k] - base.x[k];
                 continue;
             }
-            let f = match value(&d.f, sys, &mut slots) {
+            let f = match value(&d.f, (sys, &self.solved), &mut slots) {
                 Ok(f) => f,
                 Err(why) => {
                     self.slots = slots;
-                    return Err(MbdError::State(format!("{}: {why}", d.label)));
+                    return Err(MbdError::State(d.statement, format!("{}: {why}", d.label)));
                 }
             };
             let rate = sys.measures.states[2 * k + 1];
@@ -262,10 +286,19 @@ impl StateSet {
                 }
             }
             let rhs = DVec::from_iterator(n, r.iter().map(|v| -v));
-            let Some(dz) = jac.clone().lu().solve(&rhs) else {
-                let worst = (0..n)
-                    .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
-                    .unwrap_or(0);
+            let held = self.mode == Mode::Dynamic && at.1 .1 == 0.0;
+            let Some(dz) = jac.clone().lu().solve(&rhs).or_else(|| match held {
+                true => held_rates(&jac, &rhs),
+                false => None,
+            }) else {
+                // The state no equation depends on, if one is (the singularity's cause),
+                // else the one furthest from its equation.
+                let free = (0..n).find(|&c| (0..n).all(|i| jac[(i, c)] == 0.0));
+                let worst = free.unwrap_or_else(|| {
+                    (0..n)
+                        .max_by(|&a, &b| r[a].abs().total_cmp(&r[b].abs()))
+                        .unwrap_or(0)
+                });
                 let what = match self.mode {
                     Mode::Dynamic => "its equation cannot be solved for its rate (singular Jacobian)",
                     Mode::Static => {

@@ -93,7 +93,7 @@ impl JointTree {
         let parts = sys.moving_parts();
         if sys.dim != Dimension::Two
             || !d.dropped.is_empty()
-            || d.forces.reads_solution()
+            || d.reads_solution()
             || parts == 0
             || parts > DENSE_MAX
         {
