@@ -249,3 +249,19 @@ fn a_diff_integrates_over_the_internal_steps() {
         );
     }
 }
+
+#[test]
+fn the_kinematics_statement_bounds_the_steps_by_hmax() {
+    // KINEMATICS/HMAX = 0.01 over 1 s: at least 100 steps, whatever the output step and
+    // the prediction allow (without it the prediction alone takes fewer).
+    let base = std::fs::read_to_string(data("kinematics_slider_crank.adm")).expect("dataset");
+    let steps = |text: String| {
+        let mut req = RunRequest::dataset("hmax.adm", text);
+        (req.end, req.output_step, req.kinematics) = (Some(1.0), Some(0.25), true);
+        rows_of(&req).expect("kinematics").1.summary.stats.steps
+    };
+    let free = steps(base.clone());
+    let bounded = steps(base.replace("END", "KINEMATICS/HMAX = 0.01\nEND"));
+    assert!(free < 100, "{free} steps without HMAX");
+    assert!(bounded >= 100, "{bounded} steps under HMAX = 0.01");
+}
