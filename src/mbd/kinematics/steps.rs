@@ -19,7 +19,6 @@
 use super::error::KinematicsError;
 use super::lock_up;
 use crate::mbd::dynamics::{DynError, Dynamics, Singularity};
-use crate::mbd::freedom::column_scale;
 use crate::vocab::math::DVec;
 
 /// The largest rotation of a part over one step (rad): Adams' ALIMIT default, 30°.
@@ -103,7 +102,9 @@ pub fn advance_to(d: &mut Dynamics, t: f64, control: &mut Control) -> Result<(),
             Ok(err) => {
                 d.stats.steps += 1;
                 d.stats.last_step = h;
-                control.next = h * growth(err);
+                // Never below the smallest step: steps shrinking towards a singular
+                // position reach it, and fail there, in finitely many.
+                control.next = (h * growth(err)).max(hmin);
                 continue;
             }
             Err(miss) => miss,
@@ -131,9 +132,10 @@ fn growth(err: f64) -> f64 {
 /// `h` shortened until the prediction turns no part by more than [`ALIMIT`].
 fn within_alimit(d: &Dynamics, mut h: f64) -> f64 {
     let v = d.sys.v();
+    let (cols, axes) = (d.sys.dim.cols(), d.sys.dim.axes());
     let rotation = |h: f64| {
         (0..d.n)
-            .filter(|&c| column_scale(d, c) == 1.0)
+            .filter(|&c| c % cols >= axes)
             .map(|c| (v[c] * h + 0.5 * d.a.get(c).copied().unwrap_or(0.0) * h * h).abs())
             .fold(0.0, f64::max)
     };
