@@ -18,6 +18,10 @@ mod accuracy;
 #[path = "cli/ignored.rs"]
 mod ignored;
 
+/// `mbfx run --kinematics`: internal steps, a lock-up named.
+#[path = "cli/kinematics.rs"]
+mod kinematics;
+
 /// `mbfx run --linear` and LINEAR commands.
 #[path = "cli/linear.rs"]
 mod linear;

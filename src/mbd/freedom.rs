@@ -59,14 +59,7 @@ pub fn null_space(d: &Dynamics) -> DMat {
     if n == 0 {
         return DMat::zeros(0, 0);
     }
-    // Square (padded with zero rows) so the SVD gives every right singular vector.
-    let size = n.max(d.m);
-    let mut j = DMat::zeros(size, n);
-    for (r, c, x) in d.jac.entries() {
-        let (e, q) = d.rows[r];
-        j[(r, c)] += x * d.sys.row_scale(e, q) * column_scale(d, c);
-    }
-    let svd = j.svd(false, true);
+    let svd = scaled_jacobian(d).svd(false, true);
     let Some(vt) = svd.v_t else {
         return DMat::zeros(n, 0);
     };
@@ -79,6 +72,18 @@ pub fn null_space(d: &Dynamics) -> DMat {
         out.set_column(k, &vt.row(i).transpose());
     }
     out
+}
+
+/// The kept rows' Jacobian (from the last [`Dynamics::eval_constraints`] with
+/// Jacobian) in scaled coordinates, rows scaled as their residuals are, padded with
+/// zero rows to a square so that its SVD gives every right singular vector.
+pub fn scaled_jacobian(d: &Dynamics) -> DMat {
+    let mut j = DMat::zeros(d.n.max(d.m), d.n);
+    for (r, c, x) in d.jac.entries() {
+        let (e, q) = d.rows[r];
+        j[(r, c)] += x * d.sys.row_scale(e, q) * column_scale(d, c);
+    }
+    j
 }
 
 /// The basis `basis` (columns, scaled coordinates) recombined so that each direction

@@ -84,6 +84,8 @@ pub struct Model {
     pub integrator: Option<super::integrator_settings::IntegratorStatement>,
     /// The EQUILIBRIUM statement, typed (several merge in file order).
     pub equilibrium: Option<super::equilibrium_settings::EquilibriumStatement>,
+    /// The KINEMATICS statement, typed (several merge in file order).
+    pub kinematics: Option<super::kinematics_settings::KinematicsStatement>,
     /// GRAPHICS statements of the kinds mbfx reads, in file order (shapes to draw only).
     pub graphics: Vec<super::graphics::Graphic>,
     /// The measure every expression slot reads (index = slot of [`crate::ir::Inst::Measure`]).

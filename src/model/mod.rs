@@ -31,6 +31,7 @@ pub mod graphics;
 pub mod inertia;
 pub mod integrator_settings;
 pub mod keywords;
+pub mod kinematics_settings;
 pub mod linear_command;
 mod lines;
 mod motion_time;

@@ -231,6 +231,17 @@ pub fn equilibrium(r: &mut Reader, a: &mut Args) {
     keep_setting(r, a);
 }
 
+/// KINEMATICS: typed ([`super::kinematics_settings`]), and kept as written for the
+/// report. A second statement overrides what it writes.
+pub fn kinematics(r: &mut Reader, a: &mut Args) {
+    let typed = super::kinematics_settings::read_kinematics(a);
+    r.model.kinematics = Some(match r.model.kinematics.take() {
+        Some(first) => first.then(typed),
+        None => typed,
+    });
+    keep_setting(r, a);
+}
+
 /// Records a settings statement's arguments as written.
 fn keep_setting(r: &mut Reader, a: &Args) {
     let stmt = a.stmt;

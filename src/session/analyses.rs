@@ -5,8 +5,8 @@
 //! stands (`mbd::statics`); with one, a quasi-static sequence, the equilibrium at each
 //! output time under the forces and motions of that time, each from the last. A
 //! kinematic stretch refuses a model with degrees of freedom left, then solves
-//! positions, velocities, accelerations and reactions from the constraints at each
-//! output time (`mbd::kinematics`). The stretch's first row, at its start, is written
+//! positions, velocities, accelerations and reactions from the constraints in steps of
+//! its own, landing on each output time (`mbd::kinematics`). The stretch's first row, at its start, is written
 //! only when the run has written none yet (`first_row`): rows never repeat a time.
 
 use super::linear::{self, LinearReport};
@@ -19,6 +19,7 @@ use crate::mbd::dynamics::{DynError, Dynamics};
 use crate::mbd::kinematics;
 use crate::mbd::statics::{self, Report};
 use crate::model::commands::Analysis;
+use crate::model::kinematics_settings::KinematicsStatement;
 
 /// Writes the row of a solved state.
 pub type Emit<'a> = dyn FnMut(&mut Dynamics) -> Result<(), DynError> + 'a;
@@ -27,11 +28,12 @@ pub type Emit<'a> = dyn FnMut(&mut Dynamics) -> Result<(), DynError> + 'a;
 pub type Found<'a> = (&'a mut Vec<Report>, &'a mut Vec<LinearReport>);
 
 /// Runs segment `seg` (static, kinematic or linear) on `d` (a linear one with the
-/// model's `plant` inputs and outputs); `first_row` says the run has written no row
-/// yet, `last` that it is the run's last segment.
+/// model's `plant` inputs and outputs, a kinematic one under its KINEMATICS
+/// statement); `first_row` says the run has written no row yet, `last` that it is the
+/// run's last segment.
 pub fn run(
     d: &mut Dynamics,
-    plant: &Plant,
+    (plant, statement): (&Plant, Option<&KinematicsStatement>),
     seg: &Segment,
     (first_row, last): (bool, bool),
     emit: &mut Emit<'_>,
@@ -39,7 +41,10 @@ pub fn run(
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), Stopped> {
     match (seg.kind, &seg.linear) {
-        (Analysis::Kinematics, _) => kinematics(d, seg, first_row, emit, interrupt),
+        (Analysis::Kinematics, _) => {
+            let settings = statement.map_or_else(kinematics::Settings::default, settings_of);
+            kinematics(d, (seg, settings), first_row, emit, interrupt)
+        }
         (Analysis::Linear, Some(command)) => {
             // A run that is only a linear analysis writes the state it stands at.
             if first_row {
@@ -89,23 +94,35 @@ pub fn statics(
     Ok(())
 }
 
-/// Runs kinematic segment `seg` on `d`: refused when `d` has degrees of freedom left.
+/// The kinematic analysis' settings from the KINEMATICS statement: the values written,
+/// Adams' defaults for the rest.
+pub fn settings_of(statement: &KinematicsStatement) -> kinematics::Settings {
+    let d = kinematics::Settings::default();
+    kinematics::Settings {
+        hmax: statement.hmax.as_ref().map(|g| g.value).or(d.hmax),
+        error: statement.error.as_ref().map_or(d.error, |g| g.value),
+    }
+}
+
+/// Runs kinematic segment `seg` on `d` under `settings`: refused when `d` has degrees
+/// of freedom left.
 pub fn kinematics(
     d: &mut Dynamics,
-    seg: &Segment,
+    (seg, settings): (&Segment, kinematics::Settings),
     first_row: bool,
     emit: &mut Emit<'_>,
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), Stopped> {
     kinematics::check_driven(d)?;
     let t0 = d.sys.time;
+    kinematics::solve_here(d)?;
     if first_row {
-        kinematics::solve_at(d, t0)?;
         emit(d)?;
     }
+    let mut control = kinematics::Control::new(settings);
     for t in OutputTimes::new(t0, seg.output_step, seg.end).iter() {
         stop_if_asked(d, interrupt)?;
-        kinematics::solve_at(d, t)?;
+        kinematics::advance_to(d, t, &mut control)?;
         emit(d)?;
     }
     Ok(())

@@ -297,6 +297,7 @@ pub fn code_of(e: &Stopped) -> Code {
             StaticFailure::Limited { .. } => Code::StepLimit,
         },
         Stopped::FreeDegrees(_) => Code::FreeDegrees,
+        Stopped::Kinematics(_) => Code::Integration,
         Stopped::Change { .. } => Code::CannotSimulate,
     }
 }

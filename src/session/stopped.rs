@@ -1,8 +1,8 @@
 //! Why a simulation's run stopped ([`Stopped`]): the dynamics failed, no static
-//! equilibrium came out, a kinematic analysis found degrees of freedom left, or a command
-//! file's change to the model could not be made at its time (at the changes' commands: a
-//! command-file span, the session's to point at). The analyses' own errors
-//! ([`StaticsError`], [`KinematicsError`]) convert into it.
+//! equilibrium came out, a kinematic analysis found degrees of freedom left or could not
+//! go on (a lock-up), or a command file's change to the model could not be made at its
+//! time (at the changes' commands: a command-file span, the session's to point at).
+//! The analyses' own errors ([`StaticsError`], [`KinematicsError`]) convert into it.
 
 use crate::diag::Span;
 use crate::mbd::dynamics::{Culprit, DynError};
@@ -21,6 +21,9 @@ pub enum Stopped {
     /// A kinematic analysis asked of a model with degrees of freedom left
     /// ([`crate::mbd::kinematics`]).
     FreeDegrees(FreeDegrees),
+    /// A kinematic analysis could not go on: a lock-up or singular position, or
+    /// positions Newton cannot reach ([`crate::mbd::kinematics`]).
+    Kinematics(Box<KinematicsError>),
     /// A command file's change to the model could not be made at `time` (the changed
     /// model does not build or assemble), for the reason `why`.
     Change {
@@ -40,6 +43,7 @@ impl Stopped {
             Stopped::Dynamics(e) => e.time(),
             Stopped::Statics(f) => Some(f.time()),
             Stopped::FreeDegrees(_) => None,
+            Stopped::Kinematics(e) => e.time(),
             Stopped::Change { time, .. } => Some(*time),
         }
     }
@@ -50,6 +54,7 @@ impl Stopped {
             Stopped::Dynamics(e) => e.culprit(),
             Stopped::Statics(f) => f.culprit(),
             Stopped::FreeDegrees(free) => free.culprit(),
+            Stopped::Kinematics(e) => e.culprit(),
             Stopped::Change { .. } => None,
         }
     }
@@ -89,6 +94,7 @@ impl From<KinematicsError> for Stopped {
         match e {
             KinematicsError::Dynamics(e) => Stopped::Dynamics(e),
             KinematicsError::FreeDegrees(free) => Stopped::FreeDegrees(free),
+            e => Stopped::Kinematics(Box::new(e)),
         }
     }
 }
@@ -99,6 +105,7 @@ impl fmt::Display for Stopped {
             Stopped::Dynamics(e) => write!(f, "{e}"),
             Stopped::Statics(failure) => write!(f, "{failure}"),
             Stopped::FreeDegrees(free) => write!(f, "{free}"),
+            Stopped::Kinematics(e) => write!(f, "{e}"),
             Stopped::Change { time, why, .. } => {
                 write!(
                     f,

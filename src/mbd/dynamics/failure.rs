@@ -55,11 +55,12 @@ pub enum DynError {
         /// The force element to blame, when one is.
         element: Option<ElementRef>,
     },
-    /// The corrector did not converge even at the smallest step.
+    /// The corrector did not converge even at the smallest step, or (step 0) the
+    /// projection of the positions onto the constraints did not.
     Newton {
         /// Simulation time.
         time: f64,
-        /// The step size that failed.
+        /// The step size that failed (0: a projection, no step).
         step: f64,
         /// What the largest correction points at, when found.
         culprit: Option<Culprit>,
@@ -226,11 +227,23 @@ impl fmt::Display for DynError {
                     "at time {time}: the Newton matrix holds a NaN or infinite value (a force Jacobian or the mass matrix)"
                 ),
             },
-            DynError::Newton { time, step, culprit } => write!(
-                f,
-                "at time {time}: the corrector does not converge (Newton diverges even at step {step:e}){}",
-                culprit.as_ref().map_or(String::new(), |c| format!("; the largest constraint error is in {c}"))
-            ),
+            DynError::Newton { time, step, culprit } => {
+                let largest = culprit
+                    .as_ref()
+                    .map_or(String::new(), |c| format!("; the largest constraint error is in {c}"));
+                match *step > 0.0 {
+                    true => write!(
+                        f,
+                        "at time {time}: the corrector does not converge (Newton diverges even at a time step of {step:e}){largest}"
+                    ),
+                    // No step: the projection of the positions onto the constraints (an
+                    // output row inside a step, an explicit method's drift).
+                    false => write!(
+                        f,
+                        "at time {time}: the positions cannot be projected onto the constraints (Newton does not converge){largest}"
+                    ),
+                }
+            }
             DynError::StepTooSmall {
                 time,
                 step,

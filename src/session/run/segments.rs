@@ -182,7 +182,7 @@ impl Simulation {
                 let mut solved_emit = |d: &mut Dynamics| emit(outputs, d, None);
                 result = crate::session::analyses::run(
                     dynamics,
-                    plant,
+                    (plant, self.read.model.kinematics.as_ref()),
                     seg,
                     (first_row, last),
                     &mut solved_emit,
