@@ -22,6 +22,9 @@ mod adm_check;
 #[path = "../fuzz/fuzz_targets/check_cli_body.rs"]
 mod check_cli;
 
+#[path = "../fuzz/fuzz_targets/capi_sequences_body.rs"]
+mod capi_sequences;
+
 use std::path::{Path, PathBuf};
 
 /// How one corpus folder is replayed.
@@ -53,6 +56,8 @@ fn target(name: &str) -> Option<Target> {
         // A dataset read, built, assembled and analysed: tens of microseconds each.
         "adm_check" => Some(t(adm_check::check_bytes, "adm_check", 40, 40)),
         "check_cli" => Some(t(check_cli_binary, "adm_check", 2, 2)),
+        // A few compiles (some JIT) and evaluations per sequence: about a millisecond.
+        "capi_sequences" => Some(t(capi_sequences::check_bytes, "capi_sequences", 300, 300)),
         _ => None,
     }
 }
@@ -249,7 +254,13 @@ fn seed_corpora_and_mutations_pass_the_fuzz_checks() {
                 .into_owned()
         })
         .collect();
-    for expected in ["adm_check", "check_cli", "interp_vs_jit", "parse_check"] {
+    for expected in [
+        "adm_check",
+        "capi_sequences",
+        "check_cli",
+        "interp_vs_jit",
+        "parse_check",
+    ] {
         assert!(
             names.iter().any(|n| n == expected),
             "no fuzz/corpus/{expected} in {}: {names:?}",
