@@ -116,6 +116,15 @@ def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.array_equal(nan, np.isnan(b)) and np.array_equal(a[~nan].view(np.uint64), b[~nan].view(np.uint64)))
 
 
+# Calls made through `survives` in this session (the fuzz campaigns' figure).
+FUZZ_CALLS = 0
+
+
+def pytest_terminal_summary(terminalreporter):
+    if FUZZ_CALLS:
+        terminalreporter.write_line(f"fuzz: {FUZZ_CALLS} calls into mbfx through conftest.survives")
+
+
 def survives(call, *args, **kwargs):
     """`call(*args, **kwargs)`'s result, or None when it raised one of the errors a bad
     input may raise (mbfx's CheckError, RunError and MbfxError, ValueError, TypeError).
@@ -123,6 +132,8 @@ def survives(call, *args, **kwargs):
     a BaseException) or any other exception type is a finding of the fuzz tests."""
     import mbfx
 
+    global FUZZ_CALLS
+    FUZZ_CALLS += 1
     try:
         return call(*args, **kwargs)
     except mbfx.InternalError as e:

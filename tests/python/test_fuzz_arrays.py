@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
@@ -95,6 +95,8 @@ def test_arrays_of_any_shape_dtype_and_stride_evaluate_or_are_refused(text, engi
         assert same_bits(flat[i], np.reshape(want, -1)), f"point {i}: {point}"
 
 
+# Each example allocates up to 320 MB and takes a fraction of a second: few of them.
+@settings(max_examples=min(40, max(6, settings.default.max_examples // 10)))
 @given(
     engine=st.sampled_from(["jit", "interp"]),
     n=st.sampled_from([10**6, 10**7, 2 * 10**7]),
