@@ -308,3 +308,34 @@ fn mutations_are_deterministic() {
     };
     assert_eq!(run(), run());
 }
+
+/// A campaign of `capi_sequences` without libFuzzer or a sanitizer, for a machine where
+/// the AddressSanitizer build is out of reach: `MBFX_FUZZ_RUNS` sequences (default 10⁶),
+/// each a random walk of mutations from a seed (restarted every 64 steps), printing the
+/// count and the time. Run: `MBFX_FUZZ_RUNS=1000000 cargo test --release --test
+/// fuzz_seeds -- --ignored --nocapture`.
+#[test]
+#[ignore = "a campaign of minutes: run it by hand (docs/testing.md)"]
+fn capi_sequences_campaign() {
+    let runs: usize = std::env::var("MBFX_FUZZ_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1_000_000);
+    let dict = dictionary(&fuzz_dir().join("capi_sequences.dict"));
+    let seeds = seeds(&fuzz_dir().join("corpus").join("capi_sequences"));
+    let mut rng = Rng(0x6d62_6678_ca91_0002);
+    let start = std::time::Instant::now();
+    let mut input = Vec::new();
+    for run in 0..runs {
+        if run % 64 == 0 {
+            input = seeds[rng.below(seeds.len())].1.clone();
+        }
+        input = mutate(&input, &mut rng, &dict, &seeds);
+        input.truncate(1024);
+        replay(capi_sequences::check_bytes, &input, &format!("campaign run {run}"));
+        if (run + 1) % 100_000 == 0 {
+            println!("{} sequences in {:.0?}", run + 1, start.elapsed());
+        }
+    }
+    println!("{runs} sequences in {:.1?}", start.elapsed());
+}
