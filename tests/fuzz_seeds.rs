@@ -332,7 +332,11 @@ fn capi_sequences_campaign() {
         }
         input = mutate(&input, &mut rng, &dict, &seeds);
         input.truncate(1024);
-        replay(capi_sequences::check_bytes, &input, &format!("campaign run {run}"));
+        replay(
+            capi_sequences::check_bytes,
+            &input,
+            &format!("campaign run {run}"),
+        );
         if (run + 1) % 100_000 == 0 {
             println!("{} sequences in {:.0?}", run + 1, start.elapsed());
         }

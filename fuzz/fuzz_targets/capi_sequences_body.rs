@@ -313,7 +313,7 @@ fn compile(input: &mut Input, live: &mut Live, slot: usize) {
     let null_names = !names.is_empty() && input.byte() == 255;
     let with_error = input.byte() != 255;
     // A pointer the call must overwrite, as the C test does.
-    let mut err: *mut Error = 0x1usize as *mut Error;
+    let mut err: *mut Error = std::ptr::dangling_mut();
     let err_arg = if with_error {
         &mut err as *mut _
     } else {
@@ -334,7 +334,7 @@ fn compile(input: &mut Input, live: &mut Live, slot: usize) {
     if !with_error {
         err = null_mut();
     }
-    assert_ne!(err as usize, 1, "{what}: error not stored");
+    assert_ne!(err, std::ptr::dangling_mut(), "{what}: error not stored");
     if e.is_null() {
         if with_error {
             let status = check_error(err, &what);
