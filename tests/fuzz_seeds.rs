@@ -22,6 +22,9 @@ mod adm_check;
 #[path = "../fuzz/fuzz_targets/check_cli_body.rs"]
 mod check_cli;
 
+#[path = "../fuzz/fuzz_targets/capi_sequences_body.rs"]
+mod capi_sequences;
+
 use std::path::{Path, PathBuf};
 
 /// How one corpus folder is replayed.
@@ -53,6 +56,8 @@ fn target(name: &str) -> Option<Target> {
         // A dataset read, built, assembled and analysed: tens of microseconds each.
         "adm_check" => Some(t(adm_check::check_bytes, "adm_check", 40, 40)),
         "check_cli" => Some(t(check_cli_binary, "adm_check", 2, 2)),
+        // A few compiles (some JIT) and evaluations per sequence: about a millisecond.
+        "capi_sequences" => Some(t(capi_sequences::check_bytes, "capi_sequences", 300, 300)),
         _ => None,
     }
 }
@@ -249,7 +254,13 @@ fn seed_corpora_and_mutations_pass_the_fuzz_checks() {
                 .into_owned()
         })
         .collect();
-    for expected in ["adm_check", "check_cli", "interp_vs_jit", "parse_check"] {
+    for expected in [
+        "adm_check",
+        "capi_sequences",
+        "check_cli",
+        "interp_vs_jit",
+        "parse_check",
+    ] {
         assert!(
             names.iter().any(|n| n == expected),
             "no fuzz/corpus/{expected} in {}: {names:?}",
@@ -296,4 +307,39 @@ fn mutations_are_deterministic() {
             .collect::<Vec<_>>()
     };
     assert_eq!(run(), run());
+}
+
+/// A campaign of `capi_sequences` without libFuzzer or a sanitizer, for a machine where
+/// the AddressSanitizer build is out of reach: `MBFX_FUZZ_RUNS` sequences (default 10⁶),
+/// each a random walk of mutations from a seed (restarted every 64 steps), printing the
+/// count and the time. Run: `MBFX_FUZZ_RUNS=1000000 cargo test --release --test
+/// fuzz_seeds -- --ignored --nocapture`.
+#[test]
+#[ignore = "a campaign of minutes: run it by hand (docs/testing.md)"]
+fn capi_sequences_campaign() {
+    let runs: usize = std::env::var("MBFX_FUZZ_RUNS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1_000_000);
+    let dict = dictionary(&fuzz_dir().join("capi_sequences.dict"));
+    let seeds = seeds(&fuzz_dir().join("corpus").join("capi_sequences"));
+    let mut rng = Rng(0x6d62_6678_ca91_0002);
+    let start = std::time::Instant::now();
+    let mut input = Vec::new();
+    for run in 0..runs {
+        if run % 64 == 0 {
+            input = seeds[rng.below(seeds.len())].1.clone();
+        }
+        input = mutate(&input, &mut rng, &dict, &seeds);
+        input.truncate(1024);
+        replay(
+            capi_sequences::check_bytes,
+            &input,
+            &format!("campaign run {run}"),
+        );
+        if (run + 1) % 100_000 == 0 {
+            println!("{} sequences in {:.0?}", run + 1, start.elapsed());
+        }
+    }
+    println!("{runs} sequences in {:.1?}", start.elapsed());
 }

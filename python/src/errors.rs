@@ -4,7 +4,7 @@
 
 use mbfx::diag::{render, Diagnostic as Diag, Severity, SourceFile};
 use pyo3::create_exception;
-use pyo3::exceptions::PyException;
+use pyo3::exceptions::{PyException, PyOverflowError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -133,6 +133,19 @@ pub fn plain_check_error(py: Python<'_>, message: String) -> PyErr {
     match err.value(py).setattr("diagnostics", PyList::empty(py)) {
         Ok(()) => err,
         Err(e) => e,
+    }
+}
+
+/// The Python integer `value` (an int, or anything with `__index__`) as a `T`; one out
+/// of `T`'s range (negative, or past it) is a `ValueError` naming the argument `what`,
+/// not the `OverflowError` a narrow Rust parameter type raises (found by
+/// tests/python/test_fuzz_models.py).
+pub fn int_in_range<T: TryFrom<i64>>(value: &Bound<'_, PyAny>, what: &str) -> PyResult<T> {
+    let out_of_range = || PyValueError::new_err(format!("{what} = {value} is out of range"));
+    match value.extract::<i64>() {
+        Ok(v) => T::try_from(v).map_err(|_| out_of_range()),
+        Err(e) if e.is_instance_of::<PyOverflowError>(value.py()) => Err(out_of_range()),
+        Err(e) => Err(e),
     }
 }
 

@@ -3,7 +3,7 @@
 //! the assembled configuration, and runs ([`crate::run`]). A model keeps its dataset text: it pickles as that text and rebuilds
 //! itself in a worker process.
 
-use crate::errors::{check_error, diagnostic_list, guarded, plain_check_error};
+use crate::errors::{check_error, diagnostic_list, guarded, int_in_range, plain_check_error};
 use crate::expression::engine_of;
 use crate::run;
 use mbfx::diag::{has_errors, Diagnostic, SourceFile};
@@ -98,8 +98,13 @@ pub struct PyModel {
 /// Loads `source`: a path (str without a newline, or os.PathLike) or a dataset's text.
 #[pyfunction]
 #[pyo3(signature = (source, dim = None))]
-pub fn load(py: Python<'_>, source: &Bound<'_, PyAny>, dim: Option<u8>) -> PyResult<PyModel> {
+pub fn load(
+    py: Python<'_>,
+    source: &Bound<'_, PyAny>,
+    dim: Option<&Bound<'_, PyAny>>,
+) -> PyResult<PyModel> {
     guarded(|| {
+        let dim = dim.map(|d| int_in_range::<u8>(d, "dim")).transpose()?;
         let os = py.import("os")?;
         let is_path = source.is_instance(&os.getattr("PathLike")?)?;
         let text: Option<String> = if is_path {
@@ -313,7 +318,7 @@ impl PyModel {
         fixed_step: Option<f64>,
         alpha: Option<f64>,
         rho_inf: Option<f64>,
-        kmax: Option<u32>,
+        kmax: Option<&Bound<'_, PyAny>>,
         formulation: Option<&str>,
         error_per: &str,
         cartesian: bool,
@@ -338,6 +343,7 @@ impl PyModel {
             r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;
             (r.hmax, r.hinit, r.hmin, r.fixed_step) = (hmax, hinit, hmin, fixed_step);
+            let kmax = kmax.map(|k| int_in_range::<u32>(k, "kmax")).transpose()?;
             (r.alpha, r.rho_inf, r.kmax) = (alpha, rho_inf, kmax);
             r.formulation = formulation.map(run::formulation_of).transpose()?;
             r.error_per_run = run::error_per_run(error_per)?;

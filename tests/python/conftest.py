@@ -1,5 +1,7 @@
 """Shared fixtures of the Python suite: where the repository, `../shared` and the
-command-line binary are, and a helper that runs `mbfx` the way a user would."""
+command-line binary are, a helper that runs `mbfx` the way a user would, and the
+hypothesis profiles of the fuzz tests (test_fuzz_*.py): "ci", the default, sized to
+keep the suite's time, and "long" (HYPOTHESIS_PROFILE=long) for the campaigns."""
 
 from __future__ import annotations
 
@@ -9,6 +11,28 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, settings
+
+# The fuzz tests' sizes. "ci": a few seconds per test (the suite's added time stays
+# under a minute); no deadline, since a first JIT compile or a loaded machine may take
+# longer than hypothesis' 200 ms default. "long": the campaigns of docs/testing.md
+# (`HYPOTHESIS_PROFILE=long`, with HYPOTHESIS_MAX_EXAMPLES to set the count).
+settings.register_profile(
+    "ci",
+    max_examples=60,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+    print_blob=True,
+)
+settings.register_profile(
+    "long",
+    max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "200000")),
+    deadline=None,
+    suppress_health_check=list(HealthCheck),
+    print_blob=True,
+)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 ROOT = Path(__file__).resolve().parents[2]
 SHARED = ROOT.parent / "shared"
@@ -90,3 +114,33 @@ def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
         return False
     nan = np.isnan(a)
     return bool(np.array_equal(nan, np.isnan(b)) and np.array_equal(a[~nan].view(np.uint64), b[~nan].view(np.uint64)))
+
+
+# Calls made through `survives` in this session (the fuzz campaigns' figure).
+FUZZ_CALLS = 0
+
+
+def pytest_terminal_summary(terminalreporter):
+    if FUZZ_CALLS:
+        terminalreporter.write_line(f"fuzz: {FUZZ_CALLS} calls into mbfx through conftest.survives")
+
+
+def survives(call, *args, **kwargs):
+    """`call(*args, **kwargs)`'s result, or None when it raised one of the errors a bad
+    input may raise (mbfx's CheckError, RunError and MbfxError, ValueError, TypeError).
+    Fails the test on anything else: an InternalError or a PanicException (a Rust panic,
+    a BaseException) or any other exception type is a finding of the fuzz tests."""
+    import mbfx
+
+    global FUZZ_CALLS
+    FUZZ_CALLS += 1
+    try:
+        return call(*args, **kwargs)
+    except mbfx.InternalError as e:
+        pytest.fail(f"InternalError (a panic inside mbfx): {e}")
+    except (mbfx.MbfxError, ValueError, TypeError):
+        return None
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except BaseException as e:  # noqa: B036 - pyo3's PanicException is a BaseException
+        pytest.fail(f"{type(e).__module__}.{type(e).__qualname__} is not an error mbfx may raise: {e!r}")

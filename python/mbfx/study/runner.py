@@ -65,6 +65,9 @@ def run(
     batch's rows as it finishes; with `resume` the variants it already holds are not
     run again. `progress` shows a progress bar.
     """
+    for name, value in (("factors", factors), ("responses", responses), ("probes", probes),
+                        ("templates", templates), ("run_args", run_args)):
+        _check_mapping(name, value)
     model = _as_model(model)
     factor_map = factors_from(factors) if factors is not None else _factors_of(design)
     responses, probes, templates = dict(responses or {}), dict(probes or {}), dict(templates or {})
@@ -139,6 +142,13 @@ def _factors_of(design: Any) -> Dict[str, Factor]:
     if isinstance(design, str):
         raise ValueError(f'design="{design}" needs factors=')
     return designs.factors_of_table(design)
+
+
+def _check_mapping(name: str, value: Any) -> None:
+    """Raises TypeError unless `value` is None or a mapping (a bool or a list there raised
+    AttributeError deep inside: found by tests/python/test_fuzz_models.py)."""
+    if value is not None and not isinstance(value, Mapping):
+        raise TypeError(f"{name} is a mapping (a dict), not {value!r}")
 
 
 def _run_args(run_args: Optional[Mapping[str, Any]]) -> Dict[str, Any]:
