@@ -23,14 +23,13 @@
 //! opposes the slip: −μ(|v|)·N along v/|v| (a torque for the rotational slips, scaled by
 //! their radius), capped by MAX_FRICTION_FORCE or MAX_FRICTION_TORQUE.
 //!
-//! μ is Adams' stick-slip curve without its state (`mu_over_speed` in `friction_loads`,
-//! which evaluates the law): it rises
-//! from 0 at zero slip to μs at the stiction transition velocity vs as STEP(v, −vs,
-//! −μs, vs, μs), falls to μd at vd = TRANSITION_VELOCITY_COEFFICIENT·vs as STEP(|v|,
-//! vs, μs, vd, μd), and stays μd beyond. Adams holds a stuck joint with a spring of
-//! MAX_STICTION_DEFORMATION; without a state of its own the friction here can only creep
-//! (at a slip speed below vs where μ(v)·N balances the load), which docs/dynamics.md
-//! "Joint friction" quantifies.
+//! μ is Adams' stick-slip curve (`mu_over_speed` in `friction_loads`, which evaluates
+//! the law): it falls from μs at the stiction transition velocity vs to μd at vd =
+//! TRANSITION_VELOCITY_COEFFICIENT·vs as STEP(|v|, vs, μs, vd, μd), and stays μd beyond.
+//! Below vs a joint holds with a stiction deformation δ, a state bounded by
+//! MAX_STICTION_DEFORMATION (the `stiction` module); with EFFECT = SLIDING, which has no
+//! stiction, there is no state and μ rises from 0 at zero slip to its peak at vs as
+//! STEP(v, −vs, −μ, vs, μ), so such a loaded joint creeps.
 
 /// The joint a friction acts in, by how it slips.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,6 +97,9 @@ pub struct JointFriction {
     /// The reaction on I in J's axes, FX FY FZ TX TY TZ: indices into
     /// [`super::ForceSet::solution`].
     pub reaction: [usize; 6],
+    /// The stiction deformation (none with EFFECT = SLIDING); its channel is set when
+    /// its state joins the state elements' block.
+    pub stiction: Option<super::stiction::Stiction>,
 }
 
 impl JointFriction {
@@ -143,6 +145,10 @@ impl JointFriction {
             },
             travel0,
             reaction,
+            stiction: (f.effect != FrictionEffect::Sliding).then_some(super::stiction::Stiction {
+                max: f.max_stiction_deformation,
+                channel: 0,
+            }),
         }
     }
 }
