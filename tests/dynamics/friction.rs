@@ -351,3 +351,38 @@ fn a_block_whose_friction_loads_its_own_joint_slows_at_the_loops_closed_form() {
         );
     }
 }
+
+#[test]
+fn a_held_block_linearizes_with_its_stiction_deformation() {
+    // Held at P = 0.5·μs·N (statics), on (x, ẋ, δ): ẍ = −(c·ẋ + k·δ)/m and δ̇ = ẋ with
+    // k = μs·N/δmax, c = μs·N/vs (δ elastic there), so A = [[0, 1, 0], [0, −c/m, −k/m],
+    // [0, 1, 0]] (up to the coordinate's sign, which flips A[1][2] and A[2][1] together).
+    let (m, n) = (2.0, 2.0 * G);
+    let (k, c) = (MU_S * n / DMAX, MU_S * n / VS);
+    let p = 0.5 * MU_S * n;
+    let text = block_with("", &format!(", MAX_STICTION_DEFORMATION = {DMAX}"))
+        + &format!("SFORCE/1, TRANSLATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {p}\nEND\n");
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let mut r = RunRequest::dataset("friction.adm", &text);
+        (r.statics, r.dim) = (true, dim);
+        r.linear = Some(mbfx::session::request::LinearRequest::eigensol(None));
+        let mut sink = |_: &[f64]| -> std::io::Result<()> { Ok(()) };
+        let done = run(&r, &mut sink, None).unwrap_or_else(|f| panic!("{}", f.cause));
+        let lin = &done.summary.linear[0].linearized;
+        assert_eq!(lin.state_names()[2], "FRICTION/1 δ1", "{dim:?}");
+        let a = lin.state_matrix().expect("state matrix");
+        let close = |got: f64, want: f64, what: &str| {
+            assert!(
+                (got - want).abs() < 1e-6 * (1.0 + want.abs()),
+                "{dim:?} {what}: {got} vs {want}\n{a}"
+            )
+        };
+        for (r, col) in [(0, 0), (0, 2), (1, 0), (2, 0), (2, 2)] {
+            close(a[(r, col)], 0.0, &format!("A[{r}][{col}]"));
+        }
+        close(a[(0, 1)], 1.0, "A[0][1]");
+        close(a[(1, 1)], -c / m, "A[1][1]");
+        close(a[(2, 1)].abs(), 1.0, "|A[2][1]|");
+        close(a[(1, 2)] * a[(2, 1)], -k / m, "A[1][2]·A[2][1]");
+    }
+}

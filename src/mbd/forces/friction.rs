@@ -99,7 +99,7 @@ pub struct JointFriction {
     pub reaction: [usize; 6],
     /// The stiction deformation (none with EFFECT = SLIDING); its channel is set when
     /// its state joins the state elements' block.
-    pub stiction: Option<super::stiction::Stiction>,
+    pub stiction: Option<Stiction>,
 }
 
 impl JointFriction {
@@ -145,11 +145,53 @@ impl JointFriction {
             },
             travel0,
             reaction,
-            stiction: (f.effect != FrictionEffect::Sliding).then_some(super::stiction::Stiction {
+            stiction: (f.effect != FrictionEffect::Sliding).then_some(Stiction {
                 max: f.max_stiction_deformation,
                 channel: 0,
             }),
         }
+    }
+}
+
+/// The numbers statics holds a joint from: the deformation at its start, then the
+/// travel along z_J and I's axes in J's (9) there.
+pub const POSE_LEN: usize = 10;
+
+/// A friction's stiction deformation: its largest value and where its state's values
+/// are (the state element block's channels).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stiction {
+    /// MAX_STICTION_DEFORMATION.
+    pub max: f64,
+    /// The first of its channels: δ (d), δ̇ (d), the statics flag (1), the statics
+    /// anchor (d + [`POSE_LEN`]).
+    pub channel: usize,
+}
+
+impl Stiction {
+    /// How many channels a friction of `d` slip components takes.
+    pub fn channels(d: usize) -> usize {
+        3 * d + 1 + POSE_LEN
+    }
+
+    /// The channel of δ's component `c`.
+    pub fn x(&self, c: usize) -> usize {
+        self.channel + c
+    }
+
+    /// The channel of δ̇'s component `c` among `d`.
+    pub fn rate(&self, d: usize, c: usize) -> usize {
+        self.channel + d + c
+    }
+
+    /// The channel that is 1 while statics holds the joint, 0 in a run.
+    pub fn flag(&self, d: usize) -> usize {
+        self.channel + 2 * d
+    }
+
+    /// The first channel of the statics anchor: δc (d), the travel, I's axes in J's.
+    pub fn anchor(&self, d: usize) -> usize {
+        self.channel + 2 * d + 1
     }
 }
 

@@ -28,7 +28,7 @@
 //! ½·Σₐ e0ₐ × eₐ of I's axes in J's times the radius), bounded by δmax; the friction is
 //! then −μs·N·δ/δmax with its exact derivative by q.
 
-use super::friction::{FrictionJoint, JointFriction};
+use super::friction::{FrictionJoint, JointFriction, Stiction, POSE_LEN};
 use super::friction_loads::scale;
 use super::num::Num;
 use crate::mbd::dual::V;
@@ -40,48 +40,6 @@ use crate::vocab::math::Vec3;
 /// The share of δmax below which the deformation is purely elastic (the elastoplastic
 /// model's breakaway deformation).
 const ELASTIC_SHARE: f64 = 0.9;
-
-/// The numbers statics holds a joint from: the deformation at its start, then the
-/// travel along z_J and I's axes in J's (9) there.
-pub const POSE_LEN: usize = 10;
-
-/// A friction's stiction deformation: its largest value and where its state's values
-/// are (the state element block's channels).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stiction {
-    /// MAX_STICTION_DEFORMATION.
-    pub max: f64,
-    /// The first of its channels: δ (d), δ̇ (d), the statics flag (1), the statics
-    /// anchor (d + [`POSE_LEN`]).
-    pub channel: usize,
-}
-
-impl Stiction {
-    /// How many channels a friction of `d` slip components takes.
-    pub fn channels(d: usize) -> usize {
-        3 * d + 1 + POSE_LEN
-    }
-
-    /// The channel of δ's component `c`.
-    pub fn x(&self, c: usize) -> usize {
-        self.channel + c
-    }
-
-    /// The channel of δ̇'s component `c` among `d`.
-    pub fn rate(&self, d: usize, c: usize) -> usize {
-        self.channel + d + c
-    }
-
-    /// The channel that is 1 while statics holds the joint, 0 in a run.
-    pub fn flag(&self, d: usize) -> usize {
-        self.channel + 2 * d
-    }
-
-    /// The first channel of the statics anchor: δc (d), the travel, I's axes in J's.
-    pub fn anchor(&self, d: usize) -> usize {
-        self.channel + 2 * d + 1
-    }
-}
 
 fn dot<T: Num>(a: &[T; 3], b: &[T; 3]) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]

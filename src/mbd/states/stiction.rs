@@ -10,8 +10,7 @@
 //! stiction spring in it.
 
 use super::{Committed, Mode, StateSet};
-use crate::mbd::forces::friction::JointFriction;
-use crate::mbd::forces::stiction::{Stiction, POSE_LEN};
+use crate::mbd::forces::friction::{JointFriction, Stiction, POSE_LEN};
 use crate::mbd::handles::MarkerHandle;
 use crate::mbd::system::System;
 
