@@ -375,7 +375,17 @@ impl System {
             set.elements.push(ForceElement::new(r, i, Some(j), law));
         }
         for f in &model.frictions {
-            let el = self.joint_friction(model, f, (&mut set.solution, &mut set.names))?;
+            let mut el = self.joint_friction(model, f, (&mut set.solution, &mut set.names))?;
+            // Its stiction deformation joins the state elements' block.
+            if let (ForceLaw::Friction(law), Some(j)) = (&mut el.law, el.j) {
+                if law.stiction.is_some() {
+                    let label = format!("FRICTION/{}", f.el.id);
+                    let base = set.states.add_stiction(label, (**law).clone(), (el.i, j));
+                    if let Some(s) = &mut law.stiction {
+                        s.channel = base;
+                    }
+                }
+            }
             set.elements.push(el);
         }
         set.fuse(exprs);

@@ -66,7 +66,8 @@ pub struct Friction {
     /// TRANSITION_VELOCITY_COEFFICIENT (default 1.5): full sliding from this times the
     /// stiction transition velocity.
     pub transition_coefficient: f64,
-    /// MAX_STICTION_DEFORMATION (default 0.01): read, approximated (see docs).
+    /// MAX_STICTION_DEFORMATION (default 0.01): the largest stiction deformation, at
+    /// which the friction reaches μs·N (docs/dynamics.md "Joint friction").
     pub max_stiction_deformation: f64,
     /// FRICTION_FORCE_PRELOAD (default 0).
     pub preload: f64,

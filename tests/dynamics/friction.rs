@@ -1,9 +1,10 @@
 //! Joint FRICTION (issue 40 §2) against closed forms written here: a flywheel on a
 //! revolute under a known radial load slows at μd·Rp·N/J; a block sliding on a
 //! translational joint stops after v0²/(2·μd·g); below the stiction force a pushed block
-//! only creeps (at the slip speed where μ(v)·N balances the push), above it slides off
-//! with acceleration (P − μd·N)/m. The load is the joint's own reaction, solved with the
-//! motion.
+//! holds, deflected by its stiction deformation P·δmax/(μs·N) (a flywheel and a ball
+//! under a torque likewise, at δ/R), in a run and in statics; above it the block slides
+//! off with acceleration (P − μd·N)/m. The load is the joint's own reaction, solved with
+//! the motion.
 
 use mbfx::session::request::{run, RunRequest};
 use mbfx::session::DimRequest;
@@ -76,7 +77,7 @@ fn a_flywheel_slows_at_mu_r_n_over_j_and_stops() {
         ("n", "JOINT(1, 0, 3, 10)"),
     ];
     for dim in [DimRequest::Auto, DimRequest::Three] {
-        let (out, header) = run_with(&flywheel(), stop + 0.5, 0.01, &probes, dim);
+        let (out, header) = run_with(&flywheel(), stop + 5.0, 0.01, &probes, dim);
         // The run's own friction columns follow the probes.
         assert_eq!(
             header[4..],
@@ -106,7 +107,9 @@ fn a_flywheel_slows_at_mu_r_n_over_j_and_stops() {
             assert_eq!(r[5], -r[2], "{dim:?}: the torque column is the magnitude");
             assert!((r[6] - RP * r[1]).abs() < 1e-12, "{dim:?}: slip {}", r[6]);
         }
-        // Stopped: the creep below the stiction velocity decays in a few hundredths.
+        // Stopped: the stiction deformation gathered while stopping (about vs²/(2·a),
+        // 5 % of δmax here) springs back at the rate vs/δmax = 1/s: after 5 s, at
+        // about 1e-4 rad/s.
         let last = out.last().expect("rows");
         assert!(
             last[1].abs() < 1e-3,
@@ -119,6 +122,11 @@ fn a_flywheel_slows_at_mu_r_n_over_j_and_stops() {
 
 /// A block of 2 kg on a translational joint along x, gravity across it, given `extra`.
 fn block(extra: &str) -> String {
+    block_with(extra, "")
+}
+
+/// [`block`] with `friction` added to its FRICTION.
+fn block_with(extra: &str, friction: &str) -> String {
     format!(
         "block\nPART/1, GROUND\nMARKER/10, PART = 1, REULER = 90D, 90D, 0\nMARKER/11, PART = 1\n\
          MARKER/12, PART = 1, FLOATING\n\
@@ -126,7 +134,7 @@ fn block(extra: &str) -> String {
          MARKER/20, PART = 2, REULER = 90D, 90D, 0\n\
          JOINT/1, TRANSLATIONAL, I = 20, J = 10\n\
          FRICTION/1, JOINT = 1, MU_STATIC = {MU_S}, MU_DYNAMIC = {MU_D}, \
-         STICTION_TRANSITION_VELOCITY = {VS}\n\
+         STICTION_TRANSITION_VELOCITY = {VS}{friction}\n\
          ACCGRAV/JGRAV = -{G}\n"
     )
 }
@@ -163,39 +171,50 @@ fn a_sliding_block_stops_after_v0_squared_over_2_mu_g() {
     assert!(last[2].abs() < 1e-3, "v {}", last[2]);
 }
 
+/// MAX_STICTION_DEFORMATION of the hold tests.
+const DMAX: f64 = 1e-3;
+
+/// The row of `out` at time `t`.
+fn row_at(out: &[Vec<f64>], t: f64) -> &[f64] {
+    (out.iter().find(|r| (r[0] - t).abs() < 1e-9)).unwrap_or_else(|| panic!("no row at {t}"))
+}
+
+/// Asserts a hold: column 1 of `out` at `settled` within 1e-6 of `want` (relative), and
+/// unchanged by 1e-9 from there to the end.
+fn assert_holds(out: &[Vec<f64>], settled: f64, want: f64, what: &str) {
+    let at = row_at(out, settled)[1];
+    assert!(
+        (at - want).abs() < 1e-6 * want.abs(),
+        "{what}: held at {at} vs {want}"
+    );
+    let last = out.last().expect("rows");
+    assert!(
+        (last[1] - at).abs() < 1e-9,
+        "{what}: crept {} from t = {settled} to {}",
+        last[1] - at,
+        last[0]
+    );
+}
+
 #[test]
 fn a_block_sticks_below_the_stiction_force_and_slides_above() {
     let n = 2.0 * G;
-    // Below: P = 0.8·μs·N only creeps, at the slip speed v where μs·s·(3 − s²)/2 = P/N,
-    // s = v/VS (the stiction curve's rising branch).
+    // Below: P = 0.8·μs·N holds, the stiction deformation a spring of μs·N/δmax:
+    // x = P·δmax/(μs·N), and no creep over the 10 s that follow.
     let p = 0.8 * MU_S * n;
-    let text = block("")
+    let want = p * DMAX / (MU_S * n);
+    let text = block_with("", &format!(", MAX_STICTION_DEFORMATION = {DMAX}"))
         + &format!("SFORCE/1, TRANSLATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {p}\nEND\n");
-    let out = rows(
-        &text,
-        1.0,
-        0.01,
-        &[("x", "DX(20, 11)"), ("v", "VX(20, 11)")],
-        DimRequest::Auto,
-    );
-    let target = p / (MU_S * n);
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..100 {
-        let s = 0.5 * (lo + hi);
-        if s * (3.0 - s * s) / 2.0 < target {
-            lo = s;
-        } else {
-            hi = s;
-        }
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let out = rows(
+            &text,
+            12.0,
+            0.05,
+            &[("x", "DX(20, 11)"), ("v", "VX(20, 11)")],
+            dim,
+        );
+        assert_holds(&out, 2.0, want, &format!("{dim:?}"));
     }
-    let creep = lo * VS;
-    let last = out.last().expect("rows");
-    assert!(
-        (last[2] - creep).abs() < 1e-4 * VS,
-        "creep {} vs {creep}",
-        last[2]
-    );
-    assert!(last[1] < 1.5 * VS, "moved {}", last[1]);
     // Above: P = 1.2·μs·N breaks free and accelerates at (P − μd·N)/m once sliding.
     let p = 1.2 * MU_S * n;
     let text = block("")
@@ -208,9 +227,70 @@ fn a_block_sticks_below_the_stiction_force_and_slides_above() {
         DimRequest::Auto,
     );
     let a = (p - MU_D * n) / 2.0;
-    let at = |t: f64| out.iter().find(|r| (r[0] - t).abs() < 1e-9).expect("row")[2];
-    let slope = (at(1.0) - at(0.5)) / 0.5;
+    let slope = (row_at(&out, 1.0)[2] - row_at(&out, 0.5)[2]) / 0.5;
     assert!((slope - a).abs() < 1e-4 * a, "a {slope} vs {a}");
+}
+
+#[test]
+fn a_pushed_block_holds_in_statics() {
+    // Statics holds the joint where it starts: the equilibrium deflects it by
+    // P·δmax/(μs·N), and the run from there stays.
+    let n = 2.0 * G;
+    let p = 0.5 * MU_S * n;
+    let want = p * DMAX / (MU_S * n);
+    let text = block_with("", &format!(", MAX_STICTION_DEFORMATION = {DMAX}"))
+        + &format!("SFORCE/1, TRANSLATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {p}\nEND\n");
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let mut r = RunRequest::dataset("friction.adm", &text);
+        (r.end, r.output_step, r.error, r.dim) = (Some(2.0), Some(0.5), Some(1e-6), dim);
+        r.statics = true;
+        r.probes = vec![("x".into(), "DX(20, 11)".into())];
+        let mut out = Vec::new();
+        let mut sink = |row: &[f64]| -> std::io::Result<()> {
+            out.push(row.to_vec());
+            Ok(())
+        };
+        run(&r, &mut sink, None).unwrap_or_else(|e| panic!("{dim:?}: {e:?}"));
+        assert_holds(&out, 0.0, want, &format!("{dim:?} statics"));
+    }
+}
+
+/// A wheel of `joint` (REVOLUTE or SPHERICAL, its radius argument `radius`) at rest,
+/// loaded as the flywheel, under a torque `t` about z.
+fn wheel_under(joint: &str, radius: &str, t: f64) -> String {
+    format!(
+        "wheel\nPART/1, GROUND\nMARKER/10, PART = 1\n\
+         PART/2, MASS = {M}, CM = 20, IP = 0.3, 0.3, {JZ}\nMARKER/20, PART = 2\n\
+         JOINT/1, {joint}, I = 20, J = 10\n\
+         FRICTION/1, JOINT = 1, MU_STATIC = {MU_S}, MU_DYNAMIC = {MU_D}, {radius} = {RP}, \
+         STICTION_TRANSITION_VELOCITY = {VS}, MAX_STICTION_DEFORMATION = {DMAX}\n\
+         SFORCE/1, ROTATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {t}\n\
+         ACCGRAV/JGRAV = -{G}\nEND\n"
+    )
+}
+
+#[test]
+fn a_flywheel_and_a_ball_under_a_torque_below_stiction_hold_at_delta_over_r() {
+    // N = R·m·g (the pin's or ball's reaction at its radius): the stiction spring is
+    // μs·R·m·g/δmax on the slip δ = R·θ, so T holds at θ = δ/R with
+    // δ = T·δmax/(μs·R·m·g).
+    let t = 0.5 * MU_S * RP * M * G;
+    let delta = t * DMAX / (MU_S * RP * M * G);
+    let cases = [
+        ("REVOLUTE", "PIN_RADIUS", DimRequest::Auto),
+        ("REVOLUTE", "PIN_RADIUS", DimRequest::Three),
+        ("SPHERICAL", "BALL_RADIUS", DimRequest::Three),
+    ];
+    for (joint, radius, dim) in cases {
+        let out = rows(
+            &wheel_under(joint, radius, t),
+            8.0,
+            0.05,
+            &[("a", "AZ(20, 10)")],
+            dim,
+        );
+        assert_holds(&out, 3.0, delta / RP, &format!("{joint} {dim:?}"));
+    }
 }
 
 #[test]
@@ -269,5 +349,40 @@ fn a_block_whose_friction_loads_its_own_joint_slows_at_the_loops_closed_form() {
             "{dim:?}: stopped at {} vs {want}",
             last[1]
         );
+    }
+}
+
+#[test]
+fn a_held_block_linearizes_with_its_stiction_deformation() {
+    // Held at P = 0.5·μs·N (statics), on (x, ẋ, δ): ẍ = −(c·ẋ + k·δ)/m and δ̇ = ẋ with
+    // k = μs·N/δmax, c = μs·N/vs (δ elastic there), so A = [[0, 1, 0], [0, −c/m, −k/m],
+    // [0, 1, 0]] (up to the coordinate's sign, which flips A[1][2] and A[2][1] together).
+    let (m, n) = (2.0, 2.0 * G);
+    let (k, c) = (MU_S * n / DMAX, MU_S * n / VS);
+    let p = 0.5 * MU_S * n;
+    let text = block_with("", &format!(", MAX_STICTION_DEFORMATION = {DMAX}"))
+        + &format!("SFORCE/1, TRANSLATION, ACTIONONLY, I = 20, J = 10, FUNCTION = {p}\nEND\n");
+    for dim in [DimRequest::Auto, DimRequest::Three] {
+        let mut r = RunRequest::dataset("friction.adm", &text);
+        (r.statics, r.dim) = (true, dim);
+        r.linear = Some(mbfx::session::request::LinearRequest::eigensol(None));
+        let mut sink = |_: &[f64]| -> std::io::Result<()> { Ok(()) };
+        let done = run(&r, &mut sink, None).unwrap_or_else(|f| panic!("{}", f.cause));
+        let lin = &done.summary.linear[0].linearized;
+        assert_eq!(lin.state_names()[2], "FRICTION/1 δ1", "{dim:?}");
+        let a = lin.state_matrix().expect("state matrix");
+        let close = |got: f64, want: f64, what: &str| {
+            assert!(
+                (got - want).abs() < 1e-6 * (1.0 + want.abs()),
+                "{dim:?} {what}: {got} vs {want}\n{a}"
+            )
+        };
+        for (r, col) in [(0, 0), (0, 2), (1, 0), (2, 0), (2, 2)] {
+            close(a[(r, col)], 0.0, &format!("A[{r}][{col}]"));
+        }
+        close(a[(0, 1)], 1.0, "A[0][1]");
+        close(a[(1, 1)], -c / m, "A[1][1]");
+        close(a[(2, 1)].abs(), 1.0, "|A[2][1]|");
+        close(a[(1, 2)] * a[(2, 1)], -k / m, "A[1][2]·A[2][1]");
     }
 }

@@ -215,6 +215,11 @@ impl StateBorder {
             return Ok(vec![0.0; s]);
         }
         let e = FD_STEP * largest_magnitude(a1.as_slice()).max(1.0) / size;
+        if !e.is_finite() {
+            // A direction of subnormal size (a converged step's): its C·w is zero to
+            // the precision there is, and the step along it would overflow.
+            return Ok(vec![0.0; s]);
+        }
         let mut moved = a1.clone();
         for (a, &x) in moved.iter_mut().zip(w) {
             *a += e * x;

@@ -23,14 +23,13 @@
 //! opposes the slip: −μ(|v|)·N along v/|v| (a torque for the rotational slips, scaled by
 //! their radius), capped by MAX_FRICTION_FORCE or MAX_FRICTION_TORQUE.
 //!
-//! μ is Adams' stick-slip curve without its state (`mu_over_speed` in `friction_loads`,
-//! which evaluates the law): it rises
-//! from 0 at zero slip to μs at the stiction transition velocity vs as STEP(v, −vs,
-//! −μs, vs, μs), falls to μd at vd = TRANSITION_VELOCITY_COEFFICIENT·vs as STEP(|v|,
-//! vs, μs, vd, μd), and stays μd beyond. Adams holds a stuck joint with a spring of
-//! MAX_STICTION_DEFORMATION; without a state of its own the friction here can only creep
-//! (at a slip speed below vs where μ(v)·N balances the load), which docs/dynamics.md
-//! "Joint friction" quantifies.
+//! μ is Adams' stick-slip curve (`mu_over_speed` in `friction_loads`, which evaluates
+//! the law): it falls from μs at the stiction transition velocity vs to μd at vd =
+//! TRANSITION_VELOCITY_COEFFICIENT·vs as STEP(|v|, vs, μs, vd, μd), and stays μd beyond.
+//! Below vs a joint holds with a stiction deformation δ, a state bounded by
+//! MAX_STICTION_DEFORMATION (the `stiction` module); with EFFECT = SLIDING, which has no
+//! stiction, there is no state and μ rises from 0 at zero slip to its peak at vs as
+//! STEP(v, −vs, −μ, vs, μ), so such a loaded joint creeps.
 
 /// The joint a friction acts in, by how it slips.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,6 +97,9 @@ pub struct JointFriction {
     /// The reaction on I in J's axes, FX FY FZ TX TY TZ: indices into
     /// [`super::ForceSet::solution`].
     pub reaction: [usize; 6],
+    /// The stiction deformation (none with EFFECT = SLIDING); its channel is set when
+    /// its state joins the state elements' block.
+    pub stiction: Option<Stiction>,
 }
 
 impl JointFriction {
@@ -143,7 +145,53 @@ impl JointFriction {
             },
             travel0,
             reaction,
+            stiction: (f.effect != FrictionEffect::Sliding).then_some(Stiction {
+                max: f.max_stiction_deformation,
+                channel: 0,
+            }),
         }
+    }
+}
+
+/// The numbers statics holds a joint from: the deformation at its start, then the
+/// travel along z_J and I's axes in J's (9) there.
+pub const POSE_LEN: usize = 10;
+
+/// A friction's stiction deformation: its largest value and where its state's values
+/// are (the state element block's channels).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stiction {
+    /// MAX_STICTION_DEFORMATION.
+    pub max: f64,
+    /// The first of its channels: δ (d), δ̇ (d), the statics flag (1), the statics
+    /// anchor (d + [`POSE_LEN`]).
+    pub channel: usize,
+}
+
+impl Stiction {
+    /// How many channels a friction of `d` slip components takes.
+    pub fn channels(d: usize) -> usize {
+        3 * d + 1 + POSE_LEN
+    }
+
+    /// The channel of δ's component `c`.
+    pub fn x(&self, c: usize) -> usize {
+        self.channel + c
+    }
+
+    /// The channel of δ̇'s component `c` among `d`.
+    pub fn rate(&self, d: usize, c: usize) -> usize {
+        self.channel + d + c
+    }
+
+    /// The channel that is 1 while statics holds the joint, 0 in a run.
+    pub fn flag(&self, d: usize) -> usize {
+        self.channel + 2 * d
+    }
+
+    /// The first channel of the statics anchor: δc (d), the travel, I's axes in J's.
+    pub fn anchor(&self, d: usize) -> usize {
+        self.channel + 2 * d + 1
     }
 }
 

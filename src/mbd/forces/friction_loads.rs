@@ -1,6 +1,7 @@
 //! The evaluation of joint friction ([`JointFriction`], its formulas in the `friction`
 //! module): the load from the joint's reaction, the slip from the frames of I and J,
-//! μ(|v|) from Adams' stick-slip curve without its state, in any [`Num`]; and the
+//! μ(|v|) from Adams' stick-slip curve (without a state for EFFECT = SLIDING; with its
+//! stiction deformation, the `stiction` module, otherwise), in any [`Num`]; and the
 //! friction's derivative by the reaction it reads ([`JointFriction::reaction_partials`]),
 //! which closes the friction–reaction loop inside Newton.
 
@@ -50,12 +51,27 @@ impl JointFriction {
     /// reaction `solved` (the solution values).
     pub(super) fn loads<T: Num>(
         &self,
-        fi: &Frame<T>,
-        fj: &Frame<T>,
+        sys: &System,
+        (fi, fj): (&Frame<T>, &Frame<T>),
         solved: &[f64],
     ) -> (V<T>, V<T>) {
         let (n, _) = self.normal(fi, fj, &self.reaction_in(solved));
-        self.slip_loads(fi, fj, n, true)
+        self.law_loads(sys, (fi, fj), n, true)
+    }
+
+    /// The friction's force and torque on I under load `n`: with its stiction
+    /// deformation when it has one (the `stiction` module), else the stateless curve.
+    fn law_loads<T: Num>(
+        &self,
+        sys: &System,
+        (fi, fj): (&Frame<T>, &Frame<T>),
+        n: T,
+        capped: bool,
+    ) -> (V<T>, V<T>) {
+        match &self.stiction {
+            Some(s) => self.stuck_loads(sys, s, (fi, fj), n, capped),
+            None => self.slip_loads(fi, fj, n, capped),
+        }
     }
 
     /// The reaction FX FY FZ TX TY TZ (J's axes) among the solution values `solved`.
@@ -166,19 +182,24 @@ impl JointFriction {
         let v = scale(w, T::c(radius));
         let ratio = self.mu_over_speed(v.dot(&v));
         let t = scale(&v, ratio * -n);
-        let t = match self.max {
+        (zero, self.cap_vector(t, capped))
+    }
+
+    /// A friction torque vector held to MAX_FRICTION_TORQUE in size when `capped` and
+    /// one is given.
+    pub(super) fn cap_vector<T: Num>(&self, t: V<T>, capped: bool) -> V<T> {
+        match self.max {
             Some(m) if capped && t.dot(&t).val() > m * m => {
                 let size = t.dot(&t).sqrt().val();
                 scale(&t, T::c(m / size))
             }
             _ => t,
-        };
-        (zero, t)
+        }
     }
 
     /// A friction force or torque held to MAX_FRICTION_FORCE / MAX_FRICTION_TORQUE when
     /// one is given (a constant there: no derivative).
-    fn cap<T: Num>(&self, x: T) -> T {
+    pub(super) fn cap<T: Num>(&self, x: T) -> T {
         match self.max {
             Some(m) if x.val().abs() > m => T::c(m.copysign(x.val())),
             _ => x,
@@ -213,7 +234,7 @@ impl JointFriction {
         if dn.iter().all(|&x| x == 0.0) {
             return;
         }
-        let (f, t) = self.slip_loads(&fi, &fj, 1.0, false);
+        let (f, t) = self.law_loads(sys, (&fi, &fj), 1.0, false);
         // Where the cap holds the load, it no longer follows N.
         let held = |x: &V<f64>| self.max.is_some_and(|m| n.abs() * x.dot(x).sqrt() > m);
         let keep = |x: V<f64>| {
@@ -251,6 +272,7 @@ impl JointFriction {
     }
 }
 
-fn scale<T: Num>(v: &V<T>, s: T) -> V<T> {
+/// `v` times `s`.
+pub(super) fn scale<T: Num>(v: &V<T>, s: T) -> V<T> {
     V([v.0[0] * s, v.0[1] * s, v.0[2] * s])
 }

@@ -166,7 +166,7 @@ impl ForceElement {
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
             ForceLaw::Friction(law) => {
-                let (fv, tv) = law.loads(&fi, &fj, inputs.solved);
+                let (fv, tv) = law.loads(sys, (&fi, &fj), inputs.solved);
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
         };

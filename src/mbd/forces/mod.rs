@@ -27,7 +27,8 @@
 //! element is evaluated in), `law` (loads by law into Q), `field` (the linear
 //! six-component law of FIELD and BEAM) and `field_loads` (its evaluation) with `beam`
 //! (BEAM's Timoshenko stiffness), [`friction`] (joint friction, loaded by the joint's
-//! reaction) with `friction_loads` (its evaluation), `generalized` (Q and its
+//! reaction) with `friction_loads` (its evaluation) and [`stiction`] (its stiction
+//! deformation's law), `generalized` (Q and its
 //! Jacobians), `set` (the set: preparing, fusing, evaluating), `order` (the evaluation
 //! order), `input_partials` (∂Q/∂u) and [`contact`] (the switching functions of IMPACT
 //! and BISTOP).
@@ -50,6 +51,7 @@ mod law;
 mod num;
 mod order;
 mod set;
+pub mod stiction;
 
 pub use beam::law as beam_law;
 pub use element::{angle_of, ForceElement, ForceLaw};

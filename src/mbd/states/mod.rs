@@ -30,10 +30,14 @@
 //! as Newton. An applied force's value is the one of the evaluation before (the
 //! states are solved before the forces): exact once the iteration has settled.
 //!
+//! The block also carries joint friction's stiction deformations (the `stiction`
+//! file): states of the same kind whose values the friction reads.
+//!
 //! [`Measure::State`]: crate::mbd::measure_set::Measure::State
 //! [`Source::Solution`]: crate::mbd::forces::Source::Solution
 
 mod solve;
+mod stiction;
 
 use super::error::MbdError;
 use super::expr::ExprFn;
@@ -91,6 +95,8 @@ pub(crate) struct LinearState {
 pub struct StateSet {
     pub(crate) diffs: Vec<DiffState>,
     pub(crate) linear: Vec<LinearState>,
+    /// Joint friction's stiction deformations.
+    pub(crate) stiction: Vec<stiction::StictionState>,
     /// How the next evaluations solve them.
     pub(crate) mode: Mode,
     /// The values the measures read: per DIFF x, ẋ; per linear system x, ẋ, u, y.
@@ -128,12 +134,12 @@ pub(crate) struct Committed {
 impl StateSet {
     /// Whether the model has none (every evaluation then skips them at no cost).
     pub fn is_empty(&self) -> bool {
-        self.diffs.is_empty() && self.linear.is_empty()
+        self.diffs.is_empty() && self.linear.is_empty() && self.stiction.is_empty()
     }
 
     /// How many states.
     pub fn len(&self) -> usize {
-        self.diffs.len() + self.linear.iter().map(|l| l.sys.n).sum::<usize>()
+        self.diffs.len() + self.linear.iter().map(|l| l.sys.n).sum::<usize>() + self.stiction_len()
     }
 
     /// Adds a DIFF; `label` names it in errors.
@@ -177,12 +183,13 @@ impl StateSet {
             .map(|b| (b.x.as_slice(), b.rate.as_slice()))
     }
 
-    /// The states' names, in order: `DIFF/3`, `LSE/2 x1`.
+    /// The states' names, in order: `DIFF/3`, `LSE/2 x1`, `FRICTION/1 δ1`.
     pub fn names(&self) -> Vec<String> {
         let mut out: Vec<String> = self.diffs.iter().map(|d| d.label.clone()).collect();
         for l in &self.linear {
             out.extend((1..=l.sys.n).map(|j| format!("{} x{j}", l.sys.label)));
         }
+        self.stiction_names(&mut out);
         out
     }
 
@@ -198,7 +205,7 @@ impl StateSet {
             }
             k += l.sys.n;
         }
-        None
+        self.stiction_state_of_channel(channel, k)
     }
 
     /// The integrator's formula for the evaluations that follow: x = b + g·ẋ, per state
@@ -298,6 +305,6 @@ impl StateSet {
             }
             j -= l.sys.n;
         }
-        "a state element".into()
+        (self.stiction_label(j)).unwrap_or_else(|| "a state element".into())
     }
 }

@@ -73,6 +73,7 @@ impl StateSet {
                 out.push((x, r, l.sys.static_hold, l.sys.ic[j], 0.0));
             }
         }
+        self.stiction_layout(&mut out);
         out
     }
 
@@ -200,6 +201,7 @@ impl StateSet {
                 k += 1;
             }
         }
+        self.stiction_residual(sys, base, (k, z), r);
         Ok(())
     }
 
