@@ -109,7 +109,7 @@ pub fn independent(basis: &DMat) -> (DMat, Vec<usize>) {
 /// A preferred candidate's pivot is taken above this fraction of the best other one at
 /// the same step: below it, the preferred candidate is nearly a combination of those
 /// already chosen and the recombination would be ill-conditioned.
-const PREFERENCE: f64 = 1e-3;
+pub const PREFERENCE: f64 = 1e-3;
 
 /// Gauss–Jordan with full pivoting on the rows of `b` (k × candidates: each candidate's
 /// value along each direction), choosing one candidate per row; the first `preferred`
