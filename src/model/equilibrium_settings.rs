@@ -6,7 +6,7 @@
 //! `W0602` warning at the argument. The static solver (`mbd::statics`) takes the
 //! values through [`EquilibriumStatement::settings`], as [`EquilibriumSettings`].
 
-use super::integrator_settings::{integer, real, single, Given};
+use super::integrator_settings::{integer, real, single, unhonoured_arguments, Given};
 use super::statement::ItemKind;
 use super::stmt_args::Args;
 use crate::diag::{Code, Diagnostic};
@@ -99,16 +99,7 @@ pub fn read_equilibrium(a: &mut Args) -> EquilibriumStatement {
         alimit: angle(a, "ALIMIT", 3),
         warnings: Vec::new(),
     };
-    for (full, min, why) in UNHONOURED {
-        if let Some(arg) = a.find(full, min) {
-            s.warnings.push(Diagnostic::warning(
-                Code::UnsupportedStatement,
-                arg.span.clone(),
-                format!("EQUILIBRIUM/{full} is not honoured: {why}"),
-            ));
-        }
-    }
-    a.diags.extend(s.warnings.iter().cloned());
+    s.warnings = unhonoured_arguments(a, "EQUILIBRIUM", &UNHONOURED);
     s
 }
 

@@ -489,6 +489,28 @@ fn unhonoured(s: &IntegratorStatement) -> Vec<Diagnostic> {
     out
 }
 
+/// A `W0602` warning at each argument of `table` (full name, shortest abbreviation, why)
+/// that the statement `keyword` writes and mbfx reads but does not honour; the warnings
+/// also go to `a.diags`.
+pub fn unhonoured_arguments(
+    a: &mut Args,
+    keyword: &str,
+    table: &[(&str, usize, &str)],
+) -> Vec<Diagnostic> {
+    let mut warnings = Vec::new();
+    for &(full, min, why) in table {
+        if let Some(arg) = a.find(full, min) {
+            warnings.push(Diagnostic::warning(
+                Code::UnsupportedStatement,
+                arg.span.clone(),
+                format!("{keyword}/{full} is not honoured: {why}"),
+            ));
+        }
+    }
+    a.diags.extend(warnings.iter().cloned());
+    warnings
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

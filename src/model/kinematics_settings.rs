@@ -6,9 +6,9 @@
 //! warning at the argument. The kinematic analysis (`mbd::kinematics`) takes the
 //! values through the session.
 
-use super::integrator_settings::{real, Given};
+use super::integrator_settings::{real, unhonoured_arguments, Given};
 use super::stmt_args::Args;
-use crate::diag::{Code, Diagnostic};
+use crate::diag::Diagnostic;
 
 /// A KINEMATICS statement, typed. `None`: not written (Adams' default, or an earlier
 /// statement's value, applies).
@@ -64,16 +64,7 @@ pub fn read_kinematics(a: &mut Args) -> KinematicsStatement {
         error: real(a, "ERROR", 3, positive, "a positive tolerance"),
         warnings: Vec::new(),
     };
-    for (full, min, why) in UNHONOURED {
-        if let Some(arg) = a.find(full, min) {
-            s.warnings.push(Diagnostic::warning(
-                Code::UnsupportedStatement,
-                arg.span.clone(),
-                format!("KINEMATICS/{full} is not honoured: {why}"),
-            ));
-        }
-    }
-    a.diags.extend(s.warnings.iter().cloned());
+    s.warnings = unhonoured_arguments(a, "KINEMATICS", &UNHONOURED);
     s
 }
 
