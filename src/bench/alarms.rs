@@ -26,6 +26,8 @@ pub fn kinds(warnings: &[String]) -> String {
             "drift"
         } else if w.starts_with("the answer's error is estimated") {
             "estimate"
+        } else if w.starts_with("the estimated global error") {
+            "global"
         } else {
             "other"
         }
@@ -33,28 +35,35 @@ pub fn kinds(warnings: &[String]) -> String {
     warnings.iter().map(kind).collect::<Vec<_>>().join(";")
 }
 
-/// Which of a run's warnings count: a run by default, or with `--estimate-error`.
+/// Which of a run's warnings count: a run by default, with `--estimate-error` (the
+/// second run) or with `--estimate-error=steps` (the carried estimate).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum View {
-    /// What `mbfx run` prints by default: every warning but the estimate's, and the
-    /// local errors' sum where the estimate took its place.
+    /// What `mbfx run` prints by default: every warning but the estimates', and the
+    /// local errors' sum where the estimates took its place.
     Default,
-    /// Every warning printed.
+    /// Every warning but the carried estimate's.
     Estimated,
+    /// Every warning but the second run's, and the local errors' sum where the run
+    /// carried no estimate (a method that has none).
+    Carried,
 }
 
 impl View {
     /// Whether `r` warned, as this view counts.
     pub fn warned(self, r: &Row) -> bool {
         let kinds = r.warnings.split(';').filter(|k| !k.is_empty());
+        // An estimated run does not print the sum's warning; without the estimate it
+        // would have, past the same threshold.
+        let sum = (r.error_estimate.is_some() || r.global_estimate.is_some())
+            && r.error_sum.is_some_and(|s| s > ACCUMULATED_WARNING);
+        let mut kinds = kinds;
         match self {
-            View::Estimated => kinds.count() > 0,
-            View::Default => {
-                // An estimated run does not print the sum's warning; without the
-                // estimate it would have, past the same threshold.
-                let sum = r.error_estimate.is_some()
-                    && r.error_sum.is_some_and(|s| s > ACCUMULATED_WARNING);
-                sum || kinds.filter(|k| *k != "estimate").count() > 0
+            View::Estimated => kinds.any(|k| k != "global"),
+            View::Default => sum || kinds.any(|k| k != "estimate" && k != "global"),
+            View::Carried => {
+                let uncarried = r.global_estimate.is_none() && sum;
+                uncarried || kinds.any(|k| k != "estimate")
             }
         }
     }
@@ -250,7 +259,35 @@ pub fn report(rows: &[Row]) -> String {
         out += &view_table(rows, View::Estimated);
         out += &estimate_section(rows);
     }
+    if rows.iter().any(|r| r.global_estimate.is_some()) {
+        out +=
+            "\n## With the error carried through the steps (`mbfx run --estimate-error=steps`)\n\n";
+        out += "The methods that carry none (all but GSTIFF and WSTIFF) warn from the local errors' sum, as by default.\n\n";
+        out += &view_table(rows, View::Carried);
+        out += &carried_section(rows);
+    }
     out
+}
+
+/// How the carried estimate compares with the error: the ratio estimate / error over
+/// the finished runs that carried one.
+fn carried_section(rows: &[Row]) -> String {
+    let mut ratio: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.ok() && r.control == "tolerance")
+        .filter_map(|r| Some(r.global_estimate? * r.setting / error(r).filter(|e| *e > 0.0)?))
+        .collect();
+    let q = |v: &mut [f64], p| quantile(v, p).map_or("—".into(), |x| format!("{x:.3}"));
+    format!(
+        "\nThe carried estimate against the error (estimate / error over {} finished runs \
+         with one): 5th percentile {}, 25th {}, median {}, 75th {}, 95th percentile {}.\n",
+        ratio.len(),
+        q(&mut ratio, 0.05),
+        q(&mut ratio, 0.25),
+        q(&mut ratio, 0.5),
+        q(&mut ratio, 0.75),
+        q(&mut ratio, 0.95),
+    )
 }
 
 #[cfg(test)]
@@ -274,6 +311,7 @@ mod tests {
             error_sum: None,
             error_estimate: None,
             estimate_cpu: None,
+            global_estimate: None,
         }
     }
 
@@ -298,6 +336,11 @@ mod tests {
         let mut fixed = row("a", 1.0, "ok", "");
         fixed.control = "fixed-step".into();
         t.add(&fixed, View::Default); // no ERROR: not counted
+                                      // The carried estimate's warning counts in its own view only.
+        let mut carried = row("a", 5e-6, "ok", "global");
+        carried.global_estimate = Some(40.0);
+        assert!(View::Carried.warned(&carried));
+        assert!(!View::Default.warned(&carried) && !View::Estimated.warned(&carried));
         assert_eq!(
             t,
             Tally {

@@ -343,6 +343,7 @@ fn build(
     spec.cartesian = variant.cartesian;
     spec.keep_redundant = o.keep_redundant;
     spec.estimate_error = o.estimate;
+    spec.carry_error = o.estimate;
     spec.engine = o.engine;
     spec.dim = match o.dim.or(scene.dim) {
         Some(2) => DimRequest::Two,

@@ -126,6 +126,10 @@ pub const WARNINGS: [&str; 4] = ["warnings", "error_sum", "error_estimate", "est
 /// positions only ([`Point::cpu_position`]; empty where the scene reads nothing else).
 pub const CPU_POSITION: [&str; 1] = ["cpu_position_s"];
 
+/// The column mbfx's points files add after [`CPU_POSITION`]: the global error estimate
+/// the integrator carried through the steps, in ERRORs (empty where it carries none).
+pub const GLOBAL_ESTIMATE: [&str; 1] = ["global_estimate"];
+
 /// A point as it is charted: mbfx's own or a peer's, read back from CSV.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
@@ -161,6 +165,9 @@ pub struct Row {
     pub error_estimate: Option<f64>,
     /// The CPU the estimate's second run took, s.
     pub estimate_cpu: Option<f64>,
+    /// The global error estimate the steps carried, in units of ERROR (None where the
+    /// method carries none, and for a peer's run).
+    pub global_estimate: Option<f64>,
 }
 
 impl Row {
@@ -195,6 +202,7 @@ impl Row {
             error_sum: Some(p.stats.error_sum),
             error_estimate: p.estimate.map(|e| e.error),
             estimate_cpu: p.estimate.map(|e| e.cpu_seconds),
+            global_estimate: p.stats.global_error,
         }
     }
 
@@ -228,6 +236,7 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
     let mut header = HEADER.to_vec();
     header.extend(WARNINGS);
     header.extend(CPU_POSITION);
+    header.extend(GLOBAL_ESTIMATE);
     w.write_record(&header).map_err(fail)?;
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:e}"));
     for r in rows {
@@ -252,6 +261,7 @@ pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<(), String> {
         rec.push(opt(r.error_estimate));
         rec.push(opt(r.estimate_cpu));
         rec.push(opt(r.cpu_position));
+        rec.push(opt(r.global_estimate));
         w.write_record(&rec).map_err(fail)?;
     }
     w.flush().map_err(|e| format!("{}: {e}", path.display()))
@@ -298,6 +308,10 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
         Ok(c) => c.into_iter().map(|(_, [c])| c.parse().ok()).collect(),
         Err(_) => Vec::new(),
     };
+    let global: Vec<Option<f64>> = match read_columns(path, GLOBAL_ESTIMATE) {
+        Ok(c) => c.into_iter().map(|(_, [c])| c.parse().ok()).collect(),
+        Err(_) => Vec::new(),
+    };
     for (k, (line, f)) in read_columns(path, HEADER)?.into_iter().enumerate() {
         let float = |k: usize| -> Result<Option<f64>, String> {
             let s = &f[k];
@@ -325,6 +339,7 @@ pub fn read_csv(path: &std::path::Path) -> Result<Vec<Row>, String> {
             error_estimate: extra.get(k).and_then(|e| e[2].parse().ok()),
             estimate_cpu: extra.get(k).and_then(|e| e[3].parse().ok()),
             cpu_position: cpu_position.get(k).copied().flatten(),
+            global_estimate: global.get(k).copied().flatten(),
         });
     }
     Ok(rows)
@@ -432,6 +447,7 @@ mod tests {
             error_sum: Some(12.5),
             error_estimate: (m == "x").then_some(3.5),
             estimate_cpu: (m == "x").then_some(2e-5),
+            global_estimate: (m == "x").then_some(0.25),
         };
         let rows = vec![
             row("hht", 1e-7, 0.5),

@@ -44,6 +44,7 @@
 //! ([`super::events`]): a restart, never a step over it.
 
 mod history;
+mod variation;
 
 use super::blocks::Weights;
 use super::failure::DynError;
@@ -151,6 +152,14 @@ pub struct Bdf {
     /// accepted step with an output time inside it.
     k_step: usize,
     dense: Dense,
+    /// Whether the steps carry a global error estimate (`variation`), and the
+    /// candidate's (positions, then velocities); empty once a variation failed.
+    carry: bool,
+    variation: Vec<f64>,
+    /// The last converged corrector's contraction (0 after one iteration): how far the
+    /// matrix it used is from the step's Jacobian.
+    newton_rate: f64,
+    scratch: variation::Scratch,
 }
 
 /// The polynomial an accepted step of order k interpolates: its k + 1 newest points
@@ -205,6 +214,10 @@ impl Bdf {
             border: StateBorder::default(),
             k_step: 1,
             dense: Dense::default(),
+            carry: true,
+            variation: Vec::new(),
+            newton_rate: 0.0,
+            scratch: variation::Scratch::default(),
         }
     }
 
@@ -554,6 +567,7 @@ impl Bdf {
             let stalled = iter > 2 && rate > 0.5 && norm <= 1000.0;
             if iter > 1 && norm.min(left) <= 1.0 || norm <= 1e-3 || stalled {
                 self.reuse.converged(iter, first, rate);
+                self.newton_rate = if iter > 1 { rate } else { 0.0 };
                 return Ok(true);
             }
             prev_norm = norm;
@@ -705,6 +719,11 @@ impl Integrator for Bdf {
     }
 
     fn accept(&mut self, d: &mut Dynamics) {
+        // The variation reads the history before the step joins it. One that fails (a
+        // force not finite at the perturbed state) ends the estimate, not the run.
+        if self.carry && self.vary(d).is_err() {
+            (self.carry, self.variation) = (false, Vec::new());
+        }
         let k = self.k;
         self.failures = 0;
         self.at_order += 1;
@@ -758,6 +777,7 @@ impl Integrator for Bdf {
         self.last_sdiff.clone_from(&self.sdiff);
         let hist = self.hist.as_mut().expect("started");
         hist.push(d);
+        hist.newest_error_mut().clone_from(&self.variation);
         // The order can only use the points there are.
         self.k = self.k.min(hist.len().saturating_sub(1).max(1));
         d.store_accelerations();
@@ -796,6 +816,14 @@ impl Integrator for Bdf {
 
     fn dense(&self) -> bool {
         true
+    }
+
+    fn carry_global_error(&mut self, on: bool) {
+        self.carry = on;
+    }
+
+    fn global_error(&self) -> Option<&[f64]> {
+        (self.carry && !self.variation.is_empty()).then_some(self.variation.as_slice())
     }
 
     fn extend(&mut self, _d: &mut Dynamics) -> Result<(), DynError> {

@@ -157,6 +157,16 @@ pub trait Integrator {
     fn dense_on_constraints(&self) -> bool {
         false
     }
+    /// Whether to carry an estimate of the global error through the steps
+    /// ([`Integrator::global_error`]); a method that has none ignores it.
+    fn carry_global_error(&mut self, _on: bool) {}
+    /// The estimate of the last accepted state's global error, carried through the
+    /// steps by the method's own linearization: positions (velocity layout), then
+    /// velocities. None when the method carries none (or was told not to, or the
+    /// estimate failed).
+    fn global_error(&self) -> Option<&[f64]> {
+        None
+    }
     /// Forgets the past after a located force-law switch (a multistep method restarts
     /// at order one rather than interpolate across it).
     fn restart(&mut self, _d: &mut Dynamics) {}

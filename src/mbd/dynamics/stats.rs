@@ -37,6 +37,12 @@ pub struct Stats {
     /// what the answer's error can reach when the dynamics neither damp nor amplify
     /// errors (at most 1 when ERROR is per run).
     pub error_sum: f64,
+    /// The largest estimate of the global error of an accepted state, in units of ERROR
+    /// (positions, each column over its ERROR: the model length's for translations),
+    /// when the integrator carried one through every step (`Integrator::global_error`).
+    pub global_error: Option<f64>,
+    /// When that state was reached.
+    pub global_error_time: f64,
     /// Output rows made from a continuous extension inside a step (INTERPOLATE = ON).
     pub interpolated: usize,
     /// The largest scaled residual of the position constraints at those rows, before

@@ -209,6 +209,7 @@ pub fn simulate_framed(
                     if let Some(k) = d.stats.order {
                         d.stats.steps_at_order[(k as usize).clamp(1, 6) - 1] += 1;
                     }
+                    carry_estimate(d, integrator, s.error, end);
                     let watched = integrator.monitored_error(err);
                     d.stats.error_sum += watched * step_settings.error / s.error;
                     if watched > d.stats.worst_error {
@@ -259,6 +260,33 @@ pub fn simulate_framed(
         output(d, RowState::Stepped)?;
     }
     Ok(())
+}
+
+/// Keeps the largest global error estimate the integrator carries, in ERRORs over the
+/// positions, after a step accepted at `end`; none once it carries none.
+fn carry_estimate(d: &mut Dynamics, integrator: &dyn Integrator, error: f64, end: f64) {
+    let Some(e) = integrator.global_error() else {
+        d.stats.global_error = None;
+        return;
+    };
+    let (bs, trans) = (d.sys.dim.cols(), d.sys.dim.axes());
+    let length = d.sys.length;
+    let scaled = (e[..d.n].iter().enumerate())
+        .map(|(c, x)| match c % bs < trans {
+            true => x.abs() / (error * length),
+            false => x.abs() / error,
+        })
+        .fold(0.0, f64::max);
+    // From the run's first step on, or never: a gap would leave the estimate short.
+    let worst = match (d.stats.steps, d.stats.global_error) {
+        (1, _) => f64::NEG_INFINITY,
+        (_, Some(w)) => w,
+        (_, None) => return,
+    };
+    // (A NaN estimate is kept: it says the estimate broke down.)
+    if scaled.partial_cmp(&worst) != Some(std::cmp::Ordering::Less) {
+        (d.stats.global_error, d.stats.global_error_time) = (Some(scaled), end);
+    }
 }
 
 /// Rejects the candidate in `d` (a step over `span`, judged to cross a switch) after

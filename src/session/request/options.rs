@@ -59,6 +59,8 @@ pub struct RunRequest {
     /// Estimate the answer's error from a second run at ERROR/10 and warn when it
     /// exceeds 10·ERROR (`--estimate-error`, [`crate::session::run::Estimate`]).
     pub estimate_error: bool,
+    /// Carry a global error estimate through the steps (`--estimate-error=steps`).
+    pub carry_error: bool,
     /// Fixed steps of at most this (`--fixed-step`): no error control.
     pub fixed_step: Option<f64>,
     /// HHT's ALPHA in [−1/3, 0] (`--alpha`): None takes the statement's, else −0.3.
@@ -160,6 +162,7 @@ impl RunRequest {
             cartesian: false,
             interpolate: false,
             estimate_error: false,
+            carry_error: false,
             fixed_step: None,
             alpha: None,
             formulation: None,
@@ -300,6 +303,7 @@ impl RunRequest {
         spec.cartesian = self.cartesian;
         spec.interpolate = self.interpolate;
         spec.estimate_error = self.estimate_error;
+        spec.carry_error = self.carry_error;
         // The request's meshes, then any the animation alone was given (a caller that
         // set only the animation's): the contacts use the same files the drawing does.
         spec.geometry.clone_from(&self.geometry);

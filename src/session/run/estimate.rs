@@ -256,6 +256,43 @@ mod tests {
     }
 
     #[test]
+    fn the_carried_estimate_follows_the_error_of_a_harmonic_oscillator() {
+        use super::super::Method;
+        let probes = [("x".to_string(), "DX(20, 10)".to_string())];
+        // Undamped: x = 1 + 0.2 cos 10t, over eight periods.
+        let undamped = super::super::tests::OSCILLATOR.replace("C = 4", "C = 0");
+        for (method, error) in [
+            (Method::Gstiff, 1e-4),
+            (Method::Gstiff, 1e-6),
+            (Method::Wstiff, 1e-5),
+        ] {
+            let mut spec = super::super::RunSpec::new(5.0, 0.01);
+            (spec.method, spec.error, spec.carry_error) = (Some(method), Some(error), true);
+            let Ok(mut sim) = Simulation::new(&undamped, spec, &probes) else {
+                panic!("the oscillator builds");
+            };
+            let mut worst: f64 = 0.0;
+            let (summary, failed) = sim.run(&mut |r| {
+                let x = 1.0 + 0.2 * (10.0 * r[0]).cos();
+                worst = worst.max((r[1] - x).abs());
+                Ok(())
+            });
+            assert!(failed.is_none(), "{failed:?}");
+            let Some(k) = summary.stats.global_error else {
+                panic!("{method:?}: no estimate carried");
+            };
+            // The estimate is in ERRORs of the model length's scale.
+            let estimate = k * error * sim.dynamics.sys.length;
+            let ratio = estimate / worst;
+            assert!(
+                (1.0 / 3.0..3.0).contains(&ratio),
+                "{method:?} at {error:e}: estimate {estimate:.3e}, error {worst:.3e}"
+            );
+            assert!(summary.text().contains("estimated error"));
+        }
+    }
+
+    #[test]
     fn the_estimate_divides_by_the_growth_of_the_error() {
         // Error ∝ ERROR: the looser run's is 10 times, the difference 9 times.
         assert!((from_difference(9.0, 10.0, 1.0) - 1.0).abs() < 1e-12);

@@ -203,6 +203,7 @@ impl Simulation {
             after_solved = false;
             let plan = Plan::new(seg.integrator.as_ref(), &self.spec, seg.output_step);
             let (mut integrator, note) = plan.integrator();
+            integrator.carry_global_error(self.spec.carry_error);
             name = integrator.name();
             error = error.max(plan.settings.error);
             if let Some(n) = note.filter(|n| !notes.contains(n)) {
@@ -259,6 +260,7 @@ impl Simulation {
             dim: self.dynamics.sys.dim_reason.clone(),
             warnings: Vec::new(),
             estimate: None,
+            error,
             reused: false,
         };
         let summary = Summary {
@@ -267,7 +269,7 @@ impl Simulation {
                 (
                     self.spec.fixed_step.is_some(),
                     self.dynamics.m >= self.dynamics.n,
-                    self.trace.is_some(),
+                    self.trace.is_some() || self.dynamics.stats.global_error.is_some(),
                 ),
                 error,
                 kinetic_max,

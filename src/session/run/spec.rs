@@ -148,6 +148,11 @@ pub struct RunSpec {
     /// Estimate the answer's error from a second run at a looser ERROR
     /// (`--estimate-error`, [`super::Estimate`]) and warn when it exceeds 10·ERROR.
     pub estimate_error: bool,
+    /// Carry an estimate of the global error through the steps, by the method's own
+    /// linearization (`--estimate-error=steps`; the BDFs carry one, the other methods
+    /// none yet): the summary's "estimated error" and its warning past
+    /// [`super::GLOBAL_WARNING`]·ERROR.
+    pub carry_error: bool,
 }
 
 impl RunSpec {
@@ -173,6 +178,7 @@ impl RunSpec {
             dim: DimRequest::Auto,
             engine: Engine::Jit,
             estimate_error: false,
+            carry_error: false,
             geometry: Vec::new(),
         }
     }

@@ -35,8 +35,12 @@ pub struct Summary {
     pub equilibria: Vec<crate::mbd::statics::Report>,
     /// The linear analyses it ran, in order.
     pub linear: Vec<crate::session::linear::LinearReport>,
-    /// The global error estimate, when one was asked for and made.
+    /// The second run's global error estimate, when one was asked for and made
+    /// (`--estimate-error=rerun`).
     pub estimate: Option<Estimate>,
+    /// The run's ERROR (the largest of its segments'), what `stats.global_error` counts
+    /// in.
+    pub error: f64,
 }
 
 impl Summary {
@@ -77,13 +81,16 @@ impl Summary {
         for l in &s.linear {
             out += &l.text();
         }
+        if let Some(k) = st.global_error {
+            out += &format!(
+                "estimated error {:.1e} ({}×ERROR, the largest along the run, at t = {})\n",
+                k * s.error,
+                three_digits(k),
+                st.global_error_time
+            );
+        }
         if let Some(e) = &s.estimate {
-            // Three digits whatever the size: an accurate run's estimate is often far
-            // below one ERROR.
-            let g = |x: f64| match x {
-                x if x == 0.0 || (1e-2..1e5).contains(&x) => format!("{x:.3}"),
-                x => format!("{x:.2e}"),
-            };
+            let g = three_digits;
             out += &format!(
                 "error estimate: {}×ERROR (a second run at {}×ERROR, {:.6} s CPU, differs by {}×ERROR)\n",
                 g(e.error),
@@ -99,6 +106,15 @@ impl Summary {
             out += &format!("warning: {w}\n");
         }
         out
+    }
+}
+
+/// A multiple of ERROR with three digits whatever its size: an accurate run's estimate is
+/// often far below one ERROR.
+fn three_digits(x: f64) -> String {
+    match x {
+        x if x == 0.0 || (1e-2..1e5).contains(&x) => format!("{x:.3}"),
+        x => format!("{x:.2e}"),
     }
 }
 

@@ -84,6 +84,10 @@ pub(super) const FIXED_STEP_WARNING: f64 = 10.0;
 /// a conservative model makes it a warning.
 pub(super) const ENERGY_WARNING: f64 = 10.0;
 
+/// Past this many ERRORs, the global error estimate the steps carried makes a warning:
+/// the bench's line between an accurate run and a wrong one (error at most 10·ERROR).
+pub const GLOBAL_WARNING: f64 = 10.0;
+
 /// Past this many ERRORs, the sum of a run's local errors makes it a warning, unless the
 /// run's error is estimated.
 pub const ACCUMULATED_WARNING: f64 = 10.0;
@@ -142,6 +146,18 @@ pub(super) fn integration_warnings(
         w.push(format!(
             "fixed steps: the local error estimate reached {:.1e} × ERROR ({error:e}) at time {}; the results are not accurate to ERROR (use error control or a smaller step)",
             s.stats.worst_error, s.stats.worst_error_time
+        ));
+    }
+    let over = |k: f64| k.partial_cmp(&GLOBAL_WARNING) != Some(std::cmp::Ordering::Less);
+    if let Some(k) = s
+        .stats
+        .global_error
+        .filter(|&k| over(k) && k != GLOBAL_WARNING)
+    {
+        w.push(format!(
+            "the estimated global error reached {:.1e} ({k:.0}×ERROR, ERROR = {error:e}) at t = {}: more than {GLOBAL_WARNING}×ERROR, so the answer is not accurate to ERROR (tighten ERROR; --estimate-error=rerun checks it by a second run)",
+            k * error,
+            s.stats.global_error_time
         ));
     }
     if fixed || !estimated {

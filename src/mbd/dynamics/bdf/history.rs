@@ -34,6 +34,9 @@ pub struct Point {
     /// The state elements' x and ẋ.
     pub states: Vec<f64>,
     pub rates: Vec<f64>,
+    /// The estimate of its global error (`variation`): positions in the chart, then
+    /// velocities; empty while none is carried (zero).
+    pub e: Vec<f64>,
 }
 
 /// The committed states and rates of `d` into `x` and `rate` (empty without states).
@@ -72,6 +75,8 @@ impl History {
     /// Forgets every point but the current state of `d` (a start, or a restart after a
     /// discontinuity).
     pub fn restart(&mut self, d: &Dynamics) {
+        // The state's error stays what it was: a restart forgets the steps, not the error.
+        let e = self.points.front_mut().map(|p| std::mem::take(&mut p.e));
         self.points.clear();
         let mut p = Point {
             t: d.sys.time,
@@ -81,6 +86,7 @@ impl History {
             x: vec![0.0; d.n],
             states: Vec::new(),
             rates: Vec::new(),
+            e: e.unwrap_or_default(),
         };
         committed_states(d, &mut p.states, &mut p.rates);
         self.points.push_front(p);
@@ -96,6 +102,7 @@ impl History {
             true => {
                 let mut p = self.points.pop_back().expect("cap > 0");
                 p.snap = snap;
+                p.e.clear();
                 p
             }
             false => Point {
@@ -106,6 +113,7 @@ impl History {
                 x: vec![0.0; d.n],
                 states: Vec::new(),
                 rates: Vec::new(),
+                e: Vec::new(),
             },
         };
         p.t = d.sys.time;
@@ -141,6 +149,11 @@ impl History {
         &self.points[0]
     }
 
+    /// The newest point's global error estimate, to fill after [`History::push`].
+    pub fn newest_error_mut(&mut self) -> &mut Vec<f64> {
+        &mut self.points[0].e
+    }
+
     /// Builds the seed for a first step of `h` when only one real point is held.
     pub fn seed_for(&mut self, h: f64) {
         if self.points.len() > 1 {
@@ -163,6 +176,8 @@ impl History {
                 .map(|(x, r)| x - h * r)
                 .collect(),
             rates: p.rates.clone(),
+            // The seed is the newest point's expansion: its error, to first order.
+            e: p.e.clone(),
         });
     }
 
