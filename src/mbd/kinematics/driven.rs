@@ -20,9 +20,13 @@
 //! ERRORs per column as before.
 
 use super::square::SquareJacobian;
-use super::SOLVED;
 use crate::mbd::dynamics::{DynError, Dynamics, Singularity, Snapshot};
 use crate::vocab::math::DVec;
+
+/// The largest position residual (scaled as [`Dynamics::scaled_residual`]) a solved
+/// step may keep (on either path): Newton stops at rounding, far below; a projection
+/// that stalls above this has not converged.
+pub const SOLVED: f64 = 1e-10;
 
 /// Newton corrections before the attempt counts as failed.
 const ITERATIONS: usize = 24;

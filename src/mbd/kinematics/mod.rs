@@ -36,11 +36,6 @@ pub use steps::{advance_to, Control, Settings};
 use super::dynamics::{DynError, Dynamics};
 use super::freedom::{describe_all, null_space};
 
-/// The largest position residual (scaled as [`Dynamics::scaled_residual`]) a solved
-/// step may keep: Newton stops at rounding, far below; a projection that stalls above
-/// this has not converged.
-pub const SOLVED: f64 = 1e-10;
-
 /// Refuses a model with degrees of freedom left: their count and each named.
 pub fn check_driven(d: &mut Dynamics) -> Result<(), KinematicsError> {
     if d.n <= d.m {

@@ -18,10 +18,9 @@
 //! lock-up or singular position, named ([`super::lock_up`]), or else with the
 //! positions unsolved.
 
-use super::driven::{Driven, Failed};
+use super::driven::{Driven, Failed, SOLVED};
 use super::error::KinematicsError;
 use super::lock_up;
-use super::SOLVED;
 use crate::mbd::dynamics::{DynError, Dynamics, Singularity};
 use crate::vocab::math::DVec;
 
