@@ -2,8 +2,8 @@
 //! over [`crate::session::request::run`], which checks the options, reads the command
 //! file and the dataset, runs the simulation and words its failures. This module turns
 //! the arguments into a [`RunRequest`] and prints what comes back: the output rows as CSV
-//! (header `time`, the probes in the order given, then the REQUEST components; numbers as
-//! `{:?}` prints an f64), a progress bar on stderr when it is a terminal, a summary at
+//! (header `time`, the probes in the order given, then the REQUEST components; each number
+//! the shortest text that reads back to its bits, [`super::number`]), a progress bar on stderr when it is a terminal, a summary at
 //! the end, and `--plot` draws the columns against time. `--verbose` adds an Adams-like
 //! step table on stderr at each output time. A failure is a diagnostic at the statement
 //! of the element it names, with the time and the cause; the rows before it are written;
@@ -252,7 +252,9 @@ struct Printer<'o> {
     color: bool,
     /// Standard output until the CSV takes it.
     stdout: Option<&'o mut dyn Write>,
-    csv: Option<csv::Writer<Target<'o>>>,
+    csv: Option<BufWriter<Target<'o>>>,
+    /// The row being written ([`Shortest::line`]).
+    line: Vec<u8>,
     progress: Option<Progress>,
     /// The rows, kept for `--plot`.
     rows: Vec<Vec<f64>>,
@@ -330,10 +332,14 @@ impl RunObserver for Printer<'_> {
                 self.table_error = Some(e);
             }
         }
-        let mut csv = csv::Writer::from_writer(target);
-        let header = csv.write_record(started.header);
+        // The header through a CSV writer (a name may need quoting), the rows straight.
+        let mut csv = BufWriter::new(target);
+        let mut header = csv::Writer::from_writer(&mut csv);
+        let written = header.write_record(started.header).map_err(io::Error::from);
+        let written = written.and_then(|()| header.flush());
+        drop(header);
         self.csv = Some(csv);
-        header.map_err(|e| self.keep(e.into()))
+        written.map_err(|e| self.keep(e))
     }
 
     fn row(&mut self, row: &[f64]) -> io::Result<()> {
@@ -346,12 +352,10 @@ impl RunObserver for Printer<'_> {
         let Some(csv) = &mut self.csv else {
             return Ok(());
         };
-        let mut w = Ok(());
-        for &x in row {
-            w = w.and_then(|()| csv.write_field(self.numbers.text(x)));
-        }
-        let w = w.and_then(|()| csv.write_record(None::<&[u8]>));
-        w.map_err(|e| self.keep(e.into()))
+        self.line.clear();
+        self.numbers.line(row, &mut self.line);
+        let w = csv.write_all(&self.line);
+        w.map_err(|e| self.keep(e))
     }
 
     fn wants_table(&self) -> bool {
@@ -392,6 +396,7 @@ pub fn run(a: &RunArgs, o: &mut Output) -> Result<i32, Stop> {
         table_error: None,
         refused: None,
         numbers: Shortest::default(),
+        line: Vec::new(),
     };
     let result = request::run(&req, &mut printer, None);
     let (rows, io_error, refused) = printer.finish();

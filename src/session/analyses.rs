@@ -29,11 +29,12 @@ pub type Found<'a> = (&'a mut Vec<Report>, &'a mut Vec<LinearReport>);
 
 /// Runs segment `seg` (static, kinematic or linear) on `d` (a linear one with the
 /// model's `plant` inputs and outputs, a kinematic one under its KINEMATICS
-/// statement); `first_row` says the run has written no row yet, `last` that it is the
+/// statement, solving accelerations and reactions when `motion` says the rows read
+/// them); `first_row` says the run has written no row yet, `last` that it is the
 /// run's last segment.
 pub fn run(
     d: &mut Dynamics,
-    (plant, statement): (&Plant, Option<&KinematicsStatement>),
+    (plant, statement, motion): (&Plant, Option<&KinematicsStatement>, bool),
     seg: &Segment,
     (first_row, last): (bool, bool),
     emit: &mut Emit<'_>,
@@ -43,6 +44,7 @@ pub fn run(
     match (seg.kind, &seg.linear) {
         (Analysis::Kinematics, _) => {
             let settings = statement.map_or_else(kinematics::Settings::default, settings_of);
+            let settings = kinematics::Settings { motion, ..settings };
             kinematics(d, (seg, settings), first_row, emit, interrupt)
         }
         (Analysis::Linear, Some(command)) => {
@@ -101,6 +103,7 @@ pub fn settings_of(statement: &KinematicsStatement) -> kinematics::Settings {
     kinematics::Settings {
         hmax: statement.hmax.as_ref().map(|g| g.value).or(d.hmax),
         error: statement.error.as_ref().map_or(d.error, |g| g.value),
+        motion: d.motion,
     }
 }
 

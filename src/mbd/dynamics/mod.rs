@@ -43,7 +43,7 @@ mod eval;
 pub mod events;
 mod failure;
 mod fill;
-mod gamma;
+pub(crate) mod gamma;
 mod inside_step;
 pub mod integrator;
 pub mod jacobian;

@@ -10,7 +10,12 @@
 //! saddle-point system [[M, Φ_qᵀ], [Φ_q, 0]]·[a; λ] = [Q; γ], whose constraint block,
 //! square and regular, fixes a alone (the forces then give λ). The last two are the
 //! dynamics' own reconciliation ([`Dynamics::reconcile`]), exact for a model without
-//! freedom.
+//! freedom. A fully driven model whose rows are all positional and whose forces read
+//! no solution skips the saddle point ([`driven`]): Φ_q alone ([`square`]), factored
+//! once a step at the solution, gives the positions by modified Newton (Φ_q
+//! extrapolated from the last two solutions), the velocities, and, only where the
+//! outputs read them, the accelerations (Φ_q·a = γ) and multipliers (Φ_qᵀ·λ = Q − M·a);
+//! its prediction is the Hermite cubic through the last two solutions.
 //!
 //! A model with degrees of freedom left is refused before anything runs
 //! ([`KinematicsError::FreeDegrees`]), each free direction named with the element that
@@ -19,8 +24,10 @@
 //! positions Newton cannot reach even over the smallest step
 //! ([`KinematicsError::Unsolved`]).
 
+pub mod driven;
 pub mod error;
 pub mod lock_up;
+pub mod square;
 pub mod steps;
 
 pub use error::{FreeDegrees, KinematicsError, LockUp};

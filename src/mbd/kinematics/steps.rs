@@ -3,11 +3,13 @@
 //! q + v·h + a·h²/2, and solves Φ(q, t + h) = 0 by Newton from there down to rounding
 //! ([`Dynamics::project_positions`]); velocities, accelerations and reactions follow
 //! ([`Dynamics::reconcile`]), and the state elements integrate over the step (the
-//! trapezoidal rule). The step is chosen from the prediction's own error, the
+//! trapezoidal rule). A fully driven model takes the Φ_q path instead
+//! ([`super::driven`], its prediction a Hermite cubic whose error grows as h⁴). The
+//! step is chosen from the prediction's own error, the
 //! difference between the predicted and the solved positions against ERROR (the
 //! KINEMATICS statement's, per column: ERROR × the model length for translations,
-//! ERROR for rotations): that error grows as h³, so the next step is
-//! h·0.9·(ERROR/err)^(1/3), at most four times the last and at least a fifth of it,
+//! ERROR for rotations): that error grows as h³ (h⁴), so the next step is
+//! h·0.9·(ERROR/err)^(1/3) (^(1/4)), at most four times the last and at least a fifth of it,
 //! and a step whose prediction misses by more than ERROR is taken again shorter (a
 //! far prediction can land Newton on another assembly branch). A step whose Newton
 //! does not contract is halved and retried. Steps stop at each solved time, never past
@@ -16,6 +18,7 @@
 //! lock-up or singular position, named ([`super::lock_up`]), or else with the
 //! positions unsolved.
 
+use super::driven::{Driven, Failed, SOLVED};
 use super::error::KinematicsError;
 use super::lock_up;
 use crate::mbd::dynamics::{DynError, Dynamics, Singularity};
@@ -27,11 +30,6 @@ const ALIMIT: f64 = std::f64::consts::PI / 6.0;
 /// The smallest step, relative to the larger of 1 and the time reached.
 const HMIN_RELATIVE: f64 = 1e-10;
 
-/// The largest position residual (scaled as [`Dynamics::scaled_residual`]) a solved
-/// step may keep: Newton stops at rounding, far below; a projection that stalls above
-/// this has not converged.
-const SOLVED: f64 = 1e-10;
-
 /// What the KINEMATICS statement sets for the steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
@@ -40,6 +38,9 @@ pub struct Settings {
     pub hmax: Option<f64>,
     /// How far the prediction may miss the solution (ERROR), scaled per column.
     pub error: f64,
+    /// Solve accelerations and multipliers at every step (false: the outputs read
+    /// neither, and a fully driven model solves positions and velocities only).
+    pub motion: bool,
 }
 
 impl Default for Settings {
@@ -49,18 +50,21 @@ impl Default for Settings {
         Settings {
             hmax: None,
             error: 1e-4,
+            motion: true,
         }
     }
 }
 
 /// The step control of one kinematic stretch: its settings and the step the last
 /// prediction asks for next.
-#[derive(Clone, Debug)]
 pub struct Control {
     /// The statement's settings.
     pub settings: Settings,
     /// The next step to try (infinite before the first: the solved time bounds it).
     next: f64,
+    /// The Φ_q path of a fully driven model ([`Driven`]), once the first step has
+    /// looked whether the model qualifies.
+    driven: Option<Option<Driven>>,
 }
 
 impl Control {
@@ -69,18 +73,9 @@ impl Control {
         Control {
             settings,
             next: f64::INFINITY,
+            driven: None,
         }
     }
-}
-
-/// Why one step attempt failed.
-enum Miss {
-    /// Newton did not converge, or the matrix was singular: a shorter step may.
-    Newton(DynError),
-    /// The prediction missed by this many ERRORs (more than one).
-    Far(f64),
-    /// Anything else (an expression failed): retried shorter, reported as it is.
-    Other(DynError),
 }
 
 /// Advances `d` from its solved time to time `t` in steps of its own (`control`),
@@ -88,6 +83,9 @@ enum Miss {
 /// each; `d` ends solved at `t`. Counts steps and rejected attempts in `d.stats`.
 pub fn advance_to(d: &mut Dynamics, t: f64, control: &mut Control) -> Result<(), KinematicsError> {
     let hmax = control.settings.hmax.unwrap_or(f64::INFINITY);
+    let driven = control
+        .driven
+        .get_or_insert_with(|| Driven::new(d, control.settings.motion));
     while d.sys.time < t {
         let remaining = t - d.sys.time;
         let mut h = control.next.min(hmax);
@@ -95,16 +93,33 @@ pub fn advance_to(d: &mut Dynamics, t: f64, control: &mut Control) -> Result<(),
         if remaining <= 1.1 * h && remaining <= hmax {
             h = remaining;
         }
-        h = within_alimit(d, h);
         let hmin = HMIN_RELATIVE * d.sys.time.abs().max(1.0);
         let base = (d.snapshot(), d.a.clone(), d.lambda.clone());
-        let miss = match attempt(d, h, control.settings.error) {
+        let (v0, t0) = (d.sys.v(), d.sys.time);
+        let (result, order) = match driven.as_mut() {
+            Some(dr) => {
+                let order = dr.prepare(d, &base.0);
+                h = within_alimit(d, h, |c, h| dr.increment(c, h));
+                (dr.attempt(d, h, control.settings.error), order)
+            }
+            None => {
+                let (v, a) = (&v0, &d.a);
+                let taylor =
+                    |c: usize, h: f64| v[c] * h + 0.5 * a.get(c).copied().unwrap_or(0.0) * h * h;
+                h = within_alimit(d, h, taylor);
+                (attempt(d, h, control.settings.error), 3)
+            }
+        };
+        let miss = match result {
             Ok(err) => {
                 d.stats.steps += 1;
                 d.stats.last_step = h;
                 // Never below the smallest step: steps shrinking towards a singular
                 // position reach it, and fail there, in finitely many.
-                control.next = (h * growth(err)).max(hmin);
+                control.next = (h * growth(err, order)).max(hmin);
+                if let Some(dr) = driven.as_mut() {
+                    dr.solved_from(base.0, v0, t0);
+                }
                 continue;
             }
             Err(miss) => miss,
@@ -114,8 +129,8 @@ pub fn advance_to(d: &mut Dynamics, t: f64, control: &mut Control) -> Result<(),
         d.forces.states.hold();
         d.stats.rejected += 1;
         control.next = match &miss {
-            Miss::Far(err) => h * growth(*err),
-            Miss::Newton(_) | Miss::Other(_) => 0.5 * h,
+            Failed::Far(err) => h * growth(*err, order),
+            Failed::Newton(_) | Failed::Other(_) => 0.5 * h,
         };
         if control.next < hmin {
             return Err(stop(d, miss, h));
@@ -124,19 +139,20 @@ pub fn advance_to(d: &mut Dynamics, t: f64, control: &mut Control) -> Result<(),
     Ok(())
 }
 
-/// The next step over this one for a prediction that missed by `err` ERRORs.
-fn growth(err: f64) -> f64 {
-    (0.9 * err.max(1e-12).powf(-1.0 / 3.0)).clamp(0.2, 4.0)
+/// The next step over this one for a prediction whose miss, `err` ERRORs, grows as
+/// h^`order`.
+fn growth(err: f64, order: i32) -> f64 {
+    (0.9 * err.max(1e-12).powf(-1.0 / order as f64)).clamp(0.2, 4.0)
 }
 
-/// `h` shortened until the prediction turns no part by more than [`ALIMIT`].
-fn within_alimit(d: &Dynamics, mut h: f64) -> f64 {
-    let v = d.sys.v();
+/// `h` shortened until the prediction (`increment(column, h)`) turns no part by more
+/// than [`ALIMIT`].
+fn within_alimit(d: &Dynamics, mut h: f64, increment: impl Fn(usize, f64) -> f64) -> f64 {
     let (cols, axes) = (d.sys.dim.cols(), d.sys.dim.axes());
     let rotation = |h: f64| {
         (0..d.n)
             .filter(|&c| c % cols >= axes)
-            .map(|c| (v[c] * h + 0.5 * d.a.get(c).copied().unwrap_or(0.0) * h * h).abs())
+            .map(|c| increment(c, h).abs())
             .fold(0.0, f64::max)
     };
     for _ in 0..8 {
@@ -151,7 +167,7 @@ fn within_alimit(d: &Dynamics, mut h: f64) -> f64 {
 
 /// One step of `h` from where `d` stands: Ok with the prediction's miss in ERRORs
 /// (at most one), `d` solved at the step's end; else why not, `d` left anywhere.
-fn attempt(d: &mut Dynamics, h: f64, error: f64) -> Result<f64, Miss> {
+fn attempt(d: &mut Dynamics, h: f64, error: f64) -> Result<f64, Failed> {
     let v = d.sys.v();
     let dx: Vec<f64> = (0..d.n)
         .map(|c| v[c] * h + 0.5 * d.a.get(c).copied().unwrap_or(0.0) * h * h)
@@ -174,7 +190,7 @@ fn attempt(d: &mut Dynamics, h: f64, error: f64) -> Result<f64, Miss> {
         .map(|r| d.scaled_residual(r))
         .fold(0.0, f64::max);
     if residual.is_nan() || residual > SOLVED {
-        return Err(Miss::Newton(DynError::Newton {
+        return Err(Failed::Newton(DynError::Newton {
             time: d.sys.time,
             step: h,
             culprit: d.worst_row(),
@@ -182,11 +198,11 @@ fn attempt(d: &mut Dynamics, h: f64, error: f64) -> Result<f64, Miss> {
     }
     let err = miss(d, &predicted, error);
     if err > 1.0 {
-        return Err(Miss::Far(err));
+        return Err(Failed::Far(err));
     }
     d.reconcile().map_err(classify)?;
     d.commit_measures();
-    d.commit_states().map_err(|e| Miss::Other(e.into()))?;
+    d.commit_states().map_err(|e| Failed::Other(e.into()))?;
     Ok(err)
 }
 
@@ -201,35 +217,35 @@ fn miss(d: &Dynamics, predicted: &crate::mbd::dynamics::Snapshot, error: f64) ->
 }
 
 /// A failure a shorter step may cure (Newton, a singular matrix) apart from the rest.
-fn classify(e: DynError) -> Miss {
+fn classify(e: DynError) -> Failed {
     match e {
         DynError::Newton { .. } | DynError::Singular { .. } | DynError::NotFinite { .. } => {
-            Miss::Newton(e)
+            Failed::Newton(e)
         }
-        _ => Miss::Other(e),
+        _ => Failed::Other(e),
     }
 }
 
 /// Why the analysis stops where `d` stands (its last solved time), the step `h` failing
 /// for `miss`: a lock-up when the constraints lose rank here, else the failure itself.
-fn stop(d: &mut Dynamics, miss: Miss, h: f64) -> KinematicsError {
+fn stop(d: &mut Dynamics, miss: Failed, h: f64) -> KinematicsError {
     if let Some(l) = lock_up::diagnose(d) {
         return KinematicsError::LockUp(Box::new(l));
     }
     match miss {
-        Miss::Other(e) => KinematicsError::Dynamics(e),
-        Miss::Newton(DynError::Singular {
+        Failed::Other(e) => KinematicsError::Dynamics(e),
+        Failed::Newton(DynError::Singular {
             why: Singularity::Numerical | Singularity::Dependent,
             culprit,
             ..
         })
-        | Miss::Newton(DynError::Newton { culprit, .. }) => KinematicsError::Unsolved {
+        | Failed::Newton(DynError::Newton { culprit, .. }) => KinematicsError::Unsolved {
             time: d.sys.time,
             step: h,
             culprit,
         },
-        Miss::Newton(e) => KinematicsError::Dynamics(e),
-        Miss::Far(_) => KinematicsError::Unsolved {
+        Failed::Newton(e) => KinematicsError::Dynamics(e),
+        Failed::Far(_) => KinematicsError::Unsolved {
             time: d.sys.time,
             step: h,
             culprit: None,

@@ -137,6 +137,19 @@ impl Outputs {
         self.fill_row(d)
     }
 
+    /// Whether a column reads more than the positions and velocities (accelerations,
+    /// reactions, forces): a kinematic analysis then solves accelerations and
+    /// multipliers at every step.
+    pub(super) fn reads_motion(&self) -> bool {
+        self.lifted.is_some()
+            || self.slots.iter().any(|(_, s)| {
+                !matches!(
+                    s,
+                    None | Some(OutputSlot::Kinematic(_) | OutputSlot::EulerParameter { .. })
+                )
+            })
+    }
+
     /// The columns at the state of `d` as it stands (evaluated for outputs).
     pub(super) fn fill_row(&mut self, d: &mut Dynamics) -> Result<&[f64], DynError> {
         for &(s, slot) in &self.slots {

@@ -106,10 +106,12 @@ impl Simulation {
         let recorder = std::cell::RefCell::new(self.recorder.take());
         let step = recorder.borrow().as_ref().and_then(|r| r.step);
         // A row of the integrated state (`Some((last, state))`: reconciled when the
-        // columns need it or it is a segment's last) or of a state solved already (None).
+        // columns need it or it is a segment's last) or of a state solved already (None;
+        // `evaluated` when the analysis left its constraints and forces evaluated there).
         let mut emit = |outputs: &mut Outputs,
                         d: &mut Dynamics,
-                        row: Option<(bool, RowState)>|
+                        row: Option<(bool, RowState)>,
+                        evaluated: bool|
          -> Result<(), DynError> {
             if conservative {
                 kinetic_max = kinetic_max.max(kinetic(&d.sys));
@@ -117,6 +119,7 @@ impl Simulation {
             let solved = row.is_none();
             let row = match row {
                 Some((last, state)) => outputs.row(d, last, state)?,
+                None if evaluated => outputs.fill_row(d)?,
                 None => outputs.solved_row(d)?,
             };
             if let Some(t) = trace.as_mut() {
@@ -157,6 +160,7 @@ impl Simulation {
                         outputs,
                         dynamics,
                         Some((segments.is_empty(), RowState::Stepped)),
+                        false,
                     )
                 })
                 .map_err(Stopped::from);
@@ -179,10 +183,14 @@ impl Simulation {
             let last = k + 1 == segments.len();
             let (dynamics, outputs, plant) = (&mut self.dynamics, &mut self.outputs, &self.plant);
             if seg.kind != Analysis::Dynamic {
-                let mut solved_emit = |d: &mut Dynamics| emit(outputs, d, None);
+                // A kinematic solution leaves Φ, Φ_q and the forces evaluated where it
+                // stands: its row reads them as they are.
+                let evaluated = seg.kind == Analysis::Kinematics;
+                let motion = outputs.reads_motion() || recorder.borrow().is_some();
+                let mut solved_emit = |d: &mut Dynamics| emit(outputs, d, None, evaluated);
                 result = crate::session::analyses::run(
                     dynamics,
-                    (plant, self.read.model.kinematics.as_ref()),
+                    (plant, self.read.model.kinematics.as_ref(), motion),
                     seg,
                     (first_row, last),
                     &mut solved_emit,
@@ -213,7 +221,7 @@ impl Simulation {
             let times = OutputTimes::new(t0, dt, end);
             // Each segment's last row reconciles: the next segment starts from it.
             let mut segment_emit =
-                |d: &mut Dynamics, state| emit(outputs, d, Some((d.sys.time >= end, state)));
+                |d: &mut Dynamics, state| emit(outputs, d, Some((d.sys.time >= end, state)), false);
             let mut record = |d: &mut Dynamics| {
                 if let Some(r) = recorder.borrow_mut().as_mut() {
                     r.record(d);
