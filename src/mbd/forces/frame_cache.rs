@@ -1,8 +1,8 @@
 //! The force set's value path with every marker frame built once an evaluation
 //! ([`FrameCache`]): the markers the elements act between and the markers of the
 //! displacement and velocity measures their fused expressions read, each frame built
-//! once (one 3×3 product and one cross product; those on ground once with the cache),
-//! then the measures and the loads read from them. The general path built a marker's frame for each measure and each element
+//! once (one 3×3 product and one cross product), then the measures and the loads read
+//! from them. The general path built a marker's frame for each measure and each element
 //! that read it: on the IMPACT block, five 3×3 marker-frame products a stage for one
 //! SFORCE and its DY and VY (issue 42). The numbers are the general path's bit for bit:
 //! the same operations on the same values, only not repeated.
@@ -41,10 +41,6 @@ pub(super) struct FrameCache {
     markers: Vec<M>,
     /// Their frames at the last [`FrameCache::fill`].
     frames: Vec<Frame<f64>>,
-    /// The frames on moving parts, which [`FrameCache::fill`] rebuilds (those on ground
-    /// and the ground origin's keep the frames built with the cache: the dynamics
-    /// never moves a part without coordinates).
-    moving: Vec<usize>,
     /// Per element, the indices of its I and J frames.
     elements: Vec<(usize, usize)>,
     /// Per fused (slot, measure) pair, in its order, how to read it.
@@ -89,23 +85,18 @@ impl FrameCache {
             })
             .collect();
         let frames = markers.iter().map(|&mk| value_frame(sys, mk)).collect();
-        let moving = (markers.iter().enumerate())
-            .filter(|(_, mk)| mk.is_some_and(|m| sys.part(sys.marker(m).part).index.is_some()))
-            .map(|(k, _)| k)
-            .collect();
         FrameCache {
             markers,
             frames,
-            moving,
             elements,
             reads,
         }
     }
 
-    /// Builds every frame on a moving part at the state of `sys`.
+    /// Builds every frame at the state of `sys`.
     pub(super) fn fill(&mut self, sys: &System) {
-        for &k in &self.moving {
-            self.frames[k] = value_frame(sys, self.markers[k]);
+        for (f, &mk) in self.frames.iter_mut().zip(&self.markers) {
+            *f = value_frame(sys, mk);
         }
     }
 
