@@ -10,7 +10,7 @@ use crate::mbd::dual::{Scalar as ScalarT, D, V};
 use crate::mbd::error::MbdError;
 use crate::mbd::handles::PartHandle;
 use crate::mbd::measures::{Frame, PartSlots};
-use crate::mbd::system::System;
+use crate::mbd::system::{Dimension, System};
 use crate::vocab::math::Vec3;
 
 /// The loads one element applies at a state, global axes: force and moment about the I
@@ -71,6 +71,19 @@ impl ForceElement {
         let mut slots = self.slots;
         let fi = T::frame(sys, Some(self.i), &mut slots);
         let fj = T::frame(sys, self.j, &mut slots);
+        self.eval_framed(sys, inputs, out, (&fi, &fj), slots)
+    }
+
+    /// [`ForceElement::eval_as`] from the I and J frames `(fi, fj)` already built
+    /// (`slots` holding their parts): the force set's frame cache builds each once.
+    pub(super) fn eval_framed<T: Num>(
+        &self,
+        sys: &System,
+        inputs: &Inputs,
+        out: &mut Generalized,
+        (fi, fj): (&Frame<T>, &Frame<T>),
+        mut slots: PartSlots,
+    ) -> Result<Loads, MbdError> {
         let zero: V<T> = V::c(Vec3::zeros());
         // (force at I, moment on I's part, force on J's part, moment on J's part), all
         // applied at I's origin except the line forces' reaction at J's.
@@ -162,18 +175,18 @@ impl ForceElement {
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
             ForceLaw::Field { law, angles } => {
-                let (fv, tv) = law.loads(sys, &fi, &fj, angles, &mut slots);
+                let (fv, tv) = law.loads(sys, fi, fj, angles, &mut slots);
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
             ForceLaw::Friction(law) => {
-                let (fv, tv) = law.loads(sys, (&fi, &fj), inputs.solved);
+                let (fv, tv) = law.loads(sys, (fi, fj), inputs.solved);
                 (fv, tv, neg_v(&fv), neg_v(&tv), true)
             }
         };
         let pi = sys.marker(self.i).part;
         let pj = self.j.map_or(System::GROUND, |j| sys.marker(j).part);
-        let at_j = if j_at_i { &fi } else { &fj };
-        self.apply(sys, &slots, pi, &fi, &f_i, &t_i, out);
+        let at_j = if j_at_i { fi } else { fj };
+        self.apply(sys, &slots, pi, fi, &f_i, &t_i, out);
         self.apply(sys, &slots, pj, at_j, &f_j, &t_j, out);
         Ok(Loads {
             on_i: (f_i.value(), t_i.value()),
@@ -196,11 +209,24 @@ impl ForceElement {
         t: &V<T>,
         out: &mut Generalized,
     ) {
-        if sys.part(part).index.is_none() {
+        let Some(index) = sys.part(part).index else {
             return;
-        }
+        };
         let arm = at.r.sub(&T::reference(sys, part, slots));
         let m = add_v(t, &arm.cross(f));
+        if sys.dim == Dimension::Two {
+            // The part's three columns (two in-plane translations, the rotation about
+            // the normal) directly, in the order the loop below visits them.
+            let (a, b, n) = sys.plane_axes();
+            let base = index * 3;
+            let mut cols = [(a, base), (b, base + 1), (3 + n, base + 2)];
+            cols.sort_unstable_by_key(|x| x.0);
+            for (c, row) in cols {
+                let q = if c < 3 { f.0[c] } else { m.0[c - 3] };
+                T::load(&q, row, sys, slots, out);
+            }
+            return;
+        }
         for c in 0..6 {
             let Some(row) = sys.col(part, c) else {
                 continue;

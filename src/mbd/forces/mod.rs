@@ -30,8 +30,9 @@
 //! reaction) with `friction_loads` (its evaluation) and [`stiction`] (its stiction
 //! deformation's law), `generalized` (Q and its
 //! Jacobians), `set` (the set: preparing, fusing, evaluating), `order` (the evaluation
-//! order), `input_partials` (∂Q/∂u) and [`contact`] (the switching functions of IMPACT
-//! and BISTOP).
+//! order), `input_partials` (∂Q/∂u), [`contact`] (the switching functions of IMPACT
+//! and BISTOP) and `frame_cache` (the value path's marker frames, each built once an
+//! evaluation).
 //!
 //! [`PartSlots`]: crate::mbd::measures::PartSlots
 //! [`ContactProbe`]: contact::ContactProbe
@@ -42,6 +43,7 @@ mod element;
 mod expression;
 pub mod field;
 mod field_loads;
+mod frame_cache;
 pub mod friction;
 mod friction_loads;
 mod generalized;

@@ -3,6 +3,7 @@
 //! one call, and evaluating every element into Q.
 
 use super::element::{ForceElement, ForceLaw};
+use super::frame_cache::FrameCache;
 use super::generalized::Generalized;
 use super::inputs::{measure_value, Inputs, Source};
 use super::law::Loads;
@@ -39,6 +40,9 @@ pub struct ForceSet {
     /// The state elements (DIFF, LSE, TFSISO) whose values the forces may read: solved
     /// before the forces at each evaluation ([`crate::mbd::states`]).
     pub states: crate::mbd::states::StateSet,
+    /// The value path's marker frames, each built once an evaluation (made by
+    /// [`ForceSet::prepare`] for a fused set).
+    pub(super) frames: Option<FrameCache>,
 }
 
 /// The fused evaluation of a set's expressions: the function of their values and, when
@@ -113,8 +117,13 @@ impl ForceSet {
         let Some(fz) = &self.fused else { return };
         let mut shared = sys.scratch.borrow_mut();
         let vals = shared.slots_to(fz.slots.last().map(|s| s.0));
-        for &(slot, m) in &fz.slots {
-            vals[slot as usize] = measure_value(sys, m);
+        match (&self.frames, jacobians) {
+            (Some(cache), false) => cache.slot_values(sys, &fz.slots, vals),
+            _ => {
+                for &(slot, m) in &fz.slots {
+                    vals[slot as usize] = measure_value(sys, m);
+                }
+            }
         }
         match (jacobians, &fz.gradients) {
             (false, _) => fz.f.eval_into(sys.time, vals, &mut fz.values.borrow_mut()),
@@ -170,6 +179,10 @@ impl ForceSet {
             }
             el.slots = slots;
         }
+        self.frames = self.fused.as_ref().map(|fz| {
+            let ends: Vec<_> = self.elements.iter().map(|e| (Some(e.i), e.j)).collect();
+            FrameCache::new(sys, &ends, &fz.slots)
+        });
         self.loads = vec![Loads::default(); self.elements.len()];
         self.solved = vec![0.0; self.solution.len()];
         self.reads = self
@@ -205,10 +218,45 @@ impl ForceSet {
         out: &mut Generalized,
         jacobians: bool,
     ) -> Result<(), MbdError> {
+        let n = self.elements.len();
+        let cached = match (&mut self.frames, &self.fused, jacobians) {
+            (Some(cache), Some(fz), false) if cache.fits(n, fz.slots.len()) => {
+                cache.fill(sys);
+                true
+            }
+            _ => false,
+        };
         self.eval_fused(sys, jacobians);
-        for k in 0..self.elements.len() {
-            self.eval_element(k, sys, out, jacobians)?;
+        for k in 0..n {
+            match cached {
+                true => self.eval_element_cached(k, sys, out)?,
+                false => self.eval_element(k, sys, out, jacobians)?,
+            }
         }
+        Ok(())
+    }
+
+    /// Element `k`'s values into `out` from the frame cache (filled at this state): what
+    /// [`ForceSet::eval_element`] gives without Jacobians, its frames not rebuilt.
+    fn eval_element_cached(
+        &mut self,
+        k: usize,
+        sys: &System,
+        out: &mut Generalized,
+    ) -> Result<(), MbdError> {
+        let friction = matches!(self.elements[k].law, ForceLaw::Friction(_));
+        let (Some(cache), Some(fz), false) = (&self.frames, &self.fused, friction) else {
+            return self.eval_element(k, sys, out, false);
+        };
+        let values = fz.values.borrow();
+        let inputs = Inputs {
+            solved: &self.solved,
+            fused: Some(values.as_slice()),
+            seed: None,
+        };
+        let el = &self.elements[k];
+        let (fi, fj) = cache.ends(k);
+        self.loads[k] = el.eval_framed::<f64>(sys, &inputs, out, (fi, fj), el.slots)?;
         Ok(())
     }
 

@@ -33,7 +33,7 @@ pub struct PartSlots {
 impl PartSlots {
     /// The slot of `part` (None for ground, which has no directions), taking a free one
     /// the first time; Err when all are taken by other parts.
-    fn slot(&mut self, sys: &System, part: PartHandle) -> Result<Option<usize>, ()> {
+    pub(super) fn slot(&mut self, sys: &System, part: PartHandle) -> Result<Option<usize>, ()> {
         if sys.part(part).index.is_none() {
             return Ok(None);
         }

@@ -271,8 +271,9 @@ fn acceleration_and_force_measures_wait_for_dynamics() {
 }
 
 /// `eval_in` builds angles, displacements, distances and unit-vector products from the
-/// origins and axes they read; every value and derivative must be the bits of the whole
-/// dual frames' formula, and the part slots taken in the same order.
+/// origins and axes they read; every value must be the bits of the whole dual frames'
+/// formula, every derivative too except the angles' (by hand: to 1e-12 of the largest),
+/// and the part slots taken in the same order.
 #[test]
 fn shortcut_duals_give_the_whole_frames_bits() {
     use crate::mbd::measures::PartSlots;
@@ -336,11 +337,18 @@ fn shortcut_duals_give_the_whole_frames_bits() {
         let fast = sys.measures.eval_in(&sys, n, &mut a).expect("slots");
         let whole = sys.measures.eval_by_frames(&sys, n, &mut b).expect("slots");
         assert_eq!(fast.v.to_bits(), whole.v.to_bits(), "{m:?}");
+        // The angles' derivatives are by hand (cross products, not sums over dual
+        // axes): equal to rounding, the others bit for bit.
+        let scale = whole.g.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let tol = match m {
+            Measure::Angle { .. } => 1e-12 * scale,
+            _ => 0.0,
+        };
         assert!(
             fast.g
                 .iter()
                 .zip(&whole.g)
-                .all(|(x, y)| x.to_bits() == y.to_bits()),
+                .all(|(x, y)| x.to_bits() == y.to_bits() || (x - y).abs() <= tol),
             "{m:?}"
         );
         assert_eq!(a.parts, b.parts, "{m:?}");
