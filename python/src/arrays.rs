@@ -7,7 +7,7 @@ use mbfx::session::expression::{Column, Expression};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyFloat, PyInt, PyTuple};
+use pyo3::types::{PyDict, PyFloat, PyInt, PyString, PyTuple};
 
 /// Variables a point holds inline (more go through the array path).
 const INLINE: usize = 8;
@@ -26,15 +26,19 @@ impl Point {
         &self.values[..self.len]
     }
 
-    /// The point `args` (and `time`) give when each is a Python float or int and they
-    /// are `n` in all; None otherwise (arrays, keywords, a wrong count: the general
-    /// path handles and words those).
+    /// The point `args`, `kwargs` (by name, case-insensitive; `TIME=` as `time=`) and
+    /// `time` give when each value is a Python float or int and every one of `names`
+    /// has one; None otherwise (arrays, unknown or repeated names, a wrong count: the
+    /// general path handles and words those). Nothing is allocated: a keyword call costs
+    /// about what a positional one does.
     pub fn scalars(
+        names: &[String],
         args: &Bound<'_, PyTuple>,
         time: Option<&Bound<'_, PyAny>>,
-        n: usize,
+        kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Option<Point>> {
-        if args.len() != n || n > INLINE {
+        let n = names.len();
+        if args.len() > n || n > INLINE {
             return Ok(None);
         }
         let mut p = Point {
@@ -42,19 +46,46 @@ impl Point {
             len: n,
             time: 0.0,
         };
-        for (slot, a) in p.values.iter_mut().zip(args.iter()) {
+        // Bit k: variable k has its value.
+        let mut given = 0u32;
+        for (k, (slot, a)) in p.values.iter_mut().zip(args.iter()).enumerate() {
             match plain(&a)? {
                 Some(x) => *slot = x,
                 None => return Ok(None),
             }
+            given |= 1 << k;
         }
+        let mut time_given = false;
         if let Some(t) = time {
             match plain(t)? {
                 Some(x) => p.time = x,
                 None => return Ok(None),
             }
+            time_given = true;
         }
-        Ok(Some(p))
+        if let Some(kw) = kwargs {
+            for (key, value) in kw.iter() {
+                let Ok(key) = key.cast::<PyString>() else {
+                    return Ok(None);
+                };
+                let key = key.to_str()?;
+                let Some(x) = plain(&value)? else {
+                    return Ok(None);
+                };
+                match names.iter().position(|n| n.eq_ignore_ascii_case(key)) {
+                    Some(k) if given & (1 << k) == 0 => {
+                        p.values[k] = x;
+                        given |= 1 << k;
+                    }
+                    None if key.eq_ignore_ascii_case("time") && !time_given => {
+                        p.time = x;
+                        time_given = true;
+                    }
+                    _ => return Ok(None),
+                }
+            }
+        }
+        Ok((given.count_ones() as usize == n).then_some(p))
     }
 }
 

@@ -50,7 +50,7 @@ pub fn expr_error(py: Python<'_>, text: &str, e: ExprError) -> PyErr {
 /// order of `variables`, or by keyword) and optionally `time=`: scalars give a float,
 /// arrays an ndarray broadcast as numpy broadcasts. A vector expression or a gradient
 /// gives its values along a last axis.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Expression")]
+#[pyclass(frozen, module = "mbfx", name = "Expression")]
 pub struct PyExpression {
     pub inner: Expression,
 }
@@ -67,22 +67,26 @@ impl PyExpression {
     ) -> PyResult<Bound<'py, PyAny>> {
         guarded(|| {
             let e = &self.inner;
-            // The common small call: floats only, no keywords but time.
-            if kwargs.is_none() {
-                if let Some(point) = Point::scalars(args, time, e.variables().len())? {
-                    let value = if e.outputs() == 1 {
-                        let v = e
-                            .eval_scalar(point.values(), point.time)
-                            .map_err(|x| expr_error(py, e.text(), x))?;
-                        return Ok(v.into_pyobject(py)?.into_any());
-                    } else {
-                        e.eval(point.values(), point.time)
-                            .map_err(|x| expr_error(py, e.text(), x))?
-                    };
-                    return Ok(PyArray1::from_vec(py, value).into_any());
-                }
+            // The common small call: floats only, positional or by keyword.
+            if let Some(point) = Point::scalars(e.variables(), args, time, kwargs)? {
+                let value = if e.outputs() == 1 {
+                    let v = e
+                        .eval_scalar(point.values(), point.time)
+                        .map_err(|x| expr_error(py, e.text(), x))?;
+                    return Ok(v.into_pyobject(py)?.into_any());
+                } else {
+                    e.eval(point.values(), point.time)
+                        .map_err(|x| expr_error(py, e.text(), x))?
+                };
+                return Ok(PyArray1::from_vec(py, value).into_any());
             }
-            let slots = bind_arguments(e, args, kwargs)?;
+            let (slots, time_keyword) = bind_arguments(e, args, kwargs)?;
+            let time = match (time, time_keyword.as_ref()) {
+                (Some(_), Some(_)) => {
+                    return Err(PyTypeError::new_err("`time` is given twice"));
+                }
+                (t, k) => t.or(k),
+            };
             let inputs = Inputs::gather(py, &slots, time)?;
             inputs.evaluate(py, e)
         })
@@ -216,12 +220,14 @@ impl PyExpression {
 }
 
 /// The argument bound to each variable: positional ones first, then keywords by name
-/// (case-insensitive, as the language's names are).
+/// (case-insensitive, as the language's names are); and TIME when a keyword spelt
+/// `TIME` (any case) gave it.
+#[allow(clippy::type_complexity)] // the slots and TIME, each as Python gave them
 fn bind_arguments<'py>(
     e: &Expression,
     args: &Bound<'py, PyTuple>,
     kwargs: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Vec<Bound<'py, PyAny>>> {
+) -> PyResult<(Vec<Bound<'py, PyAny>>, Option<Bound<'py, PyAny>>)> {
     let names = e.variables();
     if args.len() > names.len() {
         return Err(PyTypeError::new_err(format!(
@@ -232,21 +238,26 @@ fn bind_arguments<'py>(
         )));
     }
     let mut slots: Vec<Option<Bound<'py, PyAny>>> = vec![None; names.len()];
+    let mut time = None;
     for (slot, a) in slots.iter_mut().zip(args.iter()) {
         *slot = Some(a);
     }
     if let Some(kw) = kwargs {
         for (key, value) in kw.iter() {
             let key: String = key.extract()?;
-            let k = names
-                .iter()
-                .position(|n| n.eq_ignore_ascii_case(&key))
-                .ok_or_else(|| {
-                    PyTypeError::new_err(format!(
-                        "`{key}` is not a variable of the expression (its variables: {})",
-                        names.join(", ")
-                    ))
-                })?;
+            let found = names.iter().position(|n| n.eq_ignore_ascii_case(&key));
+            if found.is_none() && key.eq_ignore_ascii_case("time") {
+                if time.replace(value).is_some() {
+                    return Err(PyTypeError::new_err("`time` is given twice"));
+                }
+                continue;
+            }
+            let k = found.ok_or_else(|| {
+                PyTypeError::new_err(format!(
+                    "`{key}` is not a variable of the expression (its variables: {})",
+                    names.join(", ")
+                ))
+            })?;
             if slots[k].replace(value).is_some() {
                 return Err(PyTypeError::new_err(format!(
                     "`{}` is given twice",
@@ -255,11 +266,12 @@ fn bind_arguments<'py>(
             }
         }
     }
-    slots
+    let slots = slots
         .into_iter()
         .zip(names)
         .map(|(s, n)| s.ok_or_else(|| PyTypeError::new_err(format!("no value for `{n}`"))))
-        .collect()
+        .collect::<PyResult<_>>()?;
+    Ok((slots, time))
 }
 
 /// `mbfx.compile(text, variables=(), engine="jit", units=None)`.

@@ -33,7 +33,7 @@ pub fn dim_request(dim: Option<u8>) -> PyResult<DimRequest> {
 
 /// What `Model.check()` reports: the dimension and why, the degrees of freedom, and the
 /// redundant constraints in Adams' words. `str()` is the report `mbfx check` prints.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Report")]
+#[pyclass(frozen, module = "mbfx", name = "Report")]
 pub struct PyReport {
     /// 2 or 3: the dimension the system was built in.
     #[pyo3(get)]
@@ -77,10 +77,57 @@ impl PyReport {
             self.redundant.len()
         )
     }
+
+    /// Pickled as its fields, so a report crosses a process boundary intact.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let rebuild = py.import("mbfx._mbfx")?.getattr("_rebuild_report")?;
+        let fields = (
+            self.dimension,
+            &self.dimension_reason,
+            self.dof,
+            self.gruebler,
+            self.equations,
+            &self.redundant,
+            &self.advice,
+            self.warnings.clone_ref(py),
+            &self.text,
+        );
+        Ok((rebuild, fields.into_pyobject(py)?))
+    }
+}
+
+/// Unpickles a report (see `Report.__reduce__`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)] // one per field of the pickled report
+pub fn _rebuild_report(
+    dimension: u8,
+    dimension_reason: String,
+    dof: usize,
+    gruebler: i64,
+    equations: usize,
+    redundant: Vec<String>,
+    advice: Vec<String>,
+    warnings: Py<PyList>,
+    text: String,
+) -> PyReport {
+    PyReport {
+        dimension,
+        dimension_reason,
+        dof,
+        gruebler,
+        equations,
+        redundant,
+        advice,
+        warnings,
+        text,
+    }
 }
 
 /// A dataset (`.adm`), read and analysed. Build it with `mbfx.load`.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Model")]
+#[pyclass(frozen, module = "mbfx", name = "Model")]
 pub struct PyModel {
     /// The dataset text.
     pub text: String,
