@@ -353,18 +353,18 @@ impl PyModel {
     fn run(
         &self,
         py: Python<'_>,
-        end: Option<f64>,
-        output_step: Option<f64>,
+        end: Option<&Bound<'_, PyAny>>,
+        output_step: Option<&Bound<'_, PyAny>>,
         integrator: Option<&str>,
-        error: Option<f64>,
+        error: Option<&Bound<'_, PyAny>>,
         probes: Option<&Bound<'_, PyDict>>,
         progress: bool,
-        hmax: Option<f64>,
-        hinit: Option<f64>,
-        hmin: Option<f64>,
-        fixed_step: Option<f64>,
-        alpha: Option<f64>,
-        rho_inf: Option<f64>,
+        hmax: Option<&Bound<'_, PyAny>>,
+        hinit: Option<&Bound<'_, PyAny>>,
+        hmin: Option<&Bound<'_, PyAny>>,
+        fixed_step: Option<&Bound<'_, PyAny>>,
+        alpha: Option<&Bound<'_, PyAny>>,
+        rho_inf: Option<&Bound<'_, PyAny>>,
         kmax: Option<&Bound<'_, PyAny>>,
         formulation: Option<&str>,
         error_per: &str,
@@ -386,12 +386,19 @@ impl PyModel {
                 r.animation = Some(crate::animation::request_of(geometry)?);
             }
             r.geometry = crate::animation::meshes_of(geometry)?;
-            (r.end, r.output_step, r.error) = (end, output_step, error);
+            r.end = run::real(end, "end")?;
+            r.output_step = run::real(output_step, "output_step")?;
+            r.error = run::real(error, "error")?;
             r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;
-            (r.hmax, r.hinit, r.hmin, r.fixed_step) = (hmax, hinit, hmin, fixed_step);
+            r.hmax = run::real(hmax, "hmax")?;
+            r.hinit = run::real(hinit, "hinit")?;
+            r.hmin = run::real(hmin, "hmin")?;
+            r.fixed_step = run::real(fixed_step, "fixed_step")?;
             let kmax = kmax.map(|k| int_in_range::<u32>(k, "kmax")).transpose()?;
-            (r.alpha, r.rho_inf, r.kmax) = (alpha, rho_inf, kmax);
+            r.alpha = run::real(alpha, "alpha")?;
+            r.rho_inf = run::real(rho_inf, "rho_inf")?;
+            r.kmax = kmax;
             r.formulation = formulation.map(run::formulation_of).transpose()?;
             r.error_per_run = run::error_per_run(error_per)?;
             r.cartesian = cartesian;
@@ -400,6 +407,7 @@ impl PyModel {
             r.dim = dim_request(self.dim)?;
             r.probes = run::probes_of(probes)?;
             r.set = run::settings_of(set)?;
+            run::check_arguments(&r, true)?;
             run::run_model(py, &r, progress, animation != Some(false))
         })
     }
@@ -415,14 +423,14 @@ impl PyModel {
         &self,
         py: Python<'_>,
         statics: bool,
-        end: Option<f64>,
+        end: Option<&Bound<'_, PyAny>>,
         damping: bool,
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
-            (r.statics, r.end) = (statics, end);
+            (r.statics, r.end) = (statics, run::real(end, "end")?);
             r.engine = engine_of(engine)?;
             r.dim = dim_request(self.dim)?;
             r.set = run::settings_of(set)?;
@@ -430,6 +438,7 @@ impl PyModel {
                 file: None,
                 damping,
             });
+            run::check_arguments(&r, false)?;
             crate::linear::linearize(py, &r)
         })
     }
