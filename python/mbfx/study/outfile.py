@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 STATUSES = ("ok", "failed")
 
 
-def results_file(path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> "ResultsFile":
+def results_file(path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> "Union[ResultsFile, ParquetResults]":
     """The results file for `out=`: by its suffix, a CSV (.csv) or Parquet (.parquet) file."""
     suffix = Path(path).suffix.lower()
     if suffix == ".parquet":

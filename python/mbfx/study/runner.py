@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, List, Mapping, 
 from . import designs
 from .execute import SECONDS, STATS, Job, Row, batches, connect, default_batch, stream
 from .factors import Factor, FactorSpec, check_templates, factors_from, settings
-from .outfile import ResultsFile, results_file
+from .outfile import ParquetResults, ResultsFile, results_file
 from .responses import Response, check_columns
 from .results import Study
 
@@ -108,7 +108,7 @@ def _run_pending(
     columns: Sequence[str],
     client: Optional["Client"],
     batch: Optional[int],
-    results: Optional[ResultsFile],
+    results: "Optional[Union[ResultsFile, ParquetResults]]",
     seen: Set[int],
     progress: bool,
 ) -> List["pd.DataFrame"]:
