@@ -40,3 +40,5 @@ python=$(cd "$venv/bin" && pwd)/python
 "$python" -m pip install --quiet --disable-pip-version-check .
 # From the tests' folder, so the installed package (not python/mbfx) is what is imported.
 (cd tests/python && "$python" -m pytest -q -p no:cacheprovider .)
+# The stubs (python/mbfx/_mbfx.pyi) against the installed module; allowlist: why each entry.
+(cd tests/python && "$python" -m mypy.stubtest mbfx --mypy-config-file stubtest.ini --allowlist stubtest-allowlist.txt)

@@ -3,7 +3,10 @@
 mbfx (JIT and interpreter), numexpr (one thread), plain numpy, and a per-point Python
 loop (timed on 10^4 points and scaled). Also the overhead of a small call (`f(0.5)`).
 
-    python benches/python/bench_eval.py [--points N] [--repeat R] [--out FILE.md]
+    python benches/python/bench_eval.py [--points N] [--repeat R] [--threads T] [--out FILE.md]
+
+`--threads T` gives mbfx (`compile(threads=T)`) and numexpr (`set_num_threads(T)`) T
+threads each (default 1).
 
 Prints a markdown table of ns per point (the fastest of R rounds, each timing every engine
 in turn) with ratios to numexpr, and
@@ -139,11 +142,12 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--points", type=int, default=10**6)
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--threads", type=int, default=1, help="threads of mbfx and of numexpr")
     ap.add_argument("--out", help="also write the table to this markdown file")
     args = ap.parse_args()
     import numexpr
 
-    numexpr.set_num_threads(1)
+    numexpr.set_num_threads(args.threads)
     n = args.points
     rng = np.random.default_rng(20261126)
     x = rng.uniform(0, 2, n)
@@ -154,8 +158,8 @@ def main() -> int:
     loop_n = min(n, 10**4)
     rows = []
     for name, text in EXPRESSIONS.items():
-        jit = mbfx.compile(text, ("x", "v", "t"))
-        interp = mbfx.compile(text, ("x", "v", "t"), engine="interp")
+        jit = mbfx.compile(text, ("x", "v", "t"), threads=args.threads)
+        interp = mbfx.compile(text, ("x", "v", "t"), engine="interp", threads=args.threads)
         want = jit(x, v, t)
         got_ne = numexpr.evaluate(NUMEXPR[name], local_dict=env)
         got_np = forms[name](x, v, t)
@@ -186,7 +190,8 @@ def main() -> int:
     empty = min(timeit.repeat(lambda: None, number=calls, repeat=5)) / calls * 1e9
     cols = ["mbfx jit", "mbfx interp", "numexpr", "numpy", "python loop"]
     lines = [
-        f"ns per point over {n} points, one thread (fastest of {args.repeat} rounds); ratio = numexpr / mbfx jit",
+        f"ns per point over {n} points, {args.threads} thread(s) each (fastest of {args.repeat} rounds); "
+        "ratio = numexpr / mbfx jit",
         "",
         "| expression | " + " | ".join(cols) + " | numexpr / jit |",
         "|---|" + "---|" * (len(cols) + 1),

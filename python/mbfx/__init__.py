@@ -20,9 +20,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Dict, Iterator, List, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Optional, Sequence
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.axes import Axes
 
 from ._mbfx import (  # noqa: F401  (re-exported)
     CheckError,
@@ -154,7 +158,7 @@ class Run:
         end = self.data[-1, 0] if len(self) else float("nan")
         return f"mbfx.Run({len(self)} rows to t = {end:g}, columns={self.columns})"
 
-    def to_pandas(self) -> "Any":
+    def to_pandas(self) -> "pd.DataFrame":
         """The rows as a pandas DataFrame indexed by time (needs `pip install mbfx[pandas]`)."""
         try:
             import pandas as pd
@@ -164,7 +168,7 @@ class Run:
         frame.index = pd.Index(self.data[:, 0], name="time")
         return frame
 
-    def plot(self, columns: Optional[Sequence[str]] = None, ax: Any = None) -> "Any":
+    def plot(self, columns: Optional[Sequence[str]] = None, ax: "Optional[Axes]" = None) -> "Axes":
         """Draws `columns` (all but time by default) against time on `ax` (a new figure
         when None) and returns the axes (needs `pip install mbfx[plot]`)."""
         try:

@@ -1,7 +1,7 @@
 """Type stubs of the native module mbfx._mbfx (PyO3)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -9,8 +9,27 @@ import numpy.typing as npt
 from . import Graphic, Linearization, Run
 
 __version__: str
+__all__ = [
+    "CheckError",
+    "Diagnostic",
+    "Expression",
+    "InternalError",
+    "MbfxError",
+    "Model",
+    "Recording",
+    "Report",
+    "RunError",
+    "__version__",
+    "_load_text",
+    "_panic_for_tests",
+    "_rebuild_diagnostic",
+    "_rebuild_expression",
+    "_rebuild_report",
+    "compile",
+    "load",
+]
 
-ArrayLike = Union[float, int, npt.ArrayLike]
+_ArrayLike = Union[float, int, npt.ArrayLike]
 
 class MbfxError(Exception):
     """Base class of every error mbfx raises."""
@@ -33,6 +52,7 @@ class RunError(MbfxError):
 class InternalError(MbfxError):
     """A bug in mbfx (a panic inside Rust), reported instead of crashing the interpreter."""
 
+@final
 class Diagnostic:
     """One diagnostic: a stable code, a message and where it points."""
 
@@ -45,7 +65,9 @@ class Diagnostic:
     source: str
     help: Optional[str]
     text: str
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
 
+@final
 class Expression:
     """A compiled expression over named variables."""
 
@@ -55,6 +77,9 @@ class Expression:
     def variables(self) -> Tuple[str, ...]: ...
     @property
     def engine(self) -> str: ...
+    @property
+    def threads(self) -> Optional[int]:
+        """The threads a call over big arrays uses (None: every core)."""
     @property
     def units(self) -> Dict[str, str]:
         """The dimension of each variable given one (`units=` of `compile`)."""
@@ -73,13 +98,21 @@ class Expression:
     @property
     def signature(self) -> str:
         """`double (int, double *, void *)`: variables then TIME in x, outputs in out."""
+    # Floats give a float (a vector expression or a gradient gives its outputs as a 1-D
+    # array even then: type those calls as the second overload); arrays give an array.
     @overload
-    def __call__(self, *args: float, time: float = ..., **kwargs: float) -> Union[float, np.ndarray]: ...
+    def __call__(  # type: ignore[overload-overlap]  # a float is array-like too
+        self, *args: float, time: float = ..., **kwargs: float
+    ) -> float: ...
     @overload
-    def __call__(self, *args: ArrayLike, time: ArrayLike = ..., **kwargs: ArrayLike) -> Union[float, np.ndarray]: ...
+    def __call__(
+        self, *args: _ArrayLike, time: _ArrayLike = ..., **kwargs: _ArrayLike
+    ) -> npt.NDArray[np.float64]: ...
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
     def gradient(self, wrt: Optional[Sequence[str]] = None) -> Expression:
         """The value, then its partials with respect to `wrt` (default: every variable)."""
 
+@final
 class Report:
     """What `Model.check()` reports; `str()` is `mbfx check`'s report."""
 
@@ -91,7 +124,9 @@ class Report:
     redundant: List[str]
     advice: List[str]
     warnings: List[Diagnostic]
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
 
+@final
 class Model:
     """A dataset read, built, assembled and analysed."""
 
@@ -154,7 +189,9 @@ class Model:
         """The model linearized at its static equilibrium (or after a run to `end`)."""
     def with_values(self, values: Mapping[str, Union[float, int, str]]) -> Model:
         """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
 
+@final
 class Recording:
     """The animation a run recorded (or none yet), with the request that ran it
     (`mbfx.Animation` wraps it; it does not pickle)."""
@@ -181,12 +218,57 @@ def compile(
     variables: Optional[Sequence[str]] = None,
     engine: str = "jit",
     units: Optional[Mapping[str, str]] = None,
+    threads: Optional[int] = None,
 ) -> Expression:
     """Checks and compiles `text` over `variables` (values go in that order). With
     engine="jit", a point runs machine code and arrays of 32 points or more the lane
     evaluator; engine="interp" interprets point by point. Both give the same bits.
     `units` gives variables dimensions ({"x": "length", "v": "m/s"}): the text is then
-    checked for units of measure, and what does not fit is a W0312 warning."""
+    checked for units of measure, and what does not fit is a W0312 warning. `threads`:
+    how many threads a call over arrays of 131 072 points or more splits them over
+    (None, the default: every core, as numexpr)."""
+
+def _rebuild_expression(
+    text: str,
+    variables: Sequence[str],
+    engine: str,
+    wrt: Sequence[str],
+    units: Sequence[Tuple[str, str]],
+    threads: Optional[int] = None,
+) -> Expression:
+    """Unpickles an expression (`Expression.__reduce__`)."""
+
+def _rebuild_diagnostic(
+    code: str,
+    severity: str,
+    message: str,
+    span: Tuple[int, int],
+    line: int,
+    column: int,
+    source: str,
+    help: Optional[str],
+    text: str,
+) -> Diagnostic:
+    """Unpickles a diagnostic (`Diagnostic.__reduce__`)."""
+
+def _rebuild_report(
+    dimension: int,
+    dimension_reason: str,
+    dof: int,
+    gruebler: int,
+    equations: int,
+    redundant: List[str],
+    advice: List[str],
+    warnings: List[Diagnostic],
+    text: str,
+) -> Report:
+    """Unpickles a report (`Report.__reduce__`)."""
+
+def _panic_for_tests() -> None:
+    """Panics inside Rust, so that the tests see it become `InternalError`."""
+
+def _load_text(text: str, name: str, dim: Optional[int] = None) -> Model:
+    """Rebuilds a pickled model (and a study's model on a worker) from its text."""
 
 def load(source: Union[str, PathLike[str]], dim: Optional[int] = None) -> Model:
     """Loads a dataset from a path, or from its text (a str holding a newline)."""

@@ -7,7 +7,7 @@ use mbfx::session::expression::{Column, Expression};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyFloat, PyInt, PyTuple};
+use pyo3::types::{PyDict, PyFloat, PyInt, PyString, PyTuple};
 
 /// Variables a point holds inline (more go through the array path).
 const INLINE: usize = 8;
@@ -26,15 +26,18 @@ impl Point {
         &self.values[..self.len]
     }
 
-    /// The point `args` (and `time`) give when each is a Python float or int and they
-    /// are `n` in all; None otherwise (arrays, keywords, a wrong count: the general
-    /// path handles and words those).
+    /// The point `args` and `kwargs` (by name, case-insensitive; `time=`, any case,
+    /// gives TIME) give when each value is a Python float or int and every one of
+    /// `names` has one; None otherwise (arrays, unknown or repeated names, a wrong count: the
+    /// general path handles and words those). Nothing is allocated: a keyword call costs
+    /// about what a positional one does.
     pub fn scalars(
+        names: &[String],
         args: &Bound<'_, PyTuple>,
-        time: Option<&Bound<'_, PyAny>>,
-        n: usize,
+        kwargs: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Option<Point>> {
-        if args.len() != n || n > INLINE {
+        let n = names.len();
+        if args.len() > n || n > INLINE {
             return Ok(None);
         }
         let mut p = Point {
@@ -42,19 +45,39 @@ impl Point {
             len: n,
             time: 0.0,
         };
-        for (slot, a) in p.values.iter_mut().zip(args.iter()) {
+        // Bit k: variable k has its value.
+        let mut given = 0u32;
+        for (k, (slot, a)) in p.values.iter_mut().zip(args.iter()).enumerate() {
             match plain(&a)? {
                 Some(x) => *slot = x,
                 None => return Ok(None),
             }
+            given |= 1 << k;
         }
-        if let Some(t) = time {
-            match plain(t)? {
-                Some(x) => p.time = x,
-                None => return Ok(None),
+        let mut time_given = false;
+        if let Some(kw) = kwargs {
+            for (key, value) in kw.iter() {
+                let Ok(key) = key.cast::<PyString>() else {
+                    return Ok(None);
+                };
+                let key = key.to_str()?;
+                let Some(x) = plain(&value)? else {
+                    return Ok(None);
+                };
+                match names.iter().position(|n| n.eq_ignore_ascii_case(key)) {
+                    Some(k) if given & (1 << k) == 0 => {
+                        p.values[k] = x;
+                        given |= 1 << k;
+                    }
+                    None if key.eq_ignore_ascii_case("time") && !time_given => {
+                        p.time = x;
+                        time_given = true;
+                    }
+                    _ => return Ok(None),
+                }
             }
         }
-        Ok(Some(p))
+        Ok((given.count_ones() as usize == n).then_some(p))
     }
 }
 
@@ -155,8 +178,14 @@ impl<'py> Inputs<'py> {
         })
     }
 
-    /// Evaluates `e` at every point, the GIL released, and shapes the result.
-    pub fn evaluate(&self, py: Python<'py>, e: &Expression) -> PyResult<Bound<'py, PyAny>> {
+    /// Evaluates `e` at every point on up to `threads` threads, the GIL released, and
+    /// shapes the result.
+    pub fn evaluate(
+        &self,
+        py: Python<'py>,
+        e: &Expression,
+        threads: usize,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let columns: Vec<Column> = self.args.iter().map(column).collect::<PyResult<_>>()?;
         let time = column(&self.time)?;
         let points: usize = self.shape.iter().product();
@@ -168,7 +197,7 @@ impl<'py> Inputs<'py> {
         if points > 0 {
             let mut guard = flat.readwrite();
             let out = guard.as_slice_mut()?;
-            py.detach(|| e.eval_columns(&columns, time, out))
+            py.detach(|| eval_split(e, &columns, time, out, points, threads))
                 .map_err(|x| expr_error(py, e.text(), x))?;
         }
         if self.all_numbers && k == 1 {
@@ -180,5 +209,61 @@ impl<'py> Inputs<'py> {
             shape.push(k);
         }
         Ok(flat.reshape(shape)?.into_any())
+    }
+}
+
+/// The fewest points a thread of a split evaluation takes: below some 64 000 points the
+/// cost of starting a thread (tens of microseconds) is a large part of the work.
+pub const POINTS_PER_THREAD: usize = 1 << 16;
+
+/// The number of threads `threads=` asks for: None is every core the process may use
+/// (as numexpr's default), a number at least 1.
+pub fn thread_count(threads: Option<usize>) -> usize {
+    threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1)
+}
+
+/// `e.eval_columns` over `points` points cut into contiguous chunks of at least
+/// [`POINTS_PER_THREAD`], one per thread (at most `threads`): each chunk reads its slice
+/// of every column and writes its slice of `out`, so the bits are those of one thread.
+fn eval_split(
+    e: &Expression,
+    columns: &[Column],
+    time: Column,
+    out: &mut [f64],
+    points: usize,
+    threads: usize,
+) -> Result<usize, mbfx::session::expression::ExprError> {
+    let chunks = threads.min(points / POINTS_PER_THREAD).max(1);
+    if chunks == 1 {
+        return e.eval_columns(columns, time, out);
+    }
+    let k = e.outputs();
+    let per = points.div_ceil(chunks);
+    std::thread::scope(|scope| {
+        let work: Vec<_> = out
+            .chunks_mut(per * k)
+            .enumerate()
+            .map(|(i, part)| {
+                let (from, to) = (i * per, (i * per + part.len() / k).min(points));
+                let cols: Vec<Column> = columns.iter().map(|c| slice(c, from, to)).collect();
+                let t = slice(&time, from, to);
+                scope.spawn(move || e.eval_columns(&cols, t, part))
+            })
+            .collect();
+        let mut done = 0;
+        for w in work {
+            done += w.join().unwrap_or_else(|p| std::panic::resume_unwind(p))?;
+        }
+        Ok(done)
+    })
+}
+
+/// Points `from..to` of `c`.
+fn slice<'a>(c: &Column<'a>, from: usize, to: usize) -> Column<'a> {
+    match c {
+        Column::Const(x) => Column::Const(*x),
+        Column::Values(v) => Column::Values(&v[from..to]),
     }
 }

@@ -6,36 +6,36 @@ use mbfx::diag::{render, Diagnostic as Diag, Severity, SourceFile};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyOverflowError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyList;
+use pyo3::types::{PyList, PyTuple};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 create_exception!(
-    _mbfx,
+    mbfx,
     MbfxError,
     PyException,
     "Base class of every error mbfx raises."
 );
 create_exception!(
-    _mbfx,
+    mbfx,
     CheckError,
     MbfxError,
     "An expression or dataset has errors: `.diagnostics` lists them (code, message, span, line, column); `str()` is the rendered text with carets."
 );
 create_exception!(
-    _mbfx,
+    mbfx,
     RunError,
     MbfxError,
     "A run failed: `.time`, `.element` and `.cause` say where and why, `.code` is the diagnostic code, and `.run` holds the rows computed before the failure."
 );
 create_exception!(
-    _mbfx,
+    mbfx,
     InternalError,
     MbfxError,
     "A bug in mbfx (a panic inside Rust), reported instead of crashing the interpreter."
 );
 
 /// One diagnostic: a stable code, a message and where it points.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Diagnostic")]
+#[pyclass(frozen, module = "mbfx", name = "Diagnostic")]
 pub struct PyDiagnostic {
     /// The stable code, e.g. `E0201`.
     #[pyo3(get)]
@@ -77,6 +77,58 @@ impl PyDiagnostic {
             "Diagnostic({} {} at {}:{}: {})",
             self.severity, self.code, self.line, self.column, self.message
         )
+    }
+
+    /// Pickled as its fields: a diagnostic (and the `CheckError` holding it) crosses a
+    /// process boundary intact.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let rebuild = py.import("mbfx._mbfx")?.getattr("_rebuild_diagnostic")?;
+        let fields = (
+            &self.code,
+            self.severity,
+            &self.message,
+            self.span,
+            self.line,
+            self.column,
+            &self.source,
+            &self.help,
+            &self.text,
+        );
+        Ok((rebuild, fields.into_pyobject(py)?))
+    }
+}
+
+/// Unpickles a diagnostic (see `Diagnostic.__reduce__`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)] // one per field of the pickled diagnostic
+pub fn _rebuild_diagnostic(
+    code: String,
+    severity: &str,
+    message: String,
+    span: (usize, usize),
+    line: usize,
+    column: usize,
+    source: String,
+    help: Option<String>,
+    text: String,
+) -> PyDiagnostic {
+    PyDiagnostic {
+        code,
+        severity: if severity == "error" {
+            "error"
+        } else {
+            "warning"
+        },
+        message,
+        span,
+        line,
+        column,
+        source,
+        help,
+        text,
     }
 }
 

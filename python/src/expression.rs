@@ -50,41 +50,46 @@ pub fn expr_error(py: Python<'_>, text: &str, e: ExprError) -> PyErr {
 /// order of `variables`, or by keyword) and optionally `time=`: scalars give a float,
 /// arrays an ndarray broadcast as numpy broadcasts. A vector expression or a gradient
 /// gives its values along a last axis.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Expression")]
+#[pyclass(frozen, module = "mbfx", name = "Expression")]
 pub struct PyExpression {
     pub inner: Expression,
+    /// `threads=` of `compile`: None is every core.
+    pub threads: Option<usize>,
 }
 
 #[pymethods]
 impl PyExpression {
-    #[pyo3(signature = (*args, time = None, **kwargs))]
+    // `(*args, **kwargs)` and nothing else: pyo3 then hands over Python's own tuple and
+    // dict (with a named `time=` it copied every other keyword into a new dict, which
+    // cost a keyword call as much again as the call itself). TIME is a keyword like the
+    // variables, any case.
+    #[pyo3(signature = (*args, **kwargs))]
+    // No `py` parameter either: pyo3 counts it among the arguments, and passes through
+    // only a signature of exactly `*args, **kwargs`.
     fn __call__<'py>(
         &self,
-        py: Python<'py>,
         args: &Bound<'py, PyTuple>,
-        time: Option<&Bound<'py, PyAny>>,
         kwargs: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let py = args.py();
         guarded(|| {
             let e = &self.inner;
-            // The common small call: floats only, no keywords but time.
-            if kwargs.is_none() {
-                if let Some(point) = Point::scalars(args, time, e.variables().len())? {
-                    let value = if e.outputs() == 1 {
-                        let v = e
-                            .eval_scalar(point.values(), point.time)
-                            .map_err(|x| expr_error(py, e.text(), x))?;
-                        return Ok(v.into_pyobject(py)?.into_any());
-                    } else {
-                        e.eval(point.values(), point.time)
-                            .map_err(|x| expr_error(py, e.text(), x))?
-                    };
-                    return Ok(PyArray1::from_vec(py, value).into_any());
-                }
+            // The common small call: floats only, positional or by keyword.
+            if let Some(point) = Point::scalars(e.variables(), args, kwargs)? {
+                let value = if e.outputs() == 1 {
+                    let v = e
+                        .eval_scalar(point.values(), point.time)
+                        .map_err(|x| expr_error(py, e.text(), x))?;
+                    return Ok(v.into_pyobject(py)?.into_any());
+                } else {
+                    e.eval(point.values(), point.time)
+                        .map_err(|x| expr_error(py, e.text(), x))?
+                };
+                return Ok(PyArray1::from_vec(py, value).into_any());
             }
-            let slots = bind_arguments(e, args, kwargs)?;
-            let inputs = Inputs::gather(py, &slots, time)?;
-            inputs.evaluate(py, e)
+            let (slots, time) = bind_arguments(e, args, kwargs)?;
+            let inputs = Inputs::gather(py, &slots, time.as_ref())?;
+            inputs.evaluate(py, e, crate::arrays::thread_count(self.threads))
         })
     }
 
@@ -100,7 +105,10 @@ impl PyExpression {
             let g = py
                 .detach(|| e.gradient(&names))
                 .map_err(|x| expr_error(py, e.text(), x))?;
-            Ok(PyExpression { inner: g })
+            Ok(PyExpression {
+                inner: g,
+                threads: self.threads,
+            })
         })
     }
 
@@ -114,6 +122,13 @@ impl PyExpression {
     #[getter]
     fn variables<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
         PyTuple::new(py, self.inner.variables())
+    }
+
+    /// The threads a call over big arrays uses (`threads=` of `compile`; None: every
+    /// core). Arrays of fewer than 131 072 points run on the calling thread.
+    #[getter]
+    fn threads(&self) -> Option<usize> {
+        self.threads
     }
 
     /// `"jit"` or `"interp"`.
@@ -209,6 +224,7 @@ impl PyExpression {
             engine_name(e.engine()),
             PyTuple::new(py, e.wrt())?,
             self.inner.unit_texts(),
+            self.threads,
         )
             .into_pyobject(py)?;
         Ok((rebuild, args))
@@ -216,12 +232,14 @@ impl PyExpression {
 }
 
 /// The argument bound to each variable: positional ones first, then keywords by name
-/// (case-insensitive, as the language's names are).
+/// (case-insensitive, as the language's names are); and TIME when a keyword spelt
+/// `TIME` (any case) gave it.
+#[allow(clippy::type_complexity)] // the slots and TIME, each as Python gave them
 fn bind_arguments<'py>(
     e: &Expression,
     args: &Bound<'py, PyTuple>,
     kwargs: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Vec<Bound<'py, PyAny>>> {
+) -> PyResult<(Vec<Bound<'py, PyAny>>, Option<Bound<'py, PyAny>>)> {
     let names = e.variables();
     if args.len() > names.len() {
         return Err(PyTypeError::new_err(format!(
@@ -232,21 +250,28 @@ fn bind_arguments<'py>(
         )));
     }
     let mut slots: Vec<Option<Bound<'py, PyAny>>> = vec![None; names.len()];
+    let mut time = None;
     for (slot, a) in slots.iter_mut().zip(args.iter()) {
         *slot = Some(a);
     }
     if let Some(kw) = kwargs {
         for (key, value) in kw.iter() {
             let key: String = key.extract()?;
-            let k = names
-                .iter()
-                .position(|n| n.eq_ignore_ascii_case(&key))
-                .ok_or_else(|| {
-                    PyTypeError::new_err(format!(
-                        "`{key}` is not a variable of the expression (its variables: {})",
-                        names.join(", ")
-                    ))
-                })?;
+            let found = names.iter().position(|n| n.eq_ignore_ascii_case(&key));
+            if found.is_none() && key.eq_ignore_ascii_case("time") {
+                if time.is_some() {
+                    return Err(PyTypeError::new_err("`time` is given twice"));
+                }
+                // `time=None` is TIME left out (0).
+                time = Some(value).filter(|v| !v.is_none());
+                continue;
+            }
+            let k = found.ok_or_else(|| {
+                PyTypeError::new_err(format!(
+                    "`{key}` is not a variable of the expression (its variables: {})",
+                    names.join(", ")
+                ))
+            })?;
             if slots[k].replace(value).is_some() {
                 return Err(PyTypeError::new_err(format!(
                     "`{}` is given twice",
@@ -255,24 +280,35 @@ fn bind_arguments<'py>(
             }
         }
     }
-    slots
+    let slots = slots
         .into_iter()
         .zip(names)
         .map(|(s, n)| s.ok_or_else(|| PyTypeError::new_err(format!("no value for `{n}`"))))
-        .collect()
+        .collect::<PyResult<_>>()?;
+    Ok((slots, time))
 }
 
-/// `mbfx.compile(text, variables=(), engine="jit", units=None)`.
+/// `mbfx.compile(text, variables=(), engine="jit", units=None, threads=None)`.
 #[pyfunction]
-#[pyo3(signature = (text, variables = None, engine = "jit", units = None))]
+#[pyo3(signature = (text, variables = None, engine = "jit", units = None, threads = None))]
 pub fn compile(
     py: Python<'_>,
     text: &str,
     variables: Option<Vec<String>>,
     engine: &str,
     units: Option<BTreeMap<String, String>>,
+    threads: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyExpression> {
     guarded(|| {
+        let threads = threads
+            .filter(|t| !t.is_none())
+            .map(|t| crate::errors::int_in_range::<usize>(t, "threads"))
+            .transpose()?;
+        if threads == Some(0) {
+            return Err(PyValueError::new_err(
+                "threads must be at least 1, or None for every core",
+            ));
+        }
         let engine = engine_of(engine)?;
         let variables = variables.unwrap_or_default();
         let names: Vec<&str> = variables.iter().map(String::as_str).collect();
@@ -282,12 +318,13 @@ pub fn compile(
         let inner = py
             .detach(|| Expression::compile_with_dims(text, &names, &dims, engine))
             .map_err(|x| expr_error(py, text, x))?;
-        Ok(PyExpression { inner })
+        Ok(PyExpression { inner, threads })
     })
 }
 
 /// Unpickles an expression (see `Expression.__reduce__`).
 #[pyfunction]
+#[pyo3(signature = (text, variables, engine, wrt, units, threads = None))]
 pub fn _rebuild_expression(
     py: Python<'_>,
     text: &str,
@@ -295,13 +332,16 @@ pub fn _rebuild_expression(
     engine: &str,
     wrt: Vec<String>,
     units: Vec<(String, String)>,
+    threads: Option<usize>,
 ) -> PyResult<PyExpression> {
+    let threads = threads.into_pyobject(py)?;
     let e = compile(
         py,
         text,
         Some(variables),
         engine,
         Some(units.into_iter().collect()),
+        Some(&threads),
     )?;
     if wrt.is_empty() {
         return Ok(e);

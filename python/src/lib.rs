@@ -35,5 +35,7 @@ fn _mbfx(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model::load, m)?)?;
     m.add_function(wrap_pyfunction!(model::_load_text, m)?)?;
     m.add_function(wrap_pyfunction!(model::_panic_for_tests, m)?)?;
+    m.add_function(wrap_pyfunction!(errors::_rebuild_diagnostic, m)?)?;
+    m.add_function(wrap_pyfunction!(model::_rebuild_report, m)?)?;
     Ok(())
 }

@@ -33,7 +33,7 @@ pub fn dim_request(dim: Option<u8>) -> PyResult<DimRequest> {
 
 /// What `Model.check()` reports: the dimension and why, the degrees of freedom, and the
 /// redundant constraints in Adams' words. `str()` is the report `mbfx check` prints.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Report")]
+#[pyclass(frozen, module = "mbfx", name = "Report")]
 pub struct PyReport {
     /// 2 or 3: the dimension the system was built in.
     #[pyo3(get)]
@@ -77,10 +77,57 @@ impl PyReport {
             self.redundant.len()
         )
     }
+
+    /// Pickled as its fields, so a report crosses a process boundary intact.
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let rebuild = py.import("mbfx._mbfx")?.getattr("_rebuild_report")?;
+        let fields = (
+            self.dimension,
+            &self.dimension_reason,
+            self.dof,
+            self.gruebler,
+            self.equations,
+            &self.redundant,
+            &self.advice,
+            self.warnings.clone_ref(py),
+            &self.text,
+        );
+        Ok((rebuild, fields.into_pyobject(py)?))
+    }
+}
+
+/// Unpickles a report (see `Report.__reduce__`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)] // one per field of the pickled report
+pub fn _rebuild_report(
+    dimension: u8,
+    dimension_reason: String,
+    dof: usize,
+    gruebler: i64,
+    equations: usize,
+    redundant: Vec<String>,
+    advice: Vec<String>,
+    warnings: Py<PyList>,
+    text: String,
+) -> PyReport {
+    PyReport {
+        dimension,
+        dimension_reason,
+        dof,
+        gruebler,
+        equations,
+        redundant,
+        advice,
+        warnings,
+        text,
+    }
 }
 
 /// A dataset (`.adm`), read and analysed. Build it with `mbfx.load`.
-#[pyclass(frozen, module = "mbfx._mbfx", name = "Model")]
+#[pyclass(frozen, module = "mbfx", name = "Model")]
 pub struct PyModel {
     /// The dataset text.
     pub text: String,
@@ -306,18 +353,18 @@ impl PyModel {
     fn run(
         &self,
         py: Python<'_>,
-        end: Option<f64>,
-        output_step: Option<f64>,
+        end: Option<&Bound<'_, PyAny>>,
+        output_step: Option<&Bound<'_, PyAny>>,
         integrator: Option<&str>,
-        error: Option<f64>,
+        error: Option<&Bound<'_, PyAny>>,
         probes: Option<&Bound<'_, PyDict>>,
         progress: bool,
-        hmax: Option<f64>,
-        hinit: Option<f64>,
-        hmin: Option<f64>,
-        fixed_step: Option<f64>,
-        alpha: Option<f64>,
-        rho_inf: Option<f64>,
+        hmax: Option<&Bound<'_, PyAny>>,
+        hinit: Option<&Bound<'_, PyAny>>,
+        hmin: Option<&Bound<'_, PyAny>>,
+        fixed_step: Option<&Bound<'_, PyAny>>,
+        alpha: Option<&Bound<'_, PyAny>>,
+        rho_inf: Option<&Bound<'_, PyAny>>,
         kmax: Option<&Bound<'_, PyAny>>,
         formulation: Option<&str>,
         error_per: &str,
@@ -339,12 +386,19 @@ impl PyModel {
                 r.animation = Some(crate::animation::request_of(geometry)?);
             }
             r.geometry = crate::animation::meshes_of(geometry)?;
-            (r.end, r.output_step, r.error) = (end, output_step, error);
+            r.end = run::real(end, "end")?;
+            r.output_step = run::real(output_step, "output_step")?;
+            r.error = run::real(error, "error")?;
             r.estimate_error = estimate_error;
             r.method = integrator.map(run::method_of).transpose()?;
-            (r.hmax, r.hinit, r.hmin, r.fixed_step) = (hmax, hinit, hmin, fixed_step);
+            r.hmax = run::real(hmax, "hmax")?;
+            r.hinit = run::real(hinit, "hinit")?;
+            r.hmin = run::real(hmin, "hmin")?;
+            r.fixed_step = run::real(fixed_step, "fixed_step")?;
             let kmax = kmax.map(|k| int_in_range::<u32>(k, "kmax")).transpose()?;
-            (r.alpha, r.rho_inf, r.kmax) = (alpha, rho_inf, kmax);
+            r.alpha = run::real(alpha, "alpha")?;
+            r.rho_inf = run::real(rho_inf, "rho_inf")?;
+            r.kmax = kmax;
             r.formulation = formulation.map(run::formulation_of).transpose()?;
             r.error_per_run = run::error_per_run(error_per)?;
             r.cartesian = cartesian;
@@ -353,6 +407,7 @@ impl PyModel {
             r.dim = dim_request(self.dim)?;
             r.probes = run::probes_of(probes)?;
             r.set = run::settings_of(set)?;
+            run::check_arguments(&r, true)?;
             run::run_model(py, &r, progress, animation != Some(false))
         })
     }
@@ -368,14 +423,14 @@ impl PyModel {
         &self,
         py: Python<'_>,
         statics: bool,
-        end: Option<f64>,
+        end: Option<&Bound<'_, PyAny>>,
         damping: bool,
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
         guarded(|| {
             let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
-            (r.statics, r.end) = (statics, end);
+            (r.statics, r.end) = (statics, run::real(end, "end")?);
             r.engine = engine_of(engine)?;
             r.dim = dim_request(self.dim)?;
             r.set = run::settings_of(set)?;
@@ -383,6 +438,7 @@ impl PyModel {
                 file: None,
                 damping,
             });
+            run::check_arguments(&r, false)?;
             crate::linear::linearize(py, &r)
         })
     }

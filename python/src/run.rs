@@ -65,6 +65,66 @@ pub fn error_per_run(name: &str) -> PyResult<bool> {
     }
 }
 
+/// The number a keyword argument `name=` holds (a float, an int, numpy's scalars), or
+/// None when it was not given: a str or another object is a `TypeError` naming the
+/// argument (pyo3's own said "must be real number, not str" without saying which).
+pub fn real(value: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<f64>> {
+    let Some(v) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if v.is_instance_of::<PyBool>() || v.is_instance_of::<pyo3::types::PyString>() {
+        return Err(number_expected(v, name));
+    }
+    v.extract::<f64>()
+        .map(Some)
+        .map_err(|_| number_expected(v, name))
+}
+
+fn number_expected(v: &Bound<'_, PyAny>, name: &str) -> PyErr {
+    let kind = v
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    let shown = v.repr().map_or_else(|_| kind.clone(), |r| r.to_string());
+    PyTypeError::new_err(format!(
+        "{name} must be a number (a float or an int), not {kind} {shown}"
+    ))
+}
+
+/// `request`'s numbers checked as `mbfx run` checks its options, the refusal worded for
+/// Python: a `ValueError` naming the keyword (`end=-1 must be a positive time`), not
+/// the option (`--end -1 ... (command line)`); with `end_required`, a missing `end` too.
+pub fn check_arguments(request: &RunRequest, end_required: bool) -> PyResult<()> {
+    if end_required && request.end.is_none() {
+        return Err(PyValueError::new_err(
+            "end is required: the time to run to, e.g. Model.run(end=1.0)",
+        ));
+    }
+    match request.validate() {
+        Ok(()) => Ok(()),
+        Err(d) => Err(PyValueError::new_err(keyword_words(&d.message))),
+    }
+}
+
+/// A command-line refusal `--some-option VALUE rest` as `some_option=VALUE rest`.
+fn keyword_words(message: &str) -> String {
+    let Some(rest) = message.strip_prefix("--") else {
+        return message.to_string();
+    };
+    let (option, rest) = rest.split_once(' ').unwrap_or((rest, ""));
+    // `--interpolate FPS` is the frame rate an animation records at.
+    let name = match option {
+        "interpolate" => "fps".to_string(),
+        o => o.replace('-', "_"),
+    };
+    match rest.split_once(' ') {
+        Some((value, tail)) if !value.starts_with(|c: char| c.is_ascii_alphabetic()) => {
+            format!("{name}={value} {tail}")
+        }
+        _ => format!("{name} {rest}"),
+    }
+}
+
 /// The probes of a dict, in its order.
 pub fn probes_of(probes: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, String)>> {
     let mut out = Vec::new();

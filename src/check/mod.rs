@@ -9,6 +9,7 @@
 
 pub mod scope;
 mod suggest;
+pub use suggest::closest;
 pub mod units;
 mod validate;
 

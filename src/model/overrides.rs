@@ -6,13 +6,18 @@
 //! and the field. It replaces that argument's value in the dataset text, or adds the
 //! argument to the statement when it is not written there, and the edited text is read
 //! again: line numbers do not move, so every later diagnostic points at the line it would
-//! in the file. Nothing is ignored: a statement the dataset does not have, a field the
+//! in the file. The argument is written with the setting's own spelling of the field, so
+//! the reader judges it as it judges a dataset: a field longer than the argument
+//! (`MASSS`, `QPX`) or an abbreviation shorter than Adams' shortest is refused, not taken
+//! for the argument it starts with, and the refusal names the nearest argument the
+//! statement writes. Nothing is ignored: a statement the dataset does not have, a field the
 //! statement does not take (the reader's W0602) and a value the reader refuses are each an
 //! E0611 error at the setting, naming the statement.
 
 use super::keywords::{abbreviates, lookup_statement, Lookup};
 use super::reader::read_model;
 use super::statement::{read_statements, Statement};
+use crate::check::closest;
 use crate::diag::{Code, Diagnostic, Severity, Span};
 
 /// One parsed setting; spans index [`Settings::text`].
@@ -144,7 +149,7 @@ impl Settings {
         let mut edits: Vec<Edit> = Vec::new();
         let mut errors = Vec::new();
         for (k, s) in self.items.iter().enumerate() {
-            match edit_for(dataset, &stmts, s, k) {
+            match edit_for(&stmts, s, k) {
                 Ok(e) => {
                     if let Some(prev) = edits.iter().find(|p| p.same_value(&e)) {
                         let first = &self.items[prev.setting];
@@ -179,9 +184,7 @@ impl Settings {
             {
                 let s = &self.items[*k];
                 let message = match d.code {
-                    Code::UnsupportedStatement => {
-                        format!("{} takes no field {} that mbfx reads", s.label(), s.field)
-                    }
+                    Code::UnsupportedStatement => unknown_field(&stmts, s),
                     _ => format!("{}.{}: {}", s.label(), s.field, d.message),
                 };
                 let span = match d.code {
@@ -261,7 +264,7 @@ fn splice(text: &str, edits: &mut [Edit], items: &[Setting]) -> (String, Vec<Spl
 }
 
 /// The statement `s` names and the change to its field.
-fn edit_for(text: &str, stmts: &[Statement], s: &Setting, k: usize) -> Result<Edit, Diagnostic> {
+fn edit_for(stmts: &[Statement], s: &Setting, k: usize) -> Result<Edit, Diagnostic> {
     let Some(stmt) = stmts
         .iter()
         .find(|st| st.canonical == Some(s.kind) && st.id == s.id)
@@ -283,6 +286,9 @@ fn edit_for(text: &str, stmts: &[Statement], s: &Setting, k: usize) -> Result<Ed
         });
     };
     let field = &s.field;
+    // The argument the setting replaces: the one written with the same name, else one
+    // whose name starts the field's or starts with it. The field is written in its
+    // place as the setting spells it, so the reader refuses one it does not know.
     let found = stmt
         .args
         .iter()
@@ -292,7 +298,7 @@ fn edit_for(text: &str, stmts: &[Statement], s: &Setting, k: usize) -> Result<Ed
     Ok(match found {
         Some(a) => Edit {
             old: a.span.clone(),
-            new: format!("{}={}", &text[a.name_span.clone()], s.value),
+            new: format!("{}={}", s.field, s.value),
             setting: k,
             statement: stmt.span.start,
             field: a.name.to_ascii_uppercase(),
@@ -305,6 +311,30 @@ fn edit_for(text: &str, stmts: &[Statement], s: &Setting, k: usize) -> Result<Ed
             field: s.field.clone(),
         },
     })
+}
+
+/// The refusal of a field the reader does not know on `s`'s statement, naming the
+/// nearest argument the statement writes (the typo `MASSS` of `MASS`).
+fn unknown_field(stmts: &[Statement], s: &Setting) -> String {
+    let written: Vec<&str> = stmts
+        .iter()
+        .filter(|st| st.canonical == Some(s.kind) && st.id == s.id)
+        .flat_map(|st| st.args.iter().map(|a| a.name.as_str()))
+        .filter(|name| !name.eq_ignore_ascii_case(&s.field))
+        .collect();
+    let nearest = closest(&s.field, written.iter().copied()).or_else(|| {
+        // A field that runs past an argument's name (`QPX` of `QP`).
+        written
+            .iter()
+            .copied()
+            .filter(|name| abbreviates(name, &s.field, 2))
+            .max_by_key(|name| name.len())
+    });
+    let base = format!("{} takes no field {} that mbfx reads", s.label(), s.field);
+    match nearest {
+        Some(name) => format!("{base}; did you mean {name}?"),
+        None => base,
+    }
 }
 
 /// Parses one setting written at `offset` of the settings' text.

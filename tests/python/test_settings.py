@@ -114,3 +114,20 @@ def test_design_variables_rerun_the_built_simulation_with_the_sqrt_k_over_m_freq
     # Another field, or a value that is not a number, builds again.
     assert not m.run(1.0, set={"PART/2.MASS": 4}, **args).stats["reused"]
     assert not m.run(1.0, set={"VARIABLE/1.FUNCTION": "20**2"}, **args).stats["reused"]
+
+
+@pytest.mark.parametrize(
+    "key, nearest",
+    [("PART/2.MASSS", "MASS"), ("MARKER/22.QPX", "QP"), ("SFORCE/1.FUNCTON", "FUNCTION")],
+)
+def test_a_misspelt_setting_is_an_error_naming_the_nearest_key(cli, key, nearest):
+    # Issue 43 §3: MASSS was taken as MASS and QPX as QP. The CLI's --set says the same.
+    m = mbfx.load(SLIDER)
+    value = "0, 0, 0" if "QP" in key else "1"
+    for call in (lambda: m.with_values({key: value}), lambda: m.run(0.1, set={key: value})):
+        with pytest.raises(mbfx.MbfxError) as caught:
+            call()
+        assert f"did you mean {nearest}?" in str(caught.value), str(caught.value)
+    want = CliRun(SLIDER, "--end", "0.1", f"--set={key}={value}")
+    assert want.code == 1 and want.first_error() == "E0611", want.stderr
+    assert f"did you mean {nearest}?" in want.stderr

@@ -390,6 +390,46 @@ def test_a_study_survives_a_killed_worker(model, client, tmp_path):
     client.wait_for_workers(2, timeout=60)  # the nanny restarts it for later tests
 
 
+def test_a_variant_that_kills_its_worker_fails_alone_after_one_retry(model, client, tmp_path):
+    # The response of the variant with m = 2 ends its worker process, as a crash inside
+    # a run would; it notes each attempt in a file first. The study's own cluster blames
+    # only the task that was running.
+    attempts = tmp_path / "attempts"
+    deadly = 2.0
+    masses = [0.5, 1.0, deadly, 4.0]
+
+    def u_end_or_die(run):
+        u = float(run["u"][-1])
+        if abs(u - 0.1 * math.cos(math.sqrt(100 / deadly) * 0.5)) < 1e-6:
+            with open(attempts, "a") as f:
+                f.write("died\n")
+            os._exit(3)
+        return u
+
+    out = tmp_path / "results.csv"
+    args = dict(factors={"PART/2.MASS": masses}, templates={}, out=out)
+    s = oscillator_study(model, None, responses={"u_end": u_end_or_die}, batch=4, **args)
+    rows = s.table.set_index("variant")
+    failed = rows[rows["status"] == "failed"]
+    assert list(failed["PART/2.MASS"]) == [deadly], s.table
+    message = failed["message"].iloc[0]
+    assert message.startswith("the worker process running this variant died (2 attempts): KilledWorker"), message
+    # Its batch ran once, then it ran alone twice.
+    assert attempts.read_text().count("died") == 3
+    for _, row in rows[rows["status"] == "ok"].iterrows():
+        assert row["u_end"] == pytest.approx(closed_form(0.5, 100, row["PART/2.MASS"]), abs=1e-7)
+    assert len(rows) == len(masses)
+
+    # resume=True with retry_failed=True runs the failed row again (here it succeeds),
+    # replacing it in the file; the others are not run again.
+    again = oscillator_study(model, client, responses={"u_end": study.final("u")}, resume=True,
+                             retry_failed=True, **args)
+    assert (again.table["status"] == "ok").all() and len(again.table) == len(masses)
+    assert again.table["u_end"].iloc[2] == pytest.approx(closed_form(0.5, 100, deadly), abs=1e-7)
+    on_disk = pd.read_csv(out)
+    assert sorted(on_disk["variant"]) == [0, 1, 2, 3] and (on_disk["status"] == "ok").all()
+
+
 # --------------------------------------------------------------------- its own cluster
 
 

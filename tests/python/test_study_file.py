@@ -156,3 +156,27 @@ def test_the_bundled_study_file_reads():
 
 def test_the_study_file_modules_document_every_public_name():
     assert missing_docstrings(config) == []
+
+
+def test_retry_failed_runs_the_failed_rows_of_the_results_file_again(study_dir, client, monkeypatch, capsys):
+    # A results file whose variant 1 failed earlier (written here as a failed row): a
+    # resumed study keeps it, `--retry-failed` runs it again and replaces its row.
+    monkeypatch.chdir(study_dir)
+    scheduler = ["--scheduler", client.scheduler.address]
+    assert study_main.main(["study.toml", *scheduler]) == 0, capsys.readouterr().err
+    path = study_dir / "results.csv"
+    table = pd.read_csv(path)
+    good = table.loc[table["variant"] == 1, "u_end"].item()
+    table["message"] = table["message"].astype(object)
+    failed = table["variant"] == 1
+    table.loc[failed, "u_end"] = math.nan
+    table.loc[failed, "status"] = "failed"
+    table.loc[failed, "message"] = "an earlier failure"
+    table.to_csv(path, index=False)
+    assert study_main.main(["study.toml", *scheduler]) == 0
+    assert "4 variants: 3 ok, 1 failed" in capsys.readouterr().out
+    assert study_main.main(["study.toml", *scheduler, "--retry-failed"]) == 0
+    assert "4 variants: 4 ok, 0 failed" in capsys.readouterr().out
+    again = pd.read_csv(path)
+    assert sorted(again["variant"]) == [0, 1, 2, 3] and (again["status"] == "ok").all()
+    assert again.loc[again["variant"] == 1, "u_end"].item() == good

@@ -29,6 +29,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     ap.add_argument("--out", type=Path, help="the results file, .csv or .parquet (default: the file's)")
     ap.add_argument("--plots", type=Path, help="a folder for each response's plots (PNG; needs matplotlib)")
     ap.add_argument("--no-resume", action="store_true", help="run every variant again, even those the results file holds")
+    ap.add_argument("--retry-failed", action="store_true",
+                    help="run again the variants the results file holds as failed (their rows replaced)")
     ap.add_argument("--progress", action="store_true", help="show a progress bar")
     try:
         args = ap.parse_args(argv)
@@ -44,6 +46,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         kwargs["out"] = args.out
     if args.no_resume:
         kwargs["resume"] = False
+    if args.retry_failed:
+        kwargs["retry_failed"] = True
     scheduler = args.scheduler or study_file.scheduler
     try:
         with _client(scheduler) as client:

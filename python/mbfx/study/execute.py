@@ -1,10 +1,17 @@
 """Running variants on Dask: what a worker does with a batch, and how the client sends
 batches out and streams their rows back.
 
-The model travels to each worker once (scattered to all of them); a task is a batch of
-variants, each `(variant number, settings)`, and returns one row per variant. A variant
-that fails (a refused setting, a failed run, a response that raises) is a row with status
-"failed": the study goes on.
+A task is a batch of variants, each `(variant number, settings)`, and returns one row per
+variant. A variant that fails (a refused setting, a failed run, a response that raises) is
+a row with status "failed": the study goes on. A task that fails as a whole (its worker
+died: a variant crashed the process, or the machine killed it) is not the end of its
+variants: each of them runs again alone, so that the one that killed the worker fails
+alone; a lone variant whose task fails is retried once, then it is a failed row whose
+message names the worker's death.
+
+The model travels with every task as its dataset text (a few kilobytes), and each worker
+process keeps the model it built from it: no copy scattered beforehand, so nothing is
+lost with a worker (Dask forgets scattered data whose every holder died).
 """
 
 from __future__ import annotations
@@ -102,6 +109,36 @@ def failure_text(error: BaseException) -> str:
     return f"{type(error).__name__}: {error}"
 
 
+class Shipped:
+    """A model sent with each task: it pickles as the model's own pickle (its dataset
+    text), and a worker unpickles it into the model it built from that text before."""
+
+    def __init__(self, model: "Model") -> None:
+        self.model = model
+
+    def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]:
+        _, args = self.model.__reduce__()
+        return (built_model, tuple(args))
+
+
+# The models this worker process built, by their pickles' arguments (text, name, dim):
+# a few studies' worth.
+_BUILT: Dict[Tuple[Any, ...], "Model"] = {}
+_BUILT_KEPT = 4
+
+
+def built_model(*args: Any) -> "Model":
+    """The model `args` (a model's pickle) rebuild, built once per worker process."""
+    model = _BUILT.get(args)
+    if model is None:
+        from .._mbfx import _load_text
+
+        if len(_BUILT) >= _BUILT_KEPT:
+            _BUILT.clear()
+        model = _BUILT[args] = _load_text(*args)
+    return model
+
+
 # ------------------------------------------------------------------------ on the client
 
 
@@ -114,10 +151,27 @@ def connect(client: Optional["Client"]) -> Iterator["Client"]:
         return
     from distributed import Client, LocalCluster
 
+    import dask
+
     workers = os.cpu_count() or 1
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True) as cluster:
-        with Client(cluster) as own:
-            yield own
+    with dask.config.set(OWN_CLUSTER_CONFIG):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True) as cluster:
+            with Client(cluster) as own:
+                yield own
+
+
+# The scheduler settings of a study's own cluster: a worker runs one task at a time (no
+# task waits queued on it), and a task whose worker dies fails at once, so that only the
+# task that was running is blamed and the study, not Dask, decides what runs again
+# (Dask's default reruns it on up to three more workers, each of which a crashing variant
+# kills). On a cluster of your own, Dask's retries come before the study's.
+OWN_CLUSTER_CONFIG = {
+    "distributed.scheduler.allowed-failures": 0,
+    "distributed.scheduler.worker-saturation": 1.0,
+}
+
+# Times a lone variant whose task failed runs again before it is a failed row.
+RETRIES = 1
 
 
 # Tasks per worker thread: the last batch to finish idles the other workers for about
@@ -139,33 +193,53 @@ def batches(variants: Sequence[Tuple[int, Dict[str, Any]]], size: int) -> List[B
 
 def stream(client: "Client", model: "Model", job: Job, work: Iterable[Batch]) -> Iterator[List[Row]]:
     """Runs the batches on `client`'s cluster, yielding each one's rows as it finishes.
-    Dask reruns the tasks of a worker that dies elsewhere; a task that still fails gives
-    its variants failed rows."""
+    A batch whose task fails runs again one variant a task; a lone variant whose task
+    fails runs again `RETRIES` times, then gives a failed row naming the cause."""
     from distributed import as_completed
 
-    # hash=False: a job may hold lambdas, which dask cannot tokenize deterministically.
-    shared_model = client.scatter(model, broadcast=True, hash=False)
-    shared_job = client.scatter(job, broadcast=True, hash=False)
-    tasks = {client.submit(run_batch, shared_model, shared_job, b, pure=False): b for b in work}
-    for future, result in as_completed(tasks, with_results=True, raise_errors=False):
+    shipped = Shipped(model)
+    tasks: Dict[Any, Tuple[Batch, int]] = {}
+    running = as_completed()
+
+    def submit(batch: Batch, attempt: int) -> None:
+        future = client.submit(run_batch, shipped, job, batch, pure=False)
+        tasks[future] = (batch, attempt)
+        running.add(future)
+
+    for b in work:
+        submit(b, 0)
+    for future in running:
+        batch, attempt = tasks.pop(future)
         if future.status == "finished":
-            yield result
+            yield future.result()
+        elif len(batch) > 1:
+            # One of them may have killed the worker: alone, it fails alone.
+            for variant in batch:
+                submit([variant], 0)
+        elif attempt < RETRIES:
+            submit(batch, attempt + 1)
         else:
-            yield lost_batch(tasks[future], _exception(result))
+            yield lost_batch(batch, _exception(future), attempt + 1)
         future.release()  # its rows are here: the worker may drop them
 
 
-def lost_batch(batch: Batch, error: BaseException) -> List[Row]:
-    """Failed rows for a batch whose task failed as a whole (its worker kept dying)."""
-    message = f"the task running this variant failed: {type(error).__name__}: {error}"
+def lost_batch(batch: Batch, error: BaseException, attempts: int) -> List[Row]:
+    """Failed rows for a batch whose task failed `attempts` times as a whole: its worker
+    died running it (KilledWorker), or the task could not run."""
+    from distributed import KilledWorker
+
+    if isinstance(error, KilledWorker):
+        cause = f"the worker process running this variant died ({attempts} attempts)"
+    else:
+        cause = f"the task running this variant failed ({attempts} attempts)"
+    message = f"{cause}: {type(error).__name__}: {error}"
     return [{"variant": variant, "status": "failed", "message": message} for variant, _ in batch]
 
 
-def _exception(result: Any) -> BaseException:
-    """The exception in what as_completed gives for a failed future: the exception
-    itself, or an exc_info-like tuple."""
-    if isinstance(result, BaseException):
-        return result
-    if isinstance(result, tuple) and len(result) >= 2 and isinstance(result[1], BaseException):
-        return result[1]
-    return RuntimeError(repr(result))
+def _exception(future: Any) -> BaseException:
+    """The exception of a failed future (a cancelled one has none to fetch)."""
+    try:
+        error = future.exception()
+    except BaseException as e:  # noqa: BLE001 - a cancelled future raises its cause
+        return e
+    return error if isinstance(error, BaseException) else RuntimeError(repr(error))

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 STATUSES = ("ok", "failed")
 
 
-def results_file(path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> "ResultsFile":
+def results_file(path: Union[str, "os.PathLike[str]"], columns: Sequence[str]) -> "Union[ResultsFile, ParquetResults]":
     """The results file for `out=`: by its suffix, a CSV (.csv) or Parquet (.parquet) file."""
     suffix = Path(path).suffix.lower()
     if suffix == ".parquet":
@@ -55,6 +55,11 @@ class ResultsFile:
 
     def finish(self, table: "pd.DataFrame") -> None:
         """The study has ended with `table`: the rows are all in the file already."""
+
+    def keep_only(self, rows: "pd.DataFrame") -> None:
+        """Rewrites the file to hold `rows` only (retry_failed drops the failed ones)."""
+        body = rows[self.columns].to_csv(header=False, index=False, lineterminator="\n")
+        self._write_text(_csv_line(self.columns) + body)
 
     def _keep_complete_rows(self) -> None:
         """Rewrites the file without incomplete or repeated rows, if it has any; raises
@@ -109,12 +114,18 @@ class ParquetResults:
                 f"{self.path} holds other columns ({list(ended.columns)}) than this study's ({self.columns}): "
                 "pass resume=False to overwrite it, or another out="
             )
-        both = pd.concat([ended, streamed], ignore_index=True) if len(streamed) else ended
+        # The streamed rows are the newer (a failed row run again by retry_failed).
+        both = pd.concat([streamed, ended], ignore_index=True) if len(streamed) else ended
         return both.drop_duplicates("variant").reset_index(drop=True)
 
     def append(self, rows: "pd.DataFrame") -> None:
         """Adds `rows` to the streamed CSV."""
         self.rows.append(rows)
+
+    def keep_only(self, rows: "pd.DataFrame") -> None:
+        """Keeps `rows` only: the streamed CSV holds them (newer than the Parquet file's),
+        the Parquet file is rewritten whole when the study ends."""
+        self.rows.keep_only(rows)
 
     def finish(self, table: "pd.DataFrame") -> None:
         """Writes `table` (every row of the study) to the Parquet file in one step."""

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Callable, Dict, Iterator, List, Mapping, 
 from . import designs
 from .execute import SECONDS, STATS, Job, Row, batches, connect, default_batch, stream
 from .factors import Factor, FactorSpec, check_templates, factors_from, settings
-from .outfile import ResultsFile, results_file
+from .outfile import ParquetResults, ResultsFile, results_file
 from .responses import Response, check_columns
 from .results import Study
 
@@ -45,6 +45,7 @@ def run(
     batch: Optional[int] = None,
     out: Union[str, "os.PathLike[str]", None] = None,
     resume: bool = True,
+    retry_failed: bool = False,
     progress: bool = False,
     seed: Optional[int] = 0,
 ) -> Study:
@@ -63,7 +64,12 @@ def run(
     on `client`'s cluster, or on a LocalCluster of one process per core started and
     closed here. `out` (.csv, or .parquet written whole at the end) receives each
     batch's rows as it finishes; with `resume` the variants it already holds are not
-    run again. `progress` shows a progress bar.
+    run again, and with `retry_failed` as well those it holds as failed run again (their
+    rows are replaced). `progress` shows a progress bar.
+
+    A variant that crashes its worker process fails alone: its batch runs again one
+    variant a task, and a lone variant whose worker dies is retried once, then is a
+    failed row naming the worker's death (docs/study.md, "Crashing variants").
     """
     for name, value in (("factors", factors), ("responses", responses), ("probes", probes),
                         ("templates", templates), ("run_args", run_args)):
@@ -79,6 +85,9 @@ def run(
 
     results = results_file(out, columns) if out is not None else None
     done = results.start(resume) if results is not None else _empty(columns)
+    if retry_failed and results is not None and (done["status"] != "ok").any():
+        done = done[done["status"] == "ok"].reset_index(drop=True)
+        results.keep_only(done)
     _check_same_design(done, plan, out)
     seen: Set[int] = set(int(v) for v in done["variant"])
     values = plan.to_dict("records")  # per column types: an int level stays an int
@@ -99,7 +108,7 @@ def _run_pending(
     columns: Sequence[str],
     client: Optional["Client"],
     batch: Optional[int],
-    results: Optional[ResultsFile],
+    results: "Optional[Union[ResultsFile, ParquetResults]]",
     seen: Set[int],
     progress: bool,
 ) -> List["pd.DataFrame"]:

@@ -7,13 +7,14 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Tuple, Union, overload
 
 import numpy as np
 
 from .factors import Factor, Levels, Range
 
 if TYPE_CHECKING:
+    import numpy.typing as npt
     import pandas as pd
 
 
@@ -78,7 +79,11 @@ class Surface:
         """Each term's coefficient ("1", "k", "k^2", "k*m", ...) in the scaled factors."""
         return dict(zip(term_names(self.factors), map(float, self.beta)))
 
-    def predict(self, values: Union[Mapping[str, Any], "pd.DataFrame"]) -> Union[float, np.ndarray]:
+    @overload
+    def predict(self, values: Mapping[str, float]) -> float: ...
+    @overload
+    def predict(self, values: Union[Mapping[str, Any], "pd.DataFrame"]) -> "npt.NDArray[np.float64]": ...
+    def predict(self, values: Union[Mapping[str, Any], "pd.DataFrame"]) -> Union[float, "npt.NDArray[np.float64]"]:
         """The fitted response at factor values: a dict of numbers gives a float, a dict
         of arrays or a DataFrame an array."""
         columns = [np.atleast_1d(self.scales[name].unit(values[name])) for name in self.factors]

@@ -63,9 +63,11 @@ fn an_expression_over_continuation_lines_is_replaced_whole() {
 
 #[test]
 fn abbreviations_and_singletons_and_missing_fields() {
-    // FUN abbreviates FUNCTION; ACCGRAV has no id; IP is added where it is not written.
+    // FUN abbreviates FUNCTION (written as the setting spells it); ACCGRAV has no id;
+    // IP is added where it is not written.
     let text = applied(&["sfo/1.fun=5", "ACCGRAV.JGRAV=-1.62", "PART/2.CM=21"]);
-    assert!(text.contains("FUNCTION=5"), "{text}");
+    assert!(text.contains("FUN=5"), "{text}");
+    assert!(!read_model(&text).has_errors());
     assert!(text.contains("JGRAV=-1.62"), "{text}");
     let text = applied(&["ACCGRAV.KGRAV=-1"]);
     assert!(text.contains("JGRAV = -9.80665, KGRAV=-1"), "{text}");
@@ -114,6 +116,47 @@ fn every_refusal_names_the_statement_at_the_setting() {
         assert_eq!(*code, Code::BadSetting, "{setting}");
         assert!(msg.contains(message), "{setting}: {msg}");
         assert_eq!(span, at, "{setting}: {msg}");
+    }
+}
+
+#[test]
+fn a_misspelt_field_is_refused_naming_the_nearest() {
+    // Issue 43 §3: MASSS was taken as the MASS it starts with, QPX as QP. A field longer
+    // than the argument, or a typo of one, is refused at the field with the argument
+    // the statement writes.
+    let cases: &[(&str, &str, &str)] = &[
+        ("PART/2.MASSS=1.5", "PART/2 takes no field MASSS", "MASS"),
+        ("MARKER/21.QPX=0,0,0", "MARKER/21 takes no field QPX", "QP"),
+        (
+            "SFORCE/1.FUNCTON=5",
+            "SFORCE/1 takes no field FUNCTON",
+            "FUNCTION",
+        ),
+        ("PART/2.MAS=1.5", "", ""),
+    ];
+    for (setting, message, nearest) in cases {
+        let field = setting
+            .split_once('.')
+            .unwrap()
+            .1
+            .split_once('=')
+            .unwrap()
+            .0;
+        if message.is_empty() {
+            // A true abbreviation is still taken, written as the setting spells it.
+            assert!(applied(&[setting]).contains("MAS=1.5"), "{setting}");
+            continue;
+        }
+        let got = refused(&[setting]);
+        assert_eq!(got.len(), 1, "{setting}: {got:?}");
+        let (code, msg, span) = &got[0];
+        assert_eq!(*code, Code::BadSetting, "{setting}");
+        assert!(msg.contains(message), "{setting}: {msg}");
+        assert!(
+            msg.ends_with(&format!("did you mean {nearest}?")),
+            "{setting}: {msg}"
+        );
+        assert_eq!(span, field, "{setting}: {msg}");
     }
 }
 
