@@ -100,6 +100,18 @@ pub const SIZES: &[(&str, &[usize])] = &[
     ("four_bar", &[1, 2, 5, 10, 20, 40]),
 ];
 
+/// The largest N run in 3D: there dopri853 integrates Cartesian coordinates (joint
+/// coordinates are planar only), and a 3D tree of 3,000 bodies takes minutes a method.
+pub const MAX_3D: usize = 300;
+
+/// The sizes of `sizes` run in `dim`.
+pub fn sizes_in(sizes: &[usize], dim: u8) -> impl Iterator<Item = usize> + '_ {
+    sizes
+        .iter()
+        .copied()
+        .filter(move |&n| dim == 2 || n <= MAX_3D)
+}
+
 /// Writes `scaling.svg` and `scaling.csv` into `dir` and returns the markdown section.
 pub fn write(dir: &Path, samples: &[Sample], control: Control) -> Result<String, String> {
     let csv_path = dir.join("scaling.csv");

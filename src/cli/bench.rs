@@ -498,7 +498,7 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
 
 fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
     use crate::bench::point::Control;
-    use crate::bench::scaling::{sample, write, SIZES};
+    use crate::bench::scaling::{sample, sizes_in, write, SIZES};
     let methods = match variants(&a.integrator, &[]) {
         Ok(v) if !v.is_empty() => v,
         Ok(_) => return fail("no method given".into(), o),
@@ -514,13 +514,16 @@ fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
     } else {
         Control::Tolerance(a.error)
     };
-    let total: usize = SIZES.iter().map(|(_, n)| 2 * n.len()).sum();
+    let total: usize = SIZES
+        .iter()
+        .map(|(_, n)| sizes_in(n, 2).count() + sizes_in(n, 3).count())
+        .sum();
     let ticker = Ticker::new((total * methods.len()) as u64);
     let mut samples = Vec::new();
     for v in &methods {
         for (kind, sizes) in SIZES {
             for dim in [2u8, 3] {
-                for &n in *sizes {
+                for n in sizes_in(sizes, dim) {
                     let s = sample(kind, n, dim, a.end, *v, control);
                     let name = v.name;
                     ticker.tick(|| format!("{name} {kind} {dim}D N = {n}: {:.2e} s", s.cpu));

@@ -556,7 +556,7 @@ mod tests {
                 c[0], c[1]
             );
         }
-        for k in 1..=n {
+        for (k, &c) in centre.iter().enumerate().skip(1) {
             let parent = if chain { k - 1 } else { rng.random_range(0..k) };
             let (pp, cp) = (parent + 1, k + 1);
             let (mi, mj) = (100_000 + 10 * k + 1, 100_000 + 10 * k + 2);
@@ -570,7 +570,6 @@ mod tests {
                     pin[0], pin[1], pin[0], pin[1]
                 );
             } else {
-                let c = centre[k];
                 let psi = rng.random_range(0.0..360.0);
                 let _ = writeln!(
                     s,
