@@ -23,9 +23,10 @@
 //! joint coordinates give ([`Dynamics::set_state`]), so everything that reads the state
 //! (measures, contact switches, outputs, reactions) sees the same model.
 //!
-//! θ̈ comes from the articulated-body algorithm ([`super::articulated`]) in O(N): the
+//! θ̈ comes from the articulated-body algorithm (`dopri853::articulated`) in O(N): the
 //! kinematics gives each joint's link (d, s, β) as it places the parts. The dense normal
-//! equations above, O(N³), are kept as its check ([`JointTree::accelerations_dense`]).
+//! equations above, O(N³), are kept as its check (`JointTree::accelerations_dense`, a
+//! test's).
 
 use super::articulated::{Articulated, Link};
 #[cfg(test)]
