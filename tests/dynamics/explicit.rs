@@ -183,7 +183,8 @@ fn dopri853_joint_form_of_long_chains_and_trees_matches_the_cartesian_form() {
         let (t, tc) = (joint.time(), cartesian.time());
         assert_eq!(t.len(), 11, "{kind}");
         assert_eq!(t, tc, "{kind}");
-        let moved = (joint.col("y")[10] - joint.col("y")[0]).abs();
+        let (x, y) = (joint.col("x"), joint.col("y"));
+        let moved = (x[10] - x[0]).hypot(y[10] - y[0]);
         let worst = ["x", "y"]
             .iter()
             .flat_map(|c| {
@@ -191,10 +192,11 @@ fn dopri853_joint_form_of_long_chains_and_trees_matches_the_cartesian_form() {
                 (0..a.len()).map(move |k| (a[k] - b[k]).abs())
             })
             .fold(0.0, f64::max);
-        // The tip falls by decimetres: the comparison is not of two resting chains.
+        // The tip moves by centimetres at least (the tree's rod 30, hanging at the end
+        // of a branch, least): the comparison is not of two resting models.
         assert!(
-            worst <= 1e-6 && moved > 0.1,
-            "{kind}: |Δtip| {worst:e}, fell {moved}"
+            worst <= 1e-6 && moved > 0.01,
+            "{kind}: |Δtip| {worst:e}, moved {moved}"
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
