@@ -1,19 +1,22 @@
 //! The generated scenes of `examples/scenes/` (their truth files carry a `[generate]`
 //! table instead of a dataset): the IFToMM A02 N four-bar mechanism
-//! (reference-problems.md §4.2) and the planar N-link chain, written as `.adm` text for any
+//! (reference-problems.md §4.2), the planar N-link chain and the planar binary tree of the
+//! chain's rods (the scaling bench's branched case), written as `.adm` text for any
 //! N. The benches size the model with N while the truth stays the same kind (exact for the
 //! four-bar, converged for the chain). Nothing here runs a model: the text goes to
 //! `mbfx run` like any dataset.
 
 use std::fmt::Write;
 
-/// The dataset of scene `kind` (`"four_bar"` or `"chain"`) with `n` windows or links; `None`
+/// The dataset of scene `kind` (`"four_bar"`, `"chain"` or `"tree"`) with `n` windows or
+/// links; `None`
 /// for another kind or for `n = 0`.
 pub fn generate(kind: &str, n: usize) -> Option<String> {
     match kind {
         _ if n == 0 => None,
         "four_bar" => Some(four_bar(n)),
         "chain" => Some(chain(n)),
+        "tree" => Some(tree(n)),
         _ => None,
     }
 }
@@ -199,6 +202,75 @@ pub fn chain(n: usize) -> String {
     s
 }
 
+/// The planar binary tree of `n` of the chain's rods (l = 0.1 m, m = 0.1 kg), released at
+/// rest under g = 9.81 in −y: rod 1 is pinned to ground at the origin along +x, and rod k
+/// (k ≥ 2) to the end of rod ⌊k/2⌋, along +x when k is even and along −y when odd (the
+/// rods may overlap: nothing touches). Numbering as the chain's: rod k is PART/(k+1)
+/// with the markers p01 (CM), p02 (start), p03 (end); JOINT/k is its revolute.
+pub fn tree(n: usize) -> String {
+    let m = ROD_MASS;
+    let l = 1.0 / RODS_PER_METRE;
+    let izz = m / (12.0 * RODS_PER_METRE * RODS_PER_METRE);
+    let small = m / (1200.0 * RODS_PER_METRE * RODS_PER_METRE);
+    let mut s = String::new();
+    line(
+        &mut s,
+        format_args!("Planar binary tree of N = {n} rods, rod k pinned to the end of rod k/2"),
+    );
+    line(
+        &mut s,
+        format_args!(
+            "! Written by src/bench/generate.rs (tree).\n\
+             UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+             PART/1, GROUND\nMARKER/101, PART = 1, QP = 0, 0, 0\nMARKER/102, PART = 1, QP = 0, 0, 0"
+        ),
+    );
+    // Each rod's start and end; a rod along −y has its small inertia about y.
+    let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::with_capacity(n + 1);
+    ends.push(([0.0; 2], [0.0; 2]));
+    for k in 1..=n {
+        let start = if k == 1 { [0.0; 2] } else { ends[k / 2].1 };
+        let down = k > 1 && k % 2 == 1;
+        let end = if down {
+            [start[0], start[1] - l]
+        } else {
+            [start[0] + l, start[1]]
+        };
+        ends.push((start, end));
+        let p = k + 1;
+        let (ixx, iyy) = if down { (izz, small) } else { (small, izz) };
+        line(
+            &mut s,
+            format_args!(
+                "PART/{p}, MASS = {m:?}, CM = {}, IP = {ixx:?}, {iyy:?}, {izz:?}",
+                p * 100 + 1
+            ),
+        );
+        let cm = [(start[0] + end[0]) / 2.0, (start[1] + end[1]) / 2.0];
+        for (marker, at) in [(1, cm), (2, start), (3, end)] {
+            line(
+                &mut s,
+                format_args!(
+                    "MARKER/{}, PART = {p}, QP = {:?}, {:?}, 0",
+                    p * 100 + marker,
+                    at[0],
+                    at[1]
+                ),
+            );
+        }
+    }
+    for k in 1..=n {
+        let i = if k == 1 { 102 } else { (k / 2 + 1) * 100 + 3 };
+        let j = (k + 1) * 100 + 2;
+        line(
+            &mut s,
+            format_args!("JOINT/{k}, REVOLUTE, I = {i}, J = {j}"),
+        );
+    }
+    line(&mut s, format_args!("ACCGRAV/JGRAV = -9.81\nEND"));
+    s
+}
+
 /// Appends `args` and a newline (writing to a `String` cannot fail).
 fn line(s: &mut String, args: std::fmt::Arguments) {
     let _ = s.write_fmt(args);
@@ -248,6 +320,22 @@ mod tests {
     }
 
     #[test]
+    fn tree_hangs_rod_k_from_the_end_of_rod_k_over_2() {
+        let text = tree(7);
+        assert_eq!(count(&text, "PART/"), 8);
+        assert_eq!(count(&text, "JOINT/"), 7);
+        // Rods 2 and 3 hang from rod 1's end (x = 0.1): 2 along +x, 3 along −y.
+        assert!(text.contains("JOINT/2, REVOLUTE, I = 203, J = 302\n"));
+        assert!(text.contains("JOINT/3, REVOLUTE, I = 203, J = 402\n"));
+        assert!(text.contains("JOINT/7, REVOLUTE, I = 403, J = 802\n"));
+        assert!(text.contains("MARKER/302, PART = 3, QP = 0.1, 0.0, 0\n"));
+        assert!(text.contains("MARKER/403, PART = 4, QP = 0.1, -0.1, 0\n"));
+        // Rod 7 (odd, down) from rod 3's end (0.1, −0.1) to (0.1, −0.2).
+        assert!(text.contains("MARKER/803, PART = 8, QP = 0.1, -0.2, 0\n"));
+        assert!(text.ends_with("ACCGRAV/JGRAV = -9.81\nEND\n"));
+    }
+
+    #[test]
     fn chain_has_n_rods_n_revolutes_and_its_tip_at_n_l() {
         let text = chain(100);
         assert_eq!(count(&text, "PART/"), 101);
@@ -267,9 +355,10 @@ mod tests {
     }
 
     #[test]
-    fn generate_knows_the_two_kinds() {
+    fn generate_knows_the_three_kinds() {
         assert_eq!(generate("four_bar", 2), Some(four_bar(2)));
         assert_eq!(generate("chain", 3), Some(chain(3)));
+        assert_eq!(generate("tree", 3), Some(tree(3)));
         assert_eq!(generate("chain", 0), None);
         assert_eq!(generate("ladder", 3), None);
     }

@@ -1,6 +1,7 @@
-//! Cost against model size: the generated planar chain and N-four-bar, built in 2D and
-//! in 3D, each run by one method at one tolerance; CPU per step and per simulated
-//! second against N, with the least-squares slope on log-log axes (1 is linear cost).
+//! Cost against model size: the generated planar chain, binary tree and N-four-bar,
+//! built in 2D and in 3D, each run by each method asked (GSTIFF and dopri853 by default)
+//! at one tolerance; CPU per step and per simulated second against N, with the
+//! least-squares slope on log-log axes (1 is linear cost).
 
 use super::chart::{self, Axes, Curve};
 use super::generate::generate;
@@ -13,7 +14,9 @@ use std::path::Path;
 /// One measured size.
 #[derive(Clone, Debug)]
 pub struct Sample {
-    /// `chain` or `four_bar`.
+    /// The method's name.
+    pub method: &'static str,
+    /// `chain`, `tree` or `four_bar`.
     pub kind: &'static str,
     /// 2 or 3.
     pub dim: u8,
@@ -51,6 +54,7 @@ pub fn sample(
     control: Control,
 ) -> Sample {
     let mut s = Sample {
+        method: v.name,
         kind,
         dim,
         n,
@@ -91,21 +95,30 @@ pub fn sample(
 
 /// The sizes of each kind the scaling chart runs.
 pub const SIZES: &[(&str, &[usize])] = &[
-    ("chain", &[5, 10, 20, 50, 100, 200]),
+    ("chain", &[10, 30, 100, 300, 1000, 3000]),
+    ("tree", &[10, 30, 100, 300, 1000, 3000]),
     ("four_bar", &[1, 2, 5, 10, 20, 40]),
 ];
 
+/// The largest N run in 3D: there dopri853 integrates Cartesian coordinates (joint
+/// coordinates are planar only), and a 3D tree of 3,000 bodies takes minutes a method.
+pub const MAX_3D: usize = 300;
+
+/// The sizes of `sizes` run in `dim`.
+pub fn sizes_in(sizes: &[usize], dim: u8) -> impl Iterator<Item = usize> + '_ {
+    sizes
+        .iter()
+        .copied()
+        .filter(move |&n| dim == 2 || n <= MAX_3D)
+}
+
 /// Writes `scaling.svg` and `scaling.csv` into `dir` and returns the markdown section.
-pub fn write(
-    dir: &Path,
-    samples: &[Sample],
-    method: &str,
-    control: Control,
-) -> Result<String, String> {
+pub fn write(dir: &Path, samples: &[Sample], control: Control) -> Result<String, String> {
     let csv_path = dir.join("scaling.csv");
     let fail = |e: csv::Error| format!("{}: {e}", csv_path.display());
     let mut w = csv::Writer::from_path(&csv_path).map_err(fail)?;
     w.write_record([
+        "method",
         "kind",
         "dim",
         "n",
@@ -119,6 +132,7 @@ pub fn write(
     .map_err(fail)?;
     for s in samples {
         w.write_record([
+            s.method.to_string(),
             s.kind.to_string(),
             s.dim.to_string(),
             s.n.to_string(),
@@ -135,23 +149,39 @@ pub fn write(
     }
     w.flush()
         .map_err(|e| format!("{}: {e}", csv_path.display()))?;
+    let mut methods: Vec<&str> = Vec::new();
+    for s in samples {
+        if !methods.contains(&s.method) {
+            methods.push(s.method);
+        }
+    }
     let mut md = format!(
-        "\n## Scaling\n\n{method} at {} {:e}; CPU per accepted step against N, least-squares slope of log CPU against log N (1 = linear).\n\n| model | dim | N | steps | CPU per step | CPU per simulated s |\n|---|---|---|---|---|---|\n",
+        "\n## Scaling\n\n{} at {} {:e}; CPU per accepted step against N, least-squares slope of log CPU against log N (1 = linear).\n\n| method | model | dim | N | steps | CPU per step | CPU per simulated s |\n|---|---|---|---|---|---|---|\n",
+        methods.join(", "),
         control.kind(),
         control.value()
     );
     let mut per_step = Vec::new();
     let mut per_second = Vec::new();
-    for (kind, _) in SIZES {
-        for dim in [2u8, 3] {
+    for (method, (kind, _), dim) in methods
+        .iter()
+        .flat_map(|m| SIZES.iter().map(move |k| (*m, k)))
+        .flat_map(|(m, k)| [2u8, 3].map(|dim| (m, k, dim)))
+    {
+        {
+            let this = |s: &&Sample| s.method == method && s.kind == *kind && s.dim == dim;
             let ok: Vec<&Sample> = samples
                 .iter()
-                .filter(|s| s.kind == *kind && s.dim == dim && s.failure.is_none() && s.cpu > 0.0)
+                .filter(this)
+                .filter(|s| s.failure.is_none() && s.cpu > 0.0)
                 .collect();
-            for s in samples.iter().filter(|s| s.kind == *kind && s.dim == dim) {
+            if samples.iter().filter(this).count() == 0 {
+                continue;
+            }
+            for s in samples.iter().filter(this) {
                 let _ = writeln!(
                     md,
-                    "| {kind} | {dim}D | {} | {} | {:.2e} s | {:.2e} s |{}",
+                    "| {method} | {kind} | {dim}D | {} | {} | {:.2e} s | {:.2e} s |{}",
                     s.n,
                     s.steps,
                     s.per_step(),
@@ -167,11 +197,11 @@ pub fn write(
             let fmt = |s: Option<f64>| s.map_or("—".into(), |s| format!("{s:.2}"));
             let _ = writeln!(
                 md,
-                "| {kind} {dim}D slope | | | | {} | {} |",
+                "| {method} | {kind} {dim}D slope | | | | {} | {} |",
                 fmt(sa),
                 fmt(sb)
             );
-            let name = |what: Option<f64>| format!("{kind} {dim}D (slope {})", fmt(what));
+            let name = |what: Option<f64>| format!("{method} {kind} {dim}D (slope {})", fmt(what));
             per_step.push(Curve {
                 name: name(sa),
                 asked: vec![None; a.len()],

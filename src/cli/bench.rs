@@ -25,9 +25,9 @@ pub enum BenchCommand {
     All(AllArgs),
     /// Orders of convergence of every method on the A01 scene.
     Orders(OrdersArgs),
-    /// Print a generated dataset (`chain` or `four_bar`, size N) on stdout.
+    /// Print a generated dataset (`chain`, `tree` or `four_bar`, size N) on stdout.
     Generate {
-        /// `chain` or `four_bar`.
+        /// `chain`, `tree` or `four_bar`.
         kind: String,
         /// The size.
         n: usize,
@@ -122,10 +122,10 @@ pub struct ScalingArgs {
     /// Where scaling.csv, scaling.svg and scaling.md go.
     #[arg(long, default_value = "target/bench-wp")]
     out: PathBuf,
-    /// The method.
-    #[arg(long, default_value = "gstiff")]
-    integrator: String,
-    /// Its tolerance.
+    /// The methods, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "gstiff,dopri853")]
+    integrator: Vec<String>,
+    /// Their tolerance.
     #[arg(long, default_value = "1e-6")]
     error: f64,
     /// Simulated time of each run, s.
@@ -152,7 +152,7 @@ pub fn run(c: &BenchCommand, o: &mut Output) -> Result<i32, Stop> {
                 Ok(0)
             }
             None => fail(
-                format!("cannot generate `{kind}` of size {n} (chain or four_bar, N ≥ 1)"),
+                format!("cannot generate `{kind}` of size {n} (chain, tree or four_bar, N ≥ 1)"),
                 o,
             ),
         },
@@ -498,11 +498,14 @@ fn stability(a: &StabilityArgs, o: &mut Output) -> Result<i32, Stop> {
 
 fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
     use crate::bench::point::Control;
-    use crate::bench::scaling::{sample, write, SIZES};
-    let v = match variants(std::slice::from_ref(&a.integrator), &[]) {
-        Ok(v) => v[0],
+    use crate::bench::scaling::{sample, sizes_in, write, SIZES};
+    let methods = match variants(&a.integrator, &[]) {
+        Ok(v) if !v.is_empty() => v,
+        Ok(_) => return fail("no method given".into(), o),
         Err(e) => return fail(e, o),
     };
+    // One control for all: a fixed step when the first method is a fixed-step one.
+    let v = methods[0];
     if let Err(e) = std::fs::create_dir_all(&a.out) {
         return fail(format!("{}: {e}", a.out.display()), o);
     }
@@ -511,20 +514,26 @@ fn scaling(a: &ScalingArgs, o: &mut Output) -> Result<i32, Stop> {
     } else {
         Control::Tolerance(a.error)
     };
-    let total: usize = SIZES.iter().map(|(_, n)| 2 * n.len()).sum();
-    let ticker = Ticker::new(total as u64);
+    let total: usize = SIZES
+        .iter()
+        .map(|(_, n)| sizes_in(n, 2).count() + sizes_in(n, 3).count())
+        .sum();
+    let ticker = Ticker::new((total * methods.len()) as u64);
     let mut samples = Vec::new();
-    for (kind, sizes) in SIZES {
-        for dim in [2u8, 3] {
-            for &n in *sizes {
-                let s = sample(kind, n, dim, a.end, v, control);
-                ticker.tick(|| format!("{kind} {dim}D N = {n}: {:.2e} s", s.cpu));
-                samples.push(s);
+    for v in &methods {
+        for (kind, sizes) in SIZES {
+            for dim in [2u8, 3] {
+                for n in sizes_in(sizes, dim) {
+                    let s = sample(kind, n, dim, a.end, *v, control);
+                    let name = v.name;
+                    ticker.tick(|| format!("{name} {kind} {dim}D N = {n}: {:.2e} s", s.cpu));
+                    samples.push(s);
+                }
             }
         }
     }
     ticker.finish();
-    match write(&a.out, &samples, v.name, control) {
+    match write(&a.out, &samples, control) {
         Ok(md) => {
             let path = a.out.join("scaling.md");
             if let Err(e) = std::fs::write(&path, md) {
@@ -587,7 +596,7 @@ fn all(a: &AllArgs, o: &mut Output) -> Result<i32, Stop> {
     code = code.max(stability(&st, o)?);
     let sc = ScalingArgs {
         out: a.out.clone(),
-        integrator: "gstiff".into(),
+        integrator: vec!["gstiff".into(), "dopri853".into()],
         error: 1e-6,
         end: 1.0,
     };

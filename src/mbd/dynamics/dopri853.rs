@@ -39,9 +39,10 @@
 //! One job a file: this one the integrator and its Cartesian form; `tableau` (the
 //! coefficients), `error_estimate` (the combined error estimate), `dense_output` (the
 //! order-7 continuous extension), `tree` (a planar tree's joint coordinates) and
-//! `joints` (the integrator on them, its joint-coordinate mode) and `states` (the state
-//! elements' components).
+//! `joints` (the integrator on them, its joint-coordinate mode), `articulated` (their
+//! accelerations in O(N)) and `states` (the state elements' components).
 
+mod articulated;
 mod dense_output;
 mod error_estimate;
 mod joints;

@@ -22,14 +22,20 @@
 //! The forces are the ones the Cartesian form evaluates, at the Cartesian state the
 //! joint coordinates give ([`Dynamics::set_state`]), so everything that reads the state
 //! (measures, contact switches, outputs, reactions) sees the same model.
+//!
+//! θ̈ comes from the articulated-body algorithm (`dopri853::articulated`) in O(N): the
+//! kinematics gives each joint's link (d, s, β) as it places the parts. The dense normal
+//! equations above, O(N³), are kept as its check (`JointTree::accelerations_dense`, a
+//! test's).
 
+use super::articulated::{Articulated, Link};
+#[cfg(test)]
 use crate::mbd::dense::DenseLlt;
 use crate::mbd::dynamics::blocks::Mat3Block;
 use crate::mbd::dynamics::failure::{DynError, Singularity};
 use crate::mbd::dynamics::setup::Dynamics;
 use crate::mbd::dynamics::state::Snapshot;
 use crate::mbd::rows::Row;
-use crate::mbd::sparse::DENSE_MAX;
 use crate::mbd::system::Dimension;
 use crate::vocab::elements::{ElementKind, JointType};
 use crate::vocab::math::DVec;
@@ -67,8 +73,14 @@ pub struct JointTree {
     turn: Vec<(f64, f64)>,
     vel: Vec<[f64; 3]>,
     bias: Vec<[f64; 3]>,
+    /// Per joint: its link at the current kinematics, and the O(N) solver's buffers.
+    links: Vec<Link>,
+    articulated: Articulated,
+    /// B (3 rows per part, a column per joint) and its normal matrix's factor, for the
+    /// dense check only: empty until it runs.
     b: Vec<f64>,
-    llt: DenseLlt,
+    #[cfg(test)]
+    llt: Option<DenseLlt>,
     dx: Vec<f64>,
     v: DVec,
 }
@@ -86,21 +98,16 @@ fn rotate((s, c): (f64, f64), x: [f64; 2]) -> [f64; 2] {
 impl JointTree {
     /// The tree of `d`'s model, when it is one: planar, every kept row in a revolute or
     /// translational JOINT, one joint per moving part linking it to ground through the
-    /// others, no row dropped, no force reading the solution, at most [`DENSE_MAX`]
-    /// joints.
+    /// others, no row dropped, no force reading the solution.
     pub fn of(d: &Dynamics) -> Option<JointTree> {
         let sys = &d.sys;
         let parts = sys.moving_parts();
-        if sys.dim != Dimension::Two
-            || !d.dropped.is_empty()
-            || d.reads_solution()
-            || parts == 0
-            || parts > DENSE_MAX
-        {
+        if sys.dim != Dimension::Two || !d.dropped.is_empty() || d.reads_solution() || parts == 0 {
             return None;
         }
         // Each element's kind and the two parts its rows join.
         let mut elements: Vec<(usize, JointType, [Option<usize>; 2])> = Vec::new();
+        let mut seen = vec![false; sys.elements.len()];
         for &(e, q) in &d.rows {
             let el = &sys.elements[e];
             let ElementKind::Joint(t @ (JointType::Revolute | JointType::Translational)) =
@@ -113,9 +120,8 @@ impl JointTree {
                 _ => return None,
             };
             let index = |m| sys.part(sys.marker(m).part).index;
-            match elements.iter().position(|x| x.0 == e) {
-                Some(_) => {}
-                None => elements.push((e, t, [index(i), index(j)])),
+            if !std::mem::replace(&mut seen[e], true) {
+                elements.push((e, t, [index(i), index(j)]));
             }
         }
         if elements.len() != parts || d.rows.len() != 2 * parts {
@@ -128,25 +134,75 @@ impl JointTree {
         for p in &moving {
             r0[p.index?] = [p.r[a], p.r[b]];
         }
-        let mut placed = vec![false; parts];
-        let mut joints = Vec::with_capacity(parts);
+        // The elements at each part (ground last), walked breadth first from ground.
+        let node = |x: Option<usize>| x.unwrap_or(parts);
+        let mut at: Vec<Vec<usize>> = vec![Vec::new(); parts + 1];
+        for (k, &(_, _, ends)) in elements.iter().enumerate() {
+            if node(ends[0]) == node(ends[1]) {
+                return None;
+            }
+            at[node(ends[0])].push(k);
+            at[node(ends[1])].push(k);
+        }
+        let mut placed = vec![false; parts + 1];
+        placed[parts] = true;
         let mut used = vec![false; elements.len()];
-        while joints.len() < parts {
-            let next = elements.iter().enumerate().find_map(|(k, &(e, t, ends))| {
-                if used[k] {
-                    return None;
+        let mut joints = Vec::with_capacity(parts);
+        let mut queue = std::collections::VecDeque::from([parts]);
+        while let Some(from) = queue.pop_front() {
+            let parent = (from < parts).then_some(from);
+            for &k in &at[from] {
+                if std::mem::replace(&mut used[k], true) {
+                    continue;
                 }
-                let known = |x: Option<usize>| x.is_none_or(|i| placed[i]);
-                match (known(ends[0]), known(ends[1])) {
-                    (true, false) => Some((k, e, t, ends[0], ends[1]?)),
-                    (false, true) => Some((k, e, t, ends[1], ends[0]?)),
-                    _ => None,
-                }
-            });
-            // Nothing joins a placed part to a new one: a loop, or a part off the tree.
-            let (k, e, t, parent, child) = next?;
-            used[k] = true;
-            placed[child] = true;
+                let (e, t, ends) = elements[k];
+                let other = if node(ends[0]) == from {
+                    ends[1]
+                } else {
+                    ends[0]
+                };
+                // A second path to a placed part: a loop.
+                let child = other.filter(|&c| !placed[c])?;
+                placed[child] = true;
+                queue.push_back(child);
+                let joint = Self::joint(sys, (a, b), &r0, (e, t), parent, child)?;
+                joints.push(joint);
+            }
+        }
+        // A part off the tree (joined to ground through nothing).
+        if joints.len() != parts {
+            return None;
+        }
+        let f = joints.len();
+        Some(JointTree {
+            joints,
+            origin: d.snapshot(),
+            r0,
+            pose: vec![[0.0; 3]; parts],
+            turn: vec![(0.0, 1.0); parts],
+            vel: vec![[0.0; 3]; parts],
+            bias: vec![[0.0; 3]; parts],
+            links: vec![Link::default(); f],
+            articulated: Articulated::new(parts),
+            b: Vec::new(),
+            #[cfg(test)]
+            llt: None,
+            dx: vec![0.0; 3 * parts],
+            v: DVec::zeros(3 * parts),
+        })
+    }
+
+    /// The joint of element `e` (of type `t`), carrying `child` from `parent` (None:
+    /// ground), from the starting pose (centres `r0`, plane axes `a`, `b`).
+    fn joint(
+        sys: &crate::mbd::system::System,
+        (a, b): (usize, usize),
+        r0: &[[f64; 2]],
+        (e, t): (usize, JointType),
+        parent: Option<usize>,
+        child: usize,
+    ) -> Option<Joint> {
+        {
             let centre = |x: Option<usize>| x.map_or([0.0; 2], |i| r0[i]);
             let (pc, cc) = (centre(parent), r0[child]);
             let el = &sys.elements[e];
@@ -176,26 +232,12 @@ impl JointTree {
                     }
                 }
             };
-            joints.push(Joint {
+            Some(Joint {
                 child,
                 parent,
                 kind,
-            });
+            })
         }
-        let f = joints.len();
-        Some(JointTree {
-            joints,
-            origin: d.snapshot(),
-            r0,
-            pose: vec![[0.0; 3]; parts],
-            turn: vec![(0.0, 1.0); parts],
-            vel: vec![[0.0; 3]; parts],
-            bias: vec![[0.0; 3]; parts],
-            b: vec![0.0; 3 * parts * f],
-            llt: DenseLlt::new(f),
-            dx: vec![0.0; 3 * parts],
-            v: DVec::zeros(3 * parts),
-        })
     }
 
     /// Number of joint coordinates.
@@ -213,9 +255,13 @@ impl JointTree {
         matches!(self.joints[k].kind, Kind::Revolute { .. })
     }
 
-    /// Poses, velocities, bias accelerations and B at coordinates `theta`, rates `rate`.
-    fn kinematics(&mut self, theta: &[f64], rate: &[f64]) {
+    /// Poses, velocities, bias accelerations and each joint's link at coordinates
+    /// `theta`, rates `rate`; B too when `dense` (the check's, O(N²)).
+    fn kinematics(&mut self, theta: &[f64], rate: &[f64], dense: bool) {
         let f = self.joints.len();
+        if dense {
+            self.b.resize(3 * self.pose.len() * f, 0.0);
+        }
         for (k, jt) in self.joints.iter().enumerate() {
             let c = jt.child;
             let (pp, pv, pb) = match jt.parent {
@@ -223,7 +269,7 @@ impl JointTree {
                 None => ([0.0; 3], [0.0; 3], [0.0; 3]),
             };
             // B's rows of the child start as the parent's (ground: zero).
-            for row in 0..3 {
+            for row in (0..3).filter(|_| dense) {
                 for col in 0..f {
                     self.b[(3 * c + row) * f + col] = match jt.parent {
                         Some(p) => self.b[(3 * p + row) * f + col],
@@ -253,7 +299,17 @@ impl JointTree {
                         pb[1] + ap[1] - w_p * w_p * gp[1] - ac[1] + w * w * gc[1],
                         a_p,
                     ];
-                    for col in 0..f {
+                    // The child turns about the pin: its centre moves by −θ̇ × gc.
+                    self.links[k] = Link {
+                        d: [gp[0] - gc[0], gp[1] - gc[1]],
+                        s: [gc[1], -gc[0], 1.0],
+                        beta: [
+                            w * w * gc[0] - w_p * w_p * gp[0],
+                            w * w * gc[1] - w_p * w_p * gp[1],
+                            0.0,
+                        ],
+                    };
+                    for col in (0..f).filter(|_| dense) {
                         let bw_p = self.b[(3 * c + 2) * f + col];
                         let bw = bw_p + if col == k { 1.0 } else { 0.0 };
                         let (tp, tc) = (cross(bw_p, gp), cross(bw, gc));
@@ -279,7 +335,17 @@ impl JointTree {
                         pb[1] + ae[1] - w_p * w_p * e[1] + 2.0 * cor[1] * rate[k],
                         a_p,
                     ];
-                    for col in 0..f {
+                    // Centripetal and Coriolis accelerations of the slide.
+                    self.links[k] = Link {
+                        d: e,
+                        s: [ug[0], ug[1], 0.0],
+                        beta: [
+                            2.0 * cor[0] * rate[k] - w_p * w_p * e[0],
+                            2.0 * cor[1] * rate[k] - w_p * w_p * e[1],
+                            0.0,
+                        ],
+                    };
+                    for col in (0..f).filter(|_| dense) {
                         let bw = self.b[(3 * c + 2) * f + col];
                         let t = cross(bw, e);
                         let along = if col == k { 1.0 } else { 0.0 };
@@ -294,7 +360,12 @@ impl JointTree {
     /// Puts `d` at joint coordinates `theta`, rates `rate`, time `t` (its Cartesian
     /// state, satisfying every joint exactly).
     pub fn place(&mut self, d: &mut Dynamics, theta: &[f64], rate: &[f64], t: f64) {
-        self.kinematics(theta, rate);
+        self.kinematics(theta, rate, false);
+        self.set_cartesian(d, t);
+    }
+
+    /// `d`'s Cartesian state from the kinematics last computed, at time `t`.
+    fn set_cartesian(&mut self, d: &mut Dynamics, t: f64) {
         for (i, (p, v)) in self.pose.iter().zip(&self.vel).enumerate() {
             self.dx[3 * i] = p[0] - self.r0[i][0];
             self.dx[3 * i + 1] = p[1] - self.r0[i][1];
@@ -316,24 +387,78 @@ impl JointTree {
         out: &mut [f64],
         stage: bool,
     ) -> Result<(), DynError> {
-        if stage && d.forces.elements.is_empty() && d.forces.contacts.is_empty() {
-            self.kinematics(theta, rate);
-        } else {
-            self.place(d, theta, rate, t);
+        self.kinematics(theta, rate, false);
+        if !(stage && d.forces.elements.is_empty() && d.forces.contacts.is_empty()) {
+            self.set_cartesian(d, t);
         }
-        self.accelerations_here(d, t, out)
-    }
-
-    /// θ̈ into `out` at the kinematics last computed, with `d`'s Q and mass blocks.
-    fn accelerations_here(
-        &mut self,
-        d: &mut Dynamics,
-        t: f64,
-        out: &mut [f64],
-    ) -> Result<(), DynError> {
         d.eval_forces(false)?;
         d.check_forces()?;
-        d.stats.factorizations += 1;
+        self.articulated_solve(d, t, out, true)
+    }
+
+    /// The joint rates of `d`'s current (consistent) velocities, closest in the mass
+    /// metric, into `rate`, at the starting pose (θ = 0): Bᵀ·M·B·θ̇ = Bᵀ·M·v, which is
+    /// the articulated-body solve with the loads M·v and no velocity products.
+    pub fn rates_at_start(&mut self, d: &mut Dynamics, rate: &mut [f64]) -> Result<(), DynError> {
+        let zero = vec![0.0; self.joints.len()];
+        self.kinematics(&zero, &zero, false);
+        let v: Vec<f64> = d.sys.v().iter().copied().collect();
+        let blocks = d.mass_blocks();
+        let load = |i: usize| {
+            let (m, j) = planar_mass(&blocks[i]);
+            [m * v[3 * i], m * v[3 * i + 1], j * v[3 * i + 2]]
+        };
+        let joints = &self.joints;
+        let solved = self.articulated.solve(
+            &self.links,
+            |k| joints[k].child,
+            |k| joints[k].parent,
+            |i| planar_mass(&blocks[i]),
+            load,
+            false,
+            rate,
+        );
+        solved.map_err(|_| singular(d.sys.time))
+    }
+
+    /// θ̈ into `out` from `d`'s Q and mass blocks at the links last computed (with their
+    /// velocity products when `bias`).
+    fn articulated_solve(
+        &mut self,
+        d: &Dynamics,
+        t: f64,
+        out: &mut [f64],
+        bias: bool,
+    ) -> Result<(), DynError> {
+        let blocks = d.mass_blocks();
+        let q = &d.gen.q;
+        let joints = &self.joints;
+        let solved = self.articulated.solve(
+            &self.links,
+            |k| joints[k].child,
+            |k| joints[k].parent,
+            |i| planar_mass(&blocks[i]),
+            |i| [q[3 * i], q[3 * i + 1], q[3 * i + 2]],
+            bias,
+            out,
+        );
+        solved.map_err(|_| singular(t))
+    }
+
+    /// θ̈ as [`Self::accelerations`] gives it (with `stage` false), from the dense
+    /// normal equations Bᵀ·(M/UCF)·B·θ̈ = Bᵀ·(Q − (M/UCF)·b), O(N³): the articulated-body
+    /// algorithm's check.
+    #[cfg(test)]
+    fn accelerations_dense(
+        &mut self,
+        d: &mut Dynamics,
+        (theta, rate, t): (&[f64], &[f64], f64),
+        out: &mut [f64],
+    ) -> Result<(), DynError> {
+        self.kinematics(theta, rate, true);
+        self.set_cartesian(d, t);
+        d.eval_forces(false)?;
+        d.check_forces()?;
         let bias = std::mem::take(&mut self.bias);
         let solved = self.solve_normal(d, t, out, |i, row, w| {
             d.gen.q[3 * i + row] - w * bias[i][row]
@@ -342,17 +467,9 @@ impl JointTree {
         solved
     }
 
-    /// The joint rates of `d`'s current (consistent) velocities, closest in the mass
-    /// metric, into `rate`, at the starting pose (θ = 0).
-    pub fn rates_at_start(&mut self, d: &mut Dynamics, rate: &mut [f64]) -> Result<(), DynError> {
-        let zero = vec![0.0; self.joints.len()];
-        let v = d.sys.v();
-        self.kinematics(&zero, &zero);
-        self.solve_normal(d, d.sys.time, rate, |i, row, w| w * v[3 * i + row])
-    }
-
     /// Solves Bᵀ·M·B·x = Bᵀ·g into `x`, g's entry for part `i`, layout row `row` given by
     /// `g(i, row, mass weight)`, with B and `d`'s mass blocks at the current kinematics.
+    #[cfg(test)]
     fn solve_normal(
         &mut self,
         d: &Dynamics,
@@ -361,13 +478,12 @@ impl JointTree {
         g: impl Fn(usize, usize, f64) -> f64,
     ) -> Result<(), DynError> {
         let f = self.joints.len();
-        let m = self.llt.matrix_mut();
+        let llt = self.llt.get_or_insert_with(|| DenseLlt::new(f));
+        let m = llt.matrix_mut();
         m.fill(0.0);
         x.fill(0.0);
         for (i, blk) in d.mass_blocks().iter().enumerate() {
-            let Mat3Block::Two(mass, inertia) = *blk else {
-                unreachable!("a planar tree")
-            };
+            let (mass, inertia) = planar_mass(blk);
             for (row, w) in [mass, mass, inertia].into_iter().enumerate() {
                 let r = &self.b[(3 * i + row) * f..(3 * i + row + 1) * f];
                 let load = g(i, row, w);
@@ -383,14 +499,171 @@ impl JointTree {
                 }
             }
         }
-        if self.llt.factor().is_err() {
-            return Err(DynError::Singular {
-                time: t,
-                why: Singularity::Numerical,
-                culprit: None,
-            });
+        if llt.factor().is_err() {
+            return Err(singular(t));
         }
-        self.llt.solve(x);
+        llt.solve(x);
         Ok(())
+    }
+}
+
+/// A planar part's mass and centroidal inertia (over UCF, as the mass blocks hold them);
+/// NaN for a 3D block, which a planar tree never has, so the solve reports it singular.
+fn planar_mass(blk: &Mat3Block) -> (f64, f64) {
+    match *blk {
+        Mat3Block::Two(m, j) => (m, j),
+        _ => (f64::NAN, f64::NAN),
+    }
+}
+
+/// The failure of a joint-space solve at time `t`.
+fn singular(t: f64) -> DynError {
+    DynError::Singular {
+        time: t,
+        why: Singularity::Numerical,
+        culprit: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The articulated-body θ̈ against the dense normal equations' (two algorithms over
+    //! the same kinematics and loads) on random states of random planar trees.
+    use super::*;
+    use crate::mbd::compiled::CompiledExprs;
+    use crate::mbd::planar::Dim;
+    use crate::mbd::system::System;
+    use crate::model::read_model;
+    use rand::rngs::StdRng;
+    use rand::{Rng, SeedableRng};
+    use std::fmt::Write as _;
+
+    /// A planar tree of `n` parts (PART/2..): joint k carries part k+1 from part
+    /// `parent(k)` (0: ground); revolute or translational at random, with random masses,
+    /// inertias, centres, pins and slide axes; gravity and a spring-damper from ground
+    /// to the last part, so Q depends on the state.
+    fn random_tree(rng: &mut StdRng, n: usize, chain: bool) -> String {
+        let mut s = String::from("random tree\nPART/1, GROUND\nMARKER/1, PART = 1\n");
+        let mut centre = vec![[0.0, 0.0]];
+        for k in 1..=n {
+            let p = k + 1;
+            let c = [rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0)];
+            centre.push(c);
+            let (m, izz) = (rng.random_range(0.1..3.0), rng.random_range(0.01..1.0));
+            let _ = writeln!(
+                s,
+                "PART/{p}, MASS = {m}, CM = {p}01, IP = 1, 1, {izz}\n\
+                 MARKER/{p}01, PART = {p}, QP = {}, {}, 0",
+                c[0], c[1]
+            );
+        }
+        for (k, &c) in centre.iter().enumerate().skip(1) {
+            let parent = if chain { k - 1 } else { rng.random_range(0..k) };
+            let (pp, cp) = (parent + 1, k + 1);
+            let (mi, mj) = (100_000 + 10 * k + 1, 100_000 + 10 * k + 2);
+            if rng.random_bool(0.6) {
+                let pin = [rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0)];
+                let _ = writeln!(
+                    s,
+                    "MARKER/{mi}, PART = {cp}, QP = {}, {}, 0\n\
+                     MARKER/{mj}, PART = {pp}, QP = {}, {}, 0\n\
+                     JOINT/{k}, REVOLUTE, I = {mi}, J = {mj}",
+                    pin[0], pin[1], pin[0], pin[1]
+                );
+            } else {
+                let psi = rng.random_range(0.0..360.0);
+                let _ = writeln!(
+                    s,
+                    "MARKER/{mi}, PART = {cp}, QP = {}, {}, 0, REULER = {psi}D, 90D, 0D\n\
+                     MARKER/{mj}, PART = {pp}, QP = {}, {}, 0, REULER = {psi}D, 90D, 0D\n\
+                     JOINT/{k}, TRANSLATIONAL, I = {mi}, J = {mj}",
+                    c[0], c[1], c[0], c[1]
+                );
+            }
+        }
+        let _ = writeln!(
+            s,
+            "SPRINGDAMPER/1, TRANSLATION, I = {}01, J = 1, K = 50, C = 3, LENGTH = 1\n\
+             ACCGRAV/JGRAV = -9.81\nEND",
+            n + 1
+        );
+        s
+    }
+
+    fn dynamics(text: &str) -> Dynamics {
+        let read = read_model(text);
+        assert!(!read.has_errors(), "{:?}\n{text}", read.diagnostics);
+        let exprs = CompiledExprs::new();
+        let mut sys = System::from_model(&read.model, Dim::Auto, &exprs).unwrap();
+        let forces = sys.forces_from_model(&read.model, &exprs).unwrap();
+        Dynamics::new(sys, forces, &[]).unwrap()
+    }
+
+    #[test]
+    fn articulated_body_matches_the_dense_normal_equations_on_random_trees() {
+        let mut rng = StdRng::seed_from_u64(42);
+        let mut checked = 0;
+        for (n, chain) in [(1, true), (2, true), (7, true), (15, true), (25, true)]
+            .into_iter()
+            .chain([(3, false), (8, false), (16, false), (30, false)])
+        {
+            for _ in 0..3 {
+                let text = random_tree(&mut rng, n, chain);
+                let mut d = dynamics(&text);
+                let mut tree = JointTree::of(&d).unwrap_or_else(|| panic!("not a tree:\n{text}"));
+                assert_eq!(tree.coordinates(), n);
+                for _ in 0..4 {
+                    let theta: Vec<f64> = (0..n)
+                        .map(|k| match tree.rotational(k) {
+                            true => rng.random_range(-3.0..3.0),
+                            false => rng.random_range(-1.0..1.0),
+                        })
+                        .collect();
+                    let rate: Vec<f64> = (0..n).map(|_| rng.random_range(-3.0..3.0)).collect();
+                    let (mut fast, mut dense) = (vec![0.0; n], vec![0.0; n]);
+                    tree.accelerations(&mut d, (&theta, &rate, 0.0), &mut fast, false)
+                        .unwrap();
+                    tree.accelerations_dense(&mut d, (&theta, &rate, 0.0), &mut dense)
+                        .unwrap();
+                    let scale = dense.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    let worst = fast
+                        .iter()
+                        .zip(&dense)
+                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                    assert!(
+                        worst <= 1e-10 * scale && scale > 0.0,
+                        "N = {n}, chain {chain}: |Δθ̈| {worst:e} against {scale:e}\n\
+                         fast {fast:?}\ndense {dense:?}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 9 * 3 * 4);
+    }
+
+    #[test]
+    fn rates_at_start_recover_the_joint_rates_of_consistent_velocities() {
+        // Velocities B·θ̇ for a known θ̇ (set through the tree's own placing at θ = 0),
+        // then projected back: the projection of a velocity already in B's range is
+        // that velocity, so the rates come back.
+        let mut rng = StdRng::seed_from_u64(7);
+        for chain in [true, false] {
+            let n = 12;
+            let text = random_tree(&mut rng, n, chain);
+            let mut d = dynamics(&text);
+            let mut tree = JointTree::of(&d).unwrap();
+            let zero = vec![0.0; n];
+            let want: Vec<f64> = (0..n).map(|_| rng.random_range(-2.0..2.0)).collect();
+            tree.place(&mut d, &zero, &want, 0.0);
+            let mut got = vec![0.0; n];
+            tree.rates_at_start(&mut d, &mut got).unwrap();
+            for (g, w) in got.iter().zip(&want) {
+                assert!(
+                    (g - w).abs() <= 1e-10 * (1.0 + w.abs()),
+                    "{got:?}\n{want:?}"
+                );
+            }
+        }
     }
 }
