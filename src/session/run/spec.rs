@@ -151,7 +151,7 @@ pub struct RunSpec {
     /// Carry an estimate of the global error through the steps, by the method's own
     /// linearization (`--estimate-error=steps`; the BDFs carry one, the other methods
     /// none yet): the summary's "estimated error" and its warning past
-    /// [`super::GLOBAL_WARNING`]·ERROR.
+    /// 10·ERROR.
     pub carry_error: bool,
 }
 
