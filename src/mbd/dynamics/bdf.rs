@@ -236,13 +236,7 @@ impl Bdf {
         mut xd: Option<&mut [f64]>,
         v: Option<(&mut DVec, &mut DVec)>,
     ) {
-        let t0 = hist.newest().t;
-        let mut ts = [0.0; MAX_ORDER + 2];
-        for (j, t) in ts.iter_mut().enumerate().take(k + 1) {
-            *t = hist.point(j).t - t0;
-        }
-        let (mut l, mut dl) = ([0.0; MAX_ORDER + 2], [0.0; MAX_ORDER + 2]);
-        lagrange(&ts[..=k], h, &mut l[..=k], &mut dl[..=k]);
+        let (l, dl) = predictor_weights(hist, k, h);
         xp.fill(0.0);
         if let Some(xd) = xd.as_deref_mut() {
             xd.fill(0.0);
@@ -278,13 +272,7 @@ impl Bdf {
         sp: &mut Vec<f64>,
         mut sd: Option<&mut Vec<f64>>,
     ) {
-        let t0 = hist.newest().t;
-        let mut ts = [0.0; MAX_ORDER + 2];
-        for (j, t) in ts.iter_mut().enumerate().take(k + 1) {
-            *t = hist.point(j).t - t0;
-        }
-        let (mut l, mut dl) = ([0.0; MAX_ORDER + 2], [0.0; MAX_ORDER + 2]);
-        lagrange(&ts[..=k], h, &mut l[..=k], &mut dl[..=k]);
+        let (l, dl) = predictor_weights(hist, k, h);
         let ns = hist.newest().states.len();
         sp.clear();
         sp.resize(ns, 0.0);
@@ -509,10 +497,7 @@ impl Bdf {
                 copy_into(a, a1.as_slice())
             })?;
             let r1 = &mut self.res;
-            r1.fill(0.0);
-            d.add_constraint_forces(lambda, r1);
-            *r1 -= &d.gen.q;
-            d.add_blocks_times(&d.mass_blocks(), 1.0, a1.as_slice(), r1);
+            d.motion_residual(a1.as_slice(), lambda, r1);
             for (x, &r) in rhs[..n].iter_mut().zip(r1.as_slice()) {
                 *x = -r;
             }
@@ -655,6 +640,23 @@ impl Bdf {
         (2.0 * e).max(1e-12).powf(-1.0 / (j as f64 + 1.0))
     }
 }
+
+/// The Lagrange weights at the newest point's time + `h` of the order-`k` polynomial
+/// through the newest k + 1 points (the seed standing in behind a lone one): the value's,
+/// then the derivative's, in the first k + 1 places.
+fn predictor_weights(hist: &History, k: usize, h: f64) -> PointWeights {
+    let t0 = hist.newest().t;
+    let mut ts = [0.0; MAX_ORDER + 2];
+    for (j, t) in ts.iter_mut().enumerate().take(k + 1) {
+        *t = hist.point(j).t - t0;
+    }
+    let (mut l, mut dl) = ([0.0; MAX_ORDER + 2], [0.0; MAX_ORDER + 2]);
+    lagrange(&ts[..=k], h, &mut l[..=k], &mut dl[..=k]);
+    (l, dl)
+}
+
+/// Weights per history point (value, derivative), at most `MAX_ORDER` + 2 of them.
+type PointWeights = ([f64; MAX_ORDER + 2], [f64; MAX_ORDER + 2]);
 
 /// Per-column error scales: as Adams, ERROR in model units for every integrated
 /// variable, and tighter in proportion for a model smaller than a unit length (the

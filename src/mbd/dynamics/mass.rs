@@ -115,4 +115,13 @@ impl Dynamics {
     pub fn add_constraint_forces(&self, lambda: &DVec, out: &mut DVec) {
         self.jac.add_transpose_times(lambda.as_slice(), 1.0, out);
     }
+
+    /// The equations of motion's residual M·a + Φ_qᵀ·λ − Q (M the mass blocks) into
+    /// `out`, from the last evaluations of the constraints and forces.
+    pub fn motion_residual(&self, a: &[f64], lambda: &DVec, out: &mut DVec) {
+        out.fill(0.0);
+        self.add_constraint_forces(lambda, out);
+        *out -= &self.gen.q;
+        self.add_blocks_times(&self.mass_blocks(), 1.0, a, out);
+    }
 }

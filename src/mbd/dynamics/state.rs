@@ -106,14 +106,15 @@ impl Dynamics {
     /// Per-column scale of the local error: ERROR × the model length for translations,
     /// ERROR for rotations.
     pub fn tolerances(&self, error: f64) -> Vec<f64> {
-        let bs = self.sys.dim.cols();
-        let trans = self.sys.dim.axes();
-        (0..self.n)
-            .map(|c| match c % bs < trans {
-                true => error * self.sys.length,
-                false => error,
-            })
-            .collect()
+        (0..self.n).map(|c| self.tolerance(c, error)).collect()
+    }
+
+    /// Column `c`'s scale of the local error ([`Dynamics::tolerances`]).
+    pub fn tolerance(&self, c: usize, error: f64) -> f64 {
+        match c % self.sys.dim.cols() < self.sys.dim.axes() {
+            true => error * self.sys.length,
+            false => error,
+        }
     }
 
     /// Copies the accelerations into the parts (for acceleration measures and outputs).

@@ -269,13 +269,8 @@ fn carry_estimate(d: &mut Dynamics, integrator: &dyn Integrator, error: f64, end
         d.stats.global_error = None;
         return;
     };
-    let (bs, trans) = (d.sys.dim.cols(), d.sys.dim.axes());
-    let length = d.sys.length;
     let scaled = (e[..d.n].iter().enumerate())
-        .map(|(c, x)| match c % bs < trans {
-            true => x.abs() / (error * length),
-            false => x.abs() / error,
-        })
+        .map(|(c, x)| x.abs() / d.tolerance(c, error))
         .fold(0.0, f64::max);
     // From the run's first step on, or never: a gap would leave the estimate short.
     let worst = match (d.stats.steps, d.stats.global_error) {

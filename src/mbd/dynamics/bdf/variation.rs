@@ -47,15 +47,9 @@ impl Bdf {
         let n = d.n;
         let hist = self.hist.as_ref().expect("started");
         let k = self.k_step.min(hist.len()).max(1);
-        let t0 = hist.newest().t;
         let t1 = d.sys.time;
         let (g, c_err) = (self.pred.g, self.pred.c_err);
-        let mut ts = [0.0; super::MAX_ORDER + 2];
-        for (j, t) in ts.iter_mut().enumerate().take(k + 1) {
-            *t = hist.point(j).t - t0;
-        }
-        let (mut l, mut dl) = ([0.0; super::MAX_ORDER + 2], [0.0; super::MAX_ORDER + 2]);
-        super::lagrange(&ts[..=k], t1 - t0, &mut l[..=k], &mut dl[..=k]);
+        let (l, dl) = super::predictor_weights(hist, k, t1 - hist.newest().t);
         // δb = Σⱼ (lⱼ − g·l̇ⱼ)·eⱼ, positions and velocities alike.
         let e = &mut self.variation;
         e.clear();
@@ -198,10 +192,10 @@ impl Bdf {
             rhs.resize(n + m, 0.0);
             let solved = evaluated.map_err(DynError::from).and_then(|()| {
                 let r = &mut w.r;
-                r.clone_from(&d.gen.q);
-                r.neg_mut();
-                d.add_constraint_forces(&d.lambda, r);
-                d.add_blocks_times(&d.mass_blocks(), 1.0, d.a.as_slice(), r);
+                if r.len() != n {
+                    *r = DVec::zeros(n);
+                }
+                d.motion_residual(d.a.as_slice(), &d.lambda, r);
                 for (x, &r) in rhs[..n].iter_mut().zip(r.as_slice()) {
                     *x = -r;
                 }
