@@ -136,6 +136,14 @@ class Run:
         """The output times."""
         return self.data[:, 0]
 
+    @property
+    def error_estimate(self) -> Optional[float]:
+        """The answer's estimated error in ERRORs (`Model.run(estimate_error=...)`): from
+        the second run (`True`, `"rerun"`), or the largest carried through the steps
+        (`"steps"`, at `stats["error_estimate_time"]`); None when not estimated."""
+        e = self.stats.get("error_estimate")
+        return None if e is None else float(e)
+
     def __getitem__(self, name: str) -> np.ndarray:
         """The column `name` (`time`, a probe's name, or `REQ<id>.F<k>`)."""
         try:

@@ -1,7 +1,7 @@
 """Type stubs of the native module mbfx._mbfx (PyO3)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final, overload
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -167,7 +167,7 @@ class Model:
         interpolate: bool = False,
         engine: str = "jit",
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
-        estimate_error: bool = False,
+        estimate_error: Union[bool, Literal["rerun", "steps"], None] = None,
         animation: Optional[bool] = None,
         geometry: Optional[Mapping[int, Union[str, PathLike[str]]]] = None,
     ) -> Run:

@@ -157,7 +157,7 @@ impl PyRecording {
                 );
             }
             // Only the frames are wanted: no second run for an error estimate.
-            request.estimate_error = false;
+            (request.estimate_error, request.carry_error) = (false, false);
             let run = crate::run::run_model(py, &request, false, true)?;
             Ok(run.getattr(py, "_recording")?.extract(py)?)
         })

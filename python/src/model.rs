@@ -332,8 +332,9 @@ impl PyModel {
     /// Simulates the model to `end`, as `mbfx run` does with the same arguments and
     /// defaults, and returns an `mbfx.Run`. `probes` maps output column names to
     /// expressions; `set` maps `"KIND/ID.FIELD"` to a value for this run only (as
-    /// `--set`). `estimate_error` runs the model again at ERROR/10 to estimate the
-    /// answer's error (`stats["error_estimate"]`, in ERRORs), as `--estimate-error`.
+    /// `--set`). `estimate_error` estimates the answer's error (`Run.error_estimate`, in
+    /// ERRORs), as `--estimate-error`: `True` or `"rerun"` runs the model again at
+    /// ERROR/10, `"steps"` carries it through the steps (GSTIFF and WSTIFF).
     /// `Run.animate()` runs the model again to record its frames; `animation=True`
     /// records a frame at each output row as it runs (no second run; a small model's
     /// run costs a third more), `animation=False` keeps nothing to animate. `geometry`
@@ -347,7 +348,7 @@ impl PyModel {
         progress = false, *, hmax = None, hinit = None, hmin = None, fixed_step = None,
         alpha = None, rho_inf = None, kmax = None, formulation = None, error_per = "step",
         cartesian = false, interpolate = false, engine = "jit", set = None,
-        estimate_error = false, animation = None, geometry = None
+        estimate_error = None, animation = None, geometry = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn run(
@@ -372,7 +373,7 @@ impl PyModel {
         interpolate: bool,
         engine: &str,
         set: Option<&Bound<'_, PyDict>>,
-        estimate_error: bool,
+        estimate_error: Option<&Bound<'_, PyAny>>,
         animation: Option<bool>,
         geometry: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Py<PyAny>> {
@@ -389,7 +390,7 @@ impl PyModel {
             r.end = run::real(end, "end")?;
             r.output_step = run::real(output_step, "output_step")?;
             r.error = run::real(error, "error")?;
-            r.estimate_error = estimate_error;
+            (r.estimate_error, r.carry_error) = run::estimate_of(estimate_error)?;
             r.method = integrator.map(run::method_of).transpose()?;
             r.hmax = run::real(hmax, "hmax")?;
             r.hinit = run::real(hinit, "hinit")?;

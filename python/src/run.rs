@@ -65,6 +65,25 @@ pub fn error_per_run(name: &str) -> PyResult<bool> {
     }
 }
 
+/// `estimate_error=`: None or False; True or "rerun" (the second run at ERROR/10); "steps" (the
+/// error carried through the steps). Returns (rerun, carry).
+pub fn estimate_of(value: Option<&Bound<'_, PyAny>>) -> PyResult<(bool, bool)> {
+    let Some(value) = value else {
+        return Ok((false, false));
+    };
+    if let Ok(on) = value.extract::<bool>() {
+        return Ok((on, false));
+    }
+    match value.extract::<String>().as_deref() {
+        Ok("rerun") => Ok((true, false)),
+        Ok("steps") => Ok((false, true)),
+        _ => Err(PyValueError::new_err(format!(
+            "estimate_error={} must be True, False, \"rerun\" or \"steps\"",
+            value.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))),
+    }
+}
+
 /// The number a keyword argument `name=` holds (a float, an int, numpy's scalars), or
 /// None when it was not given: a str or another object is a `TypeError` naming the
 /// argument (pyo3's own said "must be real number, not str" without saying which).
@@ -364,6 +383,10 @@ fn run_object(
         if let Some(e) = &s.estimate {
             stats.set_item(intern!(py, "error_estimate"), e.error)?;
             stats.set_item(intern!(py, "estimate_cpu_seconds"), e.cpu_seconds)?;
+        } else if let Some(k) = st.global_error {
+            // Carried through the steps: the largest along the run, and where.
+            stats.set_item(intern!(py, "error_estimate"), k)?;
+            stats.set_item(intern!(py, "error_estimate_time"), st.global_error_time)?;
         }
         (warnings, notes) = (s.warnings.clone(), s.notes.clone());
         text = s.text();

@@ -543,3 +543,34 @@ def test_a_force_that_cannot_be_evaluated_fails_before_any_row(cli):
     assert want.code == 1 and want.first_error() == e.code == "E0801"
     assert e.element == "SFORCE/1" and e.time is None
     assert want.data.size == 0 and (e.run is None or len(e.run) == 0)
+
+
+# Undamped: x = 1 + 0.2 cos 10t (the spring's free length 1, released at 1.2).
+OSCILLATOR = """oscillator
+PART/1, GROUND
+MARKER/10, PART = 1
+MARKER/11, PART = 1, REULER = 90D, 90D, 0
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 1.2, 0, 0
+MARKER/20, PART = 2
+MARKER/21, PART = 2, REULER = 90D, 90D, 0
+JOINT/1, TRANSLATIONAL, I = 21, J = 11
+SPRINGDAMPER/1, TRANSLATION, I = 20, J = 10, K = 100, C = 0, LENGTH = 1
+END
+"""
+
+
+def test_the_error_carried_through_the_steps_follows_the_closed_form(tmp_path):
+    path = tmp_path / "oscillator.adm"
+    path.write_text(OSCILLATOR)
+    m = mbfx.load(str(path))
+    error = 1e-5
+    run = m.run(5.0, output_step=0.01, integrator="gstiff", error=error,
+                probes={"x": "DX(20, 10)"}, estimate_error="steps")
+    true = np.max(np.abs(run["x"] - (1 + 0.2 * np.cos(10 * run.time)))) / error
+    assert run.error_estimate is not None
+    assert 1 / 3 < run.error_estimate / true < 3, (run.error_estimate, true)
+    assert 0 < run.stats["error_estimate_time"] <= 5.0
+    assert "estimated error" in run.summary
+    assert m.run(1.0).error_estimate is None
+    with pytest.raises(ValueError, match="estimate_error"):
+        m.run(1.0, estimate_error="twice")

@@ -35,6 +35,10 @@ pub struct Dynamics {
     pub lambda: DVec,
     /// Counters of the run.
     pub stats: Stats,
+    /// The global error the integrator carries at the accepted state (positions in the
+    /// velocity layout, then velocities; `Integrator::global_error`): empty when it
+    /// carries none.
+    pub carried: Vec<f64>,
     /// The Newton matrix's factors, and the saddle-point matrix's of the outputs'
     /// reconciliation: separate, so an output does not cost the integrator its
     /// factorization.
@@ -204,6 +208,7 @@ impl Dynamics {
             a: DVec::zeros(n),
             lambda: DVec::zeros(m),
             stats: Stats::default(),
+            carried: Vec::new(),
             factors,
             factor_generation: 0,
             gen: Generalized::new(n),

@@ -263,15 +263,18 @@ pub fn simulate_framed(
 }
 
 /// Keeps the largest global error estimate the integrator carries, in ERRORs over the
-/// positions, after a step accepted at `end`; none once it carries none.
+/// positions, after a step accepted at `end`, and the estimate itself in `d.carried`
+/// for the output rows; none once it carries none.
 fn carry_estimate(d: &mut Dynamics, integrator: &dyn Integrator, error: f64, end: f64) {
+    d.carried.clear();
     let Some(e) = integrator.global_error() else {
         d.stats.global_error = None;
         return;
     };
-    let scaled = (e[..d.n].iter().enumerate())
-        .map(|(c, x)| x.abs() / d.tolerance(c, error))
-        .fold(0.0, f64::max);
+    d.carried.extend_from_slice(e);
+    // In model units and radians, as ERROR reads in Adams (the step's tolerance scales
+    // translations by the model length; a verdict on the answer does not).
+    let scaled = e[..d.n].iter().map(|x| x.abs() / error).fold(0.0, f64::max);
     // From the run's first step on, or never: a gap would leave the estimate short.
     let worst = match (d.stats.steps, d.stats.global_error) {
         (1, _) => f64::NEG_INFINITY,

@@ -168,4 +168,55 @@ impl Outputs {
         }
         Ok(row)
     }
+
+    /// Whether each column reads the positions alone (displacements, angles, time):
+    /// the columns whose error a carried position error gives.
+    pub(super) fn positional(&self, d: &Dynamics) -> Vec<bool> {
+        let slot = |m: u32| {
+            self.slots
+                .iter()
+                .find(|&&(s, _)| s == m)
+                .and_then(|&(_, o)| o)
+        };
+        (self.columns.iter())
+            .map(|c| {
+                (c.function.uses.measures.iter())
+                    .all(|&m| slot(m).is_none_or(|o| !o.reads_reconciled(&d.sys)))
+            })
+            .collect()
+    }
+
+    /// The error of each column of the row just made, estimated from the error `e` the
+    /// integrator carries (positions in the velocity layout, then velocities): each
+    /// column at the state moved by `e`, less its value; NaN for a column that is not
+    /// `positional` (a carried error of the state says nothing of accelerations and
+    /// forces). `d` is left at its state.
+    pub(super) fn column_errors(
+        &mut self,
+        d: &mut Dynamics,
+        e: &[f64],
+        positional: &[bool],
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        let Some(code) = &self.code else { return };
+        let n = d.n;
+        let (at, t) = (d.snapshot(), d.sys.time);
+        let mut v = d.sys.v();
+        for (x, de) in v.iter_mut().zip(e.iter().skip(n)) {
+            *x += de;
+        }
+        d.set_state(&at, &e[..n.min(e.len())], &v, t);
+        for &(s, slot) in &self.slots {
+            if let Some(o) = slot.filter(|o| !o.reads_reconciled(&d.sys)) {
+                self.measures[s as usize] = o.value(d);
+            }
+        }
+        d.restore(&at);
+        out.resize(self.columns.len(), 0.0);
+        code.eval_into(t, &self.measures, out);
+        for ((x, &y), &p) in out.iter_mut().zip(&self.row[1..]).zip(positional) {
+            *x = if p { (*x - y).abs() } else { f64::NAN };
+        }
+    }
 }

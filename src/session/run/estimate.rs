@@ -281,8 +281,8 @@ mod tests {
             let Some(k) = summary.stats.global_error else {
                 panic!("{method:?}: no estimate carried");
             };
-            // The estimate is in ERRORs of the model length's scale.
-            let estimate = k * error * sim.dynamics.sys.length;
+            // The estimate is in ERRORs of the column's own units (here metres).
+            let estimate = k * error;
             let ratio = estimate / worst;
             assert!(
                 (1.0 / 3.0..3.0).contains(&ratio),
@@ -290,6 +290,30 @@ mod tests {
             );
             assert!(summary.text().contains("estimated error"));
         }
+    }
+
+    #[test]
+    fn the_carried_estimate_judges_the_columns_a_user_reads() {
+        use super::super::Method;
+        let undamped = super::super::tests::OSCILLATOR.replace("C = 4", "C = 0");
+        let run = |probe: &str| {
+            let mut spec = super::super::RunSpec::new(2.0, 0.01);
+            (spec.method, spec.error, spec.carry_error) = (Some(Method::Gstiff), Some(1e-4), true);
+            let probes = [("p".to_string(), probe.to_string())];
+            let Ok(mut sim) = Simulation::new(&undamped, spec, &probes) else {
+                panic!("the oscillator builds");
+            };
+            let (summary, failed) = sim.run(&mut |_| Ok(()));
+            assert!(failed.is_none(), "{failed:?}");
+            summary.stats.global_error
+        };
+        // A column of the time alone is exact whatever the state's error.
+        assert_eq!(run("2*TIME"), Some(0.0));
+        // A velocity's error is not the positions': the state's estimate judges it.
+        let Some(k) = run("VX(20, 10)") else {
+            panic!("no estimate for a velocity column");
+        };
+        assert!(k > 0.0);
     }
 
     #[test]

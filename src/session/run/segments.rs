@@ -105,6 +105,9 @@ impl Simulation {
         // each solved one, and the frame times inside the steps.
         let recorder = std::cell::RefCell::new(self.recorder.take());
         let step = recorder.borrow().as_ref().and_then(|r| r.step);
+        // The output columns' errors, from the error the integrator carries: the largest
+        // over the rows (absolute, in the columns' units) and its time.
+        let mut columns_error = ColumnsError::default();
         // A row of the integrated state (`Some((last, state))`: reconciled when the
         // columns need it or it is a segment's last) or of a state solved already (None;
         // `evaluated` when the analysis left its constraints and forces evaluated there).
@@ -117,6 +120,7 @@ impl Simulation {
                 kinetic_max = kinetic_max.max(kinetic(&d.sys));
             }
             let solved = row.is_none();
+            let stepped = matches!(row, Some((_, RowState::Stepped)));
             let row = match row {
                 Some((last, state)) => outputs.row(d, last, state)?,
                 None if evaluated => outputs.fill_row(d)?,
@@ -141,7 +145,11 @@ impl Simulation {
                     cpu_seconds: clock.seconds(),
                 });
             }
-            out(row).map_err(|e| DynError::Output(e.to_string()))
+            let written = out(row).map_err(|e| DynError::Output(e.to_string()));
+            if stepped && !d.carried.is_empty() {
+                columns_error.add(outputs, d);
+            }
+            written
         };
         // The row at the start belongs to the first segment: the dynamics' consistent
         // state, or the first equilibrium or kinematic solution. The command file's
@@ -249,6 +257,7 @@ impl Simulation {
         }
         self.trace = trace;
         self.recorder = recorder.into_inner();
+        columns_error.judge(&mut self.dynamics.stats, error);
         // Notes the changes to the model added.
         for n in &self.notes {
             if !notes.contains(n) {
@@ -305,4 +314,49 @@ pub(super) fn kinetic(sys: &crate::mbd::system::System) -> f64 {
 /// model length), from its last constraint evaluation.
 pub(super) fn residual(d: &Dynamics) -> f64 {
     (0..d.m).map(|r| d.scaled_residual(r)).fold(0.0, f64::max)
+}
+
+/// The largest error of the output columns that read positions only, estimated at each
+/// row from the error the integrator carries ([`Outputs::column_errors`]): what the
+/// run's verdict judges, rather than the state, since the columns are what a user reads.
+#[derive(Default)]
+struct ColumnsError {
+    /// Which columns read positions only (made at the first row).
+    positional: Option<Vec<bool>>,
+    /// The largest, absolute, and the time of its row (None: no positional column had
+    /// an estimate).
+    worst: Option<(f64, f64)>,
+    errors: Vec<f64>,
+}
+
+impl ColumnsError {
+    /// Adds the row just made at the state of `d`.
+    fn add(&mut self, outputs: &mut Outputs, d: &mut Dynamics) {
+        let positional = self.positional.get_or_insert_with(|| outputs.positional(d));
+        if !positional.contains(&true) {
+            return;
+        }
+        let e = std::mem::take(&mut d.carried);
+        outputs.column_errors(d, &e, positional, &mut self.errors);
+        d.carried = e;
+        // A NaN says the estimate broke down: it stays.
+        let worst = (self.errors.iter().zip(positional.iter()))
+            .filter(|&(_, &p)| p)
+            .fold(0.0, |m: f64, (&x, _)| match m.is_nan() || x.is_nan() {
+                true => f64::NAN,
+                false => m.max(x),
+            });
+        match self.worst {
+            Some((w, _)) if w.is_nan() || worst <= w => {}
+            _ => self.worst = Some((worst, d.sys.time)),
+        }
+    }
+
+    /// Puts the verdict in `stats` (in units of `error`, the run's ERROR) when some
+    /// positional column had an estimate; else the state's stays.
+    fn judge(self, stats: &mut crate::mbd::dynamics::Stats, error: f64) {
+        if let (Some((w, t)), Some(_)) = (self.worst, stats.global_error) {
+            (stats.global_error, stats.global_error_time) = (Some(w / error), t);
+        }
+    }
 }
