@@ -104,6 +104,15 @@ pub(super) fn standard_component(
     })
 }
 
+/// Whether an output slot's value is the state's alone: a measure of positions or
+/// velocities, not an acceleration, a reaction or a force law's value.
+fn reads_state(slot: &OutputSlot) -> bool {
+    matches!(
+        slot,
+        OutputSlot::Kinematic(_) | OutputSlot::EulerParameter { .. }
+    )
+}
+
 impl Outputs {
     /// The output row of a state solved already (an equilibrium, a kinematic solution):
     /// its velocities, accelerations and multipliers are the solution's, not reconciled.
@@ -169,9 +178,9 @@ impl Outputs {
         Ok(row)
     }
 
-    /// Whether each column reads the positions alone (displacements, angles, time):
-    /// the columns whose error a carried position error gives.
-    pub(super) fn positional(&self, d: &Dynamics) -> Vec<bool> {
+    /// Whether each column reads the state alone (displacements, angles, velocities,
+    /// time): the columns whose error the carried error of the state gives.
+    pub(super) fn positional(&self) -> Vec<bool> {
         let slot = |m: u32| {
             self.slots
                 .iter()
@@ -180,8 +189,7 @@ impl Outputs {
         };
         (self.columns.iter())
             .map(|c| {
-                (c.function.uses.measures.iter())
-                    .all(|&m| slot(m).is_none_or(|o| !o.reads_reconciled(&d.sys)))
+                (c.function.uses.measures.iter()).all(|&m| slot(m).is_none_or(|o| reads_state(&o)))
             })
             .collect()
     }
@@ -190,7 +198,8 @@ impl Outputs {
     /// integrator carries (positions in the velocity layout, then velocities): each
     /// column at the state moved by `e`, less its value; NaN for a column that is not
     /// `positional` (a carried error of the state says nothing of accelerations and
-    /// forces). `d` is left at its state.
+    /// forces). `d` is left at its state (its velocities may be the row's reconciled
+    /// ones: the integrator's error moves them alike).
     pub(super) fn column_errors(
         &mut self,
         d: &mut Dynamics,
@@ -208,7 +217,7 @@ impl Outputs {
         }
         d.set_state(&at, &e[..n.min(e.len())], &v, t);
         for &(s, slot) in &self.slots {
-            if let Some(o) = slot.filter(|o| !o.reads_reconciled(&d.sys)) {
+            if let Some(o) = slot.filter(reads_state) {
                 self.measures[s as usize] = o.value(d);
             }
         }

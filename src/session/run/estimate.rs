@@ -309,11 +309,19 @@ mod tests {
         };
         // A column of the time alone is exact whatever the state's error.
         assert_eq!(run("2*TIME"), Some(0.0));
-        // A velocity's error is not the positions': the state's estimate judges it.
-        let Some(k) = run("VX(20, 10)") else {
-            panic!("no estimate for a velocity column");
+        // The state's error says nothing of an acceleration's: the state's estimate
+        // judges the run then.
+        let Some(k) = run("ACCX(20, 10)") else {
+            panic!("no estimate for an acceleration column");
         };
         assert!(k > 0.0);
+        // A velocity is the state's: the oscillator's speed 2·sin 10t errs as its
+        // position 0.2·cos 10t does, times ω = 10 (within the factor 3 of the position's
+        // test above).
+        let (Some(x), Some(v)) = (run("DX(20, 10)"), run("VX(20, 10)")) else {
+            panic!("no estimate for the state's columns");
+        };
+        assert!((10.0 / 3.0..30.0).contains(&(v / x)), "{v} against {x}");
     }
 
     #[test]

@@ -316,14 +316,14 @@ pub(super) fn residual(d: &Dynamics) -> f64 {
     (0..d.m).map(|r| d.scaled_residual(r)).fold(0.0, f64::max)
 }
 
-/// The largest error of the output columns that read positions only, estimated at each
+/// The largest error of the output columns that read the state only, estimated at each
 /// row from the error the integrator carries ([`Outputs::column_errors`]): what the
 /// run's verdict judges, rather than the state, since the columns are what a user reads.
 #[derive(Default)]
 struct ColumnsError {
-    /// Which columns read positions only (made at the first row).
+    /// Which columns read the state only (made at the first row).
     positional: Option<Vec<bool>>,
-    /// The largest, absolute, and the time of its row (None: no positional column had
+    /// The largest, absolute, and the time of its row (None: no column of the state had
     /// an estimate).
     worst: Option<(f64, f64)>,
     errors: Vec<f64>,
@@ -332,7 +332,7 @@ struct ColumnsError {
 impl ColumnsError {
     /// Adds the row just made at the state of `d`.
     fn add(&mut self, outputs: &mut Outputs, d: &mut Dynamics) {
-        let positional = self.positional.get_or_insert_with(|| outputs.positional(d));
+        let positional = self.positional.get_or_insert_with(|| outputs.positional());
         if !positional.contains(&true) {
             return;
         }
@@ -353,7 +353,7 @@ impl ColumnsError {
     }
 
     /// Puts the verdict in `stats` (in units of `error`, the run's ERROR) when some
-    /// positional column had an estimate; else the state's stays.
+    /// column of the state had an estimate; else the state's own stays.
     fn judge(self, stats: &mut crate::mbd::dynamics::Stats, error: f64) {
         if let (Some((w, t)), Some(_)) = (self.worst, stats.global_error) {
             (stats.global_error, stats.global_error_time) = (Some(w / error), t);
