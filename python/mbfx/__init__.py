@@ -88,6 +88,7 @@ class Run:
         integrator: str = "",
         dimension: str = "",
         _recording: Any = None,
+        units: Sequence[str] = (),
     ) -> None:
         self.columns: List[str] = list(columns)
         self.data: np.ndarray = np.asarray(data, dtype=np.float64).reshape(-1, len(self.columns))
@@ -97,6 +98,9 @@ class Run:
         self.summary: str = summary
         self.integrator: str = integrator
         self.dimension: str = dimension
+        # Each column's unit in the dataset's units ("second", "meter", "newton"; "1"
+        # dimensionless, "" unknown), as the units checker infers it; `plot` groups by it.
+        self.units: List[str] = list(units)
         # The animation the run recorded (mbfx._mbfx.Recording); it stays in this process.
         self._recording = _recording
 
@@ -176,22 +180,50 @@ class Run:
         frame.index = pd.Index(self.data[:, 0], name="time")
         return frame
 
-    def plot(self, columns: Optional[Sequence[str]] = None, ax: "Optional[Axes]" = None) -> "Axes":
-        """Draws `columns` (all but time by default) against time on `ax` (a new figure
-        when None) and returns the axes (needs `pip install mbfx[plot]`)."""
+    def unit(self, name: str) -> str:
+        """The unit of column `name` in the dataset's units, as the units checker infers
+        it from the column's expression: "meter", "newton", "meter/second", "radian";
+        "1" when it is dimensionless, "" when the checker cannot tell (a number alone)."""
+        self[name]  # KeyError for a column the run does not have
+        units = getattr(self, "units", [])  # a Run pickled before units were kept
+        return units[self.columns.index(name)] if len(units) == len(self.columns) else ""
+
+    def plot(self, columns: Optional[Sequence[str]] = None, ax: "Optional[Axes]" = None) -> "List[Axes]":
+        """Draws `columns` (all but time by default) against time, one panel per unit
+        (`Run.unit`), stacked over a shared time axis, each labelled with its unit, and
+        returns the panels' axes in the order their units first appear: a force of
+        100 N does not flatten a position of 0.3 m. A column whose unit the checker
+        cannot tell gets a panel of its own. With `ax`, every column goes on that one
+        axes (returned alone in the list). Needs `pip install mbfx[plot]`."""
         try:
             import matplotlib.pyplot as plt
         except ImportError as e:  # pragma: no cover - depends on the environment
             raise ImportError("Run.plot needs matplotlib: pip install mbfx[plot]") from e
         names = list(columns) if columns is not None else self.columns[1:]
-        if ax is None:
-            _, ax = plt.subplots()
+        panels: Dict[str, List[str]] = {}
         for name in names:
-            ax.plot(self.time, self[name], label=name)
-        ax.set_xlabel("time")
-        if names:
-            ax.legend()
-        return ax
+            unit = self.unit(name)
+            # Unknown units are not assumed to agree: such a column stands alone.
+            panels.setdefault(unit if unit else f"\0{name}", []).append(name)
+        if ax is not None:
+            axes = [ax]
+            groups = [names]
+        else:
+            n = max(1, len(panels))
+            _, grid = plt.subplots(n, 1, sharex=True, squeeze=False, figsize=(6.4, max(4.8, 2.4 * n)))
+            axes = list(grid[:, 0])
+            groups = list(panels.values()) or [[]]
+        for panel, group in zip(axes, groups):
+            for name in group:
+                panel.plot(self.time, self[name], label=name)
+            if group and len({self.unit(name) for name in group}) == 1:
+                unit = self.unit(group[0])
+                panel.set_ylabel({"": group[0], "1": "dimensionless"}.get(unit, unit))
+            if group:
+                panel.legend()
+        time_unit = self.unit("time")
+        axes[-1].set_xlabel(f"time ({time_unit})" if time_unit else "time")
+        return axes
 
 
 @dataclass(frozen=True, eq=False)

@@ -144,7 +144,9 @@ class Model:
     def graphics(self) -> List[Graphic]:
         """The GRAPHICS statements in file order (a new list each time)."""
     def check(self) -> Report: ...
-    def evaluate(self, expr: str, engine: str = "jit") -> Union[float, np.ndarray]: ...
+    # No overloads: a scalar expression gives a float and a vector expression an array
+    # of 3, which the text decides, not an argument's type (docs/python.md, Type stubs).
+    def evaluate(self, expr: str, engine: str = "jit") -> Union[float, npt.NDArray[np.float64]]: ...
     def run(
         self,
         end: Optional[float] = None,

@@ -266,7 +266,7 @@ pub fn run_model(
             let recording = recording_of(request, done.animation, animate_later);
             let run = run_object(
                 py,
-                &done.header,
+                (&done.header, &done.units),
                 rows,
                 Some(&done.summary),
                 seconds,
@@ -279,7 +279,7 @@ pub fn run_model(
         }
         Ok(done) => run_object(
             py,
-            &done.header,
+            (&done.header, &done.units),
             rows,
             Some(&done.summary),
             seconds,
@@ -288,11 +288,12 @@ pub fn run_model(
         ),
         Err(mut failed) => {
             let header = failed.header.clone().unwrap_or_else(|| vec!["time".into()]);
+            let units = failed.units.clone().unwrap_or_default();
             let recording = recording_of(request, failed.animation.take(), animate_later);
             let partial = match failed.header {
                 Some(_) => Some(run_object(
                     py,
-                    &header,
+                    (&header, &units),
                     rows,
                     failed.summary.as_ref(),
                     seconds,
@@ -345,10 +346,11 @@ fn recording_of(
     (animation.is_some() || animate_later).then(|| PyRecording::new(request, animation))
 }
 
-/// An `mbfx.Run` of `rows` (flat, `header.len()` a row), with the animation it recorded.
+/// An `mbfx.Run` of `rows` (flat, `header.len()` a row), with the animation it recorded;
+/// `units` holds each column's unit.
 fn run_object(
     py: Python<'_>,
-    header: &[String],
+    (header, units): (&[String], &[String]),
     rows: Vec<f64>,
     summary: Option<&Summary>,
     session_seconds: f64,
@@ -398,6 +400,7 @@ fn run_object(
     kwargs.set_item(intern!(py, "summary"), text)?;
     kwargs.set_item(intern!(py, "integrator"), integrator)?;
     kwargs.set_item(intern!(py, "dimension"), dim_reason)?;
+    kwargs.set_item(intern!(py, "units"), PyList::new(py, units)?)?;
     if let Some(r) = recording {
         kwargs.set_item(intern!(py, "_recording"), Py::new(py, r)?)?;
     }

@@ -151,6 +151,7 @@ pub fn run(
         .transpose()
         .map_err(RunFailed::command_line)?;
     let header = sim.header();
+    let column_units = sim.units();
     let dim_reason = sim.dynamics.sys.dim_reason.clone();
     observer
         .built(&Built {
@@ -251,7 +252,7 @@ pub fn run(
     };
     if let Err(e) = observer.started(&started) {
         let mut f = RunFailed::output(e);
-        f.header = Some(header);
+        (f.header, f.units) = (Some(header), Some(column_units));
         return Err(f);
     }
     let wants_table = observer.wants_table();
@@ -276,6 +277,7 @@ pub fn run(
     let result = match failed {
         None => Ok(RunDone {
             header,
+            units: column_units,
             summary,
             dim_reason,
             animation: recorded,
@@ -291,7 +293,7 @@ pub fn run(
                 }
                 _ => RunFailed::dynamics(e, source, &sim.read.model),
             };
-            (f.header, f.summary) = (Some(header), Some(summary));
+            (f.header, f.units, f.summary) = (Some(header), Some(column_units), Some(summary));
             f.animation = recorded;
             Err(f)
         }

@@ -18,6 +18,7 @@ use crate::mbd::dynamics::Dynamics;
 use crate::mbd::rewind::StartState;
 use crate::model::ModelRead;
 
+mod column_units;
 mod columns;
 mod contact_meshes;
 mod cpu_clock;

@@ -283,16 +283,58 @@ def test_plot_draws_one_line_per_column_on_agg():
 
     run = mbfx.load(SLIDER).run(1.0, probes={"x": "DX(22, 11)"})
     try:
-        ax = run.plot()
-        lines = ax.get_lines()
-        assert [l.get_label() for l in lines] == run.columns[1:]
-        for line, name in zip(lines, run.columns[1:]):
+        axes = run.plot()
+        lines = [l for ax in axes for l in ax.get_lines()]
+        assert sorted(l.get_label() for l in lines) == sorted(run.columns[1:])
+        for line in lines:
+            name = line.get_label()
             assert same_bits(line.get_xdata(), run.time) and same_bits(line.get_ydata(), run[name])
-        assert ax.get_xlabel() == "time"
+        # x and REQ1.F2 (both DX) share a panel; VX and the SFORCE have their own.
+        assert [sorted(l.get_label() for l in ax.get_lines()) for ax in axes] == [
+            ["REQ1.F2", "x"], ["REQ1.F3"], ["REQ1.F4"]]
+        assert axes[-1].get_xlabel() == "time (second)"
         _, given = plt.subplots()
-        assert run.plot(["x"], ax=given) is given and len(given.get_lines()) == 1
+        assert run.plot(["x"], ax=given) == [given] and len(given.get_lines()) == 1
         with pytest.raises(KeyError):
             run.plot(["nope"])
+    finally:
+        plt.close("all")
+
+
+def test_plot_gives_each_unit_a_panel_labelled_with_it():
+    # The slider's dataset says UNITS/FORCE = NEWTON, LENGTH = METER: a position and a
+    # force (SFORCE/1's x component, some 100 N against 0.3 m) go on two panels.
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    run = mbfx.load(SLIDER).run(1.0, probes={"x": "DX(22, 11)", "f": "SFORCE(1, 0, 2, 0)"})
+    assert [run.unit(c) for c in run.columns] == [
+        "second", "meter", "newton", "meter", "meter/second", "newton"]
+    try:
+        axes = run.plot(["x", "f"])
+        assert len(axes) == 2
+        assert [ax.get_ylabel() for ax in axes] == ["meter", "newton"]
+        assert [[l.get_label() for l in ax.get_lines()] for ax in axes] == [["x"], ["f"]]
+        # Each panel's scale is its own column's.
+        for ax, name in zip(axes, ["x", "f"]):
+            lo, hi = ax.get_ylim()
+            assert lo <= run[name].min() and run[name].max() <= hi
+            assert hi - lo < 2 * (run[name].max() - run[name].min())
+    finally:
+        plt.close("all")
+    # A dataset in millimetres and kilonewtons (KNEWTON) names its own units; a number alone has
+    # none the checker can tell, and a ratio of lengths is dimensionless.
+    text = SLIDER.read_text().replace(
+        "UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER",
+        "UNITS/FORCE = KNEWTON, MASS = KILOGRAM, LENGTH = MILLIMETER",
+    )
+    mm = mbfx.load(text).run(0.01, probes={"x": "DX(22, 11)", "f": "SFORCE(1, 0, 2, 0)",
+                                           "c": "2.5", "r": "DX(22, 11)/DM(22, 11)"})
+    assert [mm.unit(c) for c in ("x", "f", "c", "r")] == ["millimeter", "knewton", "", "1"]
+    try:
+        axes = mm.plot(["x", "c", "r"])
+        assert [ax.get_ylabel() for ax in axes] == ["millimeter", "c", "dimensionless"]
     finally:
         plt.close("all")
 

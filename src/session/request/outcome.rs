@@ -72,6 +72,8 @@ impl<F: FnMut(&[f64]) -> io::Result<()>> RunObserver for F {
 pub struct RunDone {
     /// The column names: `time`, the probes, the REQUEST components.
     pub header: Vec<String>,
+    /// Each column's unit ([`Simulation::units`](crate::session::run::Simulation::units)).
+    pub units: Vec<String>,
     /// Steps, work, residuals, notes (a command file's output files among them) and the
     /// accuracy warnings of the run's own monitors.
     pub summary: Summary,
@@ -85,6 +87,8 @@ pub struct RunDone {
 pub struct RunFailed {
     /// The column names, once the model was built.
     pub header: Option<Vec<String>>,
+    /// Each column's unit, once the model was built (as [`RunDone::units`]).
+    pub units: Option<Vec<String>>,
     /// The summary up to the failure, once integration had started.
     pub summary: Option<Summary>,
     /// The failure's code (its first error's).
@@ -120,6 +124,7 @@ impl RunFailed {
             .or(diagnostics.first());
         Box::new(RunFailed {
             header: None,
+            units: None,
             summary: None,
             code: first.map_or(Code::CannotSimulate, |d| d.code),
             cause: first.map_or_else(String::new, |d| d.message.clone()),

@@ -419,3 +419,46 @@ fn an_interrupt_from_another_thread_stops_a_run_promptly() {
         "{steps} steps to {t}"
     );
 }
+
+#[test]
+fn each_column_carries_its_unit_in_the_dataset_units() {
+    // The oscillator with UNITS in millimetres and kilonewtons, a REQUEST of its
+    // displacement and force, and probes of a position, a force, a velocity, a number
+    // alone (free: no unit the checker can tell) and a ratio of lengths (dimensionless).
+    let text = OSCILLATOR.replace(
+        "PART/1, GROUND",
+        "UNITS/FORCE = KNEWTON, MASS = KILOGRAM, LENGTH = MILLIMETER, TIME = SECOND\n\
+         PART/1, GROUND",
+    );
+    let text = text.replace(
+        "END\n",
+        "REQUEST/1, DISPLACEMENT, I = 20, J = 10\nREQUEST/2, F2 = SPDP(1, 0, 2, 0)\nEND\n",
+    );
+    let mut r = RunRequest::dataset("oscillator.adm", &text);
+    r.end = Some(0.01);
+    for p in [
+        "x=DX(20, 10)",
+        "f=SPDP(1, 0, 2, 0)",
+        "v=VX(20, 10)",
+        "c=2.5",
+    ] {
+        r.probes.push(parse_probe(p));
+    }
+    r.probes.push(parse_probe("r=DX(20, 10)/DM(20, 10)"));
+    let done = rows_of(&r).1.expect("the oscillator runs");
+    assert_eq!(done.units.len(), done.header.len());
+    let unit = |name: &str| {
+        let k = done.header.iter().position(|h| h == name).expect(name);
+        done.units[k].as_str()
+    };
+    assert_eq!(unit("time"), "second");
+    assert_eq!(unit("x"), "millimeter");
+    assert_eq!(unit("f"), "knewton");
+    assert_eq!(unit("v"), "millimeter/second");
+    assert_eq!(unit("c"), "");
+    assert_eq!(unit("r"), "1");
+    // A DISPLACEMENT request: magnitude and translations in length, then the angles.
+    assert_eq!(unit("REQ1.F2"), "millimeter");
+    assert_eq!(unit("REQ1.F6"), "radian");
+    assert_eq!(unit("REQ2.F2"), "knewton");
+}

@@ -17,6 +17,8 @@ pub(super) struct Column {
     /// The expression as written, its VARIABLEs not inlined (a command file that gives
     /// a VARIABLE a new expression inlines it again).
     pub(super) source: Expr,
+    /// Its unit in the dataset's units ([`super::column_units`]).
+    pub(super) unit: String,
 }
 
 /// The output columns compiled, and the measure slots they read.

@@ -130,23 +130,27 @@ impl Simulation {
                 name: name.clone(),
                 function: function.function,
                 source: e,
+                unit: super::column_units::unit_of(&read, text),
             });
         }
         let mut notes = Vec::new();
         for r in read.model.requests.clone() {
             for k in 1..=8 {
                 let name = format!("REQ{}.F{k}", r.el.id);
-                let expr = if let Some((kind, i, j, rm)) = r.standard {
+                let (expr, unit) = if let Some((kind, i, j, rm)) = r.standard {
                     let Some(text) =
                         standard_component(kind, i, j.unwrap_or(0), rm.unwrap_or(0), k)
                     else {
                         continue;
                     };
                     match read.compile(&text, &Variables::new(), Expect::Scalar) {
-                        Ok(c) => Expr {
-                            span: r.el.span.clone(),
-                            function: c.function,
-                        },
+                        Ok(c) => (
+                            Expr {
+                                span: r.el.span.clone(),
+                                function: c.function,
+                            },
+                            super::column_units::unit_of(&read, &text),
+                        ),
                         Err(_) => {
                             notes.push(format!("{name} ({text}) left out: it does not check"));
                             continue;
@@ -154,7 +158,10 @@ impl Simulation {
                     }
                 } else {
                     match r.functions.iter().find(|(n, _)| *n + 1 == k) {
-                        Some((_, e)) => e.clone(),
+                        Some((_, e)) => {
+                            let written = text.get(e.span.clone()).unwrap_or("");
+                            (e.clone(), super::column_units::unit_of(&read, written))
+                        }
                         None => continue,
                     }
                 };
@@ -163,6 +170,7 @@ impl Simulation {
                         name,
                         function: e.function,
                         source: expr,
+                        unit,
                     }),
                     Err(why) => notes.push(format!("{name} left out: {why}")),
                 }
@@ -191,6 +199,7 @@ impl Simulation {
                         span: 0..text.len(),
                         function: c.function,
                     },
+                    unit: super::column_units::unit_of(&read, &text),
                 }),
                 Err(_) => notes.push(format!("{name} ({text}) left out: it does not check")),
             }
@@ -376,6 +385,15 @@ impl Simulation {
     pub fn header(&self) -> Vec<String> {
         std::iter::once("time".to_string())
             .chain(self.outputs.columns.iter().map(|c| c.name.clone()))
+            .collect()
+    }
+
+    /// The unit of each column of [`Simulation::header`], in the dataset's units
+    /// ("second", "meter", "newton"; "1" dimensionless, "" when the units checker cannot
+    /// tell): what a chart with one panel per unit groups by.
+    pub fn units(&self) -> Vec<String> {
+        std::iter::once(super::column_units::time_unit(&self.read))
+            .chain(self.outputs.columns.iter().map(|c| c.unit.clone()))
             .collect()
     }
 }
