@@ -7,9 +7,7 @@
 
 use crate::errors::guarded;
 use crate::run::run_error;
-use mbfx::mbd::dynamics::DynError;
 use mbfx::session::stepping::{Snapshot, Stepping};
-use mbfx::session::stopped::Stopped;
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -67,16 +65,11 @@ impl PySimulation {
                 }
             };
             let result = self.stepping.advance_interruptible(t, Some(&ask));
-            match result {
-                Ok(()) => Ok(()),
-                Err(Stopped::Dynamics(DynError::Interrupted { .. })) => {
-                    Err(signal.take().unwrap_or_else(|| {
-                        pyo3::exceptions::PyKeyboardInterrupt::new_err(
-                            "the advance was interrupted",
-                        )
-                    }))
-                }
-                Err(e) => {
+            match (result, signal.take()) {
+                (Ok(()), _) => Ok(()),
+                // Stopped by a signal handler's exception (Ctrl-C's KeyboardInterrupt).
+                (Err(_), Some(raised)) => Err(raised),
+                (Err(e), None) => {
                     let failed = self.stepping.failure(e);
                     Err(run_error(py, &failed, None)?)
                 }
