@@ -36,6 +36,7 @@ pub mod prepared;
 pub mod report;
 pub mod request;
 pub mod run;
+pub mod stepping;
 pub mod stopped;
 
 pub use crate::mbd::pipeline::DimRequest;

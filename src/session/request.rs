@@ -37,7 +37,8 @@
 //!
 //! This module holds [`run`] itself; `options` the request and its checks,
 //! `outcome` what a run hands out and ends with, and `prepare` the simulation it
-//! runs (a kept one reused, or one built).
+//! runs (a kept one reused, or one built); `built` the simulation a request would
+//! run, for a shell that steps it itself.
 
 use super::acf::{self, Commands};
 use super::animation;
@@ -51,6 +52,7 @@ use crate::model::commands::Step;
 use crate::session::stopped::Stopped;
 use std::cell::RefCell;
 
+pub mod built;
 mod options;
 mod outcome;
 mod prepare;

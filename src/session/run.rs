@@ -9,7 +9,8 @@
 //! asked to do, `simulation` building one, `columns` its output columns, `segments`
 //! the run loop, `summary` what it ends with, `warnings` the lock-up diagnosis and
 //! the accuracy monitors, `estimate` the error estimate from a second run, and
-//! `rebuild` a command file's changes to the model during a run.
+//! `rebuild` a command file's changes to the model during a run, and `stepped` what a
+//! caller stepping a simulation itself needs of it.
 
 use super::plan::Plan;
 use super::plant::Plant;
@@ -27,6 +28,7 @@ mod rebuild;
 mod segments;
 mod simulation;
 mod spec;
+mod stepped;
 mod summary;
 mod warnings;
 

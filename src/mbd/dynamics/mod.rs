@@ -75,4 +75,4 @@ pub use setup::{row_parts, Dynamics};
 pub use state::Snapshot;
 pub use stats::Stats;
 pub use step_extension::{Hermite, Taylor};
-pub use time_loop::{simulate, simulate_framed};
+pub use time_loop::{simulate, simulate_framed, Inside, TimeLoop};

@@ -35,7 +35,8 @@ pub fn simulate(
 
 /// [`simulate`], also handing `frames`' recorder the state at each of its times (an
 /// animation's frames): from the continuous extension inside a step, or the step's end.
-/// The steps, and so the outputs, are the same with or without them.
+/// The steps, and so the outputs, are the same with or without them. A loop over
+/// [`TimeLoop::advance_to`], one landing per output time (one in all with INTERPOLATE).
 pub fn simulate_framed(
     d: &mut Dynamics,
     integrator: &mut dyn Integrator,
@@ -45,45 +46,140 @@ pub fn simulate_framed(
     mut frames: Option<&mut FrameTimes<'_>>,
     interrupt: Option<Interrupt<'_>>,
 ) -> Result<(), DynError> {
-    integrator.start(d)?;
-    // Fixed steps are the user's to choose: no switch moves them.
-    let mut events = match s.fixed_step {
-        None => Events::new(d),
-        Some(_) => Events::default(),
-    };
-    let drift_tol = (s.error * 10.0).max(1e-6);
     let span = outputs.last().map_or(0.0, |t| t - d.sys.time);
-    // The step error control wants; the step taken may be shorter to land on an output.
-    let mut want = match s.fixed_step {
-        Some(h) => h.min(s.hmax),
-        None => {
-            let h0 = s.hinit.min(s.hmax);
-            integrator.first_step(d, h0, &s.for_step(h0, span))
-        }
-    };
-    // The last error rejection: time, step, estimate.
-    let mut last_rejection: Option<(f64, f64, f64)> = None;
-    // With INTERPOLATE the steps land on the last output time only; `pending` is the first
-    // output time not yet given from inside a step.
-    let interpolate = s.interpolate && integrator.dense();
-    let landings = match (interpolate, outputs.last()) {
+    let mut stretch = TimeLoop::start(d, integrator, s, span)?;
+    let landings = match (stretch.interpolate, outputs.last()) {
         (true, Some(_)) => 1,
         (true, None) => 0,
         (false, _) => outputs.len(),
     };
-    let mut pending = 0;
     for landing in 0..landings {
-        let t_out = match interpolate {
+        let t_out = match stretch.interpolate {
             true => outputs.at(outputs.len() - 1),
             false => outputs.at(landing),
         };
+        let inside = Inside { outputs, output };
+        stretch.advance_to(
+            d,
+            integrator,
+            t_out,
+            inside,
+            frames.as_deref_mut(),
+            interrupt,
+        )?;
+        output(d, RowState::Stepped)?;
+    }
+    Ok(())
+}
+
+/// The output rows a stretch run with INTERPOLATE gives from inside its steps: their
+/// times and what takes each.
+pub struct Inside<'a, 'b> {
+    /// The stretch's output times.
+    pub outputs: &'a OutputTimes,
+    /// What takes a row.
+    pub output: &'a mut (dyn FnMut(&mut Dynamics, RowState) -> Result<(), DynError> + 'b),
+}
+
+/// What the driver carries from one step to the next, so that a stretch can be
+/// integrated a piece at a time ([`TimeLoop::advance_to`]): the switches being watched,
+/// the step error control wants, the last rejection, the first output time not yet
+/// given from inside a step. Integrating to t₁ and then to t₂ takes the steps a
+/// [`simulate`] with output times t₁ and t₂ takes.
+pub struct TimeLoop {
+    settings: Settings,
+    events: Events,
+    drift_tol: f64,
+    /// The time span ERROR per run is spread over.
+    span: f64,
+    /// The step error control wants; the step taken may be shorter to land on an output.
+    want: f64,
+    /// The last error rejection: time, step, estimate.
+    last_rejection: Option<(f64, f64, f64)>,
+    /// With INTERPOLATE the steps land on the last output time only; `pending` is the
+    /// first output time not yet given from inside a step.
+    interpolate: bool,
+    pending: usize,
+}
+
+impl TimeLoop {
+    /// Starts `integrator` from the consistent state of `d` under `s`, over a stretch of
+    /// `span` (what ERROR per run is spread over).
+    pub fn start(
+        d: &mut Dynamics,
+        integrator: &mut dyn Integrator,
+        s: &Settings,
+        span: f64,
+    ) -> Result<TimeLoop, DynError> {
+        integrator.start(d)?;
+        // Fixed steps are the user's to choose: no switch moves them.
+        let events = match s.fixed_step {
+            None => Events::new(d),
+            Some(_) => Events::default(),
+        };
+        let want = match s.fixed_step {
+            Some(h) => h.min(s.hmax),
+            None => {
+                let h0 = s.hinit.min(s.hmax);
+                integrator.first_step(d, h0, &s.for_step(h0, span))
+            }
+        };
+        Ok(TimeLoop {
+            settings: *s,
+            events,
+            drift_tol: (s.error * 10.0).max(1e-6),
+            span,
+            want,
+            last_rejection: None,
+            interpolate: s.interpolate && integrator.dense(),
+            pending: 0,
+        })
+    }
+
+    /// Starts the integrator again from the state of `d` as it stands, which a change
+    /// of the forces made inconsistent (an input set): consistent accelerations there,
+    /// the integrator's history forgotten, the switches watched from here, and the next
+    /// step no longer than the method takes from a start (as after a located switch,
+    /// the past says nothing of the new law's pace).
+    pub fn restart(
+        &mut self,
+        d: &mut Dynamics,
+        integrator: &mut dyn Integrator,
+    ) -> Result<(), DynError> {
+        let s = self.settings;
+        d.solve_accelerations()?;
+        integrator.start(d)?;
+        if s.fixed_step.is_none() {
+            self.events = Events::new(d);
+            let h0 = self.want.min(s.hmax);
+            self.want = integrator.first_step(d, h0, &s.for_step(h0, self.span));
+        }
+        self.last_rejection = None;
+        Ok(())
+    }
+
+    /// Integrates from the time of `d` to `t_out`, landing on it (nothing when `d` is
+    /// there already). With INTERPOLATE, each of `inside`'s output times inside a step
+    /// takes its row there; `frames` records its times as [`simulate_framed`] says.
+    /// `interrupt` is asked before every step attempt.
+    pub fn advance_to(
+        &mut self,
+        d: &mut Dynamics,
+        integrator: &mut dyn Integrator,
+        t_out: f64,
+        inside: Inside<'_, '_>,
+        mut frames: Option<&mut FrameTimes<'_>>,
+        interrupt: Option<Interrupt<'_>>,
+    ) -> Result<(), DynError> {
+        let s = self.settings;
+        let Inside { outputs, output } = inside;
         while d.sys.time < t_out {
             let t = d.sys.time;
             if interrupt.is_some_and(|stop| stop()) {
                 return Err(DynError::Interrupted { time: t });
             }
             let left = t_out - t;
-            let mut h = want;
+            let mut h = self.want;
             if let Some(fixed) = s.fixed_step {
                 let n = (left / fixed - 1e-9).ceil().max(1.0);
                 h = left / n;
@@ -96,7 +192,7 @@ pub fn simulate_framed(
             }
             let mut end = if h == left { t_out } else { t + h };
             // Aiming at a switch being located only ever shortens the step.
-            if let Some(aim) = events.aim(t).filter(|&a| a < h) {
+            if let Some(aim) = self.events.aim(t).filter(|&a| a < h) {
                 (h, end) = (aim, t + aim);
             }
             // Nor may a contact pair pass through another unseen inside it (onset is
@@ -107,10 +203,10 @@ pub fn simulate_framed(
                     (h, end) = (reach, t + reach);
                 }
             }
-            let clipped = h < want;
+            let clipped = h < self.want;
             let step_settings = Settings {
-                in_contact: events.engaged(),
-                ..s.for_step(end - t, span)
+                in_contact: self.events.engaged(),
+                ..s.for_step(end - t, self.span)
             };
             // A force that is not finite at a trial state (a Newton iterate thrown far by
             // too long a step) is the step's failure, as a divergence is; only when the
@@ -136,15 +232,17 @@ pub fn simulate_framed(
                             culprit,
                         });
                     }
-                    want = h * 0.25;
+                    self.want = h * 0.25;
                 }
                 Attempt::Converged { err, worst } if err > 1.0 && s.fixed_step.is_none() => {
                     // A candidate over a force law's switch integrated two laws: its
                     // error says nothing of either, and shrinking by it only creeps up
                     // on the switch. Locate the switch instead (`events` aims at it).
                     d.sys.time = end;
-                    if events.crosses(d) && events.judge(end, h, s.hmin) == Verdict::Locate {
-                        reject_locating(d, integrator, &mut events, (t, end), false);
+                    if self.events.crosses(d)
+                        && self.events.judge(end, h, s.hmin) == Verdict::Locate
+                    {
+                        reject_locating(d, integrator, &mut self.events, (t, end), false);
                         d.stats.rejected += 1;
                         continue;
                     }
@@ -156,21 +254,21 @@ pub fn simulate_framed(
                     // by that order creeps down in many rejections. A second rejection at
                     // the same time measures the order the estimate shows and shrinks by
                     // it (no more than the method's, no less than one).
-                    let order = match last_rejection {
+                    let order = match self.last_rejection {
                         Some((t1, h1, e1)) if t1 == t && h1 > h && e1 > err => {
                             ((e1 / err).ln() / (h1 / h).ln()).clamp(1.0, integrator.error_order())
                         }
                         _ => integrator.error_order(),
                     };
-                    last_rejection = Some((t, h, err));
+                    self.last_rejection = Some((t, h, err));
                     let shrink = integrator
                         .step_factor()
                         .unwrap_or_else(|| (0.9 * err.powf(-1.0 / order)).clamp(0.1, 0.9));
-                    want = h * shrink;
-                    if want < s.hmin {
+                    self.want = h * shrink;
+                    if self.want < s.hmin {
                         return Err(DynError::StepTooSmall {
                             time: t,
-                            step: want,
+                            step: self.want,
                             hmin: s.hmin,
                             culprit: d.part_of_column(worst),
                         });
@@ -178,13 +276,13 @@ pub fn simulate_framed(
                 }
                 Attempt::Converged { err, .. } => {
                     d.sys.time = end;
-                    let verdict = events.check(d, h, s.hmin);
+                    let verdict = self.events.check(d, h, s.hmin);
                     if verdict == Verdict::Locate {
-                        reject_locating(d, integrator, &mut events, (t, end), true);
+                        reject_locating(d, integrator, &mut self.events, (t, end), true);
                         d.stats.rejected += 1;
                         continue;
                     }
-                    events.accept();
+                    self.events.accept();
                     let event = verdict == Verdict::Accept { event: true };
                     d.stats.events += event as usize;
                     // The state elements first: the integrator's history reads them.
@@ -192,8 +290,9 @@ pub fn simulate_framed(
                     integrator.accept(d);
                     // The extension of a step with an output time inside it is readied
                     // before a restart forgets the step (the outputs come at its end).
-                    let inside =
-                        interpolate && pending + 1 < outputs.len() && outputs.at(pending) < end;
+                    let inside = self.interpolate
+                        && self.pending + 1 < outputs.len()
+                        && outputs.at(self.pending) < end;
                     let framed = frames.as_ref().is_some_and(|f| f.inside(end));
                     if inside || framed {
                         let kept = Kept::of(d);
@@ -203,7 +302,7 @@ pub fn simulate_framed(
                     if event {
                         integrator.restart(d);
                     }
-                    estimate_ahead(d, &mut events);
+                    estimate_ahead(d, &mut self.events);
                     d.stats.steps += 1;
                     (d.stats.last_step, d.stats.order) = (h, integrator.order());
                     if let Some(k) = d.stats.order {
@@ -215,7 +314,7 @@ pub fn simulate_framed(
                     if watched > d.stats.worst_error {
                         (d.stats.worst_error, d.stats.worst_error_time) = (watched, end);
                     }
-                    d.check_dropped(drift_tol)?;
+                    d.check_dropped(self.drift_tol)?;
                     d.commit_measures();
                     if s.fixed_step.is_none() {
                         let most = integrator.max_growth();
@@ -228,7 +327,7 @@ pub fn simulate_framed(
                         };
                         // Not longer right after a rejection (Hairer & Wanner's rule): the
                         // estimate that accepted this step just refused a longer one.
-                        let grow = match last_rejection {
+                        let grow = match self.last_rejection {
                             Some((t1, ..)) if t1 == t => grow.min(1.0),
                             _ => grow,
                         };
@@ -237,29 +336,35 @@ pub fn simulate_framed(
                         // one unless its error was large. One across a switch starts a new
                         // law, whose pace the steps before it do not know: its own
                         // estimate sets the next.
-                        want = if clipped && err < 0.5 && !event {
-                            want.max(next)
+                        self.want = if clipped && err < 0.5 && !event {
+                            self.want.max(next)
                         } else {
                             next
                         };
                     }
-                    if interpolate {
-                        inside_step::emit(d, integrator, outputs, &mut pending, drift_tol, output)?;
+                    if self.interpolate {
+                        inside_step::emit(
+                            d,
+                            integrator,
+                            outputs,
+                            &mut self.pending,
+                            self.drift_tol,
+                            output,
+                        )?;
                     }
                     if let Some(f) = frames.as_deref_mut() {
                         inside_step::frames(d, integrator, f)?;
                     }
                     // The extensions placed the states inside the step: back to its end.
-                    if (interpolate || frames.is_some()) && !d.forces.states.is_empty() {
+                    if (self.interpolate || frames.is_some()) && !d.forces.states.is_empty() {
                         d.forces.states.hold();
                         d.solve_states()?;
                     }
                 }
             }
         }
-        output(d, RowState::Stepped)?;
+        Ok(())
     }
-    Ok(())
 }
 
 /// Keeps the largest global error estimate the integrator carries, in ERRORs over the
