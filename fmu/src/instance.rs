@@ -4,7 +4,7 @@
 //! their pointers and call these methods; every refusal is an `Err` with the message the
 //! importer's logger gets.
 
-use crate::adapter::{Plant, Snapshot};
+use crate::adapter::{Plant, PlantState};
 use mbfx::session::fmu_settings::{FmuSettings, DATASET_FILE};
 
 /// Where the instance is in the standard's state machine.
@@ -53,7 +53,7 @@ pub struct Instance {
 
 /// A snapshot of an instance (`fmi2GetFMUstate`).
 pub struct State {
-    plant: Snapshot,
+    plant: PlantState,
     inputs: Vec<f64>,
     phase: Phase,
 }
