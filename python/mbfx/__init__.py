@@ -11,7 +11,8 @@ and a constrained-multibody core that runs `.adm` datasets.
 `compile` gives an `Expression` (call it with floats or numpy arrays, take its
 `gradient`, hand its `address` to scipy or ctypes); `load` gives a `Model` (`check`,
 `evaluate`, `run`, its `graphics`); a run gives a `Run` (its columns as arrays,
-`to_pandas`, `plot`, `animate`).
+`to_pandas`, `plot`, `animate`); `Model.simulation` a `Simulation` to step with a
+controller in the loop (`advance`, `outputs`, `inputs`, `state`/`restore`).
 Errors are `CheckError`, `RunError` and `InternalError`, all `MbfxError`.
 `mbfx.study` runs design studies of a model's variants on Dask.
 """
@@ -37,6 +38,9 @@ from ._mbfx import (  # noqa: F401  (re-exported)
     Model,
     Report,
     RunError,
+    Simulation,
+    SimulationInputs,
+    SimulationState,
     __version__,
     compile,
     load,
@@ -58,6 +62,9 @@ __all__ = [
     "Run",
     "__version__",
     "RunError",
+    "Simulation",
+    "SimulationInputs",
+    "SimulationState",
     "compile",
     "load",
     "study",

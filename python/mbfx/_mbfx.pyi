@@ -1,7 +1,7 @@
 """Type stubs of the native module mbfx._mbfx (PyO3)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final, overload
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -19,6 +19,9 @@ __all__ = [
     "Recording",
     "Report",
     "RunError",
+    "Simulation",
+    "SimulationInputs",
+    "SimulationState",
     "__version__",
     "_load_text",
     "_panic_for_tests",
@@ -187,9 +190,70 @@ class Model:
         set: Optional[Mapping[str, Union[float, int, str]]] = None,
     ) -> "Linearization":
         """The model linearized at its static equilibrium (or after a run to `end`)."""
+    def simulation(
+        self,
+        integrator: Optional[str] = None,
+        error: Optional[float] = None,
+        set: Optional[Mapping[str, Union[float, int, str]]] = None,
+        probes: Optional[Mapping[str, str]] = None,
+        *,
+        output_step: Optional[float] = None,
+        end: Optional[float] = None,
+        hmax: Optional[float] = None,
+        hinit: Optional[float] = None,
+        hmin: Optional[float] = None,
+        fixed_step: Optional[float] = None,
+        kmax: Optional[int] = None,
+        formulation: Optional[str] = None,
+        engine: str = "jit",
+    ) -> Simulation:
+        """The model to step: `advance(t)`, `outputs`, `inputs["u"] = 1.5`, `state()`,
+        `restore()`, `reset()`. The arguments are `run`'s; HMAX and HINIT follow
+        `output_step` (END/100 with `end` alone; with neither, the first advance's
+        interval)."""
     def with_values(self, values: Mapping[str, Union[float, int, str]]) -> Model:
         """A new model with `values` ({"PART/2.MASS": 1.5, ...}) set in the dataset."""
     def __reduce__(self) -> Tuple[Any, Tuple[Any, ...]]: ...
+
+@final
+class Simulation:
+    """A model stepped from Python (`Model.simulation`)."""
+
+    @property
+    def time(self) -> float: ...
+    @property
+    def outputs(self) -> Dict[str, float]:
+        """The POUTPUT VARIABLEs, then the probes, at `time`."""
+    @property
+    def output_names(self) -> List[str]: ...
+    @property
+    def inputs(self) -> SimulationInputs:
+        """The PINPUT VARIABLEs: `sim.inputs["u"] = 1.5` holds from `time`."""
+    def advance(self, t: float) -> None:
+        """Integrates to `t`; a failure raises `RunError` with its time."""
+    def state(self) -> SimulationState: ...
+    def restore(self, state: SimulationState) -> None: ...
+    def reset(self) -> None: ...
+
+@final
+class SimulationInputs:
+    """The inputs of a `Simulation`: the PINPUT VARIABLEs by name; any design variable
+    may be read or set by its name or as `VARIABLE/id`."""
+
+    def __getitem__(self, key: str, /) -> float: ...
+    def __setitem__(self, key: str, value: float, /) -> None: ...
+    def __len__(self) -> int: ...
+    def __contains__(self, key: str, /) -> bool: ...
+    def __iter__(self) -> Iterator[str]: ...
+    def keys(self) -> List[str]: ...
+    def items(self) -> List[Tuple[str, float]]: ...
+
+@final
+class SimulationState:
+    """A `Simulation`'s state at one time, for `Simulation.restore` (it does not pickle)."""
+
+    @property
+    def time(self) -> float: ...
 
 @final
 class Recording:

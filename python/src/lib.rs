@@ -1,7 +1,7 @@
 //! The native part of the Python module `mbfx` (`mbfx._mbfx`): expressions compiled
 //! over named variables (`expression`) and evaluated over numpy arrays (`arrays`),
 //! datasets loaded and checked (`model`, their GRAPHICS listed by `graphics`) and run
-//! (`run`, their animation kept by `animation`), and the exceptions (`errors`). It is a thin layer over `mbfx::session`:
+//! (`run`, their animation kept by `animation`) or stepped (`simulation`), and the exceptions (`errors`). It is a thin layer over `mbfx::session`:
 //! every decision is the library's, so Python gives the command line's results bit for
 //! bit. The pure-Python part (`python/mbfx/`) adds the `Run` object, pandas and plotting.
 
@@ -13,6 +13,7 @@ mod graphics;
 mod linear;
 mod model;
 mod run;
+mod simulation;
 
 use pyo3::prelude::*;
 
@@ -30,6 +31,9 @@ fn _mbfx(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyModel>()?;
     m.add_class::<model::PyReport>()?;
     m.add_class::<animation::PyRecording>()?;
+    m.add_class::<simulation::PySimulation>()?;
+    m.add_class::<simulation::PySimulationInputs>()?;
+    m.add_class::<simulation::PySimulationState>()?;
     m.add_function(wrap_pyfunction!(expression::compile, m)?)?;
     m.add_function(wrap_pyfunction!(expression::_rebuild_expression, m)?)?;
     m.add_function(wrap_pyfunction!(model::load, m)?)?;

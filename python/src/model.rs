@@ -1,7 +1,8 @@
 //! `mbfx.load` and `Model`: a dataset read, built, assembled and analysed as `mbfx check`
 //! does, its `Report` and its GRAPHICS ([`crate::graphics`]), expressions evaluated at
-//! the assembled configuration, and runs ([`crate::run`]). A model keeps its dataset text: it pickles as that text and rebuilds
-//! itself in a worker process.
+//! the assembled configuration, runs ([`crate::run`]) and steppings
+//! ([`crate::simulation`]). A model keeps its dataset text: it pickles as that text and
+//! rebuilds itself in a worker process.
 
 use crate::errors::{check_error, diagnostic_list, guarded, int_in_range, plain_check_error};
 use crate::expression::engine_of;
@@ -409,6 +410,58 @@ impl PyModel {
             r.set = run::settings_of(set)?;
             run::check_arguments(&r, true)?;
             run::run_model(py, &r, progress, animation != Some(false))
+        })
+    }
+
+    /// The model to step from Python ([`crate::simulation`]): `sim.advance(t)`,
+    /// `sim.outputs`, `sim.inputs["u"] = 1.5`, `state()`/`restore()`, `reset()`. The
+    /// arguments are `run`'s; HMAX and HINIT follow `output_step` (END/100 when only
+    /// `end` is given; with neither, the first advance's interval). Advancing to `run`'s
+    /// output times with the inputs held gives `run`'s rows bit for bit.
+    #[pyo3(signature = (
+        integrator = None, error = None, set = None, probes = None, *, output_step = None,
+        end = None, hmax = None, hinit = None, hmin = None, fixed_step = None, kmax = None,
+        formulation = None, engine = "jit"
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulation(
+        &self,
+        py: Python<'_>,
+        integrator: Option<&str>,
+        error: Option<&Bound<'_, PyAny>>,
+        set: Option<&Bound<'_, PyDict>>,
+        probes: Option<&Bound<'_, PyDict>>,
+        output_step: Option<&Bound<'_, PyAny>>,
+        end: Option<&Bound<'_, PyAny>>,
+        hmax: Option<&Bound<'_, PyAny>>,
+        hinit: Option<&Bound<'_, PyAny>>,
+        hmin: Option<&Bound<'_, PyAny>>,
+        fixed_step: Option<&Bound<'_, PyAny>>,
+        kmax: Option<&Bound<'_, PyAny>>,
+        formulation: Option<&str>,
+        engine: &str,
+    ) -> PyResult<crate::simulation::PySimulation> {
+        guarded(|| {
+            let mut r = RunRequest::dataset(self.name.clone(), self.text.clone());
+            r.end = run::real(end, "end")?;
+            r.output_step = run::real(output_step, "output_step")?;
+            r.error = run::real(error, "error")?;
+            r.method = integrator.map(run::method_of).transpose()?;
+            r.hmax = run::real(hmax, "hmax")?;
+            r.hinit = run::real(hinit, "hinit")?;
+            r.hmin = run::real(hmin, "hmin")?;
+            r.fixed_step = run::real(fixed_step, "fixed_step")?;
+            r.kmax = kmax.map(|k| int_in_range::<u32>(k, "kmax")).transpose()?;
+            r.formulation = formulation.map(run::formulation_of).transpose()?;
+            r.engine = engine_of(engine)?;
+            r.dim = dim_request(self.dim)?;
+            r.probes = run::probes_of(probes)?;
+            r.set = run::settings_of(set)?;
+            run::check_arguments(&r, false)?;
+            match session::stepping::Stepping::new(&r) {
+                Ok(s) => Ok(crate::simulation::PySimulation::new(s)),
+                Err(failed) => Err(run::run_error(py, &failed, None)?),
+            }
         })
     }
 
