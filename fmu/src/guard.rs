@@ -46,24 +46,26 @@ impl Handle {
 }
 
 impl Sink {
-    /// Calls the logger (when there is one) with `message`, passed through a `"%s"`
-    /// format so that no `%` in it is read as a conversion.
+    /// Calls the logger (when there is one) with `message` as its format, each `%` in
+    /// it doubled: the standard makes the message a printf format, and importers that
+    /// print it as it comes (FMPy) or format it (the reference importers) both show the
+    /// text. Passing `"%s"` and the text would be exact for the second kind only.
     pub fn log(&self, name: &CStr, status: Status, category: &str, message: &str) {
         let Some(logger) = self.logger else {
             return;
         };
         let category = text(category);
-        let message = text(message);
+        let message = text(&message.replace('%', "%%"));
         // SAFETY: the importer gave `logger` as an fmi2CallbackLogger, with the
         // environment it takes back; every string is a NUL-terminated CString alive for
-        // the call, and the format "%s" takes one string.
+        // the call, and the format has no conversion (every `%` doubled), so it reads no
+        // variadic argument.
         unsafe {
             logger(
                 self.environment,
                 name.as_ptr(),
                 status,
                 category.as_ptr(),
-                c"%s".as_ptr(),
                 message.as_ptr(),
             );
         }

@@ -178,7 +178,10 @@ impl Instance {
                  state (fmi2SetFMUstate) to step from an earlier time"
             ));
         }
-        let to = now + h;
+        // The step ends where the importer's clock says, t + h: a master that counts its
+        // time as k·h lands on the same times as a stepping loop in Python or C that
+        // advances to t + h.
+        let to = t + h;
         if let Some(stop) = stop_time.filter(|&s| to > s * (1.0 + 1e-12) + 1e-300) {
             return Err(format!(
                 "a step to {to} passes the stopTime {stop} of fmi2SetupExperiment"

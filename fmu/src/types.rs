@@ -55,8 +55,8 @@ pub mod status_kind {
     pub const TERMINATED: c_int = 3;
 }
 
-/// `fmi2CallbackLogger`: variadic, with a printf format; mbfx passes `"%s"` and the
-/// message, so no `%` in a message is read as a conversion.
+/// `fmi2CallbackLogger`: variadic, with a printf format; mbfx passes the message as the
+/// format with every `%` doubled, and no further argument.
 pub type Logger =
     unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString, ...);
 
