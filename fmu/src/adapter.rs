@@ -8,9 +8,7 @@
 //! does not list is a probe `VARVAL(id)`. No END is given: HMAX and HINIT follow the
 //! first communication step, as a stepping without an output step does.
 
-use mbfx::session::fmu_settings::FmuSettings;
-use mbfx::session::request::RunRequest;
-use mbfx::session::run::Method;
+use mbfx::session::fmu_settings::{input_name, FmuSettings};
 use mbfx::session::stepping::{Snapshot, Stepping};
 
 /// A dataset opened for stepping.
@@ -24,23 +22,6 @@ pub struct Plant {
 
 /// A snapshot of a [`Plant`] (`fmi2GetFMUstate`).
 pub struct PlantState(Snapshot);
-
-/// The integrator `name` spells, as `mbfx run --integrator` does.
-fn method(name: &str) -> Result<Method, String> {
-    Ok(match name {
-        "gstiff" => Method::Gstiff,
-        "wstiff" => Method::Wstiff,
-        "hht" => Method::Hht,
-        "galpha" => Method::Galpha,
-        "newmark" => Method::Newmark,
-        "dopri853" => Method::Dopri853,
-        _ => {
-            return Err(format!(
-                "settings.toml: integrator {name:?} is not one mbfx has"
-            ))
-        }
-    })
-}
 
 /// The probe of an output the POUTPUT columns may lack.
 fn probe_name(reference: u32) -> String {
@@ -56,9 +37,7 @@ impl Plant {
         settings: &FmuSettings,
         error: Option<f64>,
     ) -> Result<Plant, String> {
-        let mut request = RunRequest::dataset(name, dataset);
-        request.method = settings.integrator.as_deref().map(method).transpose()?;
-        request.error = error.or(settings.error);
+        let mut request = settings.request(name, dataset, error)?;
         request.probes = settings
             .outputs()
             .map(|v| (probe_name(v.reference), format!("VARVAL({})", v.variable)))
@@ -76,10 +55,7 @@ impl Plant {
             })
             .collect::<Result<_, _>>()?;
         Ok(Plant {
-            inputs: settings
-                .inputs()
-                .map(|v| format!("VARIABLE/{}", v.variable))
-                .collect(),
+            inputs: settings.inputs().map(input_name).collect(),
             stepping,
             outputs,
         })

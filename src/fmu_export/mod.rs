@@ -14,7 +14,10 @@ pub mod units;
 
 use crate::diag::{Diagnostic, SourceFile};
 use crate::model::read_model;
-use crate::session::fmu_settings::{FmuSettings, FmuVariable, DATASET_FILE, FORMAT, SETTINGS_FILE};
+use crate::session::fmu_settings::{
+    input_name, FmuSettings, FmuVariable, DATASET_FILE, FORMAT, SETTINGS_FILE,
+};
+use crate::session::stepping::Stepping;
 use package::Entry;
 use std::path::{Path, PathBuf};
 
@@ -130,6 +133,7 @@ pub fn export(request: &ExportRequest) -> Result<Exported, ExportError> {
             })
             .collect(),
     };
+    runs(&settings, &request.dataset, &text)?;
     settings.guid = guid(&[text.as_bytes(), settings.to_text().as_bytes()]);
     let title = read.model.title.trim();
     let header = description::Header {
@@ -157,6 +161,23 @@ pub fn export(request: &ExportRequest) -> Result<Exported, ExportError> {
     ];
     package::write_fmu(&request.destination, &entries)?;
     Ok(Exported { settings })
+}
+
+/// Whether the FMU will start: the dataset builds and assembles for stepping under the
+/// settings, and each input is a design variable the stepping can set (one that a MOTION
+/// or GCON reads, or that nothing reads, is refused), so that a fault is told here and
+/// not by an importer's first call.
+fn runs(settings: &FmuSettings, dataset: &Path, text: &str) -> Result<(), String> {
+    let name = dataset.display().to_string();
+    let request = settings.request(&name, text, None)?;
+    let mut stepping = Stepping::new(&request)
+        .map_err(|f| format!("the dataset does not start stepping: {}", f.cause))?;
+    for v in settings.inputs() {
+        stepping
+            .set_input(&input_name(v), v.start)
+            .map_err(|e| format!("input {} cannot be set: {e}", v.name))?;
+    }
+    Ok(())
 }
 
 fn entry(path: &str, bytes: Vec<u8>, executable: bool) -> Entry {

@@ -5,6 +5,8 @@
 //! it back at `fmi2Instantiate`, so the two agree on one text and nothing of the model
 //! has to be read twice to know the interface.
 
+use super::request::RunRequest;
+use super::run::Method;
 use serde::{Deserialize, Serialize};
 
 /// The settings file's name inside the FMU's `resources/` folder.
@@ -77,6 +79,43 @@ impl FmuSettings {
     pub fn outputs(&self) -> impl Iterator<Item = &FmuVariable> {
         self.variables.iter().filter(|v| !v.input)
     }
+
+    /// The stepping request that runs `dataset` (named `name` in messages) as the FMU
+    /// does: its integrator, ERROR `error` when given (an importer's tolerance), else the
+    /// settings'.
+    pub fn request(
+        &self,
+        name: &str,
+        dataset: &str,
+        error: Option<f64>,
+    ) -> Result<RunRequest, String> {
+        let mut request = RunRequest::dataset(name, dataset);
+        request.method = self.integrator.as_deref().map(method).transpose()?;
+        request.error = error.or(self.error);
+        Ok(request)
+    }
+}
+
+/// The input `v` as the stepping API names it (`VARIABLE/id`: any design variable).
+pub fn input_name(v: &FmuVariable) -> String {
+    format!("VARIABLE/{}", v.variable)
+}
+
+/// The integrator `name` spells, as `mbfx run --integrator` does.
+fn method(name: &str) -> Result<Method, String> {
+    Ok(match name {
+        "gstiff" => Method::Gstiff,
+        "wstiff" => Method::Wstiff,
+        "hht" => Method::Hht,
+        "galpha" => Method::Galpha,
+        "newmark" => Method::Newmark,
+        "dopri853" => Method::Dopri853,
+        _ => {
+            return Err(format!(
+                "{SETTINGS_FILE}: integrator {name:?} is not one mbfx has"
+            ))
+        }
+    })
 }
 
 #[cfg(test)]

@@ -186,6 +186,7 @@ fn bad_input_is_a_message_and_exit_1_with_nothing_written() {
         (vec![path_text(&bare), "--inputs", "u", "-o", o], "the dataset has no POUTPUT: name the outputs with --outputs"),
         (vec![PLANT, "--inputs", "u", "--outputs", "u,y", "-o", o], "VARIABLE/1 is both an input and an output"),
         (vec![path_text(&broken), "-o", o], "has errors: no FMU written"),
+        (vec![PLANT, "--inputs", "v", "--outputs", "y", "-o", o], "input v cannot be set: VARIABLE/3 is not an input"),
         (vec![PLANT, "--error", "0", "-o", o], "--error 0 must be a positive number"),
         (vec![PLANT, "-o", path_text(&nowhere)], "cannot write"),
     ];
