@@ -1,14 +1,15 @@
 /*
- * mbfx: compile Adams FUNCTION expressions and call them from C.
+ * mbfx: compile Adams FUNCTION expressions and call them from C, and step
+ * Adams datasets (mbfx_simulation_*).
  *
  * Build the library with `cargo build --release -p mbfx-capi`, then link
  * target/release/libmbfx_c.a (with -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc)
  * or -Ltarget/release -lmbfx_c (the shared library).
  *
- * Ownership: an mbfx_expr * and an mbfx_error * are the caller's, freed with
- * mbfx_expr_free and mbfx_error_free (both accept NULL). A const char * from an
- * accessor belongs to the object it came from and lives as long as it does; an
- * entry pointer lives as long as its expression. Arguments are only read during
+ * Ownership: an mbfx_expr *, an mbfx_simulation *, an mbfx_simulation_state * and
+ * an mbfx_error * are the caller's, freed with their _free function (each accepts
+ * NULL). A const char * from an accessor belongs to the object it came from and
+ * lives as long as it does; an entry pointer lives as long as its expression. Arguments are only read during
  * the call. Every function checks its arguments and returns a status instead of
  * crashing; a panic inside mbfx becomes MBFX_STATUS_INTERNAL.
  */
@@ -67,6 +68,11 @@ typedef enum mbfx_status {
      A bug in mbfx (a panic inside Rust, a JIT failure): please report it.
      */
     MBFX_STATUS_INTERNAL = 9,
+    /*
+     A dataset could not be built or stepped (its errors, a probe's, a failed
+     integration): the error's code, message and report say why, where and when.
+     */
+    MBFX_STATUS_RUN_FAILED = 10,
 } mbfx_status;
 
 /*
@@ -97,6 +103,19 @@ typedef struct mbfx_error mbfx_error;
  changed after it is made, so several threads may evaluate it at once.
  */
 typedef struct mbfx_expr mbfx_expr;
+
+/*
+ A dataset being stepped (`mbfx_simulation` in C): made by `mbfx_simulation_new`,
+ owned by the caller, freed with `mbfx_simulation_free`. One thread uses it at a time.
+ */
+typedef struct mbfx_simulation mbfx_simulation;
+
+/*
+ A simulation's state at one time (`mbfx_simulation_state` in C): made by
+ `mbfx_simulation_state_save`, restored by `mbfx_simulation_state_restore` into the
+ simulation it came from, freed with `mbfx_simulation_state_free`.
+ */
+typedef struct mbfx_simulation_state mbfx_simulation_state;
 
 /*
  The C entry of a JIT-compiled expression: `double entry(int n, const double *x, void
@@ -340,6 +359,169 @@ enum mbfx_status mbfx_expr_entry(const struct mbfx_expr *expr, mbfx_entry_fn *en
  not used after this call (no thread is evaluating it).
  */
 void mbfx_expr_free(struct mbfx_expr *expr);
+
+/*
+ Builds the dataset `dataset_text` for stepping, as `mbfx run` builds it with
+ `--integrator integrator` (NULL: the dataset's INTEGRATOR, else GSTIFF), `--error
+ error` and `--output-step output_step` (0 or less for the default: ERROR the
+ dataset's or 1e-3; HMAX and HINIT follow the output step, and without one the first
+ advance's interval), `--probe probes[i]` (`"NAME=EXPR"`) and `--set settings[i]`
+ (`"KIND/ID.FIELD=VALUE"`). Its outputs are the dataset's POUTPUT VARIABLEs, then the
+ probes; its inputs the PINPUT VARIABLEs. Advancing it to `mbfx run`'s output times
+ gives `mbfx run`'s rows bit for bit.
+
+ Returns a new simulation at t = 0 (freed with `mbfx_simulation_free`), or NULL; when
+ `error` is not NULL, `*error` is NULL on success, else a new error:
+ `MBFX_STATUS_RUN_FAILED` (the dataset or a probe has errors, or the model does not
+ build: code, message and report as `mbfx run` prints them), `_NULL_ARGUMENT`,
+ `_INVALID_UTF8`, `_INVALID_ARGUMENT` (an unknown integrator, a bad number).
+
+ # Safety
+ `dataset_text` and `integrator` are NULL or NUL-terminated strings; `probes` and
+ `settings` are NULL or hold `n_probes` and `n_settings` pointers to such strings;
+ `error` is NULL or points to writable storage for a pointer.
+ */
+struct mbfx_simulation *mbfx_simulation_new(const char *dataset_text,
+                                            const char *integrator,
+                                            double error_tolerance,
+                                            double output_step,
+                                            const char *const *probes,
+                                            size_t n_probes,
+                                            const char *const *settings,
+                                            size_t n_settings,
+                                            struct mbfx_error **error);
+
+/*
+ Integrates `sim` to time `t` (its own steps between, switches located), the inputs
+ held; `t` equal to the current time does nothing. Returns `MBFX_STATUS_OK`, or:
+ `_RUN_FAILED` (the integration failed: the error's message and report give the time
+ and the element; every later advance fails the same until a restore or reset),
+ `_INVALID_ARGUMENT` (`t` behind the current time, or not finite), `_NULL_ARGUMENT`.
+ `error` as for `mbfx_simulation_new` (NULL: no error object).
+
+ # Safety
+ `sim` is NULL or a live simulation that no other thread uses; `error` is NULL or
+ points to writable storage for a pointer.
+ */
+enum mbfx_status mbfx_simulation_advance(struct mbfx_simulation *sim,
+                                         double t,
+                                         struct mbfx_error **error);
+
+/*
+ The simulation time of `sim`; NaN for NULL.
+
+ # Safety
+ `sim` is NULL or a live simulation.
+ */
+double mbfx_simulation_time(const struct mbfx_simulation *sim);
+
+/*
+ How many outputs `sim` has: its POUTPUT VARIABLEs, then its probes. 0 for NULL.
+
+ # Safety
+ `sim` is NULL or a live simulation.
+ */
+size_t mbfx_simulation_output_count(const struct mbfx_simulation *sim);
+
+/*
+ The name of output `k` (a POUTPUT VARIABLE's `adams_view_name`, else `VARIABLE/id`;
+ a probe's name); NULL for NULL or `k` out of range. Owned by the simulation.
+
+ # Safety
+ `sim` is NULL or a live simulation.
+ */
+const char *mbfx_simulation_output_name(const struct mbfx_simulation *sim, size_t k);
+
+/*
+ Copies the outputs at the current time into `out[0..n]`; `n` must be
+ `mbfx_simulation_output_count(sim)` (`MBFX_STATUS_BAD_LENGTH` otherwise).
+
+ # Safety
+ `sim` is NULL or a live simulation; `out` is NULL or points to `n` writable doubles.
+ */
+enum mbfx_status mbfx_simulation_outputs(const struct mbfx_simulation *sim, double *out, size_t n);
+
+/*
+ How many inputs `sim` has: its PINPUT VARIABLEs. 0 for NULL.
+
+ # Safety
+ `sim` is NULL or a live simulation.
+ */
+size_t mbfx_simulation_input_count(const struct mbfx_simulation *sim);
+
+/*
+ The name of input `k` (a PINPUT VARIABLE's `adams_view_name`, else `VARIABLE/id`);
+ NULL for NULL or `k` out of range. Owned by the simulation.
+
+ # Safety
+ `sim` is NULL or a live simulation.
+ */
+const char *mbfx_simulation_input_name(const struct mbfx_simulation *sim, size_t k);
+
+/*
+ Gives input `name` (a PINPUT VARIABLE's name, any case; or any design variable by its
+ `adams_view_name` or as `VARIABLE/id`) the value `value` from the current time on; a
+ changed value restarts the integrator at the next advance. Returns `MBFX_STATUS_OK`,
+ `_INVALID_ARGUMENT` (no such input, one that cannot be set, a value not finite: the
+ error says why), `_NULL_ARGUMENT`, `_INVALID_UTF8`.
+
+ # Safety
+ `sim` is NULL or a live simulation that no other thread uses; `name` is NULL or a
+ NUL-terminated string; `error` is NULL or points to writable storage for a pointer.
+ */
+enum mbfx_status mbfx_simulation_set_input(struct mbfx_simulation *sim,
+                                           const char *name,
+                                           double value,
+                                           struct mbfx_error **error);
+
+/*
+ The state of `sim` now (time, positions, velocities, inputs, state elements), to
+ restore with `mbfx_simulation_state_restore`; NULL for a NULL simulation. Freed with
+ `mbfx_simulation_state_free`.
+
+ # Safety
+ `sim` is NULL or a live simulation.
+ */
+struct mbfx_simulation_state *mbfx_simulation_state_save(const struct mbfx_simulation *sim);
+
+/*
+ Puts `sim` back to `state` (saved from `sim`): its time, state and inputs; the
+ integrator starts afresh there (so advancing from one state gives the same bits each
+ time). A failure to start there is given by the next advance.
+
+ # Safety
+ `sim` is NULL or a live simulation that no other thread uses; `state` is NULL or a
+ live state saved from `sim`.
+ */
+enum mbfx_status mbfx_simulation_state_restore(struct mbfx_simulation *sim,
+                                               const struct mbfx_simulation_state *state);
+
+/*
+ Frees a state; NULL is accepted.
+
+ # Safety
+ `state` is NULL or a state from `mbfx_simulation_state_save` that has not been freed;
+ it is not used after this call.
+ */
+void mbfx_simulation_state_free(struct mbfx_simulation_state *state);
+
+/*
+ Puts `sim` back to its start: t = 0, the inputs at the dataset's values; advancing it
+ then gives the bits a new simulation gives.
+
+ # Safety
+ `sim` is NULL or a live simulation that no other thread uses.
+ */
+enum mbfx_status mbfx_simulation_reset(struct mbfx_simulation *sim);
+
+/*
+ Frees a simulation; NULL is accepted. The names read from it die with it.
+
+ # Safety
+ `sim` is NULL or a simulation from `mbfx_simulation_new` that has not been freed; it
+ is not used after this call.
+ */
+void mbfx_simulation_free(struct mbfx_simulation *sim);
 
 #ifdef __cplusplus
 }  // extern "C"

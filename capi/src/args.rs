@@ -65,6 +65,16 @@ pub unsafe fn object<'a, T>(ptr: *const T, what: &str) -> Result<&'a T, Error> {
     Ok(unsafe { &*ptr })
 }
 
+/// The object `ptr` points to, to change.
+///
+/// # Safety
+/// A non-NULL `ptr` points to a live `T` that nothing else reads or writes for `'a`.
+pub unsafe fn object_mut<'a, T>(ptr: *mut T, what: &str) -> Result<&'a mut T, Error> {
+    check_ptr(ptr, what)?;
+    // SAFETY: non-NULL and aligned (checked); live and not shared (the caller's word).
+    Ok(unsafe { &mut *ptr })
+}
+
 /// `ptr[..len]` as a slice; NULL is accepted for an empty slice only.
 ///
 /// # Safety

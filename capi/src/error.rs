@@ -37,6 +37,24 @@ impl Error {
         }
     }
 
+    /// An error with a diagnostic code: `message` in one line, `report` as rendered,
+    /// `position` the first error's line and column in the text it is about.
+    pub(crate) fn with_code(
+        status: Status,
+        code: &str,
+        message: impl Into<String>,
+        report: impl Into<String>,
+        position: Option<(usize, usize)>,
+    ) -> Self {
+        Error {
+            status,
+            code: c_string(code),
+            message: c_string(message),
+            report: c_string(report),
+            position,
+        }
+    }
+
     /// The error mbfx reported about `text`.
     pub(crate) fn from_expr(e: &ExprError, text: &str) -> Self {
         let status = match e {
@@ -59,13 +77,7 @@ impl Error {
                 Some(file.line_col(first.span.start)),
             )
         };
-        Error {
-            status,
-            code: c_string(code),
-            message: c_string(message),
-            report: c_string(report),
-            position,
-        }
+        Error::with_code(status, code, message, report, position)
     }
 
     /// What kind of failure it is.

@@ -1,6 +1,7 @@
 //! The C API of mbfx: compile an Adams FUNCTION expression over named variables, evaluate
 //! it at one point or at many, take its gradient, and hand its machine code to C as a
-//! plain function pointer. It is a thin shell over [`mbfx::session::expression`]; the
+//! plain function pointer; step a dataset (`simulation`). It is a thin shell over
+//! [`mbfx::session::expression`] and [`mbfx::session::stepping`]; the
 //! header `include/mbfx.h` is generated from this crate by cbindgen (`capi/cbindgen.toml`,
 //! checked by `capi/tests/header.rs`).
 //!
@@ -19,9 +20,11 @@
 mod args;
 pub mod error;
 pub mod expr;
+pub mod simulation;
 
 pub use error::Error;
 pub use expr::{EntryFn, Expr};
+pub use simulation::{Simulation, SimulationState};
 
 use std::ffi::{c_char, c_int};
 
@@ -50,6 +53,9 @@ pub enum Status {
     NoEntry = 8,
     /// A bug in mbfx (a panic inside Rust, a JIT failure): please report it.
     Internal = 9,
+    /// A dataset could not be built or stepped (its errors, a probe's, a failed
+    /// integration): the error's code, message and report say why, where and when.
+    RunFailed = 10,
 }
 
 /// The engine that runs an expression, for `mbfx_compile`'s `engine` argument. Both give
@@ -95,6 +101,7 @@ pub extern "C" fn mbfx_status_string(status: c_int) -> *const c_char {
         7 => "the expression cannot be differentiated\0",
         8 => "no C entry (the expression runs on the interpreter)\0",
         9 => "an internal error in mbfx\0",
+        10 => "the model could not be built or stepped\0",
         _ => "unknown status\0",
     };
     text.as_ptr().cast()
@@ -118,6 +125,7 @@ mod tests {
             Status::NotDifferentiable,
             Status::NoEntry,
             Status::Internal,
+            Status::RunFailed,
         ];
         let unknown = mbfx_status_string(-1);
         let mut seen = std::collections::HashSet::new();

@@ -1,5 +1,6 @@
 //! C programs against the library cargo built for this test run: `capi/tests/c/api_test.c`
-//! (every function and error path of `include/mbfx.h`), linked with the static library,
+//! (every function and error path of `include/mbfx.h`) and `capi/tests/c/simulation_test.c`
+//! (a dataset stepped, against `mbfx run`'s rows), linked with the static library,
 //! and `examples/embed.c` (docs/c-api.md's example), built with the exact command its header
 //! comment gives (the shared library). Each is compiled with the system C compiler (`$CC`,
 //! else `cc`) as strict C99 with warnings as errors, run, and judged by its exit code.
@@ -155,4 +156,55 @@ fn the_embedding_example_builds_and_matches_the_closed_form() {
         stdout.contains("undamped") && stdout.contains("damped"),
         "{stdout}"
     );
+}
+
+#[test]
+fn the_c_simulation_test_steps_as_run_runs() {
+    use mbfx::session::request::{run as run_dataset, RunRequest};
+    use mbfx::session::run::Method;
+    // The rows `mbfx run` gives, which the C program must step to bit for bit.
+    // A pendulum with a PINPUT torque TORQUE and a POUTPUT angle ANGLE.
+    let dataset = root().join("tests/data/pendulum_pinput.adm");
+    let mut request = RunRequest::file(&dataset);
+    (request.end, request.output_step) = (Some(2.0), Some(0.02));
+    request.method = Some(Method::Gstiff);
+    request.probes = vec![
+        ("angle".into(), "AZ(21, 10)".into()),
+        ("wz".into(), "WZ(21, 10)".into()),
+    ];
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    let mut sink = |row: &[f64]| -> std::io::Result<()> {
+        rows.push(row.to_vec());
+        Ok(())
+    };
+    run_dataset(&request, &mut sink, None).expect("the pendulum runs");
+    // Shortest round-trip decimals: strtod reads back the same bits.
+    let mut text = format!("{} 3\n", rows.len());
+    for r in &rows {
+        let line: Vec<String> = r.iter().map(|x| format!("{x:e}")).collect();
+        text.push_str(&line.join(" "));
+        text.push('\n');
+    }
+    let dir = program("simulation_data");
+    std::fs::create_dir_all(&dir).expect("the target's tmp dir is writable");
+    let expected = dir.join("rows.txt");
+    std::fs::write(&expected, text).expect("written");
+    let exe = program("simulation_test");
+    let mut build = cc();
+    build
+        .arg("-I")
+        .arg(root().join("include"))
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/c/simulation_test.c"))
+        .arg(library("libmbfx_c.a"))
+        .args(NATIVE_LIBS)
+        .arg("-o")
+        .arg(&exe);
+    run(build, "compiling simulation_test.c");
+    let mut test = Command::new(&exe);
+    test.arg(&dataset)
+        .arg(&expected)
+        .arg(root().join("examples/scenes/cart_pole.adm"));
+    let stdout = run(test, "simulation_test");
+    let last = stdout.lines().last().unwrap_or("");
+    assert!(last.ends_with(" 0 failed"), "simulation_test: {stdout}");
 }

@@ -196,7 +196,7 @@ impl Stepping {
     /// assembled configuration) or no expression reads. A changed value restarts the
     /// integrator at the next advance.
     pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), String> {
-        let id = self.inputs.find(&self.sim, name)?;
+        let id = self.inputs.find_kept(&self.sim, name)?;
         if !value.is_finite() {
             return Err(format!(
                 "{name} = {value}: an input must be a finite number"

@@ -36,9 +36,11 @@ pub(super) fn build(request: &RunRequest) -> Result<built::BuiltSimulation, Box<
     built::simulation(request, &outputs)
 }
 
-/// A stepping's inputs: the PINPUT VARIABLEs' names and ids.
+/// A stepping's inputs: the PINPUT VARIABLEs' names and ids, and the names found
+/// settable so far (a controller sets the same few at every step).
 pub(super) struct Inputs {
     plant: Vec<(String, i64)>,
+    found: Vec<(String, i64)>,
 }
 
 impl Inputs {
@@ -49,12 +51,24 @@ impl Inputs {
             plant: (plant_variables(model, false).into_iter())
                 .map(|id| (variable_name(model, id), i64::from(id)))
                 .collect(),
+            found: Vec::new(),
         }
     }
 
     /// The PINPUT VARIABLEs' names.
     pub(super) fn plant_names(&self) -> Vec<String> {
         self.plant.iter().map(|(n, _)| n.clone()).collect()
+    }
+
+    /// [`Inputs::find`], remembered: the checks read the model, and a name found once
+    /// stays settable.
+    pub(super) fn find_kept(&mut self, sim: &Simulation, name: &str) -> Result<i64, String> {
+        if let Some(&(_, id)) = self.found.iter().find(|(n, _)| n == name) {
+            return Ok(id);
+        }
+        let id = self.find(sim, name)?;
+        self.found.push((name.to_string(), id));
+        Ok(id)
     }
 
     /// The design variable `name` names (a PINPUT VARIABLE's name, `VARIABLE/id`, or a

@@ -174,3 +174,83 @@ fn a_stepping_without_an_output_step_takes_the_first_interval_and_refuses_a_comm
     };
     assert!(f.cause.contains("command file"), "{}", f.cause);
 }
+
+/// The calling thread's CPU seconds.
+fn cpu_seconds() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `t` is a valid timespec the call writes; the clock id is a constant.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+}
+
+/// The median of `xs`.
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+/// CPU medians of a run to `end` (output step 1 ms, then END/100) against a stepping
+/// advanced by 1 ms with its input changed at each advance (`u` = 1e-9·k: a new value,
+/// a negligible force), on `path` with an input force on `i`, `j` added.
+fn cost(path: &str, (i, j): (u32, u32), end: f64, hmin: f64) -> (f64, f64, f64) {
+    let text = std::fs::read_to_string(path).expect("the scene is there");
+    let input = format!(
+        "VARIABLE/901, FUNCTION = 0\nSFORCE/901, TRANSLATION, ACTIONONLY, I = {i}, J = {j}, \
+         FUNCTION = VARVAL(901)\nPINPUT/901, VARIABLES = 901\nEND\n"
+    );
+    let text = text.replacen("\nEND", &format!("\n{input}"), 1);
+    let mut request = RunRequest::dataset("scene.adm", text);
+    (request.end, request.hmin) = (Some(end), Some(hmin));
+    let timed = |f: &mut dyn FnMut()| {
+        let t0 = cpu_seconds();
+        f();
+        cpu_seconds() - t0
+    };
+    let (mut fine, mut coarse, mut stepped) = (Vec::new(), Vec::new(), Vec::new());
+    let steps = (end / 1e-3).round() as usize;
+    for _ in 0..11 {
+        request.output_step = Some(1e-3);
+        fine.push(timed(&mut || {
+            run_rows(&request);
+        }));
+        request.output_step = None;
+        coarse.push(timed(&mut || {
+            run_rows(&request);
+        }));
+        request.output_step = Some(1e-3);
+        stepped.push(timed(&mut || {
+            let mut s = Stepping::new(&request).expect("the model builds");
+            for k in 1..=steps {
+                s.set_input("VARIABLE/901", 1e-9 * k as f64)
+                    .expect("an input");
+                s.advance(k as f64 * 1e-3).expect("the stepping advances");
+            }
+        }));
+    }
+    (median(fine), median(coarse), median(stepped))
+}
+
+#[test]
+#[ignore = "a measurement (docs/python.md, Stepping a model): cargo test --release -- --ignored stepping_cost"]
+fn stepping_cost_by_1ms_with_a_changing_input() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    for (name, body, end, hmin) in [
+        ("impact_block_k1e5", (201, 101), 2.0, 1e-10),
+        ("cart_pole", (203, 102), 2.0, 1e-14),
+    ] {
+        let path = format!("{root}/examples/scenes/{name}.adm");
+        let (fine, coarse, stepped) = cost(&path, body, end, hmin);
+        println!(
+            "{name}: run (1 ms rows) {:.2} ms, run (END/100 rows) {:.2} ms, stepped by 1 ms \
+             with a changed input {:.2} ms: {:.2}x and {:.2}x",
+            fine * 1e3,
+            coarse * 1e3,
+            stepped * 1e3,
+            stepped / fine,
+            stepped / coarse
+        );
+    }
+}
