@@ -19,6 +19,7 @@ pub mod cli;
 pub mod collide;
 pub mod context;
 pub mod diag;
+pub mod fmu_export;
 mod font;
 pub mod gltf;
 pub mod interp;

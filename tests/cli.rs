@@ -18,6 +18,10 @@ mod accuracy;
 #[path = "cli/ignored.rs"]
 mod ignored;
 
+/// `mbfx fmu`: the FMU's parts and the export's diagnostics.
+#[path = "cli/fmu.rs"]
+mod fmu;
+
 /// `mbfx run --kinematics`: internal steps, a lock-up named.
 #[path = "cli/kinematics.rs"]
 mod kinematics;

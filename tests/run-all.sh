@@ -29,6 +29,9 @@ fi
 
 echo "== Rust and C (cargo test --workspace --release)"
 cargo test --workspace --release --locked
+# The FMU's slave library beside the mbfx binary, where `mbfx fmu` takes it from
+# (tests/python/test_fmu.py exports an FMU); the test run built it, this copies it up.
+cargo build --release --locked -p mbfx-fmi
 
 echo "== Python (pip install . into ${MBFX_VENV:-.venv}, then pytest)"
 venv=${MBFX_VENV:-.venv}

@@ -1,5 +1,5 @@
 //! Command-line interface (clap): `mbfx eval`, `mbfx check`, `mbfx run`, `mbfx repl`,
-//! `mbfx bench`, `mbfx study`.
+//! `mbfx bench`, `mbfx study`, `mbfx fmu`.
 //!
 //! Each command is a thin shell over library calls; all of them print diagnostics to
 //! stderr and return exit code 1 on any error, 0 otherwise (DESIGN.md, CLI contract).
@@ -11,6 +11,7 @@ mod animate;
 mod bench;
 mod check_file;
 mod eval;
+mod fmu;
 mod number;
 pub mod output;
 mod plot;
@@ -120,6 +121,9 @@ enum Command {
     /// Run a design study file (TOML) on Dask: `python3 -m mbfx.study` of the Python
     /// module (MBFX_PYTHON names the interpreter).
     Study(study::StudyArgs),
+    /// Export a dataset as an FMI 2.0 co-simulation FMU (inputs and outputs: the
+    /// dataset's PINPUT and POUTPUT, or the VARIABLEs named).
+    Fmu(Box<fmu::FmuArgs>),
 }
 
 /// Runs the CLI with the process arguments; returns the exit code.
@@ -148,6 +152,7 @@ where
         Command::Repl => repl::run_terminal(&mut o),
         Command::Bench(c) => bench::run(&c, &mut o),
         Command::Study(a) => study::run(&a, &mut o),
+        Command::Fmu(a) => fmu::run(&a, &mut o),
     };
     output::finish(outcome, &mut o)
 }

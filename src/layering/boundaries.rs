@@ -72,7 +72,7 @@ const DOORS: [&str; 2] = ["session", "diag"];
 #[test]
 fn the_python_and_c_crates_go_through_session_alone() {
     let mut wrong = Vec::new();
-    for dir in ["python/src", "capi/src"] {
+    for dir in ["python/src", "capi/src", "fmu/src"] {
         for rel in rust_files(Path::new(dir)) {
             let text = std::fs::read_to_string(repo().join(&rel)).unwrap();
             let (code, _) = without_tests(&code_only(&text));
@@ -92,7 +92,7 @@ fn the_python_and_c_crates_go_through_session_alone() {
     wrong.dedup();
     assert!(
         wrong.is_empty(),
-        "the Python and C crates may name only mbfx::session and mbfx::diag:\n{}",
+        "the Python, C and FMU crates may name only mbfx::session and mbfx::diag:\n{}",
         wrong.join("\n")
     );
 }

@@ -24,6 +24,7 @@ pub mod check;
 pub mod evaluate;
 pub mod expression;
 pub mod files;
+pub mod fmu_settings;
 pub mod graphics;
 pub mod lifted;
 pub mod linear;
