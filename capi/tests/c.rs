@@ -164,7 +164,7 @@ fn the_c_simulation_test_steps_as_run_runs() {
     use mbfx::session::run::Method;
     // The rows `mbfx run` gives, which the C program must step to bit for bit.
     // A pendulum with a PINPUT torque TORQUE and a POUTPUT angle ANGLE.
-    let dataset = root().join("tests/data/pendulum_pinput.adm");
+    let dataset = root().join("examples/pendulum_pinput.adm");
     let mut request = RunRequest::file(&dataset);
     (request.end, request.output_step) = (Some(2.0), Some(0.02));
     request.method = Some(Method::Gstiff);

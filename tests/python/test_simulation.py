@@ -16,7 +16,7 @@ CART_POLE = ROOT / "examples" / "scenes" / "cart_pole.adm"
 
 # A pendulum with a PINPUT torque TORQUE (VARIABLE/3) and a POUTPUT angle ANGLE (the file
 # says more).
-PENDULUM = (ROOT / "tests" / "data" / "pendulum_pinput.adm").read_text()
+PENDULUM = (ROOT / "examples" / "pendulum_pinput.adm").read_text()
 
 # The plant of the PI loop: a block of M = 1 kg on a slider along global x, a spring of
 # K = 50 N/m and a damper of C = 20 N*s/m to ground, pushed by the PINPUT force u; its

@@ -8,7 +8,7 @@ use crate::session::run::Method;
 
 /// A pendulum with a PINPUT torque `TORQUE` and a POUTPUT angle `ANGLE` (the file says
 /// more).
-const PENDULUM: &str = include_str!("../../../tests/data/pendulum_pinput.adm");
+const PENDULUM: &str = include_str!("../../../examples/pendulum_pinput.adm");
 
 /// The rows `run` gives for `request`.
 fn run_rows(request: &RunRequest) -> Vec<Vec<f64>> {
